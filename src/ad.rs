@@ -1,0 +1,288 @@
+//! Phase-space dual numbers: value and full gradient with respect to `(q, p)` in one pass.
+//!
+//! A function `F(t, q, p)` written once, generic over [`DualNum<f64>`](num_dual::DualNum), is
+//! evaluated with [`PhaseDual`] arguments whose infinitesimal parts are seeded with the unit vectors
+//! of phase space. The result carries
+//!
+//! $$ F,\qquad \frac{\partial F}{\partial q_i},\qquad \frac{\partial F}{\partial p_i},\qquad i = 1\dots N $$
+//!
+//! in its fields `re`, `dq`, `dp`. Keeping the `q` and `p` parts in two blocks of length `N` gives a
+//! `2N`-dimensional gradient with a const-generic `N`, which stable Rust cannot otherwise spell as
+//! `SVector<_, {2 * N}>`.
+//!
+//! [`PhaseDual`] is generic over its inner number type, so it nests: with the inner type itself a
+//! [`PhaseDual64`], one evaluation yields the value, the gradient and the full phase-space Hessian
+//! ([`phase_hessian`]); with the inner type a user's generic `D`, derivatives of derived quantities
+//! (a Poisson bracket, a vector field, an integrator step) are themselves generic over `D` and can
+//! be differentiated again.
+//!
+//! Reference: forward-mode AD with dual numbers, Griewank & Walther, *Evaluating Derivatives*,
+//! 2nd ed., SIAM 2008, ch. 3; the arithmetic rules are those of `num-dual` (Rehner & Bauer,
+//! Front. Chem. Eng. 3, 758090, 2021), whose macros implement them here.
+
+use crate::phase::PhaseMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, OVector, SMatrix, SVector, U1};
+use num_dual::{
+    chain_rule, first, forward_binop, impl_add_sub_rem, impl_assign_ops, impl_comparisons,
+    impl_derivatives, impl_dual, impl_dual_struct, impl_first_derivatives, impl_float_const,
+    impl_from_f, impl_from_primitive, impl_inv, impl_iterator, impl_neg, impl_num, impl_scalar_op,
+    impl_signed, impl_zero_one, second, third, zeroth, DualNum, DualNumFloat, DualStruct,
+};
+use num_traits::{Float, FloatConst, FromPrimitive, Inv, Num, One, Signed, Zero};
+use std::fmt;
+use std::iter::{Product, Sum};
+use std::marker::PhantomData;
+use std::ops::{
+    Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
+};
+
+/// A dual number carrying the gradient with respect to the `N` coordinates (`dq`) and the `N`
+/// momenta (`dp`) of phase space.
+///
+/// $$ x = x_0 + \sum_i x_{q_i}\,\varepsilon_{q_i} + \sum_i x_{p_i}\,\varepsilon_{p_i},\qquad
+///    \varepsilon\varepsilon' = 0 . $$
+///
+/// Use the alias [`PhaseDual64`] for real inner numbers; see the [module docs](self).
+#[derive(Clone, Debug)]
+pub struct PhaseDual<T: DualNum<F>, F, D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    re: T,
+    dq: OVector<T, D>,
+    dp: OVector<T, D>,
+    f: PhantomData<F>,
+}
+
+impl<T: DualNum<F> + Copy, F: Copy, const N: usize> Copy for PhaseDual<T, F, Const<N>> {}
+
+/// Phase-space dual number over `f64` for `N` degrees of freedom.
+pub type PhaseDual64<const N: usize> = PhaseDual<f64, f64, Const<N>>;
+
+impl<T: DualNum<F>, F, D: Dim> PhaseDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    #[inline]
+    fn new(re: T, dq: OVector<T, D>, dp: OVector<T, D>) -> Self {
+        Self {
+            re,
+            dq,
+            dp,
+            f: PhantomData,
+        }
+    }
+
+    /// A constant: value `re`, zero derivatives. (`PhaseDual` is meant for static dimensions
+    /// `Const<N>`; for a dynamic dimension the derivative blocks are empty.)
+    #[inline]
+    pub fn from_re(re: T) -> Self {
+        let n = D::from_usize(D::try_to_usize().unwrap_or(0));
+        Self::new(
+            re,
+            OVector::zeros_generic(n, U1),
+            OVector::zeros_generic(n, U1),
+        )
+    }
+
+    /// The value (inner number).
+    #[inline]
+    pub fn value(&self) -> &T {
+        &self.re
+    }
+
+    /// Derivatives with respect to the coordinates, `∂/∂q`.
+    #[inline]
+    pub fn dq(&self) -> &OVector<T, D> {
+        &self.dq
+    }
+
+    /// Derivatives with respect to the momenta, `∂/∂p`.
+    #[inline]
+    pub fn dp(&self) -> &OVector<T, D> {
+        &self.dp
+    }
+}
+
+impl<T: DualNum<F>, F, const N: usize> PhaseDual<T, F, Const<N>> {
+    /// The independent variable `q_i` with value `re`.
+    #[inline]
+    pub fn coordinate(re: T, i: usize) -> Self {
+        let mut x = Self::from_re(re);
+        x.dq[i] = T::one();
+        x
+    }
+
+    /// The independent variable `p_i` with value `re`.
+    #[inline]
+    pub fn momentum(re: T, i: usize) -> Self {
+        let mut x = Self::from_re(re);
+        x.dp[i] = T::one();
+        x
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> PhaseDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    #[inline]
+    fn chain_rule(&self, f0: T, f1: T) -> Self {
+        Self::new(f0, &self.dq * f1.clone(), &self.dp * f1)
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> Mul<&PhaseDual<T, F, D>> for &PhaseDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    type Output = PhaseDual<T, F, D>;
+    #[inline]
+    fn mul(self, other: &PhaseDual<T, F, D>) -> Self::Output {
+        PhaseDual::new(
+            self.re.clone() * other.re.clone(),
+            &self.dq * other.re.clone() + &other.dq * self.re.clone(),
+            &self.dp * other.re.clone() + &other.dp * self.re.clone(),
+        )
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> Div<&PhaseDual<T, F, D>> for &PhaseDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    type Output = PhaseDual<T, F, D>;
+    #[inline]
+    fn div(self, other: &PhaseDual<T, F, D>) -> PhaseDual<T, F, D> {
+        let inv = other.re.recip();
+        let inv2 = inv.clone() * inv.clone();
+        PhaseDual::new(
+            self.re.clone() * inv,
+            (&self.dq * other.re.clone() - &other.dq * self.re.clone()) * inv2.clone(),
+            (&self.dp * other.re.clone() - &other.dp * self.re.clone()) * inv2,
+        )
+    }
+}
+
+impl<T: DualNum<F>, F, D: Dim> fmt::Display for PhaseDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}", self.re)?;
+        for (i, d) in self.dq.iter().enumerate() {
+            write!(f, " + {d}εq{i}")?;
+        }
+        for (i, d) in self.dp.iter().enumerate() {
+            write!(f, " + {d}εp{i}")?;
+        }
+        Ok(())
+    }
+}
+
+impl_first_derivatives!(PhaseDual, [dq, dp], [D], [D]);
+impl_dual!(PhaseDual, [dq, dp], [D], [D]);
+
+/// Value and phase-space gradient of `f(q, p)`, evaluated in one pass.
+///
+/// Returns `(F, ∂F/∂q, ∂F/∂p)`. `T` may itself be a dual number (nesting).
+#[inline]
+pub fn phase_gradient<T, G, const N: usize>(
+    f: G,
+    q: &SVector<T, N>,
+    p: &SVector<T, N>,
+) -> (T, SVector<T, N>, SVector<T, N>)
+where
+    T: DualNum<f64> + Copy,
+    G: FnOnce(
+        &SVector<PhaseDual<T, f64, Const<N>>, N>,
+        &SVector<PhaseDual<T, f64, Const<N>>, N>,
+    ) -> PhaseDual<T, f64, Const<N>>,
+{
+    let qd = SVector::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
+    let pd = SVector::from_fn(|i, _| PhaseDual::momentum(p[i], i));
+    let r = f(&qd, &pd);
+    (r.re, r.dq, r.dp)
+}
+
+/// Value, gradient and Hessian of `f(q, p)` over phase space, in one nested pass.
+///
+/// The Hessian is returned in blocks `[[F_qq, F_qp], [F_pq, F_pp]]` with
+/// `F_qp[(i, j)] = ∂²F/∂q_i∂p_j`.
+pub fn phase_hessian<G, const N: usize>(
+    f: G,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> (f64, SVector<f64, N>, SVector<f64, N>, PhaseMatrix<N>)
+where
+    G: FnOnce(
+        &SVector<PhaseDual<PhaseDual64<N>, f64, Const<N>>, N>,
+        &SVector<PhaseDual<PhaseDual64<N>, f64, Const<N>>, N>,
+    ) -> PhaseDual<PhaseDual64<N>, f64, Const<N>>,
+{
+    let qi: SVector<PhaseDual64<N>, N> = SVector::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
+    let pi: SVector<PhaseDual64<N>, N> = SVector::from_fn(|i, _| PhaseDual::momentum(p[i], i));
+    let (v, gq, gp) = phase_gradient(f, &qi, &pi);
+    let rows = |g: &SVector<PhaseDual64<N>, N>, pick_q: bool| -> SMatrix<f64, N, N> {
+        SMatrix::from_fn(|i, j| if pick_q { g[i].dq[j] } else { g[i].dp[j] })
+    };
+    let hess = PhaseMatrix {
+        qq: rows(&gq, true),
+        qp: rows(&gq, false),
+        pq: rows(&gp, true),
+        pp: rows(&gp, false),
+    };
+    (v.re, v.dq, v.dp, hess)
+}
+
+/// Lift a real vector to constants of any dual type.
+#[inline]
+pub fn lift<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<f64, N>) -> SVector<D, N> {
+    x.map(D::from)
+}
+
+/// Real parts of a vector of dual numbers.
+#[inline]
+pub fn real_parts<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<D, N>) -> SVector<f64, N> {
+    x.map(|v| v.re())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn f<D: DualNum<f64> + Copy>(q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+        // F = q0² p1 + sin(q1) exp(p0) + sqrt(q0² + q1²)
+        q[0] * q[0] * p[1] + q[1].sin() * p[0].exp() + (q[0] * q[0] + q[1] * q[1]).sqrt()
+    }
+
+    #[test]
+    fn gradient_matches_hand_derivatives() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (v, gq, gp) = phase_gradient(f, &q, &p);
+        let r = (q[0] * q[0] + q[1] * q[1]).sqrt();
+        assert_relative_eq!(v, f(&q, &p), epsilon = 1e-15);
+        assert_relative_eq!(gq[0], 2.0 * q[0] * p[1] + q[0] / r, epsilon = 1e-15);
+        assert_relative_eq!(gq[1], q[1].cos() * p[0].exp() + q[1] / r, epsilon = 1e-15);
+        assert_relative_eq!(gp[0], q[1].sin() * p[0].exp(), epsilon = 1e-15);
+        assert_relative_eq!(gp[1], q[0] * q[0], epsilon = 1e-15);
+    }
+
+    #[test]
+    fn hessian_matches_hand_derivatives_and_is_symmetric() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (_, _, _, h) = phase_hessian(f, &q, &p);
+        let e = p[0].exp();
+        // ∂²F/∂q0∂p1 = 2 q0, ∂²F/∂q1∂p0 = cos(q1) e^{p0}, ∂²F/∂p0² = sin(q1) e^{p0}
+        assert_relative_eq!(h.qp[(0, 1)], 2.0 * q[0], epsilon = 1e-15);
+        assert_relative_eq!(h.qp[(1, 0)], q[1].cos() * e, epsilon = 1e-15);
+        assert_relative_eq!(h.pp[(0, 0)], q[1].sin() * e, epsilon = 1e-15);
+        assert_relative_eq!(h.pp[(1, 1)], 0.0, epsilon = 1e-15);
+        assert_relative_eq!(h.qp, h.pq.transpose(), epsilon = 1e-15);
+        assert_relative_eq!(h.qq, h.qq.transpose(), epsilon = 1e-15);
+    }
+}

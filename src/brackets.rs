@@ -1,0 +1,383 @@
+//! Poisson and Lagrange brackets, canonicity tests of maps, Liouville's determinant.
+//!
+//! Conventions (SPEC §0.1–0.2):
+//!
+//! $$ (F, G) = \sum_r \Big(\frac{\partial F}{\partial q_r}\frac{\partial G}{\partial p_r}
+//!            - \frac{\partial F}{\partial p_r}\frac{\partial G}{\partial q_r}\Big)
+//!    \quad\text{[Ardema eq. 15.25]},\qquad
+//!    [u, v] = \sum_r \Big(\frac{\partial q_r}{\partial u}\frac{\partial p_r}{\partial v}
+//!            - \frac{\partial p_r}{\partial u}\frac{\partial q_r}{\partial v}\Big)
+//!    \quad\text{[Ardema eq. 16.24]}, $$
+//!
+//! so `(q_r, p_s) = δ_rs`, `dF/dt = ∂F/∂t + (F, H)` and a canonical pair has `[Q, P] = 1`.
+//!
+//! A map of phase space is a [`PhaseMap`], written once generic over the dual type; its exact
+//! Jacobian `M` comes from one AD pass per output component, and with it
+//! * the Poisson-bracket matrix of the image coordinates `(u_i, u_j) = (M J Mᵀ)_ij` [Ardema eq. 16.28],
+//! * the Lagrange-bracket matrix `[u_i, u_j] = (Mᵀ J M)_ij` of `(q, p)` as functions of parameters
+//!   [Ardema eq. 16.25],
+//! * the reciprocity identity `Σ_s [u_s, u_i](u_s, u_j) = δ_ij` [Ardema eq. 16.27],
+//! * the symplectic defect `‖MᵀJM − J‖_max` and Liouville's determinant `det M` [Ardema eq. 16.23].
+//!
+//! All of these are public so that users' own (property) tests can call them on their own maps.
+
+use crate::ad::{lift, phase_gradient, PhaseDual};
+use crate::error::{Error, Result};
+use crate::hamiltonian::{Hamiltonian, PhaseFunction};
+use crate::phase::{check_phase, PhaseMatrix};
+use nalgebra::{SMatrix, SVector};
+use num_dual::{first_derivative, Dual, DualNum};
+
+/// Poisson bracket `(F, G)` evaluated in any number type `D` (so brackets can be nested).
+#[inline]
+pub fn poisson_bracket_generic<F, G, D, const N: usize>(
+    f: &F,
+    g: &G,
+    t: D,
+    q: &SVector<D, N>,
+    p: &SVector<D, N>,
+) -> D
+where
+    F: PhaseFunction<N> + ?Sized,
+    G: PhaseFunction<N> + ?Sized,
+    D: DualNum<f64> + Copy,
+{
+    let (_, fq, fp) = phase_gradient(|q, p| f.eval(PhaseDual::from_re(t), q, p), q, p);
+    let (_, gq, gp) = phase_gradient(|q, p| g.eval(PhaseDual::from_re(t), q, p), q, p);
+    fq.dot(&gp) - fp.dot(&gq)
+}
+
+/// Poisson bracket `(F, G)(t, q, p)` [Ardema eq. 15.25], with NaN/∞ inputs rejected.
+///
+/// ```
+/// use hamilton_jacobi::brackets::{poisson_bracket, Coordinate, Momentum};
+/// use hamilton_jacobi::nalgebra::SVector;
+/// let (q, p) = (SVector::from([0.3, 0.1]), SVector::from([1.0, 2.0]));
+/// assert_eq!(poisson_bracket(&Coordinate(1), &Momentum(1), 0.0, &q, &p).unwrap(), 1.0);
+/// assert_eq!(poisson_bracket(&Coordinate(0), &Momentum(1), 0.0, &q, &p).unwrap(), 0.0);
+/// ```
+pub fn poisson_bracket<F, G, const N: usize>(
+    f: &F,
+    g: &G,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<f64>
+where
+    F: PhaseFunction<N> + ?Sized,
+    G: PhaseFunction<N> + ?Sized,
+{
+    check_phase(t, q, p)?;
+    Ok(poisson_bracket_generic(f, g, t, q, p))
+}
+
+/// The Poisson bracket `(F, G)` as a phase function in its own right (so it can be bracketed
+/// again: Jacobi identity, Poisson's theorem).
+#[derive(Clone, Copy, Debug)]
+pub struct PoissonBracket<F, G>(pub F, pub G);
+
+impl<F: PhaseFunction<N>, G: PhaseFunction<N>, const N: usize> PhaseFunction<N>
+    for PoissonBracket<F, G>
+{
+    #[inline]
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        poisson_bracket_generic(&self.0, &self.1, t, q, p)
+    }
+}
+
+/// The coordinate function `F = q_i`.
+#[derive(Clone, Copy, Debug)]
+pub struct Coordinate(pub usize);
+/// The momentum function `F = p_i`.
+#[derive(Clone, Copy, Debug)]
+pub struct Momentum(pub usize);
+
+impl<const N: usize> PhaseFunction<N> for Coordinate {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>, _p: &SVector<D, N>) -> D {
+        q[self.0]
+    }
+}
+impl<const N: usize> PhaseFunction<N> for Momentum {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        p[self.0]
+    }
+}
+
+fn check_index<const N: usize>(what: &str, i: usize) -> Result<()> {
+    if i < N {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            what,
+            format!("index {i} out of range 0..{N}"),
+        ))
+    }
+}
+
+/// Checked constructor for [`Coordinate`].
+pub fn coordinate<const N: usize>(i: usize) -> Result<Coordinate> {
+    check_index::<N>("coordinate", i).map(|_| Coordinate(i))
+}
+
+/// Checked constructor for [`Momentum`].
+pub fn momentum<const N: usize>(i: usize) -> Result<Momentum> {
+    check_index::<N>("momentum", i).map(|_| Momentum(i))
+}
+
+/// Explicit time derivative `∂F/∂t` by AD.
+pub fn partial_t<F: PhaseFunction<N> + ?Sized, const N: usize>(
+    f: &F,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<f64> {
+    check_phase(t, q, p)?;
+    Ok(first_derivative(|td: Dual<f64, f64>| f.eval(td, &lift(q), &lift(p)), t).1)
+}
+
+/// Total time derivative along the motion of `H`:
+/// `dF/dt = ∂F/∂t + (F, H)` [Ardema eq. 15.26], plus `∂F/∂p · Q^nc` when `H` carries
+/// non-conservative forces. `F` is an integral iff this vanishes identically.
+pub fn time_derivative<F, H, const N: usize>(
+    f: &F,
+    h: &H,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<f64>
+where
+    F: PhaseFunction<N> + ?Sized,
+    H: Hamiltonian<N>,
+{
+    let ft = partial_t(f, t, q, p)?;
+    let br = poisson_bracket_generic(f, h, t, q, p);
+    let nc = match h.generalized_force(t, q, p) {
+        None => 0.0,
+        Some(force) => {
+            let (_, _, fp) = phase_gradient(|qd, pd| f.eval(PhaseDual::from_re(t), qd, pd), q, p);
+            fp.dot(&force)
+        }
+    };
+    Ok(ft + br + nc)
+}
+
+/// Largest `|dF/dt|` over a set of sample points: zero (to rounding) iff `F` is an integral of `H`
+/// there. A point with NaN/∞ is an error.
+pub fn integral_defect<F, H, const N: usize>(
+    f: &F,
+    h: &H,
+    points: &[(f64, SVector<f64, N>, SVector<f64, N>)],
+) -> Result<f64>
+where
+    F: PhaseFunction<N> + ?Sized,
+    H: Hamiltonian<N>,
+{
+    points.iter().try_fold(0.0f64, |m, (t, q, p)| {
+        Ok(m.max(time_derivative(f, h, *t, q, p)?.abs()))
+    })
+}
+
+/// A (possibly time-dependent) map of phase space `(q, p) ↦ (Q, P)`, written once generic over the
+/// dual type: a canonical transformation, a flow map, one integrator step, or `(q, p)` as functions
+/// of `2N` parameters.
+pub trait PhaseMap<const N: usize> {
+    /// Apply the map at time `t`.
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>);
+}
+
+/// Exact Jacobian `M = ∂(Q, P)/∂(q, p)` of a map by AD (one pass per output component).
+pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<PhaseMatrix<N>> {
+    check_phase(t, q, p)?;
+    let mut m = PhaseMatrix {
+        qq: SMatrix::zeros(),
+        qp: SMatrix::zeros(),
+        pq: SMatrix::zeros(),
+        pp: SMatrix::zeros(),
+    };
+    for i in 0..2 * N {
+        let (_, dq, dp) = phase_gradient(
+            |qd, pd| {
+                let (qq, pp) = map.apply(PhaseDual::from_re(t), qd, pd);
+                if i < N {
+                    qq[i]
+                } else {
+                    pp[i - N]
+                }
+            },
+            q,
+            p,
+        );
+        let (a, b): (&mut SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>) = if i < N {
+            (&mut m.qq, &mut m.qp)
+        } else {
+            (&mut m.pq, &mut m.pp)
+        };
+        a.set_row(i % N, &dq.transpose());
+        b.set_row(i % N, &dp.transpose());
+    }
+    if m.is_finite() {
+        Ok(m)
+    } else {
+        Err(Error::invalid(
+            "map Jacobian",
+            format!("not finite at t = {t}, q = {q:?}, p = {p:?} (outside the map's domain?)"),
+        ))
+    }
+}
+
+/// Poisson-bracket matrix `(u_i, u_j)` of the image coordinates `u = (Q, P)` of a map, as functions
+/// of `(q, p)`: `M J Mᵀ` [Ardema eq. 16.28]. Equals `J` iff the map is canonical.
+pub fn poisson_bracket_matrix<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<PhaseMatrix<N>> {
+    Ok(jacobian(map, t, q, p)?.cosymplectic_form())
+}
+
+/// Lagrange-bracket matrix `[u_i, u_j]` of `(q, p)` regarded as functions of the parameters
+/// `u = (u₁, u₂)` that `map` takes as its input: `Mᵀ J M` [Ardema eqs. 16.24–16.25]. For the
+/// inverse of a canonical transformation (`u = (Q, P)`) it equals `J`.
+pub fn lagrange_bracket_matrix<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    u1: &SVector<f64, N>,
+    u2: &SVector<f64, N>,
+) -> Result<PhaseMatrix<N>> {
+    Ok(jacobian(map, t, u1, u2)?.symplectic_form())
+}
+
+/// Lagrange bracket `[u_i, u_j]` of two parameters (indices into `u = (u₁, u₂)`, `0..2N`).
+pub fn lagrange_bracket<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    u1: &SVector<f64, N>,
+    u2: &SVector<f64, N>,
+    i: usize,
+    j: usize,
+) -> Result<f64> {
+    if i >= 2 * N || j >= 2 * N {
+        return Err(Error::invalid(
+            "bracket index",
+            format!("({i}, {j}) out of range 0..{}", 2 * N),
+        ));
+    }
+    let l = lagrange_bracket_matrix(map, t, u1, u2)?.to_dmatrix();
+    Ok(l[(i, j)])
+}
+
+/// Reciprocity defect `‖Lᵀ P − I‖_max` of Lagrange's and Poisson's brackets
+/// [Ardema eq. 16.27]: `L = [u_s, u_i]` from the map `u ↦ (q, p)` and `P = (u_s, u_j)` from its
+/// inverse (whose Jacobian is `M⁻¹`). Zero for **any** invertible map, canonical or not; an error if
+/// the Jacobian is singular.
+pub fn reciprocity_defect<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    u1: &SVector<f64, N>,
+    u2: &SVector<f64, N>,
+) -> Result<f64> {
+    let m = jacobian(map, t, u1, u2)?;
+    let inv = m.try_inverse().ok_or_else(|| Error::Singular {
+        what: "map Jacobian ∂(q, p)/∂u".into(),
+        at: format!("u = ({u1:?}, {u2:?})"),
+        rcond: 0.0,
+    })?;
+    let l = m.symplectic_form();
+    let p = inv.cosymplectic_form();
+    Ok(l.transpose()
+        .mul(&p)
+        .sub(&PhaseMatrix::identity())
+        .max_abs())
+}
+
+/// What [`certify`] measures about a map at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Certificate<const N: usize> {
+    /// Exact Jacobian `M = ∂(Q, P)/∂(q, p)`.
+    pub jacobian: PhaseMatrix<N>,
+    /// Lagrange brackets of `(q, p)` as functions of the map's inputs: `MᵀJM`.
+    pub lagrange: PhaseMatrix<N>,
+    /// Poisson brackets of the outputs as functions of the inputs: `MJMᵀ`.
+    pub poisson: PhaseMatrix<N>,
+    /// `‖MᵀJM − J‖_max`.
+    pub symplectic_defect: f64,
+    /// `‖MJMᵀ − J‖_max` (equal to zero with the symplectic defect, independently computed).
+    pub poisson_defect: f64,
+    /// Liouville: `det M − 1` [Ardema eq. 16.23] (necessary for canonicity; sufficient only for N = 1).
+    pub det_minus_one: f64,
+}
+
+impl<const N: usize> Certificate<N> {
+    /// Canonical at this point to within `tol` by the matrix criterion `MᵀJM = J`.
+    pub fn is_canonical(&self, tol: f64) -> bool {
+        self.symplectic_defect <= tol
+    }
+}
+
+/// Certify a map at a point: exact Jacobian by AD, both bracket matrices, the symplectic defect and
+/// Liouville's determinant.
+///
+/// ```
+/// use hamilton_jacobi::brackets::{certify, PhaseMap};
+/// use hamilton_jacobi::{DualNum, nalgebra::SVector};
+/// /// Exchange of coordinates and momenta, generated by F₁ = qQ: Q = p, P = −q.
+/// struct Swap;
+/// impl PhaseMap<1> for Swap {
+///     fn apply<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>, p: &SVector<D, 1>)
+///         -> (SVector<D, 1>, SVector<D, 1>) { (*p, -*q) }
+/// }
+/// let c = certify(&Swap, 0.0, &SVector::from([0.3]), &SVector::from([-1.2])).unwrap();
+/// assert_eq!(c.symplectic_defect, 0.0);
+/// assert_eq!(c.det_minus_one, 0.0);
+/// ```
+pub fn certify<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<Certificate<N>> {
+    let m = jacobian(map, t, q, p)?;
+    let j = PhaseMatrix::symplectic_j();
+    let lagrange = m.symplectic_form();
+    let poisson = m.cosymplectic_form();
+    Ok(Certificate {
+        jacobian: m,
+        lagrange,
+        poisson,
+        symplectic_defect: lagrange.sub(&j).max_abs(),
+        poisson_defect: poisson.sub(&j).max_abs(),
+        det_minus_one: m.determinant() - 1.0,
+    })
+}
+
+/// Liouville's determinant `det ∂(Q, P)/∂(q, p)` [Ardema eq. 16.23].
+pub fn liouville_determinant<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<f64> {
+    Ok(jacobian(map, t, q, p)?.determinant())
+}
+
+/// Canonical at `(t, q, p)` to within `tol` by the symplectic condition.
+pub fn is_canonical<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+    tol: f64,
+) -> Result<bool> {
+    Ok(certify(map, t, q, p)?.is_canonical(tol))
+}

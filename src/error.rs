@@ -1,0 +1,165 @@
+//! The crate's error type.
+//!
+//! Every public function that can fail on user input returns [`Result<T>`]; the variants carry
+//! structured data (the offending value, where it was found, what was expected) so that callers can
+//! react programmatically and the message names what went wrong.
+
+use std::fmt;
+
+/// Result alias used throughout the crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Everything that can go wrong in `hamilton-jacobi`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A number that must be finite is NaN or infinite.
+    #[error("{what} must be finite, got {value}")]
+    NonFinite {
+        /// Which quantity (e.g. `"q[1]"`, `"eccentricity"`).
+        what: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter lies outside the domain where the method or formula is defined.
+    #[error("{what} = {value} is outside the domain {domain}")]
+    OutOfDomain {
+        /// Which quantity.
+        what: String,
+        /// The offending value.
+        value: f64,
+        /// The admissible domain, in words or interval notation (e.g. `"[0, 1)"`).
+        domain: String,
+    },
+    /// An input is malformed in a way not captured by a single number.
+    #[error("invalid input {what}: {reason}")]
+    InvalidInput {
+        /// Which input.
+        what: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// An iterative method stopped before reaching its tolerance.
+    #[error("{what} did not converge after {iterations} iterations (residual {residual:e})")]
+    NotConverged {
+        /// Which iteration (e.g. `"Legendre transform Newton"`).
+        what: String,
+        /// Iterations performed.
+        iterations: usize,
+        /// Residual norm at the last iterate.
+        residual: f64,
+    },
+    /// A matrix that must be invertible is singular or too ill-conditioned to trust.
+    #[error("{what} is singular at {at} (reciprocal condition estimate {rcond:e})")]
+    Singular {
+        /// Which matrix (e.g. `"mass matrix ∂²L/∂q̇²"`).
+        what: String,
+        /// The point where it happened, formatted.
+        at: String,
+        /// Reciprocal condition estimate (0 for exactly singular).
+        rcond: f64,
+    },
+    /// The requested motion lies on, or numerically indistinguishable from, a separatrix.
+    #[error("{what}: on the separatrix (distance {distance:e}); {hint}")]
+    Separatrix {
+        /// Which computation.
+        what: String,
+        /// Distance to the separatrix in the method's natural measure.
+        distance: f64,
+        /// What to do instead.
+        hint: String,
+    },
+}
+
+impl Error {
+    /// Shorthand for [`Error::OutOfDomain`].
+    pub fn out_of_domain(what: impl Into<String>, value: f64, domain: impl Into<String>) -> Self {
+        Error::OutOfDomain {
+            what: what.into(),
+            value,
+            domain: domain.into(),
+        }
+    }
+
+    /// Shorthand for [`Error::InvalidInput`].
+    pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::InvalidInput {
+            what: what.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// Reject NaN and ±∞: returns `value` unchanged if finite, otherwise [`Error::NonFinite`].
+pub fn finite(what: impl fmt::Display, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NonFinite {
+            what: what.to_string(),
+            value,
+        })
+    }
+}
+
+/// Reject a slice containing NaN or ±∞; the error names the first bad component as `what[i]`.
+pub fn all_finite(what: impl fmt::Display, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(Error::NonFinite {
+            what: format!("{what}[{i}]"),
+            value: values[i],
+        }),
+    }
+}
+
+/// Require `value > 0` (and finite).
+pub fn positive(what: impl fmt::Display, value: f64) -> Result<f64> {
+    let v = finite(&what, value)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::out_of_domain(what.to_string(), v, "(0, ∞)"))
+    }
+}
+
+/// Require `value ≥ 0` (and finite).
+pub fn non_negative(what: impl fmt::Display, value: f64) -> Result<f64> {
+    let v = finite(&what, value)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::out_of_domain(what.to_string(), v, "[0, ∞)"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finite_rejects_nan_and_inf() {
+        assert!(finite("x", 1.0).is_ok());
+        assert!(matches!(
+            finite("x", f64::NAN),
+            Err(Error::NonFinite { .. })
+        ));
+        assert!(matches!(
+            finite("x", f64::NEG_INFINITY),
+            Err(Error::NonFinite { .. })
+        ));
+        let e = all_finite("q", &[0.0, f64::INFINITY]).unwrap_err();
+        assert_eq!(e.to_string(), "q[1] must be finite, got inf");
+    }
+
+    #[test]
+    fn positive_rejects_zero_and_negative() {
+        assert!(positive("m", 2.0).is_ok());
+        assert!(matches!(positive("m", 0.0), Err(Error::OutOfDomain { .. })));
+        assert!(matches!(
+            positive("m", -1.0),
+            Err(Error::OutOfDomain { .. })
+        ));
+        assert!(non_negative("e", 0.0).is_ok());
+    }
+}

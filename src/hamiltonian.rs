@@ -1,0 +1,303 @@
+//! Hamiltonian systems written once, generic over the dual-number type; every derivative by AD.
+//!
+//! A system implements [`Hamiltonian::hamiltonian`], the function `H(t, q, p)` with arguments of
+//! any [`DualNum<f64>`] type. From it the trait derives, by forward-mode AD ([`crate::ad`]):
+//!
+//! * Hamilton's equations [Ardema 15.11, eqs. 15.18–15.21] (crate sign of §0.3 for the
+//!   non-conservative forces):
+//!
+//! $$ \dot q = \frac{\partial H}{\partial p},\qquad
+//!    \dot p = -\frac{\partial H}{\partial q} + Q^{nc}(t, q, p); $$
+//!
+//! * the Hessian blocks `H_qq, H_qp, H_pq, H_pp` and the tangent map of the vector field
+//!   (the linearisation, [Ardema 15.4, eq. 15.22]):
+//!
+//! $$ A = \begin{pmatrix} H_{pq} & H_{pp} \\ -H_{qq} & -H_{qp} \end{pmatrix}
+//!      + \begin{pmatrix} 0 & 0 \\ \partial Q^{nc}/\partial q & \partial Q^{nc}/\partial p \end{pmatrix}; $$
+//!
+//! * `∂H/∂t` and the energy balance `dH/dt = ∂H/∂t + Q^{nc}·∂H/∂p`.
+//!
+//! A one-line Hamiltonian needs no hand-written struct: see [`hamiltonian!`](crate::hamiltonian!).
+
+use crate::ad::{lift, phase_gradient, phase_hessian, PhaseDual};
+use crate::error::{all_finite, finite, Result};
+use crate::phase::{check_phase, PhaseMatrix};
+use nalgebra::SVector;
+use num_dual::{first_derivative, Dual, DualNum};
+
+/// A scalar function `F(t, q, p)` on extended phase space, written once for every dual type.
+///
+/// Implemented by every [`Hamiltonian`]; implement it directly for integrals, generators and
+/// observables whose brackets you want ([`crate::brackets`]).
+pub trait PhaseFunction<const N: usize> {
+    /// Evaluate `F(t, q, p)`.
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D;
+}
+
+/// A Hamiltonian system with `N` degrees of freedom.
+///
+/// # Requirements on the system
+/// `hamiltonian` must be written with the operations of [`DualNum`] only (arithmetic, `sqrt`,
+/// `sin`, `exp`, …), so that it can be evaluated on real numbers and on dual numbers alike. Real
+/// constants enter as `x * 2.0` or `D::from(2.0)` (a dual number times `f64` is defined; `f64`
+/// times a dual number is not).
+///
+/// # Example
+/// ```
+/// use hamilton_jacobi::{Hamiltonian, DualNum};
+/// use hamilton_jacobi::nalgebra::SVector;
+///
+/// /// H = p²/2 − cos q
+/// struct Pendulum;
+/// impl Hamiltonian<1> for Pendulum {
+///     fn hamiltonian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>, p: &SVector<D, 1>) -> D {
+///         p[0] * p[0] * 0.5 - q[0].cos()
+///     }
+/// }
+/// let (qdot, pdot) = Pendulum.vector_field(0.0, &SVector::from([1.0]), &SVector::from([0.5])).unwrap();
+/// assert_eq!(qdot[0], 0.5);               // ∂H/∂p = p
+/// assert_eq!(pdot[0], -(1.0f64).sin());   // −∂H/∂q = −sin q
+/// ```
+///
+/// # Reference
+/// M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum 2005, ch. 15.
+pub trait Hamiltonian<const N: usize> {
+    /// The Hamiltonian `H(t, q, p)`.
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D;
+
+    /// Non-conservative generalized forces `Q^nc(t, q, p)` entering `ṗ = −∂H/∂q + Q^nc`
+    /// [Ardema eq. 15.18]. `None` (the default) for a conservative system.
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, N>,
+        _p: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        None
+    }
+
+    /// `H(t, q, p)` on reals, with NaN/∞ inputs rejected.
+    fn value(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
+        check_phase(t, q, p)?;
+        let h = self.hamiltonian(t, q, p);
+        finite(format_args!("H at t = {t}, q = {q:?}, p = {p:?}"), h)
+    }
+
+    /// `(H, ∂H/∂q, ∂H/∂p)` in one AD pass, for any number type `D` (so it can be nested:
+    /// an integrator step written with it is again differentiable).
+    #[inline]
+    fn gradient<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (D, SVector<D, N>, SVector<D, N>) {
+        phase_gradient(|q, p| self.hamiltonian(PhaseDual::from_re(t), q, p), q, p)
+    }
+
+    /// Hamilton's equations `(q̇, ṗ)` at a point, generic over the number type; the inner-loop
+    /// kernel (no input validation: NaN in gives NaN out).
+    #[inline]
+    fn vector_field_generic<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        let (_, hq, hp) = self.gradient(t, q, p);
+        match self.generalized_force(t, q, p) {
+            None => (hp, -hq),
+            Some(f) => (hp, f - hq),
+        }
+    }
+
+    /// Hamilton's equations `(q̇, ṗ)` on reals without validation (the inner-loop kernel).
+    #[inline]
+    fn vector_field_unchecked(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        self.vector_field_generic(t, q, p)
+    }
+
+    /// Hamilton's equations `(q̇, ṗ)`, with NaN/∞ inputs rejected.
+    fn vector_field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        check_phase(t, q, p)?;
+        let (qd, pd) = self.vector_field_unchecked(t, q, p);
+        let at = || format!("at t = {t}, q = {q:?}, p = {p:?}");
+        all_finite(format_args!("q̇ = ∂H/∂p {}; q̇", at()), qd.as_slice())?;
+        all_finite(format_args!("ṗ {}; ṗ", at()), pd.as_slice())?;
+        Ok((qd, pd))
+    }
+
+    /// The Hessian of `H` over phase space in blocks `[[H_qq, H_qp], [H_pq, H_pp]]`,
+    /// `H_qp[(i, j)] = ∂²H/∂q_i∂p_j`.
+    fn hessian(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<PhaseMatrix<N>> {
+        check_phase(t, q, p)?;
+        let (_, _, _, h) = phase_hessian(|q, p| self.hamiltonian(From::from(t), q, p), q, p);
+        Ok(h)
+    }
+
+    /// Tangent map (Jacobian) of the vector field, `A = ∂(q̇, ṗ)/∂(q, p)`; `δż = A δz` are the
+    /// variational equations [Ardema eq. 15.22]. Includes `∂Q^nc/∂(q, p)`.
+    fn tangent_matrix(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<PhaseMatrix<N>> {
+        crate::brackets::jacobian(&VectorFieldMap(self), t, q, p)
+    }
+
+    /// Explicit time derivative `∂H/∂t` (zero for autonomous systems).
+    fn partial_t(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
+        check_phase(t, q, p)?;
+        let (_, dh) = first_derivative(
+            |td: Dual<f64, f64>| self.hamiltonian(td, &lift(q), &lift(p)),
+            t,
+        );
+        Ok(dh)
+    }
+
+    /// Rate of change of `H` along the motion, `dH/dt = ∂H/∂t + Q^nc · ∂H/∂p` (Hamilton's equations
+    /// make the bracket part `(H, H)` vanish). For Rayleigh dissipation this is `−2D` when `H = T + V`.
+    fn energy_rate(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
+        let ht = self.partial_t(t, q, p)?;
+        let (_, _, hp) = self.gradient(t, q, p);
+        Ok(ht + self.generalized_force(t, q, p).map_or(0.0, |f| f.dot(&hp)))
+    }
+}
+
+/// The vector field `(q, p) ↦ (q̇, ṗ)` seen as a map of phase space, for its AD Jacobian.
+struct VectorFieldMap<'a, H: ?Sized>(&'a H);
+
+impl<const N: usize, H: Hamiltonian<N> + ?Sized> crate::brackets::PhaseMap<N>
+    for VectorFieldMap<'_, H>
+{
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        self.0.vector_field_generic(t, q, p)
+    }
+}
+
+impl<const N: usize, H: Hamiltonian<N>> PhaseFunction<N> for H {
+    #[inline]
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        self.hamiltonian(t, q, p)
+    }
+}
+
+/// Define a Hamiltonian system in one line: a struct (with optional parameters) and its
+/// [`Hamiltonian`] implementation.
+///
+/// The closure-like part names the system itself (to reach its parameters) and the arguments
+/// `t, q, p`; the body is written with [`DualNum`] operations.
+///
+/// ```
+/// use hamilton_jacobi::{hamiltonian, Hamiltonian};
+/// use hamilton_jacobi::nalgebra::SVector;
+///
+/// hamiltonian!(
+///     /// Pendulum H = p²/2 − ω² cos q.
+///     pub Pendulum<1> { omega: f64 } |s, _t, q, p| p[0] * p[0] * 0.5 - q[0].cos() * (s.omega * s.omega)
+/// );
+/// hamiltonian!(Free<2> |_s, _t, _q, p| p.dot(p) * 0.5);
+///
+/// let h = Pendulum { omega: 2.0 };
+/// let (_, pdot) = h.vector_field(0.0, &SVector::from([0.3]), &SVector::from([0.0])).unwrap();
+/// assert!((pdot[0] + 4.0 * 0.3f64.sin()).abs() < 1e-15);
+/// let (qdot, _) = Free.vector_field(0.0, &SVector::from([0.0, 0.0]), &SVector::from([1.0, 2.0])).unwrap();
+/// assert_eq!(qdot, SVector::from([1.0, 2.0]));
+/// ```
+#[macro_export]
+macro_rules! hamiltonian {
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > { $($field:ident : $fty:ty),* $(,)? }
+        |$s:ident, $t:ident, $q:ident, $p:ident| $body:expr) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, PartialEq)]
+        $vis struct $name { $(#[allow(missing_docs)] pub $field: $fty),* }
+        $crate::hamiltonian!(@impl $name $n |$s, $t, $q, $p| $body);
+    };
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > |$s:ident, $t:ident, $q:ident, $p:ident| $body:expr) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        $vis struct $name;
+        $crate::hamiltonian!(@impl $name $n |$s, $t, $q, $p| $body);
+    };
+    (@impl $name:ident $n:literal |$s:ident, $t:ident, $q:ident, $p:ident| $body:expr) => {
+        impl $crate::Hamiltonian<$n> for $name {
+            #[inline]
+            #[allow(unused_variables)]
+            fn hamiltonian<D: $crate::DualNum<f64> + Copy>(
+                &self,
+                $t: D,
+                $q: &$crate::nalgebra::SVector<D, $n>,
+                $p: &$crate::nalgebra::SVector<D, $n>,
+            ) -> D {
+                let $s = self;
+                $body
+            }
+        }
+    };
+}
+
+/// Constant of any dual type: `constant::<D>(x) = D::from(x)`.
+#[inline]
+pub fn constant<D: DualNum<f64>>(x: f64) -> D {
+    D::from(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    crate::hamiltonian!(Coupled<2> { k: f64 } |s, t, q, p|
+        p.dot(p) * 0.5 + q[0] * q[0] * q[1] * s.k + (q[1] * p[0]).sin() + t * q[0]);
+
+    #[test]
+    fn vector_field_and_hessian_match_hand_derivatives() {
+        let h = Coupled { k: 1.5 };
+        let (t, q, p) = (0.4, SVector::from([0.3, -0.7]), SVector::from([1.1, 0.2]));
+        let (qd, pd) = h.vector_field(t, &q, &p).unwrap();
+        let c = (q[1] * p[0]).cos();
+        assert_relative_eq!(qd[0], p[0] + q[1] * c, epsilon = 1e-15);
+        assert_relative_eq!(qd[1], p[1], epsilon = 1e-15);
+        assert_relative_eq!(pd[0], -(2.0 * q[0] * q[1] * 1.5 + t), epsilon = 1e-15);
+        assert_relative_eq!(pd[1], -(q[0] * q[0] * 1.5 + p[0] * c), epsilon = 1e-15);
+        let hs = h.hessian(t, &q, &p).unwrap();
+        let s = (q[1] * p[0]).sin();
+        assert_relative_eq!(hs.qq[(0, 1)], 2.0 * q[0] * 1.5, epsilon = 1e-15);
+        assert_relative_eq!(hs.qq[(1, 1)], -p[0] * p[0] * s, epsilon = 1e-15);
+        assert_relative_eq!(hs.qp[(1, 0)], c - q[1] * p[0] * s, epsilon = 1e-15);
+        assert_relative_eq!(hs.pp[(0, 0)], 1.0 - q[1] * q[1] * s, epsilon = 1e-15);
+        assert_relative_eq!(h.partial_t(t, &q, &p).unwrap(), q[0], epsilon = 1e-15);
+        // Tangent matrix = J · Hess
+        let a = h.tangent_matrix(t, &q, &p).unwrap();
+        assert_relative_eq!(a.qq, hs.pq, epsilon = 1e-14);
+        assert_relative_eq!(a.qp, hs.pp, epsilon = 1e-14);
+        assert_relative_eq!(a.pq, -hs.qq, epsilon = 1e-14);
+        assert_relative_eq!(a.pp, -hs.qp, epsilon = 1e-14);
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let h = Coupled { k: 1.0 };
+        let q = SVector::from([f64::NAN, 0.0]);
+        let p = SVector::from([0.0, 0.0]);
+        assert!(h.vector_field(0.0, &q, &p).is_err());
+        assert!(h.hessian(0.0, &q, &p).is_err());
+        assert!(h.value(f64::INFINITY, &p, &p).is_err());
+    }
+}

@@ -1,0 +1,604 @@
+//! Lagrangian systems, the Legendre transform, Lagrange's equations, Rayleigh dissipation,
+//! the Jacobi integral and Routh's reduction — all derived by AD from `L` written once.
+//!
+//! * Lagrange's equations [Ardema 6.4, eq. 6.33] with the crate's Rayleigh convention (SPEC §0.4:
+//!   `D = ½ q̇ᵀ d q̇ ≥ 0`, `Q^d = −∂D/∂q̇`):
+//!   $$ E(t, q, \dot q, \ddot q) = \frac{d}{dt}\frac{\partial L}{\partial \dot q}
+//!      - \frac{\partial L}{\partial q} - Q^{nc} + \frac{\partial D}{\partial \dot q} = 0 . $$
+//! * Legendre transform [Ardema 15.1, eqs. 15.3–15.17]: `p = ∂L/∂q̇`,
+//!   `H(t, q, p) = p·q̇ − L(t, q, q̇)` with `q̇` solving `∂L/∂q̇ = p` by Newton's method with the AD
+//!   mass matrix `∂²L/∂q̇²`; for natural systems `T = ½ q̇ᵀ a q̇ + bᵀ q̇ + c` in closed form
+//!   `H = ½ (p − b)ᵀ a⁻¹ (p − b) − c + V` [Ardema eq. 15.8] ([`NaturalSystem`]).
+//! * Jacobi integral `h = q̇·∂L/∂q̇ − L = T₂ − T₀ + V` [Ardema 8.2, eqs. 8.9–8.19].
+//! * Routhian `R = L − Σ_β C_β q̇_β` for ignorable coordinates [Ardema 8.3, eqs. 8.24–8.37].
+
+use crate::ad::{lift, phase_gradient, phase_hessian, real_parts, PhaseDual};
+use crate::error::{all_finite, Error, Result};
+use crate::hamiltonian::{Hamiltonian, PhaseFunction};
+use crate::phase::check_phase;
+use nalgebra::{SMatrix, SVector};
+use num_dual::{linalg::LU, Dual64, DualNum};
+
+/// A Lagrangian system with `N` degrees of freedom, `L(t, q, q̇)` written once for every dual type.
+///
+/// # Requirements on the system
+/// As for [`Hamiltonian`]: the body uses [`DualNum`] operations only. The Legendre transform
+/// requires the mass matrix `∂²L/∂q̇²` to be non-singular where it is used.
+///
+/// # Reference
+/// M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum 2005, ch. 6 and 15; SPEC M14, M17, M23, M24, M44.
+pub trait Lagrangian<const N: usize> {
+    /// The Lagrangian `L(t, q, q̇)`.
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        qdot: &SVector<D, N>,
+    ) -> D;
+
+    /// Non-conservative, non-dissipative generalized forces `Q^nc(t, q, q̇)` [Ardema eq. 6.33];
+    /// `None` (default) for none.
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, N>,
+        _qdot: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        None
+    }
+
+    /// Rayleigh dissipation function `D(t, q, q̇) ≥ 0` in the crate convention (SPEC §0.4),
+    /// contributing `Q^d = −∂D/∂q̇`; `None` (default) for none. A book-sign function
+    /// (`D_Ardema = −D`) must be negated before it is returned here.
+    fn dissipation<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, N>,
+        _qdot: &SVector<D, N>,
+    ) -> Option<D> {
+        None
+    }
+
+    /// `L(t, q, q̇)` on reals, NaN/∞ rejected.
+    fn value(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<f64> {
+        check_phase(t, q, qdot)?;
+        Ok(self.lagrangian(t, q, qdot))
+    }
+
+    /// Canonical momenta `p = ∂L/∂q̇` [Ardema eq. 15.3].
+    fn momentum(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>> {
+        check_phase(t, q, qdot)?;
+        Ok(phase_gradient(|a, b| self.lagrangian(PhaseDual::from_re(t), a, b), q, qdot).2)
+    }
+
+    /// Mass matrix `∂²L/∂q̇²` (the `a` of [Ardema eq. 6.2] for natural systems).
+    fn mass_matrix(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<SMatrix<f64, N, N>> {
+        check_phase(t, q, qdot)?;
+        Ok(
+            phase_hessian(|a, b| self.lagrangian(From::from(t), a, b), q, qdot)
+                .3
+                .pp,
+        )
+    }
+
+    /// Generalized forces that do not derive from `L`: `Q^nc − ∂D/∂q̇` (zero if there are none).
+    fn total_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        qdot: &SVector<D, N>,
+    ) -> SVector<D, N> {
+        let mut f = self
+            .generalized_force(t, q, qdot)
+            .unwrap_or_else(SVector::zeros);
+        if self.dissipation(t, q, qdot).is_some() {
+            let (_, _, dd) = phase_gradient(
+                |a, b| {
+                    self.dissipation(PhaseDual::from_re(t), a, b)
+                        .unwrap_or_else(|| From::from(0.0))
+                },
+                q,
+                qdot,
+            );
+            f -= dd;
+        }
+        f
+    }
+
+    /// Residual of Lagrange's equations `E(t, q, q̇, q̈)` (see the [module docs](self)); zero on
+    /// an actual motion.
+    fn lagrange_residual(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+        qddot: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>> {
+        all_finite("qddot", qddot.as_slice())?;
+        let (lq, h, lvt) = self.second_order_terms(t, q, qdot)?;
+        Ok(h.pq * qdot + h.pp * qddot + lvt - lq - self.total_force(t, q, qdot))
+    }
+
+    /// Accelerations `q̈` solving Lagrange's equations; [`Error::Singular`] if the mass matrix is.
+    fn accelerations(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>> {
+        let (lq, h, lvt) = self.second_order_terms(t, q, qdot)?;
+        let rhs = lq - h.pq * qdot - lvt + self.total_force(t, q, qdot);
+        let inv = checked_inverse(&h.pp, "mass matrix ∂²L/∂q̇²", || {
+            format!("q = {q:?}, q̇ = {qdot:?}")
+        })?;
+        Ok(inv * rhs)
+    }
+
+    /// `(∂L/∂q, Hessian of L over (q, q̇), ∂²L/∂t∂q̇)` — the ingredients of Lagrange's equations.
+    #[doc(hidden)]
+    fn second_order_terms(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, crate::PhaseMatrix<N>, SVector<f64, N>)> {
+        check_phase(t, q, qdot)?;
+        let (_, lq, _, h) = phase_hessian(|a, b| self.lagrangian(From::from(t), a, b), q, qdot);
+        let td = Dual64::new(t, 1.0);
+        let (_, _, lv) = phase_gradient(
+            |a, b| self.lagrangian(PhaseDual::from_re(td), a, b),
+            &lift::<Dual64, N>(q),
+            &lift::<Dual64, N>(qdot),
+        );
+        Ok((lq, h, lv.map(|v| v.eps)))
+    }
+
+    /// Jacobi integral `h = q̇·∂L/∂q̇ − L` [Ardema eq. 8.12]; constant when `L` has no explicit `t`,
+    /// the forces derive from a potential and the constraints are catastatic (M23).
+    fn jacobi_integral(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<f64> {
+        check_phase(t, q, qdot)?;
+        let (l, _, lv) =
+            phase_gradient(|a, b| self.lagrangian(PhaseDual::from_re(t), a, b), q, qdot);
+        Ok(qdot.dot(&lv) - l)
+    }
+}
+
+/// `L` seen as a phase function of `(q, q̇)` in the `(q, p)` slots.
+struct LagrangianSlots<'a, L: ?Sized>(&'a L);
+impl<const N: usize, L: Lagrangian<N> + ?Sized> PhaseFunction<N> for LagrangianSlots<'_, L> {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        self.0.lagrangian(t, q, v)
+    }
+}
+
+/// Inverse with a reciprocal-condition check (1-norm estimate `1/(‖A‖₁‖A⁻¹‖₁)`).
+pub(crate) fn checked_inverse<const N: usize>(
+    a: &SMatrix<f64, N, N>,
+    what: &str,
+    at: impl FnOnce() -> String,
+) -> Result<SMatrix<f64, N, N>> {
+    let norm1 = |m: &SMatrix<f64, N, N>| m.column_iter().map(|c| c.abs().sum()).fold(0.0, f64::max);
+    let singular = |rcond: f64, at: String| Error::Singular {
+        what: what.to_string(),
+        at,
+        rcond,
+    };
+    match a.try_inverse() {
+        Some(inv) => {
+            let rcond = 1.0 / (norm1(a) * norm1(&inv));
+            if rcond.is_finite() && rcond > 64.0 * f64::EPSILON {
+                Ok(inv)
+            } else {
+                Err(singular(if rcond.is_finite() { rcond } else { 0.0 }, at()))
+            }
+        }
+        None => Err(singular(0.0, at())),
+    }
+}
+
+/// Solve `∂Φ/∂x_i (t, q, x) = y_i` for the `i` with `solve_for[i]` (the other `x_i` are held at
+/// `y_i`), by Newton's method with the AD Hessian `∂²Φ/∂x²`, in any number type.
+///
+/// The real root is found on `f64` (damped Newton, backtracking on the residual); derivatives with
+/// respect to `(t, q, y)` then follow from `D::NDERIV` Newton steps in `D` with the real Jacobian
+/// frozen — each step makes one more order of the Taylor coefficients exact (implicit function
+/// theorem). Used by the Legendre transform in both directions and by the Routhian.
+pub(crate) fn solve_gradient_equation<F, D, const N: usize>(
+    phi: &F,
+    t: D,
+    q: &SVector<D, N>,
+    y: &SVector<D, N>,
+    solve_for: &[bool; N],
+    what: &str,
+) -> Result<SVector<D, N>>
+where
+    F: PhaseFunction<N> + ?Sized,
+    D: DualNum<f64> + Copy,
+{
+    const MAX_ITER: usize = 60;
+    let (tr, qr, yr) = (t.re(), real_parts(q), real_parts(y));
+    // Residual and Jacobian of the masked system on reals.
+    let residual = |x: &SVector<f64, N>| {
+        let (_, _, g, h) = phase_hessian(|a, b| phi.eval(From::from(tr), a, b), &qr, x);
+        let mut r = g - yr;
+        let mut jac = h.pp;
+        for i in (0..N).filter(|&i| !solve_for[i]) {
+            r[i] = x[i] - yr[i];
+            jac.row_mut(i).fill(0.0);
+            jac[(i, i)] = 1.0;
+        }
+        (r, jac)
+    };
+    // Start from the fixed values on held slots and zero elsewhere.
+    let mut x = SVector::from_fn(|i, _| if solve_for[i] { 0.0 } else { yr[i] });
+    let (mut r, mut jac) = residual(&x);
+    let scale = 1.0 + yr.norm();
+    let mut iterations = 0;
+    loop {
+        if !r.norm().is_finite() {
+            return Err(Error::NotConverged {
+                what: what.into(),
+                iterations,
+                residual: r.norm(),
+            });
+        }
+        let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
+        let dx = inv * r;
+        if r.norm() <= 4.0 * f64::EPSILON * scale
+            || dx.norm() <= 2.0 * f64::EPSILON * (1.0 + x.norm())
+        {
+            break;
+        }
+        if iterations >= MAX_ITER {
+            return Err(Error::NotConverged {
+                what: what.into(),
+                iterations,
+                residual: r.norm(),
+            });
+        }
+        // Backtracking: halve the step until the residual decreases (or accept after 30 halvings).
+        let mut lambda = 1.0;
+        loop {
+            let xn = x - dx * lambda;
+            let (rn, jn) = residual(&xn);
+            if rn.norm() < r.norm() || lambda < 1e-9 {
+                x = xn;
+                r = rn;
+                jac = jn;
+                break;
+            }
+            lambda *= 0.5;
+        }
+        iterations += 1;
+    }
+    // Derivative refinement in D with the real Jacobian frozen.
+    let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
+    let mut xd: SVector<D, N> = lift(&x);
+    for _ in 0..D::NDERIV {
+        let (_, _, g) = phase_gradient(|a, b| phi.eval(PhaseDual::from_re(t), a, b), q, &xd);
+        let rd: SVector<D, N> = SVector::from_fn(|i, _| {
+            if solve_for[i] {
+                g[i] - y[i]
+            } else {
+                xd[i] - y[i]
+            }
+        });
+        xd -= SVector::<D, N>::from_fn(|i, _| {
+            (0..N).fold(D::from(0.0), |s, j| s + rd[j] * inv[(i, j)])
+        });
+    }
+    Ok(xd)
+}
+
+/// The Legendre transform of a Lagrangian, usable as a [`Hamiltonian`] everywhere in the crate.
+///
+/// `H(t, q, p) = p·q̇ − L(t, q, q̇)`, `q̇` solving `∂L/∂q̇ = p`; the forces `Q^nc − ∂D/∂q̇` of `L` are
+/// carried over as the Hamiltonian's generalized forces, evaluated at `q̇(t, q, p)`. Where the
+/// Newton solve fails the Hamiltonian evaluates to NaN and the checked methods
+/// ([`Hamiltonian::vector_field`], [`Legendre::velocity`]) report the error.
+#[derive(Clone, Debug)]
+pub struct Legendre<L>(pub L);
+
+impl<L> Legendre<L> {
+    /// Velocities `q̇(t, q, p)` solving `∂L/∂q̇ = p`.
+    pub fn velocity<const N: usize>(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>>
+    where
+        L: Lagrangian<N>,
+    {
+        check_phase(t, q, p)?;
+        solve_gradient_equation(
+            &LagrangianSlots(&self.0),
+            t,
+            q,
+            p,
+            &[true; N],
+            "Legendre transform ∂L/∂q̇ = p",
+        )
+    }
+}
+
+/// NaN with NaN in every derivative slot that `x` carries, so a failed inner solve cannot pass as a
+/// value with zero derivatives.
+fn nan<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<D, N>) -> D {
+    x.iter()
+        .fold(D::from(f64::NAN), |acc, &xi| acc + xi * f64::NAN)
+}
+
+impl<const N: usize, L: Lagrangian<N>> Hamiltonian<N> for Legendre<L> {
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        match solve_gradient_equation(&LagrangianSlots(&self.0), t, q, p, &[true; N], "Legendre") {
+            Ok(v) => p.dot(&v) - self.0.lagrangian(t, q, &v),
+            Err(_) => nan(p),
+        }
+    }
+
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        if self.0.generalized_force(t, q, p).is_none() && self.0.dissipation(t, q, p).is_none() {
+            return None;
+        }
+        Some(
+            match solve_gradient_equation(
+                &LagrangianSlots(&self.0),
+                t,
+                q,
+                p,
+                &[true; N],
+                "Legendre",
+            ) {
+                Ok(v) => self.0.total_force(t, q, &v),
+                Err(_) => SVector::from_element(nan(p)),
+            },
+        )
+    }
+}
+
+/// `H` seen as a phase function in the `(q, p)` slots.
+struct HamiltonianSlots<'a, H: ?Sized>(&'a H);
+impl<const N: usize, H: Hamiltonian<N> + ?Sized> PhaseFunction<N> for HamiltonianSlots<'_, H> {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        self.0.hamiltonian(t, q, p)
+    }
+}
+
+/// The inverse Legendre transform of a Hamiltonian: `L(t, q, q̇) = p·q̇ − H(t, q, p)` with `p`
+/// solving `∂H/∂p = q̇` (requires `∂²H/∂p²` non-singular). The Hamiltonian's generalized forces
+/// become the Lagrangian's `Q^nc`.
+#[derive(Clone, Debug)]
+pub struct InverseLegendre<H>(pub H);
+
+impl<const N: usize, H: Hamiltonian<N>> Lagrangian<N> for InverseLegendre<H> {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        match solve_gradient_equation(
+            &HamiltonianSlots(&self.0),
+            t,
+            q,
+            v,
+            &[true; N],
+            "inverse Legendre",
+        ) {
+            Ok(p) => p.dot(v) - self.0.hamiltonian(t, q, &p),
+            Err(_) => nan(v),
+        }
+    }
+
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        v: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        self.0.generalized_force(t, q, v)?;
+        Some(
+            match solve_gradient_equation(
+                &HamiltonianSlots(&self.0),
+                t,
+                q,
+                v,
+                &[true; N],
+                "inverse Legendre",
+            ) {
+                Ok(p) => self
+                    .0
+                    .generalized_force(t, q, &p)
+                    .unwrap_or_else(SVector::zeros),
+                Err(_) => SVector::from_element(nan(v)),
+            },
+        )
+    }
+}
+
+/// A natural (holonomic) system: `T = ½ q̇ᵀ a(t, q) q̇ + b(t, q)ᵀ q̇ + c(t, q)` and potential `V(t, q)`
+/// [Ardema 6.1, eqs. 6.2–6.6]; `a` symmetric positive definite.
+///
+/// [`Natural`] turns it into a [`Lagrangian`] and [`NaturalHamiltonian`] into the closed-form
+/// Legendre transform `H = ½ (p − b)ᵀ a⁻¹ (p − b) − c + V` [Ardema eq. 15.8].
+pub trait NaturalSystem<const N: usize> {
+    /// Mass matrix `a(t, q)`.
+    fn mass<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> SMatrix<D, N, N>;
+    /// Gyroscopic (linear) coefficients `b(t, q)`; zero by default.
+    fn linear<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>) -> SVector<D, N> {
+        SVector::zeros()
+    }
+    /// Velocity-independent kinetic term `c(t, q)`; zero by default.
+    fn constant_kinetic<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>) -> D {
+        D::from(0.0)
+    }
+    /// Potential `V(t, q)`.
+    fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
+}
+
+/// A [`NaturalSystem`] as a [`Lagrangian`]: `L = ½ q̇ᵀ a q̇ + bᵀ q̇ + c − V`.
+#[derive(Clone, Debug)]
+pub struct Natural<S>(pub S);
+
+impl<const N: usize, S: NaturalSystem<N>> Lagrangian<N> for Natural<S> {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        let a = self.0.mass(t, q);
+        (a * v).dot(v) * 0.5 + self.0.linear(t, q).dot(v) + self.0.constant_kinetic(t, q)
+            - self.0.potential(t, q)
+    }
+}
+
+/// A [`NaturalSystem`] as a [`Hamiltonian`], by the closed-form Legendre transform
+/// `H = ½ (p − b)ᵀ a⁻¹ (p − b) − c + V`. NaN where `a` is singular.
+#[derive(Clone, Debug)]
+pub struct NaturalHamiltonian<S>(pub S);
+
+impl<const N: usize, S: NaturalSystem<N>> Hamiltonian<N> for NaturalHamiltonian<S> {
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        let a = self.0.mass(t, q);
+        let w = p - self.0.linear(t, q);
+        match LU::new(a) {
+            Ok(lu) => {
+                lu.solve(&w).dot(&w) * 0.5 - self.0.constant_kinetic(t, q) + self.0.potential(t, q)
+            }
+            Err(_) => nan(p),
+        }
+    }
+}
+
+/// Routh's procedure [Ardema 8.3]: a Lagrangian with `N` coordinates reduced to the `R` retained
+/// ones by fixing the momenta `C_β = ∂L/∂q̇_β` of the ignorable coordinates `q_β`.
+///
+/// `R(t, q_a, q̇_a) = L − Σ_β C_β q̇_β` with `q̇_β` solving `∂L/∂q̇_β = C_β`; it is a [`Lagrangian`]
+/// in the retained coordinates, whose equations are those of the reduced motion. The ignorable
+/// velocities are recovered by [`Routhian::ignorable_velocities`] (`q̇_β = −∂R/∂C_β`).
+#[derive(Clone, Debug)]
+pub struct Routhian<L, const N: usize, const R: usize> {
+    lagrangian: L,
+    retained: [usize; R],
+    ignorable: Vec<usize>,
+    momenta: Vec<f64>,
+}
+
+impl<L: Lagrangian<N>, const N: usize, const R: usize> Routhian<L, N, R> {
+    /// Reduce `lagrangian` by the ignorable coordinates `ignorable` with momenta `momenta`.
+    /// The retained coordinates are the others, in increasing order. Errors if the indices are out
+    /// of range or repeated, if `R ≠ N − ignorable.len()`, or if a momentum is not finite.
+    pub fn new(lagrangian: L, ignorable: &[usize], momenta: &[f64]) -> Result<Self> {
+        all_finite("momenta", momenta)?;
+        let mut seen = [false; N];
+        for &i in ignorable {
+            if i >= N || seen[i] {
+                return Err(Error::invalid(
+                    "ignorable",
+                    format!("index {i} out of range 0..{N} or repeated"),
+                ));
+            }
+            seen[i] = true;
+        }
+        if ignorable.len() != momenta.len() || N - ignorable.len() != R {
+            return Err(Error::invalid(
+                "ignorable",
+                format!(
+                    "{} ignorable coordinates with {} momenta cannot reduce {N} to {R}",
+                    ignorable.len(),
+                    momenta.len()
+                ),
+            ));
+        }
+        let mut retained = [0; R];
+        for (slot, i) in retained.iter_mut().zip((0..N).filter(|i| !seen[*i])) {
+            *slot = i;
+        }
+        Ok(Self {
+            lagrangian,
+            retained,
+            ignorable: ignorable.to_vec(),
+            momenta: momenta.to_vec(),
+        })
+    }
+
+    /// Full `(q, y)` for the solve: `y_β = C_β` on ignorable slots, `q̇_a` on retained ones.
+    fn embed<D: DualNum<f64> + Copy>(
+        &self,
+        q_a: &SVector<D, R>,
+        v_a: &SVector<D, R>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        let mut q = SVector::<D, N>::zeros();
+        let mut y = SVector::<D, N>::zeros();
+        for (k, &i) in self.retained.iter().enumerate() {
+            q[i] = q_a[k];
+            y[i] = v_a[k];
+        }
+        for (&i, &c) in self.ignorable.iter().zip(&self.momenta) {
+            y[i] = D::from(c);
+        }
+        (q, y)
+    }
+
+    fn full_velocity<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q_a: &SVector<D, R>,
+        v_a: &SVector<D, R>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        let (q, y) = self.embed(q_a, v_a);
+        let mut solve_for = [false; N];
+        for &i in &self.ignorable {
+            solve_for[i] = true;
+        }
+        let v = solve_gradient_equation(
+            &LagrangianSlots(&self.lagrangian),
+            t,
+            &q,
+            &y,
+            &solve_for,
+            "Routhian ∂L/∂q̇_β = C_β",
+        )?;
+        Ok((q, v))
+    }
+
+    /// Velocities of the ignorable coordinates, `q̇_β(t, q_a, q̇_a)`, in the order given to `new`.
+    pub fn ignorable_velocities(
+        &self,
+        t: f64,
+        q_a: &SVector<f64, R>,
+        v_a: &SVector<f64, R>,
+    ) -> Result<Vec<f64>> {
+        check_phase(t, q_a, v_a)?;
+        let (_, v) = self.full_velocity(t, q_a, v_a)?;
+        Ok(self.ignorable.iter().map(|&i| v[i]).collect())
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize, const R: usize> Lagrangian<R> for Routhian<L, N, R> {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q_a: &SVector<D, R>,
+        v_a: &SVector<D, R>,
+    ) -> D {
+        match self.full_velocity(t, q_a, v_a) {
+            Ok((q, v)) => {
+                let cv = self
+                    .ignorable
+                    .iter()
+                    .zip(&self.momenta)
+                    .fold(D::from(0.0), |s, (&i, &c)| s + v[i] * c);
+                self.lagrangian.lagrangian(t, &q, &v) - cv
+            }
+            Err(_) => nan(v_a),
+        }
+    }
+}

@@ -1,0 +1,18 @@
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
+
+pub mod ad;
+pub mod brackets;
+pub mod error;
+pub mod hamiltonian;
+pub mod lagrangian;
+pub mod phase;
+pub mod systems;
+
+pub use error::{Error, Result};
+pub use hamiltonian::{Hamiltonian, PhaseFunction};
+pub use lagrangian::{Lagrangian, Legendre, Natural, NaturalHamiltonian, NaturalSystem};
+pub use nalgebra;
+pub use num_dual;
+pub use num_dual::DualNum;
+pub use phase::{PhaseMatrix, PhasePoint};

@@ -1,0 +1,141 @@
+use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
+use crate::error::{finite, positive, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::phase::check_phase;
+use nalgebra::{SVector, Vector2, Vector3};
+use num_dual::DualNum;
+
+/// Kepler problem per unit mass in `N = 2` or `3` dimensions, `H = |p|²/2 − μ/|q|` (SPEC M28, §0.7).
+///
+/// Invariants: energy, angular momentum, eccentricity (Laplace–Runge–Lenz) vector. Exact motion for
+/// bound orbits by Kepler's equation ([`kepler_orbit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kepler<const N: usize> {
+    mu: f64,
+}
+
+/// Planar Kepler problem.
+pub type Kepler2 = Kepler<2>;
+/// Spatial Kepler problem.
+pub type Kepler3 = Kepler<3>;
+
+impl<const N: usize> Kepler<N> {
+    /// Kepler problem with gravitational parameter `μ > 0`.
+    pub fn new(mu: f64) -> Result<Self> {
+        Ok(Self {
+            mu: positive("gravitational parameter μ", mu)?,
+        })
+    }
+    /// Gravitational parameter.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+    /// Hand-written Hamilton's equations `(q̇, ṗ) = (p, −μ q/|q|³)`: test oracle and baseline for the
+    /// AD vector field.
+    #[inline]
+    pub fn vector_field_hand(
+        &self,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        let r2 = q.dot(q);
+        let f = self.mu / (r2 * r2.sqrt());
+        (*p, q * -f)
+    }
+}
+
+impl<const N: usize> Hamiltonian<N> for Kepler<N> {
+    #[inline]
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> D {
+        p.dot(p) * 0.5 - q.dot(q).sqrt().recip() * self.mu
+    }
+}
+
+fn embed<const N: usize>(x: &SVector<f64, N>) -> Result<Vector3<f64>> {
+    match N {
+        2 => Ok(Vector3::new(x[0], x[1], 0.0)),
+        3 => Ok(Vector3::new(x[0], x[1], x[2])),
+        _ => Err(Error::invalid(
+            "Kepler dimension",
+            format!("N = {N}; only 2 and 3 are supported"),
+        )),
+    }
+}
+
+impl<const N: usize> Invariants<N> for Kepler<N> {
+    fn invariants(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<Vec<Invariant>> {
+        let energy = self.value(t, q, p)?;
+        let (r, v) = (embed(q)?, embed(p)?);
+        let h = r.cross(&v);
+        let e = kepler_orbit::eccentricity_vector(self.mu, &r, &v)?;
+        let mut out = vec![Invariant {
+            name: "energy",
+            value: energy,
+        }];
+        if N == 3 {
+            out.push(Invariant {
+                name: "h_x",
+                value: h[0],
+            });
+            out.push(Invariant {
+                name: "h_y",
+                value: h[1],
+            });
+        }
+        out.push(Invariant {
+            name: "h_z",
+            value: h[2],
+        });
+        out.push(Invariant {
+            name: "e_x",
+            value: e[0],
+        });
+        out.push(Invariant {
+            name: "e_y",
+            value: e[1],
+        });
+        if N == 3 {
+            out.push(Invariant {
+                name: "e_z",
+                value: e[2],
+            });
+        }
+        Ok(out)
+    }
+}
+
+impl<const N: usize> ExactFlow<N> for Kepler<N> {
+    fn exact_flow(
+        &self,
+        t0: f64,
+        q0: &SVector<f64, N>,
+        p0: &SVector<f64, N>,
+        t: f64,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        check_phase(t0, q0, p0)?;
+        let dt = finite("t", t)? - t0;
+        let (r, v) = match N {
+            2 => {
+                let (r, v) = kepler_orbit::kepler_propagate_planar(
+                    self.mu,
+                    &Vector2::new(q0[0], q0[1]),
+                    &Vector2::new(p0[0], p0[1]),
+                    dt,
+                )?;
+                (Vector3::new(r[0], r[1], 0.0), Vector3::new(v[0], v[1], 0.0))
+            }
+            _ => kepler_orbit::kepler_propagate(self.mu, &embed(q0)?, &embed(p0)?, dt)?,
+        };
+        Ok((SVector::from_fn(|i, _| r[i]), SVector::from_fn(|i, _| v[i])))
+    }
+}

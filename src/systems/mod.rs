@@ -1,0 +1,59 @@
+//! The systems catalogue: each system with its Hamiltonian (or Lagrangian), its known invariants and,
+//! where one exists, its exact solution. Tests, examples, benchmarks and the CLI all reuse these.
+//!
+//! | system | degrees of freedom | exact solution |
+//! |---|---|---|
+//! | [`HarmonicOscillator`] | 1 | closed form, generic over the dual type |
+//! | [`Pendulum`] | 1 | Jacobi elliptic functions + AGM, up to the separatrix (SPEC X2) |
+//! | [`Kepler2`], [`Kepler3`] | 2, 3 | Kepler's equation, elliptic orbits (SPEC M28, X3) |
+//! | [`Projectile`] | 2 | closed form |
+//! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral, SPEC T24) |
+
+use crate::error::Result;
+use nalgebra::SVector;
+
+mod bead;
+mod harmonic;
+mod kepler;
+pub mod kepler_orbit;
+mod pendulum;
+pub mod pendulum_exact;
+mod projectile;
+
+pub use bead::BeadOnHoop;
+pub use harmonic::{HarmonicFlow, HarmonicOscillator};
+pub use kepler::{Kepler, Kepler2, Kepler3};
+pub use pendulum::Pendulum;
+pub use projectile::Projectile;
+
+/// A named conserved quantity and its value at a phase point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Invariant {
+    /// Name, e.g. `"energy"`, `"h_z"`.
+    pub name: &'static str,
+    /// Value.
+    pub value: f64,
+}
+
+/// Systems that know their conserved quantities.
+pub trait Invariants<const N: usize> {
+    /// Values of all known invariants at `(t, q, p)`.
+    fn invariants(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<Vec<Invariant>>;
+}
+
+/// Systems whose motion is known in closed form.
+pub trait ExactFlow<const N: usize> {
+    /// The state at time `t` of the motion that passes through `(q0, p0)` at time `t0`.
+    fn exact_flow(
+        &self,
+        t0: f64,
+        q0: &SVector<f64, N>,
+        p0: &SVector<f64, N>,
+        t: f64,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)>;
+}

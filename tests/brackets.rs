@@ -1,0 +1,432 @@
+//! Poisson and Lagrange brackets, canonicity: SPEC T5, T6, T7, T11 and the bracket identities (M46, M50).
+
+mod common;
+
+use approx::assert_relative_eq;
+use hamilton_jacobi::brackets::{
+    certify, integral_defect, lagrange_bracket, lagrange_bracket_matrix, liouville_determinant,
+    poisson_bracket, poisson_bracket_matrix, reciprocity_defect, time_derivative, Coordinate,
+    Momentum, PhaseMap, PoissonBracket,
+};
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::{hamiltonian, DualNum, Hamiltonian, PhaseFunction};
+use proptest::prelude::*;
+
+const EPS: f64 = f64::EPSILON;
+
+// ---------------------------------------------------------------------------------------------
+// T11: angular momentum brackets for a central force, and the generators of rotations/translations.
+
+hamiltonian!(
+    /// H = |p|²/2 + V(|r|) with V = −1/r + 0.1/r² (any central potential would do).
+    Central<3> |_s, _t, q, p| p.dot(p) * 0.5 - q.dot(q).sqrt().recip() + q.dot(q).recip() * 0.1
+);
+
+/// Component `k` of the angular momentum `h = q × p`.
+struct AngularMomentum(usize);
+impl PhaseFunction<3> for AngularMomentum {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>, p: &SVector<D, 3>) -> D {
+        let (i, j) = ((self.0 + 1) % 3, (self.0 + 2) % 3);
+        q[i] * p[j] - q[j] * p[i]
+    }
+}
+
+fn sample_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
+    vec![
+        (
+            0.0,
+            SVector::from([1.0, 0.2, -0.3]),
+            SVector::from([0.1, 0.9, 0.4]),
+        ),
+        (
+            1.3,
+            SVector::from([-0.7, 1.4, 0.5]),
+            SVector::from([-0.6, 0.2, 1.1]),
+        ),
+        (
+            2.0,
+            SVector::from([0.3, -0.2, 2.0]),
+            SVector::from([1.5, -0.4, 0.0]),
+        ),
+    ]
+}
+
+#[test]
+fn t11_angular_momentum_algebra_and_conservation() {
+    for (t, q, p) in sample_points() {
+        let h = |k| AngularMomentum(k).eval(t, &q, &p);
+        // (h_x, h_y) = h_z and cyclic.
+        for k in 0..3 {
+            let b = poisson_bracket(
+                &AngularMomentum(k),
+                &AngularMomentum((k + 1) % 3),
+                t,
+                &q,
+                &p,
+            )
+            .unwrap();
+            assert_relative_eq!(
+                b,
+                h((k + 2) % 3),
+                epsilon = 8.0 * EPS * (1.0 + h((k + 2) % 3).abs())
+            );
+        }
+        // (h_z, H) = 0.
+        let hz_h = poisson_bracket(&AngularMomentum(2), &Central, t, &q, &p).unwrap();
+        assert!(hz_h.abs() < 16.0 * EPS, "(h_z, H) = {hz_h}");
+    }
+    assert!(integral_defect(&AngularMomentum(2), &Central, &sample_points()).unwrap() < 16.0 * EPS);
+    // Poisson's theorem: (h_x, h_y) is again an integral.
+    let hxy = PoissonBracket(AngularMomentum(0), AngularMomentum(1));
+    assert!(integral_defect(&hxy, &Central, &sample_points()).unwrap() < 64.0 * EPS);
+}
+
+#[test]
+fn t11_rotation_and_translation_generators() {
+    // ρ = h_z: δq = ε ∂ρ/∂p = ε(−y, x, 0), δp = −ε ∂ρ/∂q = ε(−p_y, p_x, 0).
+    let (q, p) = (
+        SVector::from([0.4, -1.2, 0.7]),
+        SVector::from([0.3, 0.8, -0.5]),
+    );
+    for k in 0..3 {
+        let dq = poisson_bracket(&Coordinate(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
+        let dp = poisson_bracket(&Momentum(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
+        let (eq, ep) = ([-q[1], q[0], 0.0][k], [-p[1], p[0], 0.0][k]);
+        assert_relative_eq!(dq, eq, epsilon = 4.0 * EPS);
+        assert_relative_eq!(dp, ep, epsilon = 4.0 * EPS);
+    }
+    // The change of H along the generator, (H, ρ), vanishes: H is invariant under rotations.
+    assert!(
+        poisson_bracket(&Central, &AngularMomentum(2), 0.0, &q, &p)
+            .unwrap()
+            .abs()
+            < 16.0 * EPS
+    );
+    // ρ = p₁ with q₁ ignorable: a translation in q₁, and p₁ is conserved.
+    hamiltonian!(Ignorable<2> |_s, _t, q, p| p.dot(p) * 0.5 + q[1].cos() * (p[0] * p[1]));
+    let (q2, p2) = (SVector::from([3.0, 0.4]), SVector::from([0.2, -0.9]));
+    assert_eq!(
+        poisson_bracket(&Coordinate(0), &Momentum(0), 0.0, &q2, &p2).unwrap(),
+        1.0
+    );
+    assert_eq!(
+        poisson_bracket(&Coordinate(1), &Momentum(0), 0.0, &q2, &p2).unwrap(),
+        0.0
+    );
+    assert_eq!(
+        time_derivative(&Momentum(0), &Ignorable, 0.0, &q2, &p2).unwrap(),
+        0.0
+    );
+    // ṗ₂ = −∂H/∂q₂ = sin q₂ p₁ p₂ ≠ 0: q₂ is not ignorable.
+    let p2dot = time_derivative(&Momentum(1), &Ignorable, 0.0, &q2, &p2).unwrap();
+    assert_relative_eq!(p2dot, q2[1].sin() * p2[0] * p2[1], epsilon = 4.0 * EPS);
+}
+
+// ---------------------------------------------------------------------------------------------
+// T5: the oscillator's canonical transformation from F1 = ½ m ω q² cot Q.
+
+const M5: f64 = 2.0;
+const W5: f64 = 3.0;
+
+/// Forward map (q, p) ↦ (Q, P): tan Q = mωq/p, P = (p² + m²ω²q²)/(2mω).
+struct OscillatorToAngle;
+impl PhaseMap<1> for OscillatorToAngle {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let mw = M5 * W5;
+        (
+            SVector::from([(q[0] * mw).atan2(p[0])]),
+            SVector::from([(p[0] * p[0] + q[0] * q[0] * (mw * mw)) / (2.0 * mw)]),
+        )
+    }
+}
+
+/// Inverse map (Q, P) ↦ (q, p) = (√(2P/(mω)) sin Q, √(2mωP) cos Q).
+struct AngleToOscillator;
+impl PhaseMap<1> for AngleToOscillator {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let (big_q, big_p) = (q[0], p[0]);
+        let mw = M5 * W5;
+        (
+            SVector::from([(big_p * (2.0 / mw)).sqrt() * big_q.sin()]),
+            SVector::from([(big_p * (2.0 * mw)).sqrt() * big_q.cos()]),
+        )
+    }
+}
+
+#[test]
+fn t5_oscillator_angle_variables() {
+    let (q, p) = (SVector::from([0.5]), SVector::from([1.2]));
+    let (big_q, big_p) = OscillatorToAngle.apply(0.0, &q, &p);
+    // Published instance: (Q, P) = (1.19028994968253, 0.87), H = ωP = 2.61 (15 digits given).
+    assert_relative_eq!(big_q[0], 1.19028994968253, epsilon = 1e-14);
+    assert_relative_eq!(big_p[0], 0.87, epsilon = 1e-15);
+    let h = 0.5 * p[0] * p[0] / M5 + 0.5 * M5 * W5 * W5 * q[0] * q[0];
+    assert_relative_eq!(W5 * big_p[0], h, epsilon = 4.0 * EPS);
+    assert_relative_eq!(h, 2.61, epsilon = 4.0 * EPS * 2.61);
+    // p = mωq cot Q and P = mωq²/(2 sin²Q): the F1 relations.
+    assert_relative_eq!(p[0], M5 * W5 * q[0] / big_q[0].tan(), epsilon = 8.0 * EPS);
+    assert_relative_eq!(
+        big_p[0],
+        M5 * W5 * q[0] * q[0] / (2.0 * big_q[0].sin().powi(2)),
+        epsilon = 8.0 * EPS
+    );
+    // (Q, P) = 1 from the forward map; [Q, P] = 1 from the inverse map; reciprocity.
+    let pb = poisson_bracket_matrix(&OscillatorToAngle, 0.0, &q, &p).unwrap();
+    assert_relative_eq!(pb.qp[(0, 0)], 1.0, epsilon = 8.0 * EPS);
+    let lb = lagrange_bracket(&AngleToOscillator, 0.0, &big_q, &big_p, 0, 1).unwrap();
+    assert_relative_eq!(lb, 1.0, epsilon = 8.0 * EPS);
+    assert!(reciprocity_defect(&AngleToOscillator, 0.0, &big_q, &big_p).unwrap() < 16.0 * EPS);
+    // Round trip.
+    let (q2, p2) = AngleToOscillator.apply(0.0, &big_q, &big_p);
+    assert_relative_eq!(q2[0], q[0], epsilon = 4.0 * EPS);
+    assert_relative_eq!(p2[0], p[0], epsilon = 4.0 * EPS);
+}
+
+// ---------------------------------------------------------------------------------------------
+// T6: free fall as a canonical map; Lagrange-bracket test.
+
+struct FreeFall {
+    g: f64,
+}
+impl PhaseMap<1> for FreeFall {
+    /// (Q, P) ↦ (q, p) = (Q + P t − ½ g t², P − g t).
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        (
+            SVector::from([q[0] + p[0] * t - t * t * (0.5 * self.g)]),
+            SVector::from([p[0] - t * self.g]),
+        )
+    }
+}
+
+#[test]
+fn t6_free_fall_flow_is_canonical() {
+    let ff = FreeFall { g: 9.81 };
+    for t in [0.0, 0.3, 2.0, 17.5] {
+        let (u1, u2) = (SVector::from([1.5]), SVector::from([-4.0]));
+        let c = certify(&ff, t, &u1, &u2).unwrap();
+        // ∂(q, p)/∂(Q, P) = [[1, t], [0, 1]], determinant 1.
+        assert_eq!(c.jacobian.qq[(0, 0)], 1.0);
+        assert_eq!(c.jacobian.qp[(0, 0)], t);
+        assert_eq!(c.jacobian.pq[(0, 0)], 0.0);
+        assert_eq!(c.jacobian.pp[(0, 0)], 1.0);
+        assert_eq!(c.det_minus_one, 0.0);
+        // [Q, P] = 1, [Q, Q] = [P, P] = 0.
+        let l = lagrange_bracket_matrix(&ff, t, &u1, &u2).unwrap();
+        assert_eq!((l.qq[(0, 0)], l.qp[(0, 0)], l.pp[(0, 0)]), (0.0, 1.0, 0.0));
+        assert_eq!(liouville_determinant(&ff, t, &u1, &u2).unwrap(), 1.0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// T7: canonicity exercises.
+
+/// Prob. 16/2: Q = ln(sin p / q), P = q cot p.
+struct Prob16_2;
+impl PhaseMap<1> for Prob16_2 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        (
+            SVector::from([(p[0].sin() / q[0]).ln()]),
+            SVector::from([q[0] / p[0].tan()]),
+        )
+    }
+}
+
+/// Prob. 16/3: Q = q^α cos βp, P = q^α sin βp.
+struct Prob16_3 {
+    alpha: f64,
+    beta: f64,
+}
+impl PhaseMap<1> for Prob16_3 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let qa = q[0].powf(self.alpha);
+        let (s, c) = (p[0] * self.beta).sin_cos();
+        (SVector::from([qa * c]), SVector::from([qa * s]))
+    }
+}
+
+/// Time-dependent: Q = √(2q) eᵗ cos p, P = √(2q) e⁻ᵗ sin p.
+struct TimeDependent;
+impl PhaseMap<1> for TimeDependent {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let r = (q[0] * 2.0).sqrt();
+        let (s, c) = p[0].sin_cos();
+        (
+            SVector::from([r * t.exp() * c]),
+            SVector::from([r * (-t).exp() * s]),
+        )
+    }
+}
+
+#[test]
+fn t7_canonicity_exercises() {
+    let points = [(0.7, 1.1), (1.9, 0.4), (0.2, 2.5)];
+    for (q, p) in points {
+        let (q, p) = (SVector::from([q]), SVector::from([p]));
+        // 16/2 (sin p > 0 at these points): (Q, P) = 1.
+        let c = certify(&Prob16_2, 0.0, &q, &p).unwrap();
+        assert!(
+            c.symplectic_defect < 32.0 * EPS,
+            "16/2 defect {}",
+            c.symplectic_defect
+        );
+        // 16/3: (Q, P) = αβ q^{2α−1}; canonical only for α = ½, β = 2.
+        for (alpha, beta) in [(0.5, 2.0), (0.5, 1.5), (0.7, 2.0), (1.0, 1.0)] {
+            let m = Prob16_3 { alpha, beta };
+            let pb = poisson_bracket_matrix(&m, 0.0, &q, &p).unwrap().qp[(0, 0)];
+            let expected = alpha * beta * q[0].powf(2.0 * alpha - 1.0);
+            assert_relative_eq!(pb, expected, epsilon = 16.0 * EPS * (1.0 + expected.abs()));
+            let canonical = certify(&m, 0.0, &q, &p).unwrap().is_canonical(1e-12);
+            assert_eq!(
+                canonical,
+                alpha == 0.5 && beta == 2.0,
+                "α = {alpha}, β = {beta}"
+            );
+            // Reciprocity holds for any invertible map, canonical or not.
+            assert!(reciprocity_defect(&m, 0.0, &q, &p).unwrap() < 1e-13);
+        }
+        for t in [0.0, 0.7, -1.3] {
+            let c = certify(&TimeDependent, t, &q, &p).unwrap();
+            assert!(
+                c.symplectic_defect < 64.0 * EPS * t.abs().exp().powi(2),
+                "t = {t}: {}",
+                c.symplectic_defect
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_points_are_rejected() {
+    let q = SVector::from([f64::NAN]);
+    let p = SVector::from([1.0]);
+    assert!(certify(&Prob16_2, 0.0, &q, &p).is_err());
+    assert!(poisson_bracket(&Coordinate(0), &Momentum(0), f64::INFINITY, &p, &p).is_err());
+    // A map whose Jacobian is not finite at the point (16/2 at q = 0).
+    assert!(certify(&Prob16_2, 0.0, &SVector::from([0.0]), &p).is_err());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Property tests (M46): antisymmetry, Leibniz, Jacobi identity, canonical brackets.
+
+/// A random smooth function on 2-DOF phase space: Σ c_k b_k(q, p) with nonlinear basis terms.
+#[derive(Clone, Debug)]
+struct Smooth([f64; 6]);
+impl PhaseFunction<2> for Smooth {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+        let c = &self.0;
+        (q[0] * p[1]).sin() * c[0]
+            + (q[1] * 0.3 + p[0] * 0.2).exp() * c[1]
+            + q[0] * q[0] * p[0] * c[2]
+            + p[1] * p[1] * p[1] * c[3]
+            + (p[0] + q[1]).cos() * c[4]
+            + q[0] * q[1] * p[0] * p[1] * c[5]
+    }
+}
+
+/// Product of two phase functions.
+struct Product<'a>(&'a Smooth, &'a Smooth);
+impl PhaseFunction<2> for Product<'_> {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+        self.0.eval(t, q, p) * self.1.eval(t, q, p)
+    }
+}
+
+fn smooth() -> impl Strategy<Value = Smooth> {
+    prop::array::uniform6(-2.0..2.0f64).prop_map(Smooth)
+}
+fn point() -> impl Strategy<Value = (SVector<f64, 2>, SVector<f64, 2>)> {
+    (
+        prop::array::uniform2(-1.5..1.5f64),
+        prop::array::uniform2(-1.5..1.5f64),
+    )
+        .prop_map(|(q, p)| (SVector::from(q), SVector::from(p)))
+}
+
+proptest! {
+    #![proptest_config(common::config(0x5eed_0001))]
+
+    #[test]
+    fn antisymmetry(f in smooth(), g in smooth(), (q, p) in point()) {
+        let fg = poisson_bracket(&f, &g, 0.0, &q, &p).unwrap();
+        let gf = poisson_bracket(&g, &f, 0.0, &q, &p).unwrap();
+        // Same products summed in the opposite order: equal up to one rounding per term.
+        prop_assert!((fg + gf).abs() <= 8.0 * EPS * (1.0 + fg.abs()));
+    }
+
+    #[test]
+    fn leibniz_rule(f in smooth(), g in smooth(), k in smooth(), (q, p) in point()) {
+        let lhs = poisson_bracket(&Product(&f, &g), &k, 0.0, &q, &p).unwrap();
+        let fv = f.eval(0.0, &q, &p);
+        let gv = g.eval(0.0, &q, &p);
+        let a = fv * poisson_bracket(&g, &k, 0.0, &q, &p).unwrap();
+        let b = gv * poisson_bracket(&f, &k, 0.0, &q, &p).unwrap();
+        // Rounding relative to the size of the summands.
+        prop_assert!((lhs - a - b).abs() <= 64.0 * EPS * (1.0 + a.abs() + b.abs()), "{lhs} vs {a} + {b}");
+    }
+
+    #[test]
+    fn jacobi_identity(f in smooth(), g in smooth(), k in smooth(), (q, p) in point()) {
+        let a = poisson_bracket(&f, &PoissonBracket(g.clone(), k.clone()), 0.0, &q, &p).unwrap();
+        let b = poisson_bracket(&g, &PoissonBracket(k.clone(), f.clone()), 0.0, &q, &p).unwrap();
+        let c = poisson_bracket(&k, &PoissonBracket(f.clone(), g.clone()), 0.0, &q, &p).unwrap();
+        // Each nested bracket is a sum of O(10²) second-derivative products: allow a few hundred ulps
+        // of the largest term.
+        prop_assert!((a + b + c).abs() <= 512.0 * EPS * (1.0 + a.abs() + b.abs() + c.abs()), "{a} {b} {c}");
+    }
+
+    #[test]
+    fn canonical_brackets((q, p) in point(), t in -5.0..5.0f64) {
+        for i in 0..2 {
+            for j in 0..2 {
+                let qp = poisson_bracket(&Coordinate(i), &Momentum(j), t, &q, &p).unwrap();
+                prop_assert_eq!(qp, if i == j { 1.0 } else { 0.0 });
+                prop_assert_eq!(poisson_bracket(&Coordinate(i), &Coordinate(j), t, &q, &p).unwrap(), 0.0);
+                prop_assert_eq!(poisson_bracket(&Momentum(i), &Momentum(j), t, &q, &p).unwrap(), 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn bracket_with_h_is_the_vector_field(f in smooth(), (q, p) in point()) {
+        hamiltonian!(Anharmonic<2> |_s, _t, q, p| p.dot(p) * 0.5 + q[0] * q[0] * q[1] + q[1].powi(4) * 0.25);
+        // (q_i, H) = q̇_i and (p_i, H) = ṗ_i.
+        let (qd, pd) = Anharmonic.vector_field(0.0, &q, &p).unwrap();
+        for i in 0..2 {
+            prop_assert_eq!(poisson_bracket(&Coordinate(i), &Anharmonic, 0.0, &q, &p).unwrap(), qd[i]);
+            prop_assert_eq!(poisson_bracket(&Momentum(i), &Anharmonic, 0.0, &q, &p).unwrap(), pd[i]);
+        }
+        // dF/dt = (F, H) for autonomous F.
+        let fdot = time_derivative(&f, &Anharmonic, 0.0, &q, &p).unwrap();
+        prop_assert_eq!(fdot, poisson_bracket(&f, &Anharmonic, 0.0, &q, &p).unwrap());
+    }
+}

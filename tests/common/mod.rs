@@ -1,0 +1,96 @@
+//! Shared test utilities: seeded proptest configuration and a classical RK4 used as an
+//! independent integrator oracle.
+#![allow(dead_code)]
+
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::{Hamiltonian, Lagrangian};
+use proptest::test_runner::{Config, RngSeed};
+
+/// 1000 cases, fixed seed, no failure persistence files.
+pub fn config(seed: u64) -> Config {
+    Config {
+        cases: 1000,
+        rng_seed: RngSeed::Fixed(seed),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+/// One classical RK4 step of `ẋ = f(t, x)`.
+pub fn rk4_step<const M: usize>(
+    f: &impl Fn(f64, &SVector<f64, M>) -> SVector<f64, M>,
+    t: f64,
+    x: &SVector<f64, M>,
+    h: f64,
+) -> SVector<f64, M> {
+    let k1 = f(t, x);
+    let k2 = f(t + 0.5 * h, &(x + k1 * (0.5 * h)));
+    let k3 = f(t + 0.5 * h, &(x + k2 * (0.5 * h)));
+    let k4 = f(t + h, &(x + k3 * h));
+    x + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0)
+}
+
+/// Integrate Hamilton's equations of `h` with RK4 from `(q0, p0)` at `t0` over `steps` steps of `dt`,
+/// calling `observe(t, q, p)` after each step.
+pub fn rk4_hamiltonian<H: Hamiltonian<N>, const N: usize>(
+    h: &H,
+    t0: f64,
+    q0: SVector<f64, N>,
+    p0: SVector<f64, N>,
+    dt: f64,
+    steps: usize,
+    mut observe: impl FnMut(f64, &SVector<f64, N>, &SVector<f64, N>),
+) -> (SVector<f64, N>, SVector<f64, N>) {
+    let (mut q, mut p, mut t) = (q0, p0, t0);
+    for _ in 0..steps {
+        let fq =
+            |t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>| h.vector_field_unchecked(t, q, p);
+        let (k1q, k1p) = fq(t, &q, &p);
+        let (k2q, k2p) = fq(
+            t + 0.5 * dt,
+            &(q + k1q * (0.5 * dt)),
+            &(p + k1p * (0.5 * dt)),
+        );
+        let (k3q, k3p) = fq(
+            t + 0.5 * dt,
+            &(q + k2q * (0.5 * dt)),
+            &(p + k2p * (0.5 * dt)),
+        );
+        let (k4q, k4p) = fq(t + dt, &(q + k3q * dt), &(p + k3p * dt));
+        q += (k1q + k2q * 2.0 + k3q * 2.0 + k4q) * (dt / 6.0);
+        p += (k1p + k2p * 2.0 + k3p * 2.0 + k4p) * (dt / 6.0);
+        t += dt;
+        observe(t, &q, &p);
+    }
+    (q, p)
+}
+
+/// Integrate Lagrange's equations of `l` (state `(q, q̇)`) with RK4, calling `observe` after each step.
+pub fn rk4_lagrangian<L: Lagrangian<N>, const N: usize>(
+    l: &L,
+    t0: f64,
+    q0: SVector<f64, N>,
+    v0: SVector<f64, N>,
+    dt: f64,
+    steps: usize,
+    mut observe: impl FnMut(f64, &SVector<f64, N>, &SVector<f64, N>),
+) -> (SVector<f64, N>, SVector<f64, N>) {
+    let (mut q, mut v, mut t) = (q0, v0, t0);
+    let acc = |t: f64, q: &SVector<f64, N>, v: &SVector<f64, N>| {
+        l.accelerations(t, q, v).expect("regular mass matrix")
+    };
+    for _ in 0..steps {
+        let a1 = acc(t, &q, &v);
+        let (q2, v2) = (q + v * (0.5 * dt), v + a1 * (0.5 * dt));
+        let a2 = acc(t + 0.5 * dt, &q2, &v2);
+        let (q3, v3) = (q + v2 * (0.5 * dt), v + a2 * (0.5 * dt));
+        let a3 = acc(t + 0.5 * dt, &q3, &v3);
+        let (q4, v4) = (q + v3 * dt, v + a3 * dt);
+        let a4 = acc(t + dt, &q4, &v4);
+        q += (v + v2 * 2.0 + v3 * 2.0 + v4) * (dt / 6.0);
+        v += (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (dt / 6.0);
+        t += dt;
+        observe(t, &q, &v);
+    }
+    (q, v)
+}

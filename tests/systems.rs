@@ -1,0 +1,342 @@
+//! The systems catalogue against its oracles: AD against hand-written Hamilton's equations,
+//! invariants along the exact motion, SPEC T9/X2 (pendulum period), T12/X3 (Kepler's equation),
+//! and typed errors for bad input.
+
+mod common;
+
+use approx::assert_relative_eq;
+use hamilton_jacobi::nalgebra::{SVector, Vector3};
+use hamilton_jacobi::systems::{
+    kepler_orbit, pendulum_exact, ExactFlow, HarmonicOscillator, Invariants, Kepler, Kepler2,
+    Kepler3, Pendulum, Projectile,
+};
+use hamilton_jacobi::{Error, Hamiltonian};
+use proptest::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Relative difference, component by component, against a reference with magnitude floor `floor`.
+fn rel<const N: usize>(a: &SVector<f64, N>, b: &SVector<f64, N>, floor: f64) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| (x - y).abs() / y.abs().max(floor))
+        .fold(0.0, f64::max)
+}
+
+proptest! {
+    #![proptest_config(common::config(0x5eed_0003))]
+
+    /// AD equals hand-written Hamilton's equations to 1e−14 relative (both are a handful of roundings).
+    #[test]
+    fn kepler2_ad_equals_hand(q in prop::array::uniform2(-3.0..3.0f64), p in prop::array::uniform2(-2.0..2.0f64)) {
+        let k = Kepler2::new(1.3).unwrap();
+        let (q, p) = (SVector::from(q), SVector::from(p));
+        prop_assume!(q.norm() > 1e-3);
+        let (a, b) = k.vector_field(0.0, &q, &p).unwrap();
+        let (c, d) = k.vector_field_hand(&q, &p);
+        prop_assert_eq!(a, c);
+        // Component-wise relative error, floor at 1e−3 of the vector's size (a component that is
+        // zero by cancellation has no relative accuracy in either formula).
+        prop_assert!(rel(&b, &d, 1e-3 * d.norm()) <= 1e-14, "{} vs {}", b, d);
+    }
+
+    #[test]
+    fn kepler3_ad_equals_hand(q in prop::array::uniform3(-3.0..3.0f64), p in prop::array::uniform3(-2.0..2.0f64)) {
+        let k = Kepler3::new(0.7).unwrap();
+        let (q, p) = (SVector::from(q), SVector::from(p));
+        prop_assume!(q.norm() > 1e-3);
+        let (a, b) = k.vector_field(0.0, &q, &p).unwrap();
+        let (c, d) = k.vector_field_hand(&q, &p);
+        prop_assert_eq!(a, c);
+        prop_assert!(rel(&b, &d, 1e-3 * d.norm()) <= 1e-14, "{} vs {}", b, d);
+    }
+
+    #[test]
+    fn pendulum_ad_equals_hand(q in -10.0..10.0f64, p in -3.0..3.0f64, n in 0.1..5.0f64) {
+        let pend = Pendulum::new(n).unwrap();
+        let (q, p) = (SVector::from([q]), SVector::from([p]));
+        let (a, b) = pend.vector_field(0.0, &q, &p).unwrap();
+        let (c, d) = pend.vector_field_hand(&q, &p);
+        prop_assert_eq!(a, c);
+        prop_assert!(rel(&b, &d, f64::MIN_POSITIVE) <= 1e-14, "{} vs {}", b, d);
+    }
+
+    /// Kepler elements ↔ state round trip through the public API (3-D, bound orbits).
+    #[test]
+    fn kepler_elements_state_round_trip(a in 0.1..10.0f64, e in 0.0..0.99f64, i in 0.01..3.13f64,
+                                        raan in 0.0..TAU, argp in 0.0..TAU, m in -PI..PI) {
+        let el = kepler_orbit::Elements::new(a, e, i, raan, argp, m).unwrap();
+        let (r, v) = kepler_orbit::elements_to_state(1.0, &el).unwrap();
+        let back = kepler_orbit::state_to_elements(1.0, &r, &v).unwrap();
+        let (r2, v2) = kepler_orbit::elements_to_state(1.0, &back).unwrap();
+        // state → elements → state is well conditioned except through Kepler's equation near e → 1
+        // (∂E/∂M = 1/(1 − e cos E) ≤ 100 here): allow 100 × a few ulps of |r|, |v|.
+        prop_assert!((r2 - r).norm() <= 1e-12 * r.norm(), "r {} vs {}", r2, r);
+        prop_assert!((v2 - v).norm() <= 1e-12 * v.norm(), "v {} vs {}", v2, v);
+        prop_assert!((back.a - a).abs() <= 1e-12 * a);
+        prop_assert!((back.e - e).abs() <= 1e-12);
+    }
+}
+
+#[test]
+fn invariants_are_conserved_by_the_exact_flows() {
+    // Kepler, e = 0.9, generic times over 10 periods.
+    let k = Kepler3::new(1.0).unwrap();
+    let el = kepler_orbit::Elements::new(1.0, 0.9, 0.4, 0.3, 1.2, 0.0).unwrap();
+    let (r, v) = kepler_orbit::elements_to_state(1.0, &el).unwrap();
+    let (q0, p0) = (
+        SVector::from([r[0], r[1], r[2]]),
+        SVector::from([v[0], v[1], v[2]]),
+    );
+    let i0 = k.invariants(0.0, &q0, &p0).unwrap();
+    for j in 1..=40 {
+        let t = 0.2513 * j as f64 * 2.0 * PI;
+        let (q, p) = k.exact_flow(0.0, &q0, &p0, t).unwrap();
+        for (a, b) in k.invariants(t, &q, &p).unwrap().iter().zip(&i0) {
+            // Energy and h are O(1); through Kepler's equation at e = 0.9 the state carries a few
+            // ×10 ulps.
+            assert!(
+                (a.value - b.value).abs() < 1e-13,
+                "{} drifted: {} vs {}",
+                a.name,
+                a.value,
+                b.value
+            );
+        }
+    }
+    // Pendulum, a = 3, generic times over 10 periods.
+    let pend = Pendulum::new(1.0).unwrap();
+    let (q0, p0) = (SVector::from([3.0]), SVector::from([0.0]));
+    let e0 = pend.value(0.0, &q0, &p0).unwrap();
+    for j in 1..=40 {
+        let (q, p) = pend.exact_flow(0.0, &q0, &p0, 4.0 * j as f64).unwrap();
+        assert_relative_eq!(pend.value(0.0, &q, &p).unwrap(), e0, epsilon = 1e-13);
+    }
+}
+
+#[test]
+fn exact_flows_agree_with_integration() {
+    // RK4 with dt = 1e−3 over t = 5: global error ~ 5 · (dt)^4 · C ≈ 1e−11 for these O(1) motions.
+    let dt = 1e-3;
+    let steps = 5000;
+    let osc = HarmonicOscillator::new(2.0, 3.0).unwrap();
+    let (q, p) = common::rk4_hamiltonian(
+        &osc,
+        0.0,
+        SVector::from([0.5]),
+        SVector::from([1.2]),
+        dt,
+        steps,
+        |_, _, _| {},
+    );
+    let (qe, pe) = osc
+        .exact_flow(
+            0.0,
+            &SVector::from([0.5]),
+            &SVector::from([1.2]),
+            dt * steps as f64,
+        )
+        .unwrap();
+    assert!((q - qe).norm() + (p - pe).norm() < 1e-9);
+    let pend = Pendulum::new(1.0).unwrap();
+    for (th, pp) in [(1.0, 0.0), (3.0, 0.0), (-0.4, 2.5), (0.2, -1.9)] {
+        let (q0, p0) = (SVector::from([th]), SVector::from([pp]));
+        let (q, p) = common::rk4_hamiltonian(&pend, 0.0, q0, p0, dt, steps, |_, _, _| {});
+        let (qe, pe) = pend.exact_flow(0.0, &q0, &p0, dt * steps as f64).unwrap();
+        assert!(
+            (q - qe).norm() + (p - pe).norm() < 1e-9,
+            "pendulum from ({th}, {pp}): {q} {p} vs {qe} {pe}"
+        );
+    }
+    let kep = Kepler2::new(1.0).unwrap();
+    let el = kepler_orbit::PlanarElements::new(1.0, 0.5, 0.3, 0.0).unwrap();
+    let (r, v) = kepler_orbit::planar_elements_to_state(1.0, &el).unwrap();
+    let (q0, p0) = (SVector::from([r[0], r[1]]), SVector::from([v[0], v[1]]));
+    let (q, p) = common::rk4_hamiltonian(&kep, 0.0, q0, p0, dt, steps, |_, _, _| {});
+    let (qe, pe) = kep.exact_flow(0.0, &q0, &p0, dt * steps as f64).unwrap();
+    assert!(
+        (q - qe).norm() + (p - pe).norm() < 1e-9,
+        "{q} {p} vs {qe} {pe}"
+    );
+    let proj = Projectile::new(1.0, 9.81).unwrap();
+    let (q0, p0) = (SVector::from([0.0, 0.0]), SVector::from([5.0, 12.31]));
+    let (q, p) = proj.exact_flow(0.0, &q0, &p0, 2.0).unwrap();
+    // T1: (x¹, y¹) = (10, 5) and v₁ = −7.31 at τ = 2.
+    assert_relative_eq!(q, SVector::from([10.0, 5.0]), epsilon = 1e-13);
+    assert_relative_eq!(p, SVector::from([5.0, -7.31]), epsilon = 1e-13);
+}
+
+#[test]
+#[allow(clippy::approx_constant)] // a = 3.14 is a row of the SPEC table, not an approximation of π
+fn t9_pendulum_period_table() {
+    // Ratios τ/(2π/n) to 15 significant digits (SPEC T9); relative error ≤ 1e−13.
+    let table = [
+        (0.1, 1.00062535830774),
+        (0.5, 1.01585253110144),
+        (1.0, 1.06633424557996),
+        (2.0, 1.32890445191510),
+        (3.0, 2.57123394943214),
+        (3.1, 3.34849644557080),
+        (3.14, 5.42514419210358),
+        (PI - 1e-6, 10.1190407873027),
+    ];
+    let pend = Pendulum::new(1.0).unwrap();
+    for (a, ratio) in table {
+        let got = pend.period(a).unwrap() / (2.0 * PI);
+        assert!(
+            (got - ratio).abs() <= 1e-13 * ratio,
+            "a = {a}: {got} vs {ratio}"
+        );
+    }
+    // n scales the period as 1/n.
+    let fast = Pendulum::new(4.0).unwrap();
+    assert_relative_eq!(
+        fast.period(1.0).unwrap(),
+        2.0 * PI / 4.0 * 1.06633424557996,
+        epsilon = 1e-13
+    );
+}
+
+#[test]
+fn x2_pendulum_period_at_the_separatrix() {
+    // δ given exactly.
+    for (d, tau) in [
+        (1e-2, 26.7386056935052),
+        (1e-6, 63.5798083985803),
+        (1e-10, 100.421169886481),
+        (1e-16, 155.683212118338),
+    ] {
+        let got = pendulum_exact::period_from_gap(1.0, d).unwrap();
+        assert!((got - tau).abs() <= 1e-13 * tau, "δ = {d}: {got} vs {tau}");
+    }
+    // a passed as the double fl(π − δ).
+    for (d, tau) in [
+        (1e-2, 26.7386056935053),
+        (1e-6, 63.5798083975314),
+        (1e-10, 100.421164656936),
+    ] {
+        let got = pendulum_exact::period(1.0, PI - d).unwrap();
+        assert!(
+            (got - tau).abs() <= 1e-13 * tau,
+            "a = π − {d}: {got} vs {tau}"
+        );
+    }
+    // fl(π − 1e−16) = fl(π): on the separatrix, a typed error rather than ∞ or NaN.
+    assert!(matches!(
+        pendulum_exact::period(1.0, PI - 1e-16),
+        Err(Error::Separatrix { .. })
+    ));
+    assert!(pendulum_exact::period(1.0, 3.5).is_err());
+}
+
+#[test]
+fn t12_keplers_equation_table() {
+    // μ = 1, a = 1, t = 0.3 T: M = 0.6π. Table digits: 13 significant → 1e−12 absolute.
+    let m = 0.6 * PI;
+    for (e, big_e, nu, r) in [
+        (0.0, 1.884955592154, 1.884955592154, 1.0),
+        (0.5, 2.268208852924, 2.615146567139, 1.321118261874),
+        (0.9, 2.455277465697, 2.978020808229, 1.696227664315),
+        (0.99, 2.487393943121, 3.093499073623, 1.785600428516),
+    ] {
+        let got = kepler_orbit::solve_kepler(m, e).unwrap();
+        assert!((got - big_e).abs() < 1e-12, "e = {e}: E = {got}");
+        assert!((kepler_orbit::eccentric_to_true(got, e).unwrap() - nu).abs() < 1e-12);
+        let el = kepler_orbit::PlanarElements::new(1.0, e, 0.0, m).unwrap();
+        let (rv, vv) = kepler_orbit::planar_elements_to_state(1.0, &el).unwrap();
+        assert!((rv.norm() - r).abs() < 1e-12, "e = {e}: r = {}", rv.norm());
+        // ε = −½ and e recovered from the state.
+        let (r3, v3) = (
+            Vector3::new(rv[0], rv[1], 0.0),
+            Vector3::new(vv[0], vv[1], 0.0),
+        );
+        assert_relative_eq!(
+            kepler_orbit::specific_energy(1.0, &r3, &v3).unwrap(),
+            -0.5,
+            epsilon = 1e-14
+        );
+        assert!(
+            (kepler_orbit::eccentricity_vector(1.0, &r3, &v3)
+                .unwrap()
+                .norm()
+                - e)
+                .abs()
+                < 1e-14
+        );
+    }
+    // X3 starting values near e → 1.
+    for (e, m, big_e) in [
+        (0.999999, 1e-6, 0.0180612466215222),
+        (0.99, 0.01, 0.342270316491775),
+        (0.9, 0.1, 0.630843527563153),
+    ] {
+        let got = kepler_orbit::solve_kepler(m, e).unwrap();
+        assert!(
+            (got - big_e).abs() <= 1e-12 * big_e,
+            "(e, M) = ({e}, {m}): {got}"
+        );
+    }
+}
+
+#[test]
+fn bad_input_gives_typed_errors() {
+    assert!(matches!(
+        HarmonicOscillator::new(-1.0, 1.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        HarmonicOscillator::new(1.0, f64::NAN),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        Projectile::new(0.0, 9.81),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        Pendulum::new(-2.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        Kepler::<2>::new(-1.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        kepler_orbit::Elements::new(1.0, 1.0, 0.1, 0.0, 0.0, 0.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        kepler_orbit::PlanarElements::new(1.0, 1.5, 0.0, 0.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        kepler_orbit::solve_kepler(0.3, 1.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    assert!(matches!(
+        kepler_orbit::solve_kepler(f64::NAN, 0.5),
+        Err(Error::NonFinite { .. })
+    ));
+    let k = Kepler2::new(1.0).unwrap();
+    let nan = SVector::from([f64::NAN, 1.0]);
+    let ok = SVector::from([1.0, 0.0]);
+    assert!(matches!(
+        k.vector_field(0.0, &nan, &ok),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        k.vector_field(0.0, &ok, &SVector::from([0.0, f64::INFINITY])),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(k.exact_flow(0.0, &ok, &nan, 1.0).is_err());
+    // At the collision singularity the checked vector field reports it instead of returning ∞.
+    assert!(k
+        .vector_field(0.0, &SVector::from([0.0, 0.0]), &ok)
+        .is_err());
+    // Unbound orbit in the elliptic propagator.
+    assert!(k
+        .exact_flow(0.0, &ok, &SVector::from([0.0, 2.0]), 1.0)
+        .is_err());
+    let pend = Pendulum::new(1.0).unwrap();
+    assert!(pend
+        .exact_flow(0.0, &SVector::from([0.0]), &SVector::from([0.1]), f64::NAN)
+        .is_err());
+}
