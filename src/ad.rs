@@ -184,6 +184,138 @@ where
 impl_first_derivatives!(PhaseDual, [dq, dp], [D], [D]);
 impl_dual!(PhaseDual, [dq, dp], [D], [D]);
 
+/// A dual number carrying a dense gradient with respect to `N` variables.
+///
+/// $$ x = x_0 + \sum_i x_i\,\varepsilon_i,\qquad \varepsilon_i\varepsilon_j = 0 . $$
+///
+/// Used where a function depends on one half of phase space only (the kinetic energy `T(p)` and
+/// the potential `V(q)` of a [`Separable`](crate::hamiltonian::Separable) system), so no derivative
+/// slots are spent on variables the function does not see.
+#[derive(Clone, Debug)]
+pub struct GradDual<T: DualNum<F>, F, D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    re: T,
+    eps: OVector<T, D>,
+    f: PhantomData<F>,
+}
+
+impl<T: DualNum<F> + Copy, F: Copy, const N: usize> Copy for GradDual<T, F, Const<N>> {}
+
+/// Gradient dual number over `f64` with `N` variables.
+pub type GradDual64<const N: usize> = GradDual<f64, f64, Const<N>>;
+
+impl<T: DualNum<F>, F, D: Dim> GradDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    #[inline]
+    fn new(re: T, eps: OVector<T, D>) -> Self {
+        Self {
+            re,
+            eps,
+            f: PhantomData,
+        }
+    }
+
+    /// A constant: value `re`, zero gradient (empty for a dynamic dimension).
+    #[inline]
+    pub fn from_re(re: T) -> Self {
+        let n = D::from_usize(D::try_to_usize().unwrap_or(0));
+        Self::new(re, OVector::zeros_generic(n, U1))
+    }
+
+    /// The value (inner number).
+    #[inline]
+    pub fn value(&self) -> &T {
+        &self.re
+    }
+
+    /// The gradient.
+    #[inline]
+    pub fn eps(&self) -> &OVector<T, D> {
+        &self.eps
+    }
+}
+
+impl<T: DualNum<F>, F, const N: usize> GradDual<T, F, Const<N>> {
+    /// The independent variable `x_i` with value `re`.
+    #[inline]
+    pub fn variable(re: T, i: usize) -> Self {
+        let mut x = Self::from_re(re);
+        x.eps[i] = T::one();
+        x
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> GradDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    #[inline]
+    fn chain_rule(&self, f0: T, f1: T) -> Self {
+        Self::new(f0, &self.eps * f1)
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> Mul<&GradDual<T, F, D>> for &GradDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    type Output = GradDual<T, F, D>;
+    #[inline]
+    fn mul(self, other: &GradDual<T, F, D>) -> Self::Output {
+        GradDual::new(
+            self.re.clone() * other.re.clone(),
+            &self.eps * other.re.clone() + &other.eps * self.re.clone(),
+        )
+    }
+}
+
+impl<T: DualNum<F>, F: Float, D: Dim> Div<&GradDual<T, F, D>> for &GradDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    type Output = GradDual<T, F, D>;
+    #[inline]
+    fn div(self, other: &GradDual<T, F, D>) -> GradDual<T, F, D> {
+        let inv = other.re.recip();
+        GradDual::new(
+            self.re.clone() * inv.clone(),
+            (&self.eps * other.re.clone() - &other.eps * self.re.clone()) * (inv.clone() * inv),
+        )
+    }
+}
+
+impl<T: DualNum<F>, F, D: Dim> fmt::Display for GradDual<T, F, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}", self.re)?;
+        for (i, d) in self.eps.iter().enumerate() {
+            write!(f, " + {d}ε{i}")?;
+        }
+        Ok(())
+    }
+}
+
+impl_first_derivatives!(GradDual, [eps], [D], [D]);
+impl_dual!(GradDual, [eps], [D], [D]);
+
+/// Value and gradient of `f(x)` in one pass with [`GradDual`] (`T` may itself be a dual number).
+#[inline]
+pub fn gradient<T, G, const N: usize>(f: G, x: &SVector<T, N>) -> (T, SVector<T, N>)
+where
+    T: DualNum<f64> + Copy,
+    G: FnOnce(&SVector<GradDual<T, f64, Const<N>>, N>) -> GradDual<T, f64, Const<N>>,
+{
+    let xd = SVector::from_fn(|i, _| GradDual::variable(x[i], i));
+    let r = f(&xd);
+    (r.re, r.eps)
+}
+
 /// Value and phase-space gradient of `f(q, p)`, evaluated in one pass.
 ///
 /// Returns `(F, ∂F/∂q, ∂F/∂p)`. `T` may itself be a dual number (nesting).
@@ -269,6 +401,16 @@ mod tests {
         assert_relative_eq!(gq[1], q[1].cos() * p[0].exp() + q[1] / r, epsilon = 1e-15);
         assert_relative_eq!(gp[0], q[1].sin() * p[0].exp(), epsilon = 1e-15);
         assert_relative_eq!(gp[1], q[0] * q[0], epsilon = 1e-15);
+    }
+
+    #[test]
+    fn grad_dual_matches_phase_dual() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (v, gq, _) = phase_gradient(f, &q, &p);
+        let (w, g) = gradient(|qd| f(qd, &p.map(GradDual::from_re)), &q);
+        assert_eq!(v, w);
+        assert_relative_eq!(g, gq, epsilon = 1e-15);
     }
 
     #[test]

@@ -10,7 +10,7 @@ pub mod phase;
 pub mod systems;
 
 pub use error::{Error, Result};
-pub use hamiltonian::{Hamiltonian, PhaseFunction};
+pub use hamiltonian::{Hamiltonian, PhaseFunction, Separable};
 pub use lagrangian::{Lagrangian, Legendre, Natural, NaturalHamiltonian, NaturalSystem};
 pub use nalgebra;
 pub use num_dual;

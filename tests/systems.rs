@@ -340,3 +340,27 @@ fn bad_input_gives_typed_errors() {
         .exact_flow(0.0, &SVector::from([0.0]), &SVector::from([0.1]), f64::NAN)
         .is_err());
 }
+
+hamilton_jacobi::hamiltonian!(
+    /// The Kepler Hamiltonian written as one function of (q, p) (general one-pass AD path).
+    KeplerGeneral<3> |_s, _t, q, p| p.dot(p) * 0.5 - q.dot(q).sqrt().recip() * 0.7
+);
+
+proptest! {
+    #![proptest_config(common::config(0x5eed_0004))]
+
+    /// The separable two-pass gradient and the general one-pass gradient agree.
+    #[test]
+    fn separable_and_general_paths_agree(q in prop::array::uniform3(-3.0..3.0f64), p in prop::array::uniform3(-2.0..2.0f64)) {
+        let (q, p) = (SVector::from(q), SVector::from(p));
+        prop_assume!(q.norm() > 1e-3);
+        let k = Kepler3::new(0.7).unwrap();
+        let (a, b) = k.vector_field(0.0, &q, &p).unwrap();
+        let (c, d) = KeplerGeneral.vector_field(0.0, &q, &p).unwrap();
+        prop_assert_eq!(a, c);
+        prop_assert!(rel(&b, &d, 1e-3 * d.norm()) <= 4.0 * f64::EPSILON, "{} vs {}", b, d);
+        let hs = k.hessian(0.0, &q, &p).unwrap();
+        let hg = KeplerGeneral.hessian(0.0, &q, &p).unwrap();
+        prop_assert!(hs.sub(&hg).max_abs() <= 1e-14 * hg.max_abs(), "Hessians differ by {}", hs.sub(&hg).max_abs());
+    }
+}

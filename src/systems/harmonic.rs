@@ -1,7 +1,7 @@
 use super::{ExactFlow, Invariant, Invariants};
 use crate::brackets::PhaseMap;
 use crate::error::{positive, Result};
-use crate::hamiltonian::Hamiltonian;
+use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -38,15 +38,14 @@ impl HarmonicOscillator {
     }
 }
 
-impl Hamiltonian<1> for HarmonicOscillator {
+impl Separable<1> for HarmonicOscillator {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> D {
-        p[0] * p[0] * (0.5 / self.m) + q[0] * q[0] * (0.5 * self.m * self.omega * self.omega)
+    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 1>) -> D {
+        p[0] * p[0] * (0.5 / self.m)
+    }
+    #[inline]
+    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>) -> D {
+        q[0] * q[0] * (0.5 * self.m * self.omega * self.omega)
     }
 }
 

@@ -1,6 +1,6 @@
 use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::Hamiltonian;
+use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
 use nalgebra::{SVector, Vector2, Vector3};
 use num_dual::DualNum;
@@ -44,15 +44,14 @@ impl<const N: usize> Kepler<N> {
     }
 }
 
-impl<const N: usize> Hamiltonian<N> for Kepler<N> {
+impl<const N: usize> Separable<N> for Kepler<N> {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, N>,
-        p: &SVector<D, N>,
-    ) -> D {
-        p.dot(p) * 0.5 - q.dot(q).sqrt().recip() * self.mu
+    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, N>) -> D {
+        p.dot(p) * 0.5
+    }
+    #[inline]
+    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>) -> D {
+        q.dot(q).sqrt().recip() * -self.mu
     }
 }
 

@@ -1,6 +1,6 @@
 use super::{pendulum_exact, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Result};
-use crate::hamiltonian::Hamiltonian;
+use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -42,15 +42,14 @@ impl Pendulum {
     }
 }
 
-impl Hamiltonian<1> for Pendulum {
+impl Separable<1> for Pendulum {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> D {
-        p[0] * p[0] * 0.5 - (q[0].cos() - 1.0) * (self.n * self.n)
+    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 1>) -> D {
+        p[0] * p[0] * 0.5
+    }
+    #[inline]
+    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>) -> D {
+        (q[0].cos() - 1.0) * -(self.n * self.n)
     }
 }
 

@@ -1,6 +1,6 @@
 use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Result};
-use crate::hamiltonian::Hamiltonian;
+use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -24,15 +24,14 @@ impl Projectile {
     }
 }
 
-impl Hamiltonian<2> for Projectile {
+impl Separable<2> for Projectile {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        p.dot(p) * (0.5 / self.m) + q[1] * (self.m * self.g)
+    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 2>) -> D {
+        p.dot(p) * (0.5 / self.m)
+    }
+    #[inline]
+    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> D {
+        q[1] * (self.m * self.g)
     }
 }
 
