@@ -107,6 +107,9 @@ where
 
 impl<T: DualNum<F>, F, const N: usize> PhaseDual<T, F, Const<N>> {
     /// The independent variable `q_i` with value `re`.
+    ///
+    /// # Panics
+    /// If `i ≥ N` (a programming error in the caller; the crate's own seeding loops stay in range).
     #[inline]
     pub fn coordinate(re: T, i: usize) -> Self {
         let mut x = Self::from_re(re);
@@ -115,6 +118,9 @@ impl<T: DualNum<F>, F, const N: usize> PhaseDual<T, F, Const<N>> {
     }
 
     /// The independent variable `p_i` with value `re`.
+    ///
+    /// # Panics
+    /// If `i ≥ N`.
     #[inline]
     pub fn momentum(re: T, i: usize) -> Self {
         let mut x = Self::from_re(re);
@@ -241,6 +247,9 @@ where
 
 impl<T: DualNum<F>, F, const N: usize> GradDual<T, F, Const<N>> {
     /// The independent variable `x_i` with value `re`.
+    ///
+    /// # Panics
+    /// If `i ≥ N`.
     #[inline]
     pub fn variable(re: T, i: usize) -> Self {
         let mut x = Self::from_re(re);

@@ -23,7 +23,7 @@
 
 use crate::ad::{lift, phase_gradient, PhaseDual};
 use crate::error::{Error, Result};
-use crate::hamiltonian::{Hamiltonian, PhaseFunction};
+use crate::hamiltonian::{not_finite, Hamiltonian, PhaseFunction};
 use crate::phase::{check_phase, PhaseMatrix};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{first_derivative, Dual, DualNum};
@@ -53,8 +53,11 @@ where
 /// use hamilton_jacobi::brackets::{poisson_bracket, Coordinate, Momentum};
 /// use hamilton_jacobi::nalgebra::SVector;
 /// let (q, p) = (SVector::from([0.3, 0.1]), SVector::from([1.0, 2.0]));
-/// assert_eq!(poisson_bracket(&Coordinate(1), &Momentum(1), 0.0, &q, &p).unwrap(), 1.0);
-/// assert_eq!(poisson_bracket(&Coordinate(0), &Momentum(1), 0.0, &q, &p).unwrap(), 0.0);
+/// let (q0, q1) = (Coordinate::<2>::new(0).unwrap(), Coordinate::<2>::new(1).unwrap());
+/// let p1 = Momentum::<2>::new(1).unwrap();
+/// assert_eq!(poisson_bracket(&q1, &p1, 0.0, &q, &p).unwrap(), 1.0);   // (q_r, p_s) = δ_rs
+/// assert_eq!(poisson_bracket(&q0, &p1, 0.0, &q, &p).unwrap(), 0.0);
+/// assert!(Coordinate::<2>::new(2).is_err());
 /// ```
 pub fn poisson_bracket<F, G, const N: usize>(
     f: &F,
@@ -68,7 +71,12 @@ where
     G: PhaseFunction<N> + ?Sized,
 {
     check_phase(t, q, p)?;
-    Ok(poisson_bracket_generic(f, g, t, q, p))
+    let b = poisson_bracket_generic(f, g, t, q, p);
+    if b.is_finite() {
+        Ok(b)
+    } else {
+        Err(not_finite("Poisson bracket", t, q, p))
+    }
 }
 
 /// The Poisson bracket `(F, G)` as a phase function in its own right (so it can be bracketed
@@ -85,27 +93,16 @@ impl<F: PhaseFunction<N>, G: PhaseFunction<N>, const N: usize> PhaseFunction<N>
     }
 }
 
-/// The coordinate function `F = q_i`.
-#[derive(Clone, Copy, Debug)]
-pub struct Coordinate(pub usize);
-/// The momentum function `F = p_i`.
-#[derive(Clone, Copy, Debug)]
-pub struct Momentum(pub usize);
+/// The coordinate function `F = q_i` on `N`-degree-of-freedom phase space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Coordinate<const N: usize>(usize);
+/// The momentum function `F = p_i` on `N`-degree-of-freedom phase space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Momentum<const N: usize>(usize);
 
-impl<const N: usize> PhaseFunction<N> for Coordinate {
-    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>, _p: &SVector<D, N>) -> D {
-        q[self.0]
-    }
-}
-impl<const N: usize> PhaseFunction<N> for Momentum {
-    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>, p: &SVector<D, N>) -> D {
-        p[self.0]
-    }
-}
-
-fn check_index<const N: usize>(what: &str, i: usize) -> Result<()> {
+fn check_index<const N: usize>(what: &str, i: usize) -> Result<usize> {
     if i < N {
-        Ok(())
+        Ok(i)
     } else {
         Err(Error::invalid(
             what,
@@ -114,14 +111,37 @@ fn check_index<const N: usize>(what: &str, i: usize) -> Result<()> {
     }
 }
 
-/// Checked constructor for [`Coordinate`].
-pub fn coordinate<const N: usize>(i: usize) -> Result<Coordinate> {
-    check_index::<N>("coordinate", i).map(|_| Coordinate(i))
+impl<const N: usize> Coordinate<N> {
+    /// `q_i`; an error if `i ≥ N`.
+    pub fn new(i: usize) -> Result<Self> {
+        check_index::<N>("coordinate", i).map(Self)
+    }
+    /// The index `i`.
+    pub fn index(&self) -> usize {
+        self.0
+    }
 }
 
-/// Checked constructor for [`Momentum`].
-pub fn momentum<const N: usize>(i: usize) -> Result<Momentum> {
-    check_index::<N>("momentum", i).map(|_| Momentum(i))
+impl<const N: usize> Momentum<N> {
+    /// `p_i`; an error if `i ≥ N`.
+    pub fn new(i: usize) -> Result<Self> {
+        check_index::<N>("momentum", i).map(Self)
+    }
+    /// The index `i`.
+    pub fn index(&self) -> usize {
+        self.0
+    }
+}
+
+impl<const N: usize> PhaseFunction<N> for Coordinate<N> {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>, _p: &SVector<D, N>) -> D {
+        q[self.0]
+    }
+}
+impl<const N: usize> PhaseFunction<N> for Momentum<N> {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        p[self.0]
+    }
 }
 
 /// Explicit time derivative `∂F/∂t` by AD.
@@ -132,7 +152,12 @@ pub fn partial_t<F: PhaseFunction<N> + ?Sized, const N: usize>(
     p: &SVector<f64, N>,
 ) -> Result<f64> {
     check_phase(t, q, p)?;
-    Ok(first_derivative(|td: Dual<f64, f64>| f.eval(td, &lift(q), &lift(p)), t).1)
+    let ft = first_derivative(|td: Dual<f64, f64>| f.eval(td, &lift(q), &lift(p)), t).1;
+    if ft.is_finite() {
+        Ok(ft)
+    } else {
+        Err(not_finite("∂F/∂t", t, q, p))
+    }
 }
 
 /// Total time derivative along the motion of `H`:
@@ -158,7 +183,12 @@ where
             fp.dot(&force)
         }
     };
-    Ok(ft + br + nc)
+    let rate = ft + br + nc;
+    if rate.is_finite() {
+        Ok(rate)
+    } else {
+        Err(not_finite("dF/dt", t, q, p))
+    }
 }
 
 /// Largest `|dF/dt|` over a set of sample points: zero (to rounding) iff `F` is an integral of `H`
@@ -173,6 +203,7 @@ where
     H: Hamiltonian<N>,
 {
     points.iter().try_fold(0.0f64, |m, (t, q, p)| {
+        // time_derivative rejects a non-finite rate, so NaN cannot be skipped by `max`.
         Ok(m.max(time_derivative(f, h, *t, q, p)?.abs()))
     })
 }
@@ -288,10 +319,8 @@ pub fn reciprocity_defect<M: PhaseMap<N> + ?Sized, const N: usize>(
     u2: &SVector<f64, N>,
 ) -> Result<f64> {
     let m = jacobian(map, t, u1, u2)?;
-    let inv = m.try_inverse().ok_or_else(|| Error::Singular {
-        what: "map Jacobian ∂(q, p)/∂u".into(),
-        at: format!("u = ({u1:?}, {u2:?})"),
-        rcond: 0.0,
+    let inv = m.checked_inverse("map Jacobian ∂(q, p)/∂u", || {
+        format!("u = ({u1:?}, {u2:?})")
     })?;
     let l = m.symplectic_form();
     let p = inv.cosymplectic_form();

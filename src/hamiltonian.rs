@@ -129,12 +129,7 @@ pub trait Hamiltonian<const N: usize> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
-        check_phase(t, q, p)?;
-        let (qd, pd) = self.vector_field_unchecked(t, q, p);
-        let at = || format!("at t = {t}, q = {q:?}, p = {p:?}");
-        all_finite(format_args!("q̇ = ∂H/∂p {}; q̇", at()), qd.as_slice())?;
-        all_finite(format_args!("ṗ {}; ṗ", at()), pd.as_slice())?;
-        Ok((qd, pd))
+        checked_vector_field(self, t, q, p)
     }
 
     /// The Hessian of `H` over phase space in blocks `[[H_qq, H_qp], [H_pq, H_pp]]`,
@@ -142,7 +137,11 @@ pub trait Hamiltonian<const N: usize> {
     fn hessian(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<PhaseMatrix<N>> {
         check_phase(t, q, p)?;
         let (_, _, _, h) = phase_hessian(|q, p| self.hamiltonian(From::from(t), q, p), q, p);
-        Ok(h)
+        if h.is_finite() {
+            Ok(h)
+        } else {
+            Err(not_finite("Hessian of H", t, q, p))
+        }
     }
 
     /// Tangent map (Jacobian) of the vector field, `A = ∂(q̇, ṗ)/∂(q, p)`; `δż = A δz` are the
@@ -163,7 +162,7 @@ pub trait Hamiltonian<const N: usize> {
             |td: Dual<f64, f64>| self.hamiltonian(td, &lift(q), &lift(p)),
             t,
         );
-        Ok(dh)
+        finite(format_args!("∂H/∂t at t = {t}, q = {q:?}, p = {p:?}"), dh)
     }
 
     /// Rate of change of `H` along the motion, `dH/dt = ∂H/∂t + Q^nc · ∂H/∂p` (Hamilton's equations
@@ -171,7 +170,37 @@ pub trait Hamiltonian<const N: usize> {
     fn energy_rate(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
         let ht = self.partial_t(t, q, p)?;
         let (_, _, hp) = self.gradient(t, q, p);
-        Ok(ht + self.generalized_force(t, q, p).map_or(0.0, |f| f.dot(&hp)))
+        let rate = ht + self.generalized_force(t, q, p).map_or(0.0, |f| f.dot(&hp));
+        finite(format_args!("dH/dt at t = {t}, q = {q:?}, p = {p:?}"), rate)
+    }
+}
+
+/// Hamilton's equations with NaN/∞ rejected on input and output (the default of
+/// [`Hamiltonian::vector_field`], callable from overriding implementations).
+pub(crate) fn checked_vector_field<H: Hamiltonian<N> + ?Sized, const N: usize>(
+    h: &H,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+    check_phase(t, q, p)?;
+    let (qd, pd) = h.vector_field_unchecked(t, q, p);
+    let at = || format!("at t = {t}, q = {q:?}, p = {p:?}");
+    all_finite(format_args!("q̇ = ∂H/∂p {}; q̇", at()), qd.as_slice())?;
+    all_finite(format_args!("ṗ {}; ṗ", at()), pd.as_slice())?;
+    Ok((qd, pd))
+}
+
+/// The error for a derived quantity that came out NaN or infinite at a valid point.
+pub(crate) fn not_finite<const N: usize>(
+    what: &str,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> crate::Error {
+    crate::Error::NonFinite {
+        what: format!("{what} at t = {t}, q = {q:?}, p = {p:?} (outside the system's domain?)"),
+        value: f64::NAN,
     }
 }
 
@@ -199,12 +228,32 @@ pub trait Separable<const N: usize> {
     fn kinetic<D: DualNum<f64> + Copy>(&self, t: D, p: &SVector<D, N>) -> D;
     /// Potential part `V(t, q)`.
     fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
+
+    /// Non-conservative generalized forces, as [`Hamiltonian::generalized_force`]; `None` by default.
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, N>,
+        _p: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        None
+    }
 }
 
 impl<const N: usize, S: Separable<N>> Hamiltonian<N> for S {
     #[inline]
     fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
         self.kinetic(t, p) + self.potential(t, q)
+    }
+
+    #[inline]
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        Separable::generalized_force(self, t, q, p)
     }
 
     #[inline]

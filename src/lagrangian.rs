@@ -13,9 +13,9 @@
 //! * Routhian `R = L − Σ_β C_β q̇_β` for ignorable coordinates [Ardema 8.3, eqs. 8.24–8.37].
 
 use crate::ad::{lift, phase_gradient, phase_hessian, real_parts, PhaseDual};
-use crate::error::{all_finite, Error, Result};
-use crate::hamiltonian::{Hamiltonian, PhaseFunction};
-use crate::phase::check_phase;
+use crate::error::{all_finite, finite, Error, Result};
+use crate::hamiltonian::{checked_vector_field, Hamiltonian, PhaseFunction};
+use crate::phase::{check_phase, checked_inverse};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{linalg::LU, Dual64, DualNum};
 
@@ -61,8 +61,9 @@ pub trait Lagrangian<const N: usize> {
 
     /// `L(t, q, q̇)` on reals, NaN/∞ rejected.
     fn value(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<f64> {
-        check_phase(t, q, qdot)?;
-        Ok(self.lagrangian(t, q, qdot))
+        check_state(t, q, qdot)?;
+        let l = self.lagrangian(t, q, qdot);
+        finite(format_args!("L at t = {t}, q = {q:?}, q̇ = {qdot:?}"), l)
     }
 
     /// Canonical momenta `p = ∂L/∂q̇` [Ardema eq. 15.3].
@@ -72,8 +73,9 @@ pub trait Lagrangian<const N: usize> {
         q: &SVector<f64, N>,
         qdot: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        check_phase(t, q, qdot)?;
-        Ok(phase_gradient(|a, b| self.lagrangian(PhaseDual::from_re(t), a, b), q, qdot).2)
+        check_state(t, q, qdot)?;
+        let p = phase_gradient(|a, b| self.lagrangian(PhaseDual::from_re(t), a, b), q, qdot).2;
+        finite_out("p = ∂L/∂q̇", t, q, qdot, p)
     }
 
     /// Mass matrix `∂²L/∂q̇²` (the `a` of [Ardema eq. 6.2] for natural systems).
@@ -83,12 +85,11 @@ pub trait Lagrangian<const N: usize> {
         q: &SVector<f64, N>,
         qdot: &SVector<f64, N>,
     ) -> Result<SMatrix<f64, N, N>> {
-        check_phase(t, q, qdot)?;
-        Ok(
-            phase_hessian(|a, b| self.lagrangian(From::from(t), a, b), q, qdot)
-                .3
-                .pp,
-        )
+        check_state(t, q, qdot)?;
+        let m = phase_hessian(|a, b| self.lagrangian(From::from(t), a, b), q, qdot)
+            .3
+            .pp;
+        finite_out("mass matrix ∂²L/∂q̇²", t, q, qdot, m)
     }
 
     /// Generalized forces that do not derive from `L`: `Q^nc − ∂D/∂q̇` (zero if there are none).
@@ -124,9 +125,10 @@ pub trait Lagrangian<const N: usize> {
         qdot: &SVector<f64, N>,
         qddot: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        all_finite("qddot", qddot.as_slice())?;
+        all_finite("q̈", qddot.as_slice())?;
         let (lq, h, lvt) = self.second_order_terms(t, q, qdot)?;
-        Ok(h.pq * qdot + h.pp * qddot + lvt - lq - self.total_force(t, q, qdot))
+        let e = h.pq * qdot + h.pp * qddot + lvt - lq - self.total_force(t, q, qdot);
+        finite_out("Lagrange residual", t, q, qdot, e)
     }
 
     /// Accelerations `q̈` solving Lagrange's equations; [`Error::Singular`] if the mass matrix is.
@@ -141,7 +143,7 @@ pub trait Lagrangian<const N: usize> {
         let inv = checked_inverse(&h.pp, "mass matrix ∂²L/∂q̇²", || {
             format!("q = {q:?}, q̇ = {qdot:?}")
         })?;
-        Ok(inv * rhs)
+        finite_out("q̈", t, q, qdot, inv * rhs)
     }
 
     /// `(∂L/∂q, Hessian of L over (q, q̇), ∂²L/∂t∂q̇)` — the ingredients of Lagrange's equations.
@@ -152,7 +154,7 @@ pub trait Lagrangian<const N: usize> {
         q: &SVector<f64, N>,
         qdot: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, crate::PhaseMatrix<N>, SVector<f64, N>)> {
-        check_phase(t, q, qdot)?;
+        check_state(t, q, qdot)?;
         let (_, lq, _, h) = phase_hessian(|a, b| self.lagrangian(From::from(t), a, b), q, qdot);
         let td = Dual64::new(t, 1.0);
         let (_, _, lv) = phase_gradient(
@@ -160,16 +162,58 @@ pub trait Lagrangian<const N: usize> {
             &lift::<Dual64, N>(q),
             &lift::<Dual64, N>(qdot),
         );
-        Ok((lq, h, lv.map(|v| v.eps)))
+        let lvt = lv.map(|v| v.eps);
+        if lq.iter().chain(lvt.iter()).all(|x| x.is_finite()) && h.is_finite() {
+            Ok((lq, h, lvt))
+        } else {
+            Err(Error::NonFinite {
+                what: format!("derivatives of L at t = {t}, q = {q:?}, q̇ = {qdot:?}"),
+                value: f64::NAN,
+            })
+        }
     }
 
     /// Jacobi integral `h = q̇·∂L/∂q̇ − L` [Ardema eq. 8.12]; constant when `L` has no explicit `t`,
     /// the forces derive from a potential and the constraints are catastatic (M23).
     fn jacobi_integral(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<f64> {
-        check_phase(t, q, qdot)?;
+        check_state(t, q, qdot)?;
         let (l, _, lv) =
             phase_gradient(|a, b| self.lagrangian(PhaseDual::from_re(t), a, b), q, qdot);
-        Ok(qdot.dot(&lv) - l)
+        let h = qdot.dot(&lv) - l;
+        finite(
+            format_args!("Jacobi integral at t = {t}, q = {q:?}, q̇ = {qdot:?}"),
+            h,
+        )
+    }
+}
+
+/// Reject NaN/∞ in `(t, q, q̇)`, naming the component.
+fn check_state<const N: usize>(t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<()> {
+    finite("t", t)?;
+    all_finite("q", q.as_slice())?;
+    all_finite("q̇", qdot.as_slice())
+}
+
+/// Return `x` if all its entries are finite, else [`Error::NonFinite`] naming the quantity and state.
+fn finite_out<X, const N: usize>(
+    what: &str,
+    t: f64,
+    q: &SVector<f64, N>,
+    qdot: &SVector<f64, N>,
+    x: X,
+) -> Result<X>
+where
+    for<'a> &'a X: IntoIterator<Item = &'a f64>,
+{
+    let bad = (&x).into_iter().find(|v| !v.is_finite()).copied();
+    match bad {
+        None => Ok(x),
+        Some(value) => Err(Error::NonFinite {
+            what: format!(
+                "{what} at t = {t}, q = {q:?}, q̇ = {qdot:?} (outside the system's domain?)"
+            ),
+            value,
+        }),
     }
 }
 
@@ -178,31 +222,6 @@ struct LagrangianSlots<'a, L: ?Sized>(&'a L);
 impl<const N: usize, L: Lagrangian<N> + ?Sized> PhaseFunction<N> for LagrangianSlots<'_, L> {
     fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
         self.0.lagrangian(t, q, v)
-    }
-}
-
-/// Inverse with a reciprocal-condition check (1-norm estimate `1/(‖A‖₁‖A⁻¹‖₁)`).
-pub(crate) fn checked_inverse<const N: usize>(
-    a: &SMatrix<f64, N, N>,
-    what: &str,
-    at: impl FnOnce() -> String,
-) -> Result<SMatrix<f64, N, N>> {
-    let norm1 = |m: &SMatrix<f64, N, N>| m.column_iter().map(|c| c.abs().sum()).fold(0.0, f64::max);
-    let singular = |rcond: f64, at: String| Error::Singular {
-        what: what.to_string(),
-        at,
-        rcond,
-    };
-    match a.try_inverse() {
-        Some(inv) => {
-            let rcond = 1.0 / (norm1(a) * norm1(&inv));
-            if rcond.is_finite() && rcond > 64.0 * f64::EPSILON {
-                Ok(inv)
-            } else {
-                Err(singular(if rcond.is_finite() { rcond } else { 0.0 }, at()))
-            }
-        }
-        None => Err(singular(0.0, at())),
     }
 }
 
@@ -239,50 +258,55 @@ where
         }
         (r, jac)
     };
-    // Start from the fixed values on held slots and zero elsewhere.
-    let mut x = SVector::from_fn(|i, _| if solve_for[i] { 0.0 } else { yr[i] });
-    let (mut r, mut jac) = residual(&x);
-    let scale = 1.0 + yr.norm();
-    let mut iterations = 0;
-    loop {
-        if !r.norm().is_finite() {
-            return Err(Error::NotConverged {
-                what: what.into(),
-                iterations,
-                residual: r.norm(),
-            });
-        }
-        let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
-        let dx = inv * r;
-        if r.norm() <= 4.0 * f64::EPSILON * scale
-            || dx.norm() <= 2.0 * f64::EPSILON * (1.0 + x.norm())
-        {
-            break;
-        }
-        if iterations >= MAX_ITER {
-            return Err(Error::NotConverged {
-                what: what.into(),
-                iterations,
-                residual: r.norm(),
-            });
-        }
-        // Backtracking: halve the step until the residual decreases (or accept after 30 halvings).
-        let mut lambda = 1.0;
+    // Damped Newton from `x0`; returns the root and the inverse Jacobian there.
+    let newton = |mut x: SVector<f64, N>| -> Result<(SVector<f64, N>, SMatrix<f64, N, N>)> {
+        let (mut r, mut jac) = residual(&x);
+        let scale = 1.0 + yr.norm();
+        let mut iterations = 0;
         loop {
-            let xn = x - dx * lambda;
-            let (rn, jn) = residual(&xn);
-            if rn.norm() < r.norm() || lambda < 1e-9 {
-                x = xn;
-                r = rn;
-                jac = jn;
-                break;
+            if !r.norm().is_finite() {
+                return Err(Error::NotConverged {
+                    what: what.into(),
+                    iterations,
+                    residual: r.norm(),
+                });
             }
-            lambda *= 0.5;
+            let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
+            let dx = inv * r;
+            if r.norm() <= 4.0 * f64::EPSILON * scale
+                || dx.norm() <= 2.0 * f64::EPSILON * (1.0 + x.norm())
+            {
+                return Ok((x, inv));
+            }
+            if iterations >= MAX_ITER {
+                return Err(Error::NotConverged {
+                    what: what.into(),
+                    iterations,
+                    residual: r.norm(),
+                });
+            }
+            // Backtracking: halve the step until the residual decreases (accept a step of 2⁻³⁰).
+            let mut lambda = 1.0;
+            loop {
+                let xn = x - dx * lambda;
+                let (rn, jn) = residual(&xn);
+                if rn.norm() < r.norm() || lambda < 1e-9 {
+                    x = xn;
+                    r = rn;
+                    jac = jn;
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            iterations += 1;
         }
-        iterations += 1;
-    }
+    };
+    // Start from zero on the solved slots (the natural guess for velocities and momenta); if the
+    // Jacobian is singular there (e.g. L = q̇⁴/4), start again from x = y (unit mass).
+    let held = |i: usize, v: f64| if solve_for[i] { v } else { yr[i] };
+    let (x, inv) = newton(SVector::from_fn(|i, _| held(i, 0.0)))
+        .or_else(|first| newton(SVector::from_fn(|i, _| held(i, yr[i]))).map_err(|_| first))?;
     // Derivative refinement in D with the real Jacobian frozen.
-    let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
     let mut xd: SVector<D, N> = lift(&x);
     for _ in 0..D::NDERIV {
         let (_, _, g) = phase_gradient(|a, b| phi.eval(PhaseDual::from_re(t), a, b), q, &xd);
@@ -340,6 +364,18 @@ fn nan<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<D, N>) -> D {
 }
 
 impl<const N: usize, L: Lagrangian<N>> Hamiltonian<N> for Legendre<L> {
+    /// As the default, but a failed Legendre solve is reported with its cause
+    /// ([`Error::Singular`], [`Error::NotConverged`]) rather than as a non-finite result.
+    fn vector_field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        self.velocity(t, q, p)?;
+        checked_vector_field(self, t, q, p)
+    }
+
     fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
         match solve_gradient_equation(&LagrangianSlots(&self.0), t, q, p, &[true; N], "Legendre") {
             Ok(v) => p.dot(&v) - self.0.lagrangian(t, q, &v),
@@ -466,7 +502,9 @@ pub struct NaturalHamiltonian<S>(pub S);
 
 impl<const N: usize, S: NaturalSystem<N>> Hamiltonian<N> for NaturalHamiltonian<S> {
     fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        // Only the symmetric part of `a` enters T; use it here too so that L and H stay a pair.
         let a = self.0.mass(t, q);
+        let a = (a + a.transpose()) * D::from(0.5);
         let w = p - self.0.linear(t, q);
         match LU::new(a) {
             Ok(lu) => {
@@ -483,6 +521,10 @@ impl<const N: usize, S: NaturalSystem<N>> Hamiltonian<N> for NaturalHamiltonian<
 /// `R(t, q_a, q̇_a) = L − Σ_β C_β q̇_β` with `q̇_β` solving `∂L/∂q̇_β = C_β`; it is a [`Lagrangian`]
 /// in the retained coordinates, whose equations are those of the reduced motion. The ignorable
 /// velocities are recovered by [`Routhian::ignorable_velocities`] (`q̇_β = −∂R/∂C_β`).
+///
+/// `L` is evaluated with `q_β = 0`: it must not depend on the ignorable coordinates, and forces must
+/// not act on them. Naming a coordinate that is not ignorable gives a meaningless reduction, which
+/// [`Routhian::ignorability_defect`] detects at any state.
 #[derive(Clone, Debug)]
 pub struct Routhian<L, const N: usize, const R: usize> {
     lagrangian: L,
@@ -569,6 +611,32 @@ impl<L: Lagrangian<N>, const N: usize, const R: usize> Routhian<L, N, R> {
         Ok((q, v))
     }
 
+    /// How far the named coordinates are from ignorable at a state: the largest of
+    /// `|∂L/∂q_β|` and `|Q_β|` (non-conservative and dissipative forces on `q_β`), evaluated with
+    /// `q_β = 0`. Zero (to rounding) for a valid reduction; the Routhian itself cannot check this
+    /// at every evaluation.
+    pub fn ignorability_defect(
+        &self,
+        t: f64,
+        q_a: &SVector<f64, R>,
+        v_a: &SVector<f64, R>,
+    ) -> Result<f64> {
+        check_state(t, q_a, v_a)?;
+        let (q, v) = self.full_velocity(t, q_a, v_a)?;
+        let (_, lq, _) = phase_gradient(
+            |a, b| self.lagrangian.lagrangian(PhaseDual::from_re(t), a, b),
+            &q,
+            &v,
+        );
+        let f = self.lagrangian.total_force(t, &q, &v);
+        let d = self
+            .ignorable
+            .iter()
+            .map(|&i| lq[i].abs().max(f[i].abs()))
+            .fold(0.0, f64::max);
+        finite("ignorability defect", d)
+    }
+
     /// Velocities of the ignorable coordinates, `q̇_β(t, q_a, q̇_a)`, in the order given to `new`.
     pub fn ignorable_velocities(
         &self,
@@ -576,7 +644,7 @@ impl<L: Lagrangian<N>, const N: usize, const R: usize> Routhian<L, N, R> {
         q_a: &SVector<f64, R>,
         v_a: &SVector<f64, R>,
     ) -> Result<Vec<f64>> {
-        check_phase(t, q_a, v_a)?;
+        check_state(t, q_a, v_a)?;
         let (_, v) = self.full_velocity(t, q_a, v_a)?;
         Ok(self.ignorable.iter().map(|&i| v[i]).collect())
     }
@@ -600,5 +668,29 @@ impl<L: Lagrangian<N>, const N: usize, const R: usize> Lagrangian<R> for Routhia
             }
             Err(_) => nan(v_a),
         }
+    }
+
+    /// The retained components of the underlying `Q^nc − ∂D/∂q̇`, evaluated at the full state.
+    /// Routh's reduction assumes these forces do not act on the ignorable coordinates (else `C_β`
+    /// would not be constant); [`Routhian::ignorability_defect`] measures that.
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q_a: &SVector<D, R>,
+        v_a: &SVector<D, R>,
+    ) -> Option<SVector<D, R>> {
+        let (q, y) = self.embed(q_a, v_a);
+        if self.lagrangian.generalized_force(t, &q, &y).is_none()
+            && self.lagrangian.dissipation(t, &q, &y).is_none()
+        {
+            return None;
+        }
+        Some(match self.full_velocity(t, q_a, v_a) {
+            Ok((q, v)) => {
+                let f = self.lagrangian.total_force(t, &q, &v);
+                SVector::from_fn(|k, _| f[self.retained[k]])
+            }
+            Err(_) => SVector::from_element(nan(v_a)),
+        })
     }
 }

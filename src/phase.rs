@@ -6,8 +6,9 @@
 //! $$ M = \begin{pmatrix} M_{qq} & M_{qp} \\ M_{pq} & M_{pp} \end{pmatrix},\qquad
 //!    J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix} \quad\text{[Ardema eq. 15.21]}. $$
 
-use crate::error::{all_finite, finite, Result};
-use nalgebra::{DMatrix, SMatrix, SVector};
+use crate::error::{all_finite, finite, Error, Result};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVector, U1};
 
 /// A validated point of extended phase space: time, coordinates and momenta, all finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,6 +178,11 @@ impl<const N: usize> PhaseMatrix<N> {
         Self::from_dmatrix(&inv).ok()
     }
 
+    /// Inverse with a conditioning check (as [`checked_inverse`], on the dense matrix).
+    pub fn checked_inverse(&self, what: &str, at: impl FnOnce() -> String) -> Result<Self> {
+        Self::from_dmatrix(&checked_inverse_dim(&self.to_dmatrix(), what, at)?)
+    }
+
     /// `MᵀJM`: equals `J` exactly when `M` is symplectic; its entries are the Lagrange brackets
     /// when `M` is the Jacobian of `(q, p)` with respect to parameters [Ardema eq. 16.24].
     pub fn symplectic_form(&self) -> Self {
@@ -193,6 +199,54 @@ impl<const N: usize> PhaseMatrix<N> {
     pub fn symplectic_defect(&self) -> f64 {
         self.symplectic_form().sub(&Self::symplectic_j()).max_abs()
     }
+}
+
+/// Inverse of a square matrix with a conditioning check; [`Error::Singular`] (naming `what` and the
+/// point `at()`) if it is singular or too ill-conditioned to trust.
+///
+/// The reciprocal condition is estimated in the 1-norm after scaling every row to unit max-norm,
+/// `rcond = 1/(‖RA‖₁ ‖(RA)⁻¹‖₁)`, so that badly scaled but well-posed systems (SI units, a mass
+/// matrix `diag(1, r²)` with `r ~ 10¹¹`) are not rejected; the threshold is `64 ε`.
+pub fn checked_inverse<const N: usize>(
+    a: &SMatrix<f64, N, N>,
+    what: &str,
+    at: impl FnOnce() -> String,
+) -> Result<SMatrix<f64, N, N>> {
+    checked_inverse_dim(a, what, at)
+}
+
+/// [`checked_inverse`] for any nalgebra dimension.
+fn checked_inverse_dim<D: Dim>(
+    a: &OMatrix<f64, D, D>,
+    what: &str,
+    at: impl FnOnce() -> String,
+) -> Result<OMatrix<f64, D, D>>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let singular = |rcond: f64, at: String| Error::Singular {
+        what: what.to_string(),
+        at,
+        rcond,
+    };
+    let (r, c) = a.shape_generic();
+    let row_max = OVector::<f64, D>::from_fn_generic(r, U1, |i, _| a.row(i).amax());
+    if !a.iter().all(|x| x.is_finite()) || row_max.iter().any(|&m| m == 0.0) {
+        return Err(singular(0.0, at()));
+    }
+    let scaled = OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| a[(i, j)] / row_max[i]);
+    let norm1 = |m: &OMatrix<f64, D, D>| m.column_iter().map(|c| c.abs().sum()).fold(0.0, f64::max);
+    let Some(inv_scaled) = scaled.clone().try_inverse() else {
+        return Err(singular(0.0, at()));
+    };
+    let rcond = 1.0 / (norm1(&scaled) * norm1(&inv_scaled));
+    if !(rcond.is_finite() && rcond > 64.0 * f64::EPSILON) {
+        return Err(singular(if rcond.is_finite() { rcond } else { 0.0 }, at()));
+    }
+    // A⁻¹ = (RA)⁻¹ R.
+    Ok(OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| {
+        inv_scaled[(i, j)] / row_max[j]
+    }))
 }
 
 /// Check the components of a phase vector for NaN/∞, naming them `q[i]`/`p[i]`.

@@ -14,6 +14,13 @@ use proptest::prelude::*;
 
 const EPS: f64 = f64::EPSILON;
 
+fn coord<const N: usize>(i: usize) -> Coordinate<N> {
+    Coordinate::new(i).unwrap()
+}
+fn mom<const N: usize>(i: usize) -> Momentum<N> {
+    Momentum::new(i).unwrap()
+}
+
 // ---------------------------------------------------------------------------------------------
 // T11: angular momentum brackets for a central force, and the generators of rotations/translations.
 
@@ -89,8 +96,8 @@ fn t11_rotation_and_translation_generators() {
         SVector::from([0.3, 0.8, -0.5]),
     );
     for k in 0..3 {
-        let dq = poisson_bracket(&Coordinate(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
-        let dp = poisson_bracket(&Momentum(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
+        let dq = poisson_bracket(&coord(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
+        let dp = poisson_bracket(&mom(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
         let (eq, ep) = ([-q[1], q[0], 0.0][k], [-p[1], p[0], 0.0][k]);
         assert_relative_eq!(dq, eq, epsilon = 4.0 * EPS);
         assert_relative_eq!(dp, ep, epsilon = 4.0 * EPS);
@@ -106,19 +113,19 @@ fn t11_rotation_and_translation_generators() {
     hamiltonian!(Ignorable<2> |_s, _t, q, p| p.dot(p) * 0.5 + q[1].cos() * (p[0] * p[1]));
     let (q2, p2) = (SVector::from([3.0, 0.4]), SVector::from([0.2, -0.9]));
     assert_eq!(
-        poisson_bracket(&Coordinate(0), &Momentum(0), 0.0, &q2, &p2).unwrap(),
+        poisson_bracket(&coord(0), &mom(0), 0.0, &q2, &p2).unwrap(),
         1.0
     );
     assert_eq!(
-        poisson_bracket(&Coordinate(1), &Momentum(0), 0.0, &q2, &p2).unwrap(),
+        poisson_bracket(&coord(1), &mom(0), 0.0, &q2, &p2).unwrap(),
         0.0
     );
     assert_eq!(
-        time_derivative(&Momentum(0), &Ignorable, 0.0, &q2, &p2).unwrap(),
+        time_derivative(&mom(0), &Ignorable, 0.0, &q2, &p2).unwrap(),
         0.0
     );
     // ṗ₂ = −∂H/∂q₂ = sin q₂ p₁ p₂ ≠ 0: q₂ is not ignorable.
-    let p2dot = time_derivative(&Momentum(1), &Ignorable, 0.0, &q2, &p2).unwrap();
+    let p2dot = time_derivative(&mom(1), &Ignorable, 0.0, &q2, &p2).unwrap();
     assert_relative_eq!(p2dot, q2[1].sin() * p2[0] * p2[1], epsilon = 4.0 * EPS);
 }
 
@@ -330,7 +337,10 @@ fn bad_points_are_rejected() {
     let q = SVector::from([f64::NAN]);
     let p = SVector::from([1.0]);
     assert!(certify(&Prob16_2, 0.0, &q, &p).is_err());
-    assert!(poisson_bracket(&Coordinate(0), &Momentum(0), f64::INFINITY, &p, &p).is_err());
+    assert!(poisson_bracket(&coord(0), &mom(0), f64::INFINITY, &p, &p).is_err());
+    // Index out of range: a typed error at construction, not a panic at evaluation.
+    assert!(Coordinate::<2>::new(2).is_err());
+    assert!(Momentum::<1>::new(1).is_err());
     // A map whose Jacobian is not finite at the point (16/2 at q = 0).
     assert!(certify(&Prob16_2, 0.0, &SVector::from([0.0]), &p).is_err());
 }
@@ -408,10 +418,10 @@ proptest! {
     fn canonical_brackets((q, p) in point(), t in -5.0..5.0f64) {
         for i in 0..2 {
             for j in 0..2 {
-                let qp = poisson_bracket(&Coordinate(i), &Momentum(j), t, &q, &p).unwrap();
+                let qp = poisson_bracket(&coord(i), &mom(j), t, &q, &p).unwrap();
                 prop_assert_eq!(qp, if i == j { 1.0 } else { 0.0 });
-                prop_assert_eq!(poisson_bracket(&Coordinate(i), &Coordinate(j), t, &q, &p).unwrap(), 0.0);
-                prop_assert_eq!(poisson_bracket(&Momentum(i), &Momentum(j), t, &q, &p).unwrap(), 0.0);
+                prop_assert_eq!(poisson_bracket(&coord(i), &coord(j), t, &q, &p).unwrap(), 0.0);
+                prop_assert_eq!(poisson_bracket(&mom(i), &mom(j), t, &q, &p).unwrap(), 0.0);
             }
         }
     }
@@ -422,11 +432,29 @@ proptest! {
         // (q_i, H) = q̇_i and (p_i, H) = ṗ_i.
         let (qd, pd) = Anharmonic.vector_field(0.0, &q, &p).unwrap();
         for i in 0..2 {
-            prop_assert_eq!(poisson_bracket(&Coordinate(i), &Anharmonic, 0.0, &q, &p).unwrap(), qd[i]);
-            prop_assert_eq!(poisson_bracket(&Momentum(i), &Anharmonic, 0.0, &q, &p).unwrap(), pd[i]);
+            prop_assert_eq!(poisson_bracket(&coord(i), &Anharmonic, 0.0, &q, &p).unwrap(), qd[i]);
+            prop_assert_eq!(poisson_bracket(&mom(i), &Anharmonic, 0.0, &q, &p).unwrap(), pd[i]);
         }
         // dF/dt = (F, H) for autonomous F.
         let fdot = time_derivative(&f, &Anharmonic, 0.0, &q, &p).unwrap();
         prop_assert_eq!(fdot, poisson_bracket(&f, &Anharmonic, 0.0, &q, &p).unwrap());
     }
+}
+
+#[test]
+fn integral_defect_does_not_skip_nan() {
+    // F = √q is undefined at q < 0: the defect is an error, not a silent 0.
+    struct SqrtQ;
+    impl PhaseFunction<1> for SqrtQ {
+        fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>, _p: &SVector<D, 1>) -> D {
+            q[0].sqrt()
+        }
+    }
+    hamiltonian!(Free1<1> |_s, _t, _q, p| p[0] * p[0] * 0.5);
+    let pts = [
+        (0.0, SVector::from([1.0]), SVector::from([0.0])),
+        (0.0, SVector::from([-1.0]), SVector::from([0.5])),
+    ];
+    assert!(integral_defect(&SqrtQ, &Free1, &pts).is_err());
+    assert!(poisson_bracket(&SqrtQ, &Free1, 0.0, &pts[1].1, &pts[1].2).is_err());
 }

@@ -301,7 +301,7 @@ fn singular_and_bad_inputs_are_typed_errors() {
     ));
     assert!(matches!(
         Legendre(Degenerate).vector_field(0.0, &z, &z),
-        Err(Error::NonFinite { .. })
+        Err(Error::Singular { .. })
     ));
     let nan = SVector::from([f64::NAN, 0.0]);
     assert!(matches!(
@@ -358,4 +358,140 @@ proptest! {
         let v1 = h.velocity(t, &q, &p).unwrap();
         prop_assert!((v1 - v).norm() <= 1e-12, "v {v1} vs {v}");
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Robustness: badly scaled but regular problems, degenerate starts, non-finite results.
+
+/// Planar Kepler in polar coordinates (r, θ) in SI units: L = ½(ṙ² + r²θ̇²) + μ/r.
+struct PolarKepler {
+    mu: f64,
+}
+impl Lagrangian<2> for PolarKepler {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+        (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) * 0.5 + q[0].recip() * self.mu
+    }
+}
+
+#[test]
+fn badly_scaled_mass_matrix_is_not_singular() {
+    // Earth's orbit: mass matrix diag(1, r²) with r² ≈ 2.2e22.
+    let sys = PolarKepler { mu: 1.327e20 };
+    let (q, v) = (SVector::from([1.5e11, 0.3]), SVector::from([120.0, 2.0e-7]));
+    let a = sys.accelerations(0.0, &q, &v).unwrap();
+    // r̈ = r θ̇² − μ/r², θ̈ = −2 ṙ θ̇ / r.
+    let rdd = q[0] * v[1] * v[1] - sys.mu / (q[0] * q[0]);
+    assert_relative_eq!(a[0], rdd, epsilon = 1e-12 * rdd.abs());
+    assert_relative_eq!(
+        a[1],
+        -2.0 * v[0] * v[1] / q[0],
+        epsilon = 1e-12 * (2.0 * v[0] * v[1] / q[0]).abs()
+    );
+    let p = sys.momentum(0.0, &q, &v).unwrap();
+    let v2 = Legendre(PolarKepler { mu: sys.mu })
+        .velocity(0.0, &q, &p)
+        .unwrap();
+    assert_relative_eq!(v2[0], v[0], epsilon = 1e-13 * v[0].abs());
+    assert_relative_eq!(v2[1], v[1], epsilon = 1e-13 * v[1].abs());
+}
+
+/// L = q̇⁴/4: the mass matrix 3q̇² vanishes at q̇ = 0, the default Newton start.
+struct Quartic;
+impl Lagrangian<1> for Quartic {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 1>,
+        v: &SVector<D, 1>,
+    ) -> D {
+        v[0].powi(4) * 0.25
+    }
+}
+
+#[test]
+fn degenerate_start_and_non_finite_results_are_handled() {
+    let h = Legendre(Quartic);
+    let (q, p) = (SVector::from([0.0]), SVector::from([8.0]));
+    // p = q̇³ ⇒ q̇ = 2, H = p q̇ − q̇⁴/4 = 16 − 4 = 12.
+    assert_relative_eq!(
+        h.velocity(0.0, &q, &p).unwrap()[0],
+        2.0,
+        epsilon = 4.0 * EPS
+    );
+    assert_relative_eq!(h.value(0.0, &q, &p).unwrap(), 12.0, epsilon = 16.0 * EPS);
+    // At p = 0 the transform is singular (q̇ = 0, mass 0): typed errors, never Ok(NaN).
+    let z = SVector::from([0.0]);
+    assert!(matches!(
+        h.velocity(0.0, &q, &z),
+        Err(Error::Singular { .. })
+    ));
+    assert!(matches!(
+        h.vector_field(0.0, &q, &z),
+        Err(Error::Singular { .. })
+    ));
+    assert!(h.hessian(0.0, &q, &z).is_err());
+    assert!(h.partial_t(0.0, &q, &z).is_err());
+    assert!(h.energy_rate(0.0, &q, &z).is_err());
+    // A Lagrangian that is NaN at the point.
+    struct Sqrt;
+    impl Lagrangian<1> for Sqrt {
+        fn lagrangian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 1>,
+            v: &SVector<D, 1>,
+        ) -> D {
+            v[0] * v[0] * 0.5 - q[0].sqrt()
+        }
+    }
+    let neg = SVector::from([-1.0]);
+    assert!(matches!(
+        Sqrt.value(0.0, &neg, &z),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        Sqrt.accelerations(0.0, &neg, &z),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        Sqrt.jacobi_integral(0.0, &neg, &z),
+        Err(Error::NonFinite { .. })
+    ));
+    let e = Sqrt
+        .momentum(0.0, &z, &SVector::from([f64::NAN]))
+        .unwrap_err();
+    assert!(e.to_string().contains("q̇[0]"), "{e}");
+}
+
+#[test]
+fn dissipative_legendre_tangent_matrix_differentiates_through_the_solve() {
+    // m = 2, k = 3, Q^d = −c q̇ = −c p/m: the tangent matrix is [[0, 1/m], [−k, −c/m]].
+    let h = Legendre(Damped { c: 0.4 });
+    let a = h
+        .tangent_matrix(0.0, &SVector::from([0.3]), &SVector::from([-0.7]))
+        .unwrap();
+    assert_relative_eq!(a.qq[(0, 0)], 0.0, epsilon = 4.0 * EPS);
+    assert_relative_eq!(a.qp[(0, 0)], 0.5, epsilon = 4.0 * EPS);
+    assert_relative_eq!(a.pq[(0, 0)], -3.0, epsilon = 8.0 * EPS);
+    assert_relative_eq!(a.pp[(0, 0)], -0.2, epsilon = 4.0 * EPS);
+}
+
+#[test]
+fn routhian_detects_a_coordinate_that_is_not_ignorable() {
+    let sys = TwoMasses {
+        m1: 1.0,
+        m2: 2.0,
+        k: 5.0,
+        l: 1.0,
+    };
+    let good: Routhian<_, 2, 1> = Routhian::new(sys.clone(), &[0], &[1.2]).unwrap();
+    let (y, yd) = (SVector::from([1.3]), SVector::from([0.2]));
+    assert_eq!(good.ignorability_defect(0.0, &y, &yd).unwrap(), 0.0);
+    // y is not ignorable: ∂L/∂y = −k(y − ℓ) ≠ 0 at y = 0 (where the reduction evaluates it).
+    let bad: Routhian<_, 2, 1> = Routhian::new(sys, &[1], &[0.5]).unwrap();
+    assert!(
+        bad.ignorability_defect(0.0, &SVector::from([0.0]), &yd)
+            .unwrap()
+            > 1.0
+    );
 }
