@@ -15,6 +15,7 @@
 use crate::ad::{lift, phase_gradient, phase_hessian, real_parts, PhaseDual};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::{checked_vector_field, Hamiltonian, PhaseFunction};
+use crate::implicit::{self, GradientEquation};
 use crate::phase::{check_phase, checked_inverse};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{linalg::LU, Dual64, DualNum};
@@ -226,12 +227,10 @@ impl<const N: usize, L: Lagrangian<N> + ?Sized> PhaseFunction<N> for LagrangianS
 }
 
 /// Solve `∂Φ/∂x_i (t, q, x) = y_i` for the `i` with `solve_for[i]` (the other `x_i` are held at
-/// `y_i`), by Newton's method with the AD Hessian `∂²Φ/∂x²`, in any number type.
-///
-/// The real root is found on `f64` (damped Newton, backtracking on the residual); derivatives with
-/// respect to `(t, q, y)` then follow from `D::NDERIV` Newton steps in `D` with the real Jacobian
-/// frozen — each step makes one more order of the Taylor coefficients exact (implicit function
-/// theorem). Used by the Legendre transform in both directions and by the Routhian.
+/// `y_i`), by Newton's method with the AD Hessian `∂²Φ/∂x²`, in any number type
+/// ([`crate::implicit`]). Starts from zero on the solved slots (the natural guess for velocities
+/// and momenta) and, if that fails (e.g. `L = q̇⁴/4`, whose mass matrix vanishes at `q̇ = 0`), from
+/// `x = y` (unit mass).
 pub(crate) fn solve_gradient_equation<F, D, const N: usize>(
     phi: &F,
     t: D,
@@ -244,84 +243,16 @@ where
     F: PhaseFunction<N> + ?Sized,
     D: DualNum<f64> + Copy,
 {
-    const MAX_ITER: usize = 60;
-    let (tr, qr, yr) = (t.re(), real_parts(q), real_parts(y));
-    // Residual and Jacobian of the masked system on reals.
-    let residual = |x: &SVector<f64, N>| {
-        let (_, _, g, h) = phase_hessian(|a, b| phi.eval(From::from(tr), a, b), &qr, x);
-        let mut r = g - yr;
-        let mut jac = h.pp;
-        for i in (0..N).filter(|&i| !solve_for[i]) {
-            r[i] = x[i] - yr[i];
-            jac.row_mut(i).fill(0.0);
-            jac[(i, i)] = 1.0;
-        }
-        (r, jac)
+    let yr = real_parts(y);
+    let starts = [
+        SVector::from_fn(|i, _| if solve_for[i] { 0.0 } else { yr[i] }),
+        yr,
+    ];
+    let system = GradientEquation {
+        phi,
+        solve_for: *solve_for,
     };
-    // Damped Newton from `x0`; returns the root and the inverse Jacobian there.
-    let newton = |mut x: SVector<f64, N>| -> Result<(SVector<f64, N>, SMatrix<f64, N, N>)> {
-        let (mut r, mut jac) = residual(&x);
-        let scale = 1.0 + yr.norm();
-        let mut iterations = 0;
-        loop {
-            if !r.norm().is_finite() {
-                return Err(Error::NotConverged {
-                    what: what.into(),
-                    iterations,
-                    residual: r.norm(),
-                });
-            }
-            let inv = checked_inverse(&jac, what, || format!("q = {qr:?}, x = {x:?}"))?;
-            let dx = inv * r;
-            if r.norm() <= 4.0 * f64::EPSILON * scale
-                || dx.norm() <= 2.0 * f64::EPSILON * (1.0 + x.norm())
-            {
-                return Ok((x, inv));
-            }
-            if iterations >= MAX_ITER {
-                return Err(Error::NotConverged {
-                    what: what.into(),
-                    iterations,
-                    residual: r.norm(),
-                });
-            }
-            // Backtracking: halve the step until the residual decreases (accept a step of 2⁻³⁰).
-            let mut lambda = 1.0;
-            loop {
-                let xn = x - dx * lambda;
-                let (rn, jn) = residual(&xn);
-                if rn.norm() < r.norm() || lambda < 1e-9 {
-                    x = xn;
-                    r = rn;
-                    jac = jn;
-                    break;
-                }
-                lambda *= 0.5;
-            }
-            iterations += 1;
-        }
-    };
-    // Start from zero on the solved slots (the natural guess for velocities and momenta); if the
-    // Jacobian is singular there (e.g. L = q̇⁴/4), start again from x = y (unit mass).
-    let held = |i: usize, v: f64| if solve_for[i] { v } else { yr[i] };
-    let (x, inv) = newton(SVector::from_fn(|i, _| held(i, 0.0)))
-        .or_else(|first| newton(SVector::from_fn(|i, _| held(i, yr[i]))).map_err(|_| first))?;
-    // Derivative refinement in D with the real Jacobian frozen.
-    let mut xd: SVector<D, N> = lift(&x);
-    for _ in 0..D::NDERIV {
-        let (_, _, g) = phase_gradient(|a, b| phi.eval(PhaseDual::from_re(t), a, b), q, &xd);
-        let rd: SVector<D, N> = SVector::from_fn(|i, _| {
-            if solve_for[i] {
-                g[i] - y[i]
-            } else {
-                xd[i] - y[i]
-            }
-        });
-        xd -= SVector::<D, N>::from_fn(|i, _| {
-            (0..N).fold(D::from(0.0), |s, j| s + rd[j] * inv[(i, j)])
-        });
-    }
-    Ok(xd)
+    Ok(implicit::solve(&system, t, q, y, &starts, what)?.0)
 }
 
 /// The Legendre transform of a Lagrangian, usable as a [`Hamiltonian`] everywhere in the crate.

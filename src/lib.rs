@@ -5,6 +5,7 @@ pub mod ad;
 pub mod brackets;
 pub mod error;
 pub mod hamiltonian;
+pub mod implicit;
 pub mod lagrangian;
 pub mod phase;
 pub mod systems;
