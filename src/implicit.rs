@@ -89,8 +89,9 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
             if r.norm() <= 4.0 * f64::EPSILON * scale
                 || du.norm() <= 2.0 * f64::EPSILON * (1.0 + u.norm())
             {
+                // The final (tiny) correction is already computed: apply it.
                 return Ok(Root {
-                    u,
+                    u: u - du,
                     jacobian_inverse: inv,
                     iterations,
                 });

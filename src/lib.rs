@@ -9,6 +9,7 @@ pub mod implicit;
 pub mod lagrangian;
 pub mod phase;
 pub mod systems;
+pub mod transform;
 
 pub use error::{Error, Result};
 pub use hamiltonian::{Hamiltonian, PhaseFunction, Separable};

@@ -1,0 +1,516 @@
+//! Canonical transformations from generating functions of the four classical kinds (SPEC M49, M51,
+//! §0.5; [Ardema 16.2, eqs. 16.4–16.18]).
+//!
+//! | kind | arguments `(x, y)` | relations |
+//! |---|---|---|
+//! | F1 | `(q, Q)` | `p = ∂F/∂q`, `P = −∂F/∂Q` |
+//! | F2 | `(q, P)` | `p = ∂F/∂q`, `Q = ∂F/∂P` |
+//! | F3 | `(p, Q)` | `q = −∂F/∂p`, `P = −∂F/∂Q` |
+//! | F4 | `(p, P)` | `q = −∂F/∂p`, `Q = ∂F/∂P` |
+//!
+//! In every case the new Hamiltonian is `K(t, Q, P) = H + ∂F/∂t` [Ardema eq. 16.39] (Jacobi's
+//! theorem, M51), available as a [`Hamiltonian`] through [`CanonicalTransformation::transform`].
+//!
+//! **Solving the implicit relations.** The forward map solves `s ∂F/∂x (x, y) = (other old
+//! variable)` for the new argument `y`, the inverse solves `s′ ∂F/∂y (x, y) = (other new variable)`
+//! for `x`, both by damped Newton with the AD mixed Hessian `B = ∂²F/∂x∂y`
+//! ([`crate::implicit`]); derivatives of the maps (their exact Jacobians) come from the same
+//! solver in dual arithmetic.
+//!
+//! **Singular generators (SPEC X4).** A generator is usable only where `B` is regular and the map
+//! can be computed to the requested accuracy. After every solve the relative rounding error of the
+//! result is estimated from the second derivatives `A = F_kk`, `B = F_ku`, `C = F_uu` (known
+//! argument `k`, solved argument `u`):
+//!
+//! $$ \delta u \approx \varepsilon \|B^{-1}\| (\|A\|\|k\| + \|B\|\|u\| + \|b\|),\qquad
+//!    \delta o \approx \varepsilon (\|B\|\|k\| + \|C\|\|u\|) + \|C\|\,\delta u , $$
+//!
+//! and a result whose estimate exceeds the tolerance (default `1e−8`) is refused with
+//! [`Error::Singular`], carrying the point and `rcond = ε/relative error`. This catches caustics and
+//! focal points (`det B → 0`: the oscillator's principal function at `ωτ → π`) as well as generators
+//! that blow up (`F₁ = ½mωq² cot Q` at `Q → kπ`; the free-fall `F₁` at `t → 0`, where the identity
+//! map has no type-1 generator). **What to do there:** switch kind — near the identity use an F2
+//! (`F₂ = q·P + …`) or F3 generator, near the exchange map an F1 or F4 one; the Legendre relations
+//! `F₂ = F₁ + Q·P`, `F₃ = F₁ − q·p`, `F₄ = F₁ + Q·P − q·p` translate between them.
+
+use crate::ad::{phase_gradient, phase_hessian, real_parts, PhaseDual};
+use crate::brackets::{certify, Certificate, PhaseMap};
+use crate::error::{positive, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::implicit::{self, ImplicitSystem};
+use crate::phase::{check_phase, checked_inverse};
+use nalgebra::{SMatrix, SVector};
+use num_dual::{Dual, DualNum};
+
+/// The four classical kinds of generating function (SPEC §0.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    /// `F1(q, Q, t)`: `p = ∂F/∂q`, `P = −∂F/∂Q`.
+    F1,
+    /// `F2(q, P, t)`: `p = ∂F/∂q`, `Q = ∂F/∂P`.
+    F2,
+    /// `F3(p, Q, t)`: `q = −∂F/∂p`, `P = −∂F/∂Q`.
+    F3,
+    /// `F4(p, P, t)`: `q = −∂F/∂p`, `Q = ∂F/∂P`.
+    F4,
+}
+
+impl Kind {
+    /// The generator's old argument `x` is `q` (F1, F2) rather than `p` (F3, F4).
+    pub fn old_argument_is_q(self) -> bool {
+        matches!(self, Kind::F1 | Kind::F2)
+    }
+    /// The generator's new argument `y` is `Q` (F1, F3) rather than `P` (F2, F4).
+    pub fn new_argument_is_q(self) -> bool {
+        matches!(self, Kind::F1 | Kind::F3)
+    }
+    /// Sign `s` in (other old variable) `= s ∂F/∂x`.
+    fn s_old(self) -> f64 {
+        if self.old_argument_is_q() {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+    /// Sign `s′` in (other new variable) `= s′ ∂F/∂y`.
+    fn s_new(self) -> f64 {
+        if self.new_argument_is_q() {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Kind::F1 => "F1",
+            Kind::F2 => "F2",
+            Kind::F3 => "F3",
+            Kind::F4 => "F4",
+        }
+    }
+}
+
+/// A generating function `F(t, x, y)` of a given [`Kind`], written once for every dual type.
+///
+/// `x` is the old argument (`q` or `p`) and `y` the new one (`Q` or `P`) as in the table of the
+/// [module docs](self).
+///
+/// # Example: the oscillator's angle variables, `F₁ = ½ m ω q² cot Q` (SPEC T5)
+/// ```
+/// use hamilton_jacobi::transform::{CanonicalTransformation, GeneratingFunction, Kind};
+/// use hamilton_jacobi::{DualNum, nalgebra::SVector};
+/// struct AngleVariables { m: f64, omega: f64 }
+/// impl GeneratingFunction<1> for AngleVariables {
+///     fn kind(&self) -> Kind { Kind::F1 }
+///     fn generator<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>, big_q: &SVector<D, 1>) -> D {
+///         q[0] * q[0] * (0.5 * self.m * self.omega) / big_q[0].tan()
+///     }
+/// }
+/// let ct = CanonicalTransformation::new(AngleVariables { m: 2.0, omega: 3.0 });
+/// let (big_q, big_p) = ct.forward(0.0, &SVector::from([0.5]), &SVector::from([1.2])).unwrap();
+/// assert!((big_q[0] - 1.19028994968253).abs() < 1e-14);
+/// assert!((big_p[0] - 0.87).abs() < 1e-15);
+/// ```
+pub trait GeneratingFunction<const N: usize> {
+    /// The kind (which arguments `F` takes and which relations hold).
+    fn kind(&self) -> Kind;
+
+    /// `F(t, x, y)`.
+    fn generator<D: DualNum<f64> + Copy>(&self, t: D, x: &SVector<D, N>, y: &SVector<D, N>) -> D;
+
+    /// Starting guess for the new argument `y` in the forward solve; `None` (default) tries the
+    /// old variable of the same letter, then the other one, then zero.
+    fn forward_guess(
+        &self,
+        _t: f64,
+        _q: &SVector<f64, N>,
+        _p: &SVector<f64, N>,
+    ) -> Option<SVector<f64, N>> {
+        None
+    }
+
+    /// Starting guess for the old argument `x` in the inverse solve; `None` (default) tries the
+    /// new variable of the same letter, then the other one, then zero.
+    fn inverse_guess(
+        &self,
+        _t: f64,
+        _big_q: &SVector<f64, N>,
+        _big_p: &SVector<f64, N>,
+    ) -> Option<SVector<f64, N>> {
+        None
+    }
+}
+
+/// `(∂F/∂x, ∂F/∂y)` in the number type `D`.
+fn partials<G: GeneratingFunction<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
+    g: &G,
+    t: D,
+    x: &SVector<D, N>,
+    y: &SVector<D, N>,
+) -> (SVector<D, N>, SVector<D, N>) {
+    let (_, fx, fy) = phase_gradient(|a, b| g.generator(PhaseDual::from_re(t), a, b), x, y);
+    (fx, fy)
+}
+
+/// Forward relation: `s ∂F/∂x (t, x = a, y = u) − b = 0` for the new argument `u`.
+struct ForwardRelation<'a, G: ?Sized>(&'a G);
+impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N>
+    for ForwardRelation<'_, G>
+{
+    fn residual<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        a: &SVector<D, N>,
+        b: &SVector<D, N>,
+        u: &SVector<D, N>,
+    ) -> SVector<D, N> {
+        let (fx, _) = partials(self.0, t, a, u);
+        fx * D::from(self.0.kind().s_old()) - b
+    }
+}
+
+/// Inverse relation: `s′ ∂F/∂y (t, x = u, y = a) − b = 0` for the old argument `u`.
+struct InverseRelation<'a, G: ?Sized>(&'a G);
+impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N>
+    for InverseRelation<'_, G>
+{
+    fn residual<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        a: &SVector<D, N>,
+        b: &SVector<D, N>,
+        u: &SVector<D, N>,
+    ) -> SVector<D, N> {
+        let (_, fy) = partials(self.0, t, u, a);
+        fy * D::from(self.0.kind().s_new()) - b
+    }
+}
+
+/// A canonical transformation defined by a generating function: forward and inverse maps, their
+/// exact Jacobians, the transformed Hamiltonian, certification.
+///
+/// See the [module docs](self) for the relations, the solver and the treatment of singular
+/// generators.
+#[derive(Clone, Debug)]
+pub struct CanonicalTransformation<G, const N: usize> {
+    generator: G,
+    tolerance: f64,
+}
+
+/// Split `(q, p)` into the generator's old argument `x` and the other old variable.
+fn split<T: Copy, const N: usize>(
+    x_is_q: bool,
+    q: &SVector<T, N>,
+    p: &SVector<T, N>,
+) -> (SVector<T, N>, SVector<T, N>) {
+    if x_is_q {
+        (*q, *p)
+    } else {
+        (*p, *q)
+    }
+}
+
+impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
+    /// The transformation generated by `generator`, with the default accuracy tolerance `1e−8`
+    /// (relative rounding error above which a result is refused as singular).
+    pub fn new(generator: G) -> Self {
+        Self {
+            generator,
+            tolerance: 1e-8,
+        }
+    }
+
+    /// Change the accuracy tolerance (must be positive and finite).
+    pub fn with_tolerance(mut self, tolerance: f64) -> Result<Self> {
+        self.tolerance = positive("tolerance", tolerance)?;
+        Ok(self)
+    }
+
+    /// The generating function.
+    pub fn generator(&self) -> &G {
+        &self.generator
+    }
+
+    /// The kind of the generating function.
+    pub fn kind(&self) -> Kind {
+        self.generator.kind()
+    }
+
+    fn what(&self, direction: &str) -> String {
+        format!(
+            "{direction} map of the type-{} generator",
+            &self.kind().name()[1..]
+        )
+    }
+
+    /// Forward map `(q, p) ↦ (Q, P)` in any number type (exact derivatives through the solve).
+    pub fn forward_generic<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        let kind = self.kind();
+        let (x, other_old) = split(kind.old_argument_is_q(), q, p);
+        let (qr, pr) = (real_parts(q), real_parts(p));
+        let mut starts = Vec::with_capacity(4);
+        starts.extend(self.generator.forward_guess(t.re(), &qr, &pr));
+        let (same, other) = split(kind.new_argument_is_q(), &qr, &pr);
+        starts.extend([same, other, SVector::zeros()]);
+        let what = self.what("forward");
+        let (y, _) = implicit::solve(
+            &ForwardRelation(&self.generator),
+            t,
+            &x,
+            &other_old,
+            &starts,
+            &what,
+        )?;
+        let (_, fy) = partials(&self.generator, t, &x, &y);
+        let other_new = fy * D::from(kind.s_new());
+        self.check_precision(
+            t.re(),
+            &real_parts(&x),
+            &real_parts(&y),
+            &real_parts(&other_old),
+            &real_parts(&other_new),
+            true,
+            &what,
+        )?;
+        Ok(split(kind.new_argument_is_q(), &y, &other_new))
+    }
+
+    /// Inverse map `(Q, P) ↦ (q, p)` in any number type.
+    pub fn inverse_generic<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_p: &SVector<D, N>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        let kind = self.kind();
+        let (y, other_new) = split(kind.new_argument_is_q(), big_q, big_p);
+        let (qr, pr) = (real_parts(big_q), real_parts(big_p));
+        let mut starts = Vec::with_capacity(4);
+        starts.extend(self.generator.inverse_guess(t.re(), &qr, &pr));
+        let (same, other) = split(kind.old_argument_is_q(), &qr, &pr);
+        starts.extend([same, other, SVector::zeros()]);
+        let what = self.what("inverse");
+        let (x, _) = implicit::solve(
+            &InverseRelation(&self.generator),
+            t,
+            &y,
+            &other_new,
+            &starts,
+            &what,
+        )?;
+        let (fx, _) = partials(&self.generator, t, &x, &y);
+        let other_old = fx * D::from(kind.s_old());
+        self.check_precision(
+            t.re(),
+            &real_parts(&x),
+            &real_parts(&y),
+            &real_parts(&other_new),
+            &real_parts(&other_old),
+            false,
+            &what,
+        )?;
+        Ok(split(kind.old_argument_is_q(), &x, &other_old))
+    }
+
+    /// Estimate the relative rounding error of a solved map (see the [module docs](self)) and
+    /// refuse the result if it exceeds the tolerance.
+    #[allow(clippy::too_many_arguments)]
+    fn check_precision(
+        &self,
+        t: f64,
+        x: &SVector<f64, N>,
+        y: &SVector<f64, N>,
+        target: &SVector<f64, N>,
+        output: &SVector<f64, N>,
+        forward: bool,
+        what: &str,
+    ) -> Result<()> {
+        let at = || format!("t = {t}, x = {x:?}, y = {y:?}");
+        let (_, _, _, h) =
+            phase_hessian(|a, b| self.generator.generator(From::from(t), a, b), x, y);
+        if !h.is_finite() {
+            return Err(Error::Singular {
+                what: format!("{what}: second derivatives of the generator are not finite"),
+                at: at(),
+                rcond: 0.0,
+            });
+        }
+        // Known argument k, solved argument u: A = F_kk, B = F_ku, C = F_uu.
+        let (a, b, c, k, u) = if forward {
+            (h.qq, h.qp, h.pp, x, y)
+        } else {
+            (h.pp, h.qp.transpose(), h.qq, y, x)
+        };
+        let binv = checked_inverse(&b, &format!("{what}: mixed Hessian ∂²F/∂x∂y"), at)?;
+        let norm = |m: &SMatrix<f64, N, N>| m.abs().column_sum().amax();
+        let vn = |v: &SVector<f64, N>| v.amax();
+        let eps = f64::EPSILON;
+        let err_u = eps * norm(&binv) * (norm(&a) * vn(k) + norm(&b) * vn(u) + vn(target));
+        let err_o = eps * (norm(&b) * vn(k) + norm(&c) * vn(u) + vn(output)) + norm(&c) * err_u;
+        let size = vn(k) + vn(u) + vn(target) + vn(output);
+        let rel = if size > 0.0 {
+            (err_u + err_o) / size
+        } else {
+            0.0
+        };
+        if rel.is_finite() && rel <= self.tolerance {
+            Ok(())
+        } else {
+            Err(Error::Singular {
+                what: format!(
+                    "{what}: estimated relative error {rel:.1e} exceeds the tolerance {:.1e} — the generator is \
+                     singular or nearly so here (caustic, focal point, or a generator that blows up); \
+                     use a generator of another kind",
+                    self.tolerance
+                ),
+                at: format!("t = {t}, x = {x:?}, y = {y:?}"),
+                rcond: if rel.is_finite() { eps / rel } else { 0.0 },
+            })
+        }
+    }
+
+    /// Forward map `(q, p) ↦ (Q, P)` with input validation and singularity checks.
+    pub fn forward(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        check_phase(t, q, p)?;
+        self.forward_generic(t, q, p)
+    }
+
+    /// Inverse map `(Q, P) ↦ (q, p)` with input validation and singularity checks.
+    pub fn inverse(
+        &self,
+        t: f64,
+        big_q: &SVector<f64, N>,
+        big_p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        check_phase(t, big_q, big_p)?;
+        self.inverse_generic(t, big_q, big_p)
+    }
+
+    /// The forward map as a [`PhaseMap`] (NaN where the map is undefined or refused).
+    pub fn forward_map(&self) -> ForwardMap<'_, G, N> {
+        ForwardMap(self)
+    }
+
+    /// The inverse map as a [`PhaseMap`] (NaN where the map is undefined or refused).
+    pub fn inverse_map(&self) -> InverseMap<'_, G, N> {
+        InverseMap(self)
+    }
+
+    /// Exact Jacobian `∂(Q, P)/∂(q, p)` by implicit AD.
+    pub fn jacobian(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<crate::PhaseMatrix<N>> {
+        self.forward(t, q, p)?;
+        crate::brackets::jacobian(&self.forward_map(), t, q, p)
+    }
+
+    /// Certify the forward map at a point ([`crate::brackets::certify`]).
+    pub fn certify(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<Certificate<N>> {
+        self.forward(t, q, p)?;
+        certify(&self.forward_map(), t, q, p)
+    }
+
+    /// `∂F/∂t` at the generator's arguments corresponding to `(Q, P)`, in any number type.
+    fn generator_rate<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        x: &SVector<D, N>,
+        y: &SVector<D, N>,
+    ) -> D {
+        let td = Dual::new(t, D::one());
+        let xd: SVector<Dual<D, f64>, N> = x.map(Dual::from_re);
+        let yd: SVector<Dual<D, f64>, N> = y.map(Dual::from_re);
+        self.generator.generator(td, &xd, &yd).eps
+    }
+
+    /// The transformed Hamiltonian `K(t, Q, P) = H(t, q, p) + ∂F/∂t` (Jacobi's theorem, M51), a
+    /// [`Hamiltonian`] in the new variables usable everywhere in the crate.
+    pub fn transform<'a, H: Hamiltonian<N>>(&'a self, h: &'a H) -> Transformed<'a, G, H, N> {
+        Transformed { ct: self, h }
+    }
+}
+
+/// The forward map of a [`CanonicalTransformation`] as a [`PhaseMap`].
+pub struct ForwardMap<'a, G, const N: usize>(&'a CanonicalTransformation<G, N>);
+/// The inverse map of a [`CanonicalTransformation`] as a [`PhaseMap`].
+pub struct InverseMap<'a, G, const N: usize>(&'a CanonicalTransformation<G, N>);
+
+fn nan_pair<D: DualNum<f64> + Copy, const N: usize>(
+    z: &SVector<D, N>,
+) -> (SVector<D, N>, SVector<D, N>) {
+    let nan = z.iter().fold(D::from(f64::NAN), |a, &x| a + x * f64::NAN);
+    (SVector::from_element(nan), SVector::from_element(nan))
+}
+
+impl<G: GeneratingFunction<N>, const N: usize> PhaseMap<N> for ForwardMap<'_, G, N> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        self.0
+            .forward_generic(t, q, p)
+            .unwrap_or_else(|_| nan_pair(q))
+    }
+}
+
+impl<G: GeneratingFunction<N>, const N: usize> PhaseMap<N> for InverseMap<'_, G, N> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        self.0
+            .inverse_generic(t, q, p)
+            .unwrap_or_else(|_| nan_pair(q))
+    }
+}
+
+/// The transformed Hamiltonian `K = H + ∂F/∂t` of a [`CanonicalTransformation`]
+/// (see [`CanonicalTransformation::transform`]). NaN where the inverse map is refused; the checked
+/// methods ([`Hamiltonian::vector_field`], …) then report a non-finite result.
+pub struct Transformed<'a, G, H, const N: usize> {
+    ct: &'a CanonicalTransformation<G, N>,
+    h: &'a H,
+}
+
+impl<G: GeneratingFunction<N>, H: Hamiltonian<N>, const N: usize> Hamiltonian<N>
+    for Transformed<'_, G, H, N>
+{
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_p: &SVector<D, N>,
+    ) -> D {
+        match self.ct.inverse_generic(t, big_q, big_p) {
+            Ok((q, p)) => {
+                let kind = self.ct.kind();
+                let (x, _) = split(kind.old_argument_is_q(), &q, &p);
+                let (y, _) = split(kind.new_argument_is_q(), big_q, big_p);
+                self.h.hamiltonian(t, &q, &p) + self.ct.generator_rate(t, &x, &y)
+            }
+            Err(_) => nan_pair(big_p).0[0],
+        }
+    }
+}

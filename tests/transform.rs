@@ -1,0 +1,358 @@
+//! Canonical transformations from generating functions: SPEC T5, T6, the swap and identity maps
+//! in all kinds, X4 extremes, and property tests of canonicity, inversion and Jacobi's theorem.
+
+mod common;
+
+use approx::assert_relative_eq;
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::systems::{ExactFlow, HarmonicOscillator};
+use hamilton_jacobi::transform::{CanonicalTransformation, GeneratingFunction, Kind};
+use hamilton_jacobi::{hamiltonian, DualNum, Error, Hamiltonian};
+use proptest::prelude::*;
+use std::f64::consts::PI;
+
+const EPS: f64 = f64::EPSILON;
+
+// ---------------------------------------------------------------------------------------------
+// T5: F1 = ½ m ω q² cot Q.
+
+struct AngleVariables {
+    m: f64,
+    omega: f64,
+}
+impl GeneratingFunction<1> for AngleVariables {
+    fn kind(&self) -> Kind {
+        Kind::F1
+    }
+    fn generator<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        big_q: &SVector<D, 1>,
+    ) -> D {
+        q[0] * q[0] * (0.5 * self.m * self.omega) / big_q[0].tan()
+    }
+}
+
+#[test]
+fn t5_oscillator_angle_variables_from_f1() {
+    let (m, w) = (2.0, 3.0);
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
+    let osc = HarmonicOscillator::new(m, w).unwrap();
+    let (q0, p0) = (SVector::from([0.5]), SVector::from([1.2]));
+    let (big_q, big_p) = ct.forward(0.0, &q0, &p0).unwrap();
+    // Published instance (15 digits): (Q, P) = (1.19028994968253, 0.87).
+    assert_relative_eq!(big_q[0], 1.19028994968253, epsilon = 1e-14);
+    assert_relative_eq!(big_p[0], 0.87, epsilon = 4.0 * EPS);
+    // K = H (F1 has no t) = ω P, and Hamilton's equations of K: Q̇ = ω, Ṗ = 0.
+    let k = ct.transform(&osc);
+    for (qq, pp) in [(big_q[0], big_p[0]), (0.4, 2.0), (2.9, 0.1)] {
+        let (bq, bp) = (SVector::from([qq]), SVector::from([pp]));
+        assert_relative_eq!(
+            k.value(0.0, &bq, &bp).unwrap(),
+            w * pp,
+            epsilon = 16.0 * EPS * w * pp
+        );
+        let (qd, pd) = k.vector_field(0.0, &bq, &bp).unwrap();
+        assert_relative_eq!(qd[0], w, epsilon = 1e-13);
+        assert!(pd[0].abs() < 1e-13, "Ṗ = {}", pd[0]);
+    }
+    // [Q, P] = 1 (Lagrange bracket of the inverse map) and the forward map is canonical.
+    let c = ct.certify(0.0, &q0, &p0).unwrap();
+    assert!(c.symplectic_defect < 1e-14);
+    let l =
+        hamilton_jacobi::brackets::lagrange_bracket_matrix(&ct.inverse_map(), 0.0, &big_q, &big_p)
+            .unwrap();
+    assert_relative_eq!(l.qp[(0, 0)], 1.0, epsilon = 1e-14);
+    // Integrating K (Q = Q₀ + ωt, P constant) reproduces q(t) of the oscillator while Q stays in (0, π).
+    for t in [0.1, 0.3, 0.55] {
+        let (q, p) = ct
+            .inverse(t, &SVector::from([big_q[0] + w * t]), &big_p)
+            .unwrap();
+        let (qe, pe) = osc.exact_flow(0.0, &q0, &p0, t).unwrap();
+        assert_relative_eq!(q[0], qe[0], epsilon = 1e-14);
+        assert_relative_eq!(p[0], pe[0], epsilon = 1e-14);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// T6: free fall with F1(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24.
+
+struct FreeFall {
+    g: f64,
+}
+impl GeneratingFunction<1> for FreeFall {
+    fn kind(&self) -> Kind {
+        Kind::F1
+    }
+    fn generator<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        big_q: &SVector<D, 1>,
+    ) -> D {
+        let d = q[0] - big_q[0];
+        d * d / (t * 2.0)
+            - t * (q[0] + big_q[0]) * (0.5 * self.g)
+            - t * t * t * (self.g * self.g / 24.0)
+    }
+}
+hamiltonian!(Fall<1> { g: f64 } |s, _t, q, p| p[0] * p[0] * 0.5 + q[0] * s.g);
+
+#[test]
+fn t6_free_fall_generator() {
+    let g = 9.81;
+    let ct = CanonicalTransformation::new(FreeFall { g });
+    let h = Fall { g };
+    // The map sends the state at time t to the initial state (Q, P): the flow's inverse.
+    let (big_q, big_p) = (SVector::from([1.5]), SVector::from([-4.0]));
+    for t in [0.3, 2.0] {
+        let (q, p) = (
+            SVector::from([big_q[0] + big_p[0] * t - 0.5 * g * t * t]),
+            SVector::from([big_p[0] - g * t]),
+        );
+        let (bq, bp) = ct.forward(t, &q, &p).unwrap();
+        assert_relative_eq!(bq[0], big_q[0], epsilon = 1e-13);
+        assert_relative_eq!(bp[0], big_p[0], epsilon = 1e-13);
+        // K = H + ∂F₁/∂t ≡ 0: the initial conditions are constants of the motion.
+        let k = ct.transform(&h);
+        for (a, b) in [(1.5, -4.0), (0.2, 3.0), (-7.0, 0.5)] {
+            let kv = k
+                .value(t, &SVector::from([a]), &SVector::from([b]))
+                .unwrap();
+            let hv = 0.5 * b * b + g * a; // a scale for rounding
+            assert!(
+                kv.abs() < 64.0 * EPS * (1.0 + hv.abs() + g * g * t * t),
+                "K = {kv} at t = {t}"
+            );
+        }
+    }
+    // F₁ equals Hamilton's principal function of T1 (vertical part, x¹ = x⁰): instance
+    // (y⁰, y¹) = (0, 5), τ = 2.
+    let f = FreeFall { g }.generator(2.0, &SVector::from([5.0]), &SVector::from([0.0]));
+    let s_t1 = 25.0 / 4.0 - 0.5 * g * 5.0 * 2.0 - g * g * 8.0 / 24.0;
+    assert_relative_eq!(f, s_t1, epsilon = 4.0 * EPS * s_t1.abs());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exchange and identity maps in all kinds that can represent them.
+
+struct Quadratic {
+    kind: Kind,
+    sign: f64,
+}
+impl GeneratingFunction<2> for Quadratic {
+    fn kind(&self) -> Kind {
+        self.kind
+    }
+    fn generator<D: DualNum<f64> + Copy>(&self, _t: D, x: &SVector<D, 2>, y: &SVector<D, 2>) -> D {
+        x.dot(y) * self.sign
+    }
+}
+
+#[test]
+fn swap_and_identity_in_every_kind() {
+    let (q, p) = (SVector::from([0.3, -1.2]), SVector::from([2.5, 0.7]));
+    // Swap Q = p, P = −q: F1 = q·Q, and F4 = F1 + Q·P − q·p = p·P.
+    for kind in [Kind::F1, Kind::F4] {
+        let ct = CanonicalTransformation::new(Quadratic { kind, sign: 1.0 });
+        let (bq, bp) = ct.forward(0.0, &q, &p).unwrap();
+        assert_eq!((bq, bp), (p, -q), "{kind:?}");
+        assert_eq!(ct.inverse(0.0, &bq, &bp).unwrap(), (q, p));
+        assert_eq!(ct.certify(0.0, &q, &p).unwrap().symplectic_defect, 0.0);
+    }
+    // Identity: F2 = q·P, and F3 = F2 − Q·P − q·p … = −p·Q.
+    for (kind, sign) in [(Kind::F2, 1.0), (Kind::F3, -1.0)] {
+        let ct = CanonicalTransformation::new(Quadratic { kind, sign });
+        assert_eq!(ct.forward(0.0, &q, &p).unwrap(), (q, p), "{kind:?}");
+        assert_eq!(ct.inverse(0.0, &q, &p).unwrap(), (q, p));
+    }
+    // The swap has no F2 (or F3) generator: with F2 = q·P the relations give the identity instead,
+    // and an F2 with a singular mixed Hessian is refused.
+    struct Degenerate;
+    impl GeneratingFunction<2> for Degenerate {
+        fn kind(&self) -> Kind {
+            Kind::F2
+        }
+        fn generator<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            x: &SVector<D, 2>,
+            y: &SVector<D, 2>,
+        ) -> D {
+            (x[0] + x[1]) * (y[0] + y[1])
+        }
+    }
+    let err = CanonicalTransformation::new(Degenerate)
+        .forward(0.0, &q, &p)
+        .unwrap_err();
+    assert!(matches!(err, Error::Singular { .. }), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// X4: singular generators give typed errors with the point and the conditioning.
+
+/// Oscillator principal function as an F1 generator, S(x⁰, x¹) with x⁰ → q, x¹ → Q (ω = 1).
+struct Principal {
+    tau: f64,
+}
+impl GeneratingFunction<1> for Principal {
+    fn kind(&self) -> Kind {
+        Kind::F1
+    }
+    fn generator<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        big_q: &SVector<D, 1>,
+    ) -> D {
+        let (s, c) = self.tau.sin_cos();
+        ((q[0] * q[0] + big_q[0] * big_q[0]) * c - q[0] * big_q[0] * 2.0) / (2.0 * s)
+    }
+}
+
+fn singular_message(e: &Error) -> String {
+    match e {
+        Error::Singular { what, at, rcond } => format!("{what} | {at} | {rcond:e}"),
+        other => panic!("expected Error::Singular, got {other:?}"),
+    }
+}
+
+#[test]
+fn x4_singular_generators_are_refused() {
+    // Oscillator W1 at Q → π: regular at Q = 1.2, refused as Q → π.
+    let ct = CanonicalTransformation::new(AngleVariables { m: 1.0, omega: 1.0 });
+    assert!(ct
+        .inverse(0.0, &SVector::from([1.2]), &SVector::from([0.5]))
+        .is_ok());
+    let e = ct
+        .inverse(0.0, &SVector::from([PI - 1e-9]), &SVector::from([0.5]))
+        .unwrap_err();
+    let msg = singular_message(&e);
+    assert!(
+        msg.contains("estimated relative error") && msg.contains("3.1415926"),
+        "{msg}"
+    );
+    // Through q = 0 (Q = π/2, p = 0 … fine) versus q = 0 with p ≠ 0: p = mωq cot Q has no solution.
+    assert!(ct
+        .forward(0.0, &SVector::from([0.0]), &SVector::from([1.0]))
+        .is_err());
+    // Free fall: regular at t = 0.3, refused as t → 0 (the identity has no type-1 generator);
+    // t = 0 exactly is a non-finite generator.
+    let ff = CanonicalTransformation::new(FreeFall { g: 9.81 });
+    let (q, p) = (SVector::from([1.0]), SVector::from([0.5]));
+    assert!(ff.forward(0.3, &q, &p).is_ok());
+    for t in [1e-9, 1e-12] {
+        let msg = singular_message(&ff.forward(t, &q, &p).unwrap_err());
+        assert!(msg.contains(&format!("t = {t}")), "{msg}");
+    }
+    assert!(ff.forward(0.0, &q, &p).is_err());
+    // Oscillator principal function at τ → π (focal point): regular at τ = 1, refused at π − 1e−9.
+    let q0 = SVector::from([1.0]);
+    assert!(CanonicalTransformation::new(Principal { tau: 1.0 })
+        .forward(0.0, &q0, &p)
+        .is_ok());
+    let e = CanonicalTransformation::new(Principal { tau: PI - 1e-9 })
+        .forward(0.0, &q0, &p)
+        .unwrap_err();
+    singular_message(&e);
+    // Exactly at the focal point the mixed Hessian −1/sin τ is finite but the solve is refused.
+    assert!(CanonicalTransformation::new(Principal { tau: PI })
+        .forward(0.0, &q0, &p)
+        .is_err());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Property tests: random quadratic and non-quadratic generators of each kind.
+
+#[derive(Clone, Debug)]
+struct Random {
+    kind: Kind,
+    a: [f64; 3],
+    b: [f64; 4],
+    c: [f64; 3],
+    nonlinear: f64,
+    rate: f64,
+}
+impl GeneratingFunction<2> for Random {
+    fn kind(&self) -> Kind {
+        self.kind
+    }
+    /// F = xᵀBy + ½xᵀAx + ½yᵀCy + κ (sin(x₀y₁) + ½cos(x₁ + y₀) + ⅓x₀²y₀) + r t x·y, with B = I + small.
+    fn generator<D: DualNum<f64> + Copy>(&self, t: D, x: &SVector<D, 2>, y: &SVector<D, 2>) -> D {
+        let (a, b, c) = (&self.a, &self.b, &self.c);
+        let bilinear = x[0] * y[0] * (1.0 + b[0])
+            + x[0] * y[1] * b[1]
+            + x[1] * y[0] * b[2]
+            + x[1] * y[1] * (1.0 + b[3]);
+        let qa = (x[0] * x[0] * a[0] + x[0] * x[1] * (2.0 * a[1]) + x[1] * x[1] * a[2]) * 0.5;
+        let qc = (y[0] * y[0] * c[0] + y[0] * y[1] * (2.0 * c[1]) + y[1] * y[1] * c[2]) * 0.5;
+        let nl = (x[0] * y[1]).sin() + (x[1] + y[0]).cos() * 0.5 + x[0] * x[0] * y[0] / 3.0;
+        bilinear + qa + qc + nl * self.nonlinear + t * x.dot(y) * self.rate
+    }
+}
+
+fn random_generator() -> impl Strategy<Value = Random> {
+    (
+        prop_oneof![
+            Just(Kind::F1),
+            Just(Kind::F2),
+            Just(Kind::F3),
+            Just(Kind::F4)
+        ],
+        prop::array::uniform3(-0.5..0.5f64),
+        prop::array::uniform4(-0.2..0.2f64),
+        prop::array::uniform3(-0.5..0.5f64),
+        prop_oneof![Just(0.0), -0.1..0.1f64],
+        -0.2..0.2f64,
+    )
+        .prop_map(|(kind, a, b, c, nonlinear, rate)| Random {
+            kind,
+            a,
+            b,
+            c,
+            nonlinear,
+            rate,
+        })
+}
+
+fn point() -> impl Strategy<Value = (SVector<f64, 2>, SVector<f64, 2>)> {
+    (
+        prop::array::uniform2(-1.0..1.0f64),
+        prop::array::uniform2(-1.0..1.0f64),
+    )
+        .prop_map(|(q, p)| (SVector::from(q), SVector::from(p)))
+}
+
+hamiltonian!(Anharmonic<2> |_s, _t, q, p| p.dot(p) * 0.5 + q.dot(q) * 0.5 + q[0] * q[0] * q[1] * 0.3);
+
+proptest! {
+    #![proptest_config(common::config(0x5eed_0005))]
+
+    #[test]
+    fn generated_maps_are_canonical_and_invertible(g in random_generator(), (q, p) in point(), t in 0.0..1.0f64) {
+        let ct = CanonicalTransformation::new(g);
+        let c = ct.certify(t, &q, &p).unwrap();
+        // Entries of M are O(1) here (B = I + O(0.2)); the defect is a few roundings of O(1) sums.
+        prop_assert!(c.symplectic_defect <= 1e-12, "defect {}", c.symplectic_defect);
+        prop_assert!(c.det_minus_one.abs() <= 1e-12);
+        let (bq, bp) = ct.forward(t, &q, &p).unwrap();
+        let (q2, p2) = ct.inverse(t, &bq, &bp).unwrap();
+        prop_assert!((q2 - q).amax() <= 1e-12 && (p2 - p).amax() <= 1e-12, "round trip {} {}", q2 - q, p2 - p);
+    }
+
+    #[test]
+    fn transformed_hamiltonian_generates_the_transformed_flow(g in random_generator(), (q, p) in point()) {
+        // Integrate H from (q, p) and K from (Q, P) with the same RK4 (dt = 0.01, 20 steps); map the
+        // H-trajectory forward at t = 0.2 and compare. Both integrations carry an O(dt⁴) global error
+        // of ≈ 1e−9 for these O(1) motions; the comparison tolerance is 1e−7.
+        let ct = CanonicalTransformation::new(g);
+        let k = ct.transform(&Anharmonic);
+        let (bq0, bp0) = ct.forward(0.0, &q, &p).unwrap();
+        let (dt, steps) = (0.01, 20);
+        let (q1, p1) = common::rk4_hamiltonian(&Anharmonic, 0.0, q, p, dt, steps, |_, _, _| {});
+        let (bq1, bp1) = common::rk4_hamiltonian(&k, 0.0, bq0, bp0, dt, steps, |_, _, _| {});
+        let (mq, mp) = ct.forward(dt * steps as f64, &q1, &p1).unwrap();
+        prop_assert!((mq - bq1).amax() <= 1e-7 && (mp - bp1).amax() <= 1e-7, "{} {} vs {} {}", mq, mp, bq1, bp1);
+    }
+}
