@@ -390,6 +390,45 @@ pub fn certify<M: PhaseMap<N> + ?Sized, const N: usize>(
     })
 }
 
+/// The coefficients `c(q, p)` of the 1-form `θ = Σ p dq − Σ P dQ = c_q · dq + c_p · dp` pulled back
+/// through a map: `c_q = p − (∂Q/∂q)ᵀ P`, `c_p = −(∂Q/∂p)ᵀ P`.
+struct CanonicalOneForm<'a, M: ?Sized>(&'a M);
+
+impl<M: PhaseMap<N> + ?Sized, const N: usize> PhaseMap<N> for CanonicalOneForm<'_, M> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        let (_, big_p) = self.0.apply(t, q, p);
+        let mut cq = *p;
+        let mut cp = SVector::<D, N>::zeros();
+        for i in 0..N {
+            let (_, dq, dp) =
+                phase_gradient(|a, b| self.0.apply(PhaseDual::from_re(t), a, b).0[i], q, p);
+            cq -= dq * big_p[i];
+            cp -= dp * big_p[i];
+        }
+        (cq, cp)
+    }
+}
+
+/// Canonicity by the definition [Ardema 16.2, eq. 16.4]: a map `(q, p) ↦ (Q, P)` (at fixed `t`) is
+/// canonical iff `Σ p dq − Σ P dQ` is closed (locally the differential of a generating function).
+/// Returns `‖K − Kᵀ‖_max` for `K = ∂c/∂(q, p)`, the Jacobian of the form's coefficients
+/// (second derivatives of the map by nested AD) — zero iff the form is closed. An independent
+/// computation from the symplectic condition `MᵀJM = J`, which it equals algebraically.
+pub fn exactness_defect<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<f64> {
+    let k = jacobian(&CanonicalOneForm(map), t, q, p)?;
+    Ok(k.sub(&k.transpose()).max_abs())
+}
+
 /// Liouville's determinant `det ∂(Q, P)/∂(q, p)` [Ardema eq. 16.23].
 pub fn liouville_determinant<M: PhaseMap<N> + ?Sized, const N: usize>(
     map: &M,

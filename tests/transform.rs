@@ -356,3 +356,256 @@ proptest! {
         prop_assert!((mq - bq1).amax() <= 1e-7 && (mp - bp1).amax() <= 1e-7, "{} {} vs {} {}", mq, mp, bq1, bp1);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// T7 by the three methods: definition (closed 1-form), Liouville, brackets.
+
+use hamilton_jacobi::brackets::{
+    certify, exactness_defect, liouville_determinant, poisson_bracket_matrix, PhaseMap,
+};
+use hamilton_jacobi::transform::point::{
+    point_transformation, Parabolic, Polar, RotatingFrame, Spherical,
+};
+use hamilton_jacobi::transform::{Compose, Inverse};
+
+/// Prob. 16/2: Q = ln(sin p / q), P = q cot p.
+struct Prob16_2;
+impl PhaseMap<1> for Prob16_2 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        (
+            SVector::from([(p[0].sin() / q[0]).ln()]),
+            SVector::from([q[0] / p[0].tan()]),
+        )
+    }
+}
+/// Prob. 16/3: Q = q^α cos βp, P = q^α sin βp.
+struct Prob16_3 {
+    alpha: f64,
+    beta: f64,
+}
+impl PhaseMap<1> for Prob16_3 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let qa = q[0].powf(self.alpha);
+        let (s, c) = (p[0] * self.beta).sin_cos();
+        (SVector::from([qa * c]), SVector::from([qa * s]))
+    }
+}
+/// In the spirit of Prob. 16/1: Q = √(2q) eᵗ cos p, P = √(2q) e⁻ᵗ sin p.
+struct Prob16_1;
+impl PhaseMap<1> for Prob16_1 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let r = (q[0] * 2.0).sqrt();
+        let (s, c) = p[0].sin_cos();
+        (
+            SVector::from([r * t.exp() * c]),
+            SVector::from([r * (-t).exp() * s]),
+        )
+    }
+}
+
+/// The three verdicts (definition, Liouville, brackets) at a point, with tolerance `tol`.
+fn verdicts<M: PhaseMap<1>>(m: &M, t: f64, q: f64, p: f64, tol: f64) -> [bool; 3] {
+    let (q, p) = (SVector::from([q]), SVector::from([p]));
+    [
+        exactness_defect(m, t, &q, &p).unwrap() <= tol,
+        (liouville_determinant(m, t, &q, &p).unwrap() - 1.0).abs() <= tol,
+        (poisson_bracket_matrix(m, t, &q, &p).unwrap().qp[(0, 0)] - 1.0).abs() <= tol,
+    ]
+}
+
+#[test]
+fn t7_verdicts_by_all_three_methods() {
+    // Tolerance: a few hundred roundings of O(1–10) second-derivative sums.
+    let tol = 1e-12;
+    for (q, p) in [(0.7, 1.1), (1.9, 0.4), (0.2, 2.5)] {
+        assert_eq!(
+            verdicts(&Prob16_2, 0.0, q, p, tol),
+            [true; 3],
+            "16/2 at ({q}, {p})"
+        );
+        for t in [0.0, 0.7, -1.3] {
+            assert_eq!(
+                verdicts(&Prob16_1, t, q, p, tol),
+                [true; 3],
+                "16/1 at t = {t}"
+            );
+        }
+        for (alpha, beta) in [(0.5, 2.0), (0.5, 1.5), (0.7, 2.0), (1.0, 1.0)] {
+            let canonical = alpha == 0.5 && beta == 2.0;
+            let v = verdicts(&Prob16_3 { alpha, beta }, 0.0, q, p, tol);
+            assert_eq!(
+                v, [canonical; 3],
+                "16/3 α = {alpha}, β = {beta} at ({q}, {p})"
+            );
+        }
+    }
+    // The definition's defect equals |(Q, P) − 1| for one degree of freedom: both computed
+    // independently, compare them.
+    let (q, p) = (SVector::from([0.7]), SVector::from([1.1]));
+    let m = Prob16_3 {
+        alpha: 0.7,
+        beta: 2.0,
+    };
+    let d = exactness_defect(&m, 0.0, &q, &p).unwrap();
+    let b = poisson_bracket_matrix(&m, 0.0, &q, &p).unwrap().qp[(0, 0)];
+    assert_relative_eq!(d, (b - 1.0).abs(), epsilon = 1e-13);
+}
+
+// ---------------------------------------------------------------------------------------------
+// T8 and other point transformations.
+
+#[test]
+fn t8_polar_momenta_and_other_point_transformations() {
+    let ct = point_transformation(Polar);
+    for (x, y, px, py) in [
+        (1.0, 0.5, 0.3, -0.7),
+        (-2.0, 0.1, 1.5, 0.2),
+        (0.3, -1.4, -0.6, 0.9),
+    ] {
+        let (q, p) = (SVector::from([x, y]), SVector::from([px, py]));
+        let (bq, bp) = ct.forward(0.0, &q, &p).unwrap();
+        let (r, th) = (bq[0], bq[1]);
+        assert_relative_eq!(r, f64::hypot(x, y), epsilon = 4.0 * EPS * r);
+        assert_relative_eq!(th, y.atan2(x), epsilon = 8.0 * EPS);
+        // P_r = p_x cos θ + p_y sin θ, P_θ = −p_x r sin θ + p_y r cos θ.
+        assert_relative_eq!(bp[0], px * th.cos() + py * th.sin(), epsilon = 8.0 * EPS);
+        assert_relative_eq!(
+            bp[1],
+            -px * r * th.sin() + py * r * th.cos(),
+            epsilon = 16.0 * EPS * (1.0 + r)
+        );
+        assert!(ct.certify(0.0, &q, &p).unwrap().symplectic_defect < 1e-14);
+        let (q2, p2) = ct.inverse(0.0, &bq, &bp).unwrap();
+        assert!((q2 - q).amax() < 1e-15 && (p2 - p).amax() < 1e-14);
+        // Kepler in polar coordinates: K = P_r²/2 + P_θ²/(2r²) − 1/r.
+        let kep = hamilton_jacobi::systems::Kepler2::new(1.0).unwrap();
+        let k = ct.transform(&kep).value(0.0, &bq, &bp).unwrap();
+        assert_relative_eq!(
+            k,
+            bp[0] * bp[0] / 2.0 + bp[1] * bp[1] / (2.0 * r * r) - 1.0 / r,
+            epsilon = 1e-14
+        );
+    }
+    // Singular at r = 0.
+    let z = SVector::from([0.0, 0.0]);
+    assert!(matches!(
+        ct.forward(0.0, &z, &SVector::from([1.0, 0.0])),
+        Err(Error::Singular { .. })
+    ));
+    // Spherical and parabolic coordinates: canonical, invertible.
+    let sph = point_transformation(Spherical);
+    let (q3, p3) = (
+        SVector::from([0.3, -0.8, 0.5]),
+        SVector::from([1.0, 0.2, -0.4]),
+    );
+    assert!(sph.certify(0.0, &q3, &p3).unwrap().symplectic_defect < 1e-14);
+    let (bq, bp) = sph.forward(0.0, &q3, &p3).unwrap();
+    let (q4, p4) = sph.inverse(0.0, &bq, &bp).unwrap();
+    assert!((q4 - q3).amax() < 1e-15 && (p4 - p3).amax() < 1e-14);
+    let par = point_transformation(Parabolic);
+    let (q5, p5) = (SVector::from([-0.6, 1.2]), SVector::from([0.3, 0.9]));
+    let (bq, bp) = par.forward(0.0, &q5, &p5).unwrap();
+    assert!(par.certify(0.0, &q5, &p5).unwrap().symplectic_defect < 1e-14);
+    assert_relative_eq!(
+        (bq[0] * bq[0] - bq[1] * bq[1]) / 2.0,
+        q5[0],
+        epsilon = 1e-15
+    );
+    assert_relative_eq!(bq[0] * bq[1], q5[1], epsilon = 1e-15);
+    let (q6, _) = par.inverse(0.0, &bq, &bp).unwrap();
+    assert!((q6 - q5).amax() < 1e-15);
+}
+
+hamiltonian!(FreeParticle<2> |_s, _t, _q, p| p.dot(p) * 0.5);
+
+#[test]
+fn rotating_frame_hamiltonian() {
+    // K = H + ∂F₃/∂t = |P|²/2 − ω (Q₁P₂ − Q₂P₁).
+    let w = 0.7;
+    let ct = point_transformation(RotatingFrame { omega: w });
+    let k = ct.transform(&FreeParticle);
+    for t in [0.0, 1.3] {
+        let (bq, bp) = (SVector::from([0.4, -1.1]), SVector::from([0.9, 0.25]));
+        let kv = k.value(t, &bq, &bp).unwrap();
+        let expected = bp.dot(&bp) / 2.0 - w * (bq[0] * bp[1] - bq[1] * bp[0]);
+        assert_relative_eq!(kv, expected, epsilon = 1e-14);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Composition and inversion.
+
+#[test]
+fn composition_and_inversion_of_canonical_maps() {
+    let (q, p) = (SVector::from([0.7]), SVector::from([1.1]));
+    // A canonical map composed with its Newton inverse is the identity, and is canonical.
+    let inv = Inverse::new(Prob16_2);
+    let id = Compose(Prob16_2, Inverse::new(Prob16_2));
+    let (q1, p1) = id.apply(0.0, &q, &p);
+    assert!((q1 - q).amax() < 1e-14 && (p1 - p).amax() < 1e-14);
+    let c = certify(&id, 0.0, &q, &p).unwrap();
+    assert!(
+        c.jacobian
+            .sub(&hamilton_jacobi::PhaseMatrix::identity())
+            .max_abs()
+            < 1e-13
+    );
+    // The Newton inverse recovers the original point and is itself canonical.
+    let (bq, bp) = Prob16_2.apply(0.0, &q, &p);
+    let (q2, p2) = inv.solve(0.0, &bq, &bp).unwrap();
+    assert_relative_eq!(q2[0], q[0], epsilon = 1e-14);
+    assert_relative_eq!(p2[0], p[0], epsilon = 1e-14);
+    assert!(certify(&inv, 0.0, &bq, &bp).unwrap().symplectic_defect < 1e-13);
+    // A composition of a canonical and a non-canonical map is not canonical.
+    let mixed = Compose(
+        Prob16_2,
+        Prob16_3 {
+            alpha: 0.5,
+            beta: 1.0,
+        },
+    );
+    assert!(!certify(&mixed, 0.0, &q, &p).unwrap().is_canonical(1e-6));
+    // Inverting at a point where the Jacobian is singular is a typed error.
+    let singular = Inverse::new(Prob16_3 {
+        alpha: 0.5,
+        beta: 2.0,
+    });
+    assert!(singular
+        .solve(0.0, &SVector::from([0.0]), &SVector::from([0.0]))
+        .is_err());
+}
+
+proptest! {
+    #![proptest_config(common::config(0x5eed_0006))]
+
+    #[test]
+    fn point_transformations_are_canonical(x in prop::array::uniform3(-2.0..2.0f64), p in prop::array::uniform3(-2.0..2.0f64), t in -3.0..3.0f64, w in -2.0..2.0f64) {
+        let (q3, p3) = (SVector::from(x), SVector::from(p));
+        // Stay away from the z axis and the origin where spherical coordinates are singular.
+        prop_assume!(q3[0].hypot(q3[1]) > 0.05);
+        let sph = point_transformation(Spherical);
+        prop_assert!(sph.certify(0.0, &q3, &p3).unwrap().symplectic_defect <= 1e-12);
+        let (q2, p2) = (SVector::from([x[0], x[1]]), SVector::from([p[0], p[1]]));
+        let rot = point_transformation(RotatingFrame { omega: w });
+        let c = rot.certify(t, &q2, &p2).unwrap();
+        prop_assert!(c.symplectic_defect <= 1e-13);
+        let (bq, bp) = rot.forward(t, &q2, &p2).unwrap();
+        let (q4, p4) = rot.inverse(t, &bq, &bp).unwrap();
+        prop_assert!((q4 - q2).amax() <= 1e-14 && (p4 - p2).amax() <= 1e-14);
+    }
+}
