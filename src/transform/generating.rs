@@ -363,9 +363,9 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         } else {
             Err(Error::Singular {
                 what: format!(
-                    "{what}: estimated relative error {rel:.1e} exceeds the tolerance {:.1e} — the generator is \
-                     singular or nearly so here (caustic, focal point, or a generator that blows up); \
-                     use a generator of another kind",
+                    "{what} (estimated relative error {rel:.1e} above the tolerance {:.1e}: near a \
+                     caustic, a focal point or a blow-up of the generator; switch to a generator of \
+                     another kind)",
                     self.tolerance
                 ),
                 at: format!("t = {t}, x = {x:?}, y = {y:?}"),
