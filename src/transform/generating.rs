@@ -453,10 +453,15 @@ pub struct ForwardMap<'a, G, const N: usize>(&'a CanonicalTransformation<G, N>);
 /// The inverse map of a [`CanonicalTransformation`] as a [`PhaseMap`].
 pub struct InverseMap<'a, G, const N: usize>(&'a CanonicalTransformation<G, N>);
 
+/// NaN carrying NaN in every derivative slot of `z` (a refused map must not look differentiable).
+fn nan_like<D: DualNum<f64> + Copy, const N: usize>(z: &SVector<D, N>) -> D {
+    z.iter().fold(D::from(f64::NAN), |a, &x| a + x * f64::NAN)
+}
+
 fn nan_pair<D: DualNum<f64> + Copy, const N: usize>(
     z: &SVector<D, N>,
 ) -> (SVector<D, N>, SVector<D, N>) {
-    let nan = z.iter().fold(D::from(f64::NAN), |a, &x| a + x * f64::NAN);
+    let nan = nan_like(z);
     (SVector::from_element(nan), SVector::from_element(nan))
 }
 
@@ -510,7 +515,7 @@ impl<G: GeneratingFunction<N>, H: Hamiltonian<N>, const N: usize> Hamiltonian<N>
                 let (y, _) = split(kind.new_argument_is_q(), big_q, big_p);
                 self.h.hamiltonian(t, &q, &p) + self.ct.generator_rate(t, &x, &y)
             }
-            Err(_) => nan_pair(big_p).0[0],
+            Err(_) => nan_like(big_p),
         }
     }
 }
