@@ -6,8 +6,10 @@
 
 pub mod compose;
 pub mod generating;
+pub mod lie;
 pub mod point;
 
 pub use compose::{Compose, Inverse};
 pub use generating::{CanonicalTransformation, GeneratingFunction, Kind, Transformed};
+pub use lie::{Ict, LieSeries};
 pub use point::{point_transformation, PointTransformation};
