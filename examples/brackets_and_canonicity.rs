@@ -4,19 +4,8 @@
 
 use hamilton_jacobi::brackets::{certify, poisson_bracket, PhaseMap, PoissonBracket};
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::systems::Kepler3;
+use hamilton_jacobi::systems::{AngularMomentum, Kepler3};
 use hamilton_jacobi::{DualNum, PhaseFunction, Result};
-
-// ANCHOR: integrals
-/// Component `k` of the angular momentum `h = q × p`.
-struct AngularMomentum(usize);
-impl PhaseFunction<3> for AngularMomentum {
-    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>, p: &SVector<D, 3>) -> D {
-        let (i, j) = ((self.0 + 1) % 3, (self.0 + 2) % 3);
-        q[i] * p[j] - q[j] * p[i]
-    }
-}
-// ANCHOR_END: integrals
 
 // ANCHOR: map
 /// Prob. 16/3 of Ardema: Q = q^α cos βp, P = q^α sin βp — canonical only for α = ½, β = 2.
@@ -46,14 +35,20 @@ fn main() -> Result<()> {
     );
     println!("Kepler problem at q = {q:?}, p = {p:?}");
     for k in 0..3 {
-        let hk_h = poisson_bracket(&AngularMomentum(k), &kepler, 0.0, &q, &p)?;
+        let hk_h = poisson_bracket(&AngularMomentum::new(k)?, &kepler, 0.0, &q, &p)?;
         println!("  (h_{k}, H) = {hk_h:e}");
     }
-    let hxy = poisson_bracket(&AngularMomentum(0), &AngularMomentum(1), 0.0, &q, &p)?;
-    let hz = AngularMomentum(2).eval(0.0, &q, &p);
+    let hxy = poisson_bracket(
+        &AngularMomentum::new(0)?,
+        &AngularMomentum::new(1)?,
+        0.0,
+        &q,
+        &p,
+    )?;
+    let hz = AngularMomentum::new(2)?.eval(0.0, &q, &p);
     println!("  (h_x, h_y) = {hxy}, h_z = {hz}");
     let poisson_theorem = poisson_bracket(
-        &PoissonBracket(AngularMomentum(0), AngularMomentum(1)),
+        &PoissonBracket(AngularMomentum::new(0)?, AngularMomentum::new(1)?),
         &kepler,
         0.0,
         &q,

@@ -9,11 +9,15 @@ use hamilton_jacobi::brackets::{
     Momentum, PhaseMap, PoissonBracket,
 };
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::systems::AngularMomentum;
 use hamilton_jacobi::{hamiltonian, DualNum, Hamiltonian, PhaseFunction};
 use proptest::prelude::*;
 
 const EPS: f64 = f64::EPSILON;
 
+fn ang(k: usize) -> AngularMomentum<3> {
+    AngularMomentum::new(k).unwrap()
+}
 fn coord<const N: usize>(i: usize) -> Coordinate<N> {
     Coordinate::new(i).unwrap()
 }
@@ -29,49 +33,13 @@ hamiltonian!(
     Central<3> |_s, _t, q, p| p.dot(p) * 0.5 - q.dot(q).sqrt().recip() + q.dot(q).recip() * 0.1
 );
 
-/// Component `k` of the angular momentum `h = q × p`.
-struct AngularMomentum(usize);
-impl PhaseFunction<3> for AngularMomentum {
-    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>, p: &SVector<D, 3>) -> D {
-        let (i, j) = ((self.0 + 1) % 3, (self.0 + 2) % 3);
-        q[i] * p[j] - q[j] * p[i]
-    }
-}
-
-fn sample_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
-    vec![
-        (
-            0.0,
-            SVector::from([1.0, 0.2, -0.3]),
-            SVector::from([0.1, 0.9, 0.4]),
-        ),
-        (
-            1.3,
-            SVector::from([-0.7, 1.4, 0.5]),
-            SVector::from([-0.6, 0.2, 1.1]),
-        ),
-        (
-            2.0,
-            SVector::from([0.3, -0.2, 2.0]),
-            SVector::from([1.5, -0.4, 0.0]),
-        ),
-    ]
-}
-
 #[test]
 fn t11_angular_momentum_algebra_and_conservation() {
-    for (t, q, p) in sample_points() {
-        let h = |k| AngularMomentum(k).eval(t, &q, &p);
+    for (t, q, p) in common::central_sample_points() {
+        let h = |k| ang(k).eval(t, &q, &p);
         // (h_x, h_y) = h_z and cyclic.
         for k in 0..3 {
-            let b = poisson_bracket(
-                &AngularMomentum(k),
-                &AngularMomentum((k + 1) % 3),
-                t,
-                &q,
-                &p,
-            )
-            .unwrap();
+            let b = poisson_bracket(&ang(k), &ang((k + 1) % 3), t, &q, &p).unwrap();
             assert_relative_eq!(
                 b,
                 h((k + 2) % 3),
@@ -79,13 +47,17 @@ fn t11_angular_momentum_algebra_and_conservation() {
             );
         }
         // (h_z, H) = 0.
-        let hz_h = poisson_bracket(&AngularMomentum(2), &Central, t, &q, &p).unwrap();
+        let hz_h = poisson_bracket(&ang(2), &Central, t, &q, &p).unwrap();
         assert!(hz_h.abs() < 16.0 * EPS, "(h_z, H) = {hz_h}");
     }
-    assert!(integral_defect(&AngularMomentum(2), &Central, &sample_points()).unwrap() < 16.0 * EPS);
+    assert!(
+        integral_defect(&ang(2), &Central, &common::central_sample_points()).unwrap() < 16.0 * EPS
+    );
     // Poisson's theorem: (h_x, h_y) is again an integral.
-    let hxy = PoissonBracket(AngularMomentum(0), AngularMomentum(1));
-    assert!(integral_defect(&hxy, &Central, &sample_points()).unwrap() < 64.0 * EPS);
+    let hxy = PoissonBracket(ang(0), ang(1));
+    assert!(
+        integral_defect(&hxy, &Central, &common::central_sample_points()).unwrap() < 64.0 * EPS
+    );
 }
 
 #[test]
@@ -96,15 +68,15 @@ fn t11_rotation_and_translation_generators() {
         SVector::from([0.3, 0.8, -0.5]),
     );
     for k in 0..3 {
-        let dq = poisson_bracket(&coord(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
-        let dp = poisson_bracket(&mom(k), &AngularMomentum(2), 0.0, &q, &p).unwrap();
+        let dq = poisson_bracket(&coord(k), &ang(2), 0.0, &q, &p).unwrap();
+        let dp = poisson_bracket(&mom(k), &ang(2), 0.0, &q, &p).unwrap();
         let (eq, ep) = ([-q[1], q[0], 0.0][k], [-p[1], p[0], 0.0][k]);
         assert_relative_eq!(dq, eq, epsilon = 4.0 * EPS);
         assert_relative_eq!(dp, ep, epsilon = 4.0 * EPS);
     }
     // The change of H along the generator, (H, ρ), vanishes: H is invariant under rotations.
     assert!(
-        poisson_bracket(&Central, &AngularMomentum(2), 0.0, &q, &p)
+        poisson_bracket(&Central, &ang(2), 0.0, &q, &p)
             .unwrap()
             .abs()
             < 16.0 * EPS

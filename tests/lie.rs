@@ -116,29 +116,9 @@ fn mom<const N: usize>(i: usize) -> Momentum<N> {
 // ---------------------------------------------------------------------------------------------
 // T11: infinitesimal rotations and translations; symmetry defect (Noether).
 
-fn central_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
-    vec![
-        (
-            0.0,
-            SVector::from([1.0, 0.2, -0.3]),
-            SVector::from([0.1, 0.9, 0.4]),
-        ),
-        (
-            1.3,
-            SVector::from([-0.7, 1.4, 0.5]),
-            SVector::from([-0.6, 0.2, 1.1]),
-        ),
-        (
-            2.0,
-            SVector::from([0.3, -0.2, 2.0]),
-            SVector::from([1.5, -0.4, 0.0]),
-        ),
-    ]
-}
-
 #[test]
 fn t11_rotation_generator_is_an_infinitesimal_rotation_and_a_symmetry() {
-    for (t, q, p) in central_points() {
+    for (t, q, p) in common::central_sample_points() {
         for eps in [1e-3, 0.1, -0.25] {
             let (big_q, big_p) = Ict::new(Hz, eps).unwrap().transform(t, &q, &p).unwrap();
             // δQ = ε(−y, x, 0), δP = ε(−p_y, p_x, 0): ∂h_z/∂p and ∂h_z/∂q are single coordinates,
@@ -191,7 +171,7 @@ fn t11_translation_generator_and_ignorable_coordinate() {
 fn t11_non_symmetry_has_the_hand_computed_defect() {
     // ρ = q₁ p₂ under the central force: ∂ρ/∂t + (ρ, H) = p₂ ∂H/∂p₁ − q₁ ∂H/∂q₂
     //   = p₁ p₂ − q₁ q₂ V′(r)/r.
-    for (t, q, p) in central_points() {
+    for (t, q, p) in common::central_sample_points() {
         let r = q.norm();
         let expected = p[0] * p[1] - q[0] * q[1] * central_dv(r) / r;
         let d = symmetry_defect(&Q1P2, &Central, t, &q, &p).unwrap();

@@ -339,6 +339,7 @@ fn bad_input_gives_typed_errors() {
     assert!(pend
         .exact_flow(0.0, &SVector::from([0.0]), &SVector::from([0.1]), f64::NAN)
         .is_err());
+    assert!(hamilton_jacobi::systems::AngularMomentum::new(3).is_err());
 }
 
 hamilton_jacobi::hamiltonian!(

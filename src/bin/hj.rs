@@ -6,10 +6,10 @@
 use hamilton_jacobi::brackets::{certify, poisson_bracket, PhaseMap};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::{
-    kepler_orbit, pendulum_exact, ExactFlow, HarmonicOscillator, Invariants, Kepler2, Kepler3,
-    Pendulum,
+    kepler_orbit, pendulum_exact, AngularMomentum, ExactFlow, HarmonicOscillator, Invariants,
+    Kepler2, Kepler3, Pendulum,
 };
-use hamilton_jacobi::{DualNum, Hamiltonian, PhaseFunction, Result};
+use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 use std::process::ExitCode;
 
 /// One Störmer–Verlet (kick–drift–kick) step of a separable `H = T(p) + V(q)`, written generic over
@@ -63,14 +63,6 @@ impl<H: Hamiltonian<N>, const N: usize> PhaseMap<N> for Rk4Step<'_, H> {
     }
 }
 
-/// The z-component of angular momentum `h_z = x p_y − y p_x`.
-struct AngularMomentumZ;
-impl PhaseFunction<2> for AngularMomentumZ {
-    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
-        q[0] * p[1] - q[1] * p[0]
-    }
-}
-
 fn max_rel_diff<const N: usize>(a: &SVector<f64, N>, b: &SVector<f64, N>) -> f64 {
     a.iter()
         .zip(b.iter())
@@ -98,7 +90,7 @@ fn kepler_section() -> Result<()> {
                 drift = drift.max((a.value - b.value).abs() / b.value.abs().max(1.0));
             }
         }
-        let bracket = poisson_bracket(&AngularMomentumZ, &kep, 0.0, &q0, &p0)?;
+        let bracket = poisson_bracket(&AngularMomentum::z(), &kep, 0.0, &q0, &p0)?;
         let (qd, pd) = kep.vector_field(0.0, &q0, &p0)?;
         let (qh, ph) = kep.vector_field_hand(&q0, &p0);
         let ad = max_rel_diff(&qd, &qh).max(max_rel_diff(&pd, &ph));

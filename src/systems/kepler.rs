@@ -1,6 +1,6 @@
 use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::{Hamiltonian, Separable};
+use crate::hamiltonian::{Hamiltonian, PhaseFunction, Separable};
 use crate::phase::check_phase;
 use nalgebra::{SVector, Vector2, Vector3};
 use num_dual::DualNum;
@@ -136,5 +136,45 @@ impl<const N: usize> ExactFlow<N> for Kepler<N> {
             _ => kepler_orbit::kepler_propagate(self.mu, &embed(q0)?, &embed(p0)?, dt)?,
         };
         Ok((SVector::from_fn(|i, _| r[i]), SVector::from_fn(|i, _| v[i])))
+    }
+}
+
+/// A component of the angular momentum `h = q × p` as a [`PhaseFunction`]: for `N = 3` the
+/// component about axis `k` (`h_k = q_i p_j − q_j p_i`, `(i, j, k)` cyclic), for `N = 2` the `z`
+/// component `x p_y − y p_x`. An integral of every central-force problem; its Poisson brackets obey
+/// `(h_x, h_y) = h_z` (SPEC T11) and it generates rotations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AngularMomentum<const N: usize> {
+    i: usize,
+    j: usize,
+}
+
+impl AngularMomentum<3> {
+    /// The component about axis `axis ∈ {0, 1, 2}` (x, y, z).
+    pub fn new(axis: usize) -> Result<Self> {
+        if axis < 3 {
+            Ok(Self {
+                i: (axis + 1) % 3,
+                j: (axis + 2) % 3,
+            })
+        } else {
+            Err(Error::invalid(
+                "angular momentum axis",
+                format!("{axis} is not 0, 1 or 2"),
+            ))
+        }
+    }
+}
+
+impl AngularMomentum<2> {
+    /// The only component in the plane, `h_z = x p_y − y p_x`.
+    pub fn z() -> Self {
+        Self { i: 0, j: 1 }
+    }
+}
+
+impl<const N: usize> PhaseFunction<N> for AngularMomentum<N> {
+    fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>, p: &SVector<D, N>) -> D {
+        q[self.i] * p[self.j] - q[self.j] * p[self.i]
     }
 }

@@ -22,7 +22,7 @@ mod projectile;
 
 pub use bead::BeadOnHoop;
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
-pub use kepler::{Kepler, Kepler2, Kepler3};
+pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
 

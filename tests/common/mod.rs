@@ -94,3 +94,24 @@ pub fn rk4_lagrangian<L: Lagrangian<N>, const N: usize>(
     }
     (q, v)
 }
+
+/// Generic sample points of 3-D phase space `(t, q, p)` away from the origin.
+pub fn central_sample_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
+    vec![
+        (
+            0.0,
+            SVector::from([1.0, 0.2, -0.3]),
+            SVector::from([0.1, 0.9, 0.4]),
+        ),
+        (
+            1.3,
+            SVector::from([-0.7, 1.4, 0.5]),
+            SVector::from([-0.6, 0.2, 1.1]),
+        ),
+        (
+            2.0,
+            SVector::from([0.3, -0.2, 2.0]),
+            SVector::from([1.5, -0.4, 0.0]),
+        ),
+    ]
+}
