@@ -292,27 +292,32 @@ impl GeneratingFunction<2> for Random {
     }
 }
 
-fn random_generator() -> impl Strategy<Value = Random> {
+/// Random coefficients; every property below is checked, for the same coefficients, with each of
+/// the four kinds and both without (quadratic generator, linear map) and with the non-quadratic
+/// terms — so each (kind, quadratic/non-quadratic) combination gets all 1000 cases.
+fn random_generators() -> impl Strategy<Value = Vec<Random>> {
     (
-        prop_oneof![
-            Just(Kind::F1),
-            Just(Kind::F2),
-            Just(Kind::F3),
-            Just(Kind::F4)
-        ],
         prop::array::uniform3(-0.5..0.5f64),
         prop::array::uniform4(-0.2..0.2f64),
         prop::array::uniform3(-0.5..0.5f64),
-        prop_oneof![Just(0.0), -0.1..0.1f64],
+        -0.1..0.1f64,
         -0.2..0.2f64,
     )
-        .prop_map(|(kind, a, b, c, nonlinear, rate)| Random {
-            kind,
-            a,
-            b,
-            c,
-            nonlinear,
-            rate,
+        .prop_map(|(a, b, c, nonlinear, rate)| {
+            let mut out = Vec::with_capacity(8);
+            for kind in [Kind::F1, Kind::F2, Kind::F3, Kind::F4] {
+                for nonlinear in [0.0, nonlinear] {
+                    out.push(Random {
+                        kind,
+                        a,
+                        b,
+                        c,
+                        nonlinear,
+                        rate,
+                    });
+                }
+            }
+            out
         })
 }
 
@@ -330,30 +335,36 @@ proptest! {
     #![proptest_config(common::config(0x5eed_0005))]
 
     #[test]
-    fn generated_maps_are_canonical_and_invertible(g in random_generator(), (q, p) in point(), t in 0.0..1.0f64) {
-        let ct = CanonicalTransformation::new(g);
-        let c = ct.certify(t, &q, &p).unwrap();
-        // Entries of M are O(1) here (B = I + O(0.2)); the defect is a few roundings of O(1) sums.
-        prop_assert!(c.symplectic_defect <= 1e-12, "defect {}", c.symplectic_defect);
-        prop_assert!(c.det_minus_one.abs() <= 1e-12);
-        let (bq, bp) = ct.forward(t, &q, &p).unwrap();
-        let (q2, p2) = ct.inverse(t, &bq, &bp).unwrap();
-        prop_assert!((q2 - q).amax() <= 1e-12 && (p2 - p).amax() <= 1e-12, "round trip {} {}", q2 - q, p2 - p);
+    fn generated_maps_are_canonical_and_invertible(gs in random_generators(), (q, p) in point(), t in 0.0..1.0f64) {
+        for g in gs {
+            let label = format!("{:?} κ = {}", g.kind, g.nonlinear);
+            let ct = CanonicalTransformation::new(g);
+            let c = ct.certify(t, &q, &p).unwrap();
+            // Entries of M are O(1) here (B = I + O(0.2)); the defect is a few roundings of O(1) sums.
+            prop_assert!(c.symplectic_defect <= 1e-12, "{label}: defect {}", c.symplectic_defect);
+            prop_assert!(c.det_minus_one.abs() <= 1e-12, "{label}");
+            let (bq, bp) = ct.forward(t, &q, &p).unwrap();
+            let (q2, p2) = ct.inverse(t, &bq, &bp).unwrap();
+            prop_assert!((q2 - q).amax() <= 1e-12 && (p2 - p).amax() <= 1e-12, "{label}: round trip {} {}", q2 - q, p2 - p);
+        }
     }
 
     #[test]
-    fn transformed_hamiltonian_generates_the_transformed_flow(g in random_generator(), (q, p) in point()) {
+    fn transformed_hamiltonian_generates_the_transformed_flow(gs in random_generators(), (q, p) in point()) {
         // Integrate H from (q, p) and K from (Q, P) with the same RK4 (dt = 0.01, 20 steps); map the
         // H-trajectory forward at t = 0.2 and compare. Both integrations carry an O(dt⁴) global error
         // of ≈ 1e−9 for these O(1) motions; the comparison tolerance is 1e−7.
-        let ct = CanonicalTransformation::new(g);
-        let k = ct.transform(&Anharmonic);
-        let (bq0, bp0) = ct.forward(0.0, &q, &p).unwrap();
-        let (dt, steps) = (0.01, 20);
-        let (q1, p1) = common::rk4_hamiltonian(&Anharmonic, 0.0, q, p, dt, steps, |_, _, _| {});
-        let (bq1, bp1) = common::rk4_hamiltonian(&k, 0.0, bq0, bp0, dt, steps, |_, _, _| {});
-        let (mq, mp) = ct.forward(dt * steps as f64, &q1, &p1).unwrap();
-        prop_assert!((mq - bq1).amax() <= 1e-7 && (mp - bp1).amax() <= 1e-7, "{} {} vs {} {}", mq, mp, bq1, bp1);
+        for g in gs {
+            let label = format!("{:?} κ = {}", g.kind, g.nonlinear);
+            let ct = CanonicalTransformation::new(g);
+            let k = ct.transform(&Anharmonic);
+            let (bq0, bp0) = ct.forward(0.0, &q, &p).unwrap();
+            let (dt, steps) = (0.01, 20);
+            let (q1, p1) = common::rk4_hamiltonian(&Anharmonic, 0.0, q, p, dt, steps, |_, _, _| {});
+            let (bq1, bp1) = common::rk4_hamiltonian(&k, 0.0, bq0, bp0, dt, steps, |_, _, _| {});
+            let (mq, mp) = ct.forward(dt * steps as f64, &q1, &p1).unwrap();
+            prop_assert!((mq - bq1).amax() <= 1e-7 && (mp - bp1).amax() <= 1e-7, "{label}: {} {} vs {} {}", mq, mp, bq1, bp1);
+        }
     }
 }
 
