@@ -57,11 +57,30 @@ fn residual_and_jacobian<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     (value, jac)
 }
 
+/// Newton's stopping rule, scale-relative so that problems posed in any units converge to full
+/// precision (and never stop early because their numbers happen to be small): the residual is at
+/// rounding level relative to the terms it compares (`‖r‖ ≤ 4ε·scale`), or the step is
+/// (`‖Δu‖ ≤ 2ε‖u‖`), or the iteration has reached its rounding floor (a step below `√ε‖u‖` that
+/// no longer shrinks quadratically). Norms are max-norms.
+pub(crate) fn newton_converged(
+    residual: f64,
+    scale: f64,
+    step: f64,
+    size: f64,
+    previous_step: f64,
+) -> bool {
+    let eps = f64::EPSILON;
+    residual <= 4.0 * eps * scale
+        || step <= 2.0 * eps * size
+        || (step <= eps.sqrt() * size && step >= 0.5 * previous_step)
+}
+
 /// Solve `r(t, a, b, u) = 0` on reals by damped Newton (backtracking on `‖r‖`) from each start in
 /// turn until one converges; the first failure is reported if all do.
 ///
-/// Convergence: `‖r‖ ≤ 4ε·scale` or a Newton step `‖Δu‖ ≤ 2ε(1 + ‖u‖)`, with
-/// `scale = 1 + ‖b‖`. A singular or ill-conditioned Jacobian is [`Error::Singular`].
+/// Convergence by [`newton_converged`] with the residual's scale `max(‖b‖, ‖r + b‖)`; the final
+/// Newton correction is applied if it does not increase the residual. A singular or
+/// ill-conditioned Jacobian is [`Error::Singular`].
 pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     sys: &S,
     t: f64,
@@ -70,12 +89,12 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     starts: &[SVector<f64, N>],
     what: &str,
 ) -> Result<Root<N>> {
-    let scale = 1.0 + b.norm();
     let newton = |mut u: SVector<f64, N>| -> Result<Root<N>> {
         let (mut r, mut jac) = residual_and_jacobian(sys, t, a, b, &u);
         let mut iterations = 0;
+        let mut previous_step = f64::INFINITY;
         loop {
-            if !r.norm().is_finite() {
+            if !r.amax().is_finite() {
                 return Err(Error::NotConverged {
                     what: format!("{what} (residual not finite at u = {u:?})"),
                     iterations,
@@ -86,12 +105,13 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
                 format!("t = {t}, a = {a:?}, b = {b:?}, u = {u:?}")
             })?;
             let du = inv * r;
-            if r.norm() <= 4.0 * f64::EPSILON * scale
-                || du.norm() <= 2.0 * f64::EPSILON * (1.0 + u.norm())
-            {
-                // The final (tiny) correction is already computed: apply it.
+            let scale = b.amax().max((r + b).amax());
+            if newton_converged(r.amax(), scale, du.amax(), u.amax(), previous_step) {
+                // Apply the final correction unless it makes the residual worse.
+                let un = u - du;
+                let (rn, _) = residual_and_jacobian(sys, t, a, b, &un);
                 return Ok(Root {
-                    u: u - du,
+                    u: if rn.amax() <= r.amax() { un } else { u },
                     jacobian_inverse: inv,
                     iterations,
                 });
@@ -103,6 +123,7 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
                     residual: r.norm(),
                 });
             }
+            previous_step = du.amax();
             // Backtracking: halve the step until the residual decreases (accept a step of 2⁻³⁰).
             let mut lambda = 1.0;
             loop {

@@ -204,9 +204,10 @@ impl<const N: usize> PhaseMatrix<N> {
 /// Inverse of a square matrix with a conditioning check; [`Error::Singular`] (naming `what` and the
 /// point `at()`) if it is singular or too ill-conditioned to trust.
 ///
-/// The reciprocal condition is estimated in the 1-norm after scaling every row to unit max-norm,
-/// `rcond = 1/(‖RA‖₁ ‖(RA)⁻¹‖₁)`, so that badly scaled but well-posed systems (SI units, a mass
-/// matrix `diag(1, r²)` with `r ~ 10¹¹`) are not rejected; the threshold is `64 ε`.
+/// The reciprocal condition is estimated in the 1-norm after scaling every column and then every
+/// row to unit max-norm, `rcond = 1/(‖RAC‖₁ ‖(RAC)⁻¹‖₁)`, so that badly scaled but well-posed
+/// systems (SI units, a mass matrix `diag(1, r²)` with `r ~ 10¹¹`, polar coordinates at
+/// nanometre radii) are not rejected; the threshold is `64 ε`.
 pub fn checked_inverse<const N: usize>(
     a: &SMatrix<f64, N, N>,
     what: &str,
@@ -230,11 +231,21 @@ where
         rcond,
     };
     let (r, c) = a.shape_generic();
-    let row_max = OVector::<f64, D>::from_fn_generic(r, U1, |i, _| a.row(i).amax());
-    if !a.iter().all(|x| x.is_finite()) || row_max.iter().any(|&m| m == 0.0) {
+    if !a.iter().all(|x| x.is_finite()) {
         return Err(singular(0.0, at()));
     }
-    let scaled = OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| a[(i, j)] / row_max[i]);
+    // Two-sided equilibration: columns to unit max-norm, then rows (variables and equations may
+    // carry different units), so only genuine near-singularity is reported.
+    let col_max = OVector::<f64, D>::from_fn_generic(c, U1, |j, _| a.column(j).amax());
+    if col_max.iter().any(|&m| m == 0.0) {
+        return Err(singular(0.0, at()));
+    }
+    let cols = OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| a[(i, j)] / col_max[j]);
+    let row_max = OVector::<f64, D>::from_fn_generic(r, U1, |i, _| cols.row(i).amax());
+    if row_max.iter().any(|&m| m == 0.0) {
+        return Err(singular(0.0, at()));
+    }
+    let scaled = OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| cols[(i, j)] / row_max[i]);
     let norm1 = |m: &OMatrix<f64, D, D>| m.column_iter().map(|c| c.abs().sum()).fold(0.0, f64::max);
     let Some(inv_scaled) = scaled.clone().try_inverse() else {
         return Err(singular(0.0, at()));
@@ -243,9 +254,9 @@ where
     if !(rcond.is_finite() && rcond > 64.0 * f64::EPSILON) {
         return Err(singular(if rcond.is_finite() { rcond } else { 0.0 }, at()));
     }
-    // A⁻¹ = (RA)⁻¹ R.
+    // RAC = S  ⇒  A⁻¹ = C S⁻¹ R.
     Ok(OMatrix::<f64, D, D>::from_fn_generic(r, c, |i, j| {
-        inv_scaled[(i, j)] / row_max[j]
+        inv_scaled[(i, j)] / (col_max[i] * row_max[j])
     }))
 }
 

@@ -233,7 +233,7 @@ fn x4_singular_generators_are_refused() {
         msg.contains("estimated relative error") && msg.contains("3.1415926"),
         "{msg}"
     );
-    // Through q = 0 (Q = π/2, p = 0 … fine) versus q = 0 with p ≠ 0: p = mωq cot Q has no solution.
+    // At q = 0 the mixed Hessian B = −mωq/sin²Q vanishes: refused (Singular).
     assert!(ct
         .forward(0.0, &SVector::from([0.0]), &SVector::from([1.0]))
         .is_err());
@@ -256,7 +256,8 @@ fn x4_singular_generators_are_refused() {
         .forward(0.0, &q0, &p)
         .unwrap_err();
     singular_message(&e);
-    // Exactly at the focal point the mixed Hessian −1/sin τ is finite but the solve is refused.
+    // Exactly at the focal point (τ = fl(π), sin τ ≈ 1.2e−16) B = −1/sin τ ≈ −8e15: the output
+    // P is formed by cancelling terms of that size and is refused.
     assert!(CanonicalTransformation::new(Principal { tau: PI })
         .forward(0.0, &q0, &p)
         .is_err());
@@ -618,5 +619,81 @@ proptest! {
         let (bq, bp) = rot.forward(t, &q2, &p2).unwrap();
         let (q4, p4) = rot.inverse(t, &bq, &bp).unwrap();
         prop_assert!((q4 - q2).amax() <= 1e-14 && (p4 - p2).amax() <= 1e-14);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Units: the solvers and the singularity check do not depend on the scale of the variables.
+
+/// F2 = q₀P₀ + s q₁P₁: an exact, regular map for every s ≠ 0 (Q₁ = s q₁, P₁ = p₁/s).
+struct Scaled {
+    s: f64,
+}
+impl GeneratingFunction<2> for Scaled {
+    fn kind(&self) -> Kind {
+        Kind::F2
+    }
+    fn generator<D: DualNum<f64> + Copy>(&self, _t: D, x: &SVector<D, 2>, y: &SVector<D, 2>) -> D {
+        x[0] * y[0] + x[1] * y[1] * self.s
+    }
+}
+
+/// Q = 1e−20 (q³ + q), P = 1e20 p: canonical up to a rescaling, with tiny residuals.
+struct TinyCubic;
+impl PhaseMap<1> for TinyCubic {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        (
+            SVector::from([(q[0] * q[0] * q[0] + q[0]) * 1e-20]),
+            SVector::from([p[0] * 1e20]),
+        )
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_units() {
+    // Tiny masses: the Newton iteration must not stop early because the residuals are small.
+    let (m, w, big_q) = (1e-20, 3.0, 1.2);
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
+    let (q, p) = (SVector::from([1.0]), SVector::from([m * w / big_q.tan()]));
+    let (bq, bp) = ct.forward(0.0, &q, &p).unwrap();
+    assert_relative_eq!(bq[0], big_q, epsilon = 8.0 * EPS);
+    assert_relative_eq!(
+        bp[0],
+        m * w / (2.0 * big_q.sin().powi(2)),
+        max_relative = 8.0 * EPS
+    );
+    let (q2, p2) = ct.inverse(0.0, &bq, &bp).unwrap();
+    assert_relative_eq!(q2[0], 1.0, epsilon = 8.0 * EPS);
+    assert_relative_eq!(p2[0], p[0], max_relative = 8.0 * EPS);
+    let (q3, _) = Inverse::new(TinyCubic)
+        .solve(0.0, &SVector::from([1e-20 * 10.0]), &SVector::from([3e20]))
+        .unwrap();
+    assert_relative_eq!(q3[0], 2.0, epsilon = 8.0 * EPS);
+    // Badly scaled but regular generators and coordinates are accepted and exact.
+    for s in [1e-8, 1e-10, 1e10] {
+        let ct = CanonicalTransformation::new(Scaled { s });
+        let (bq, bp) = ct
+            .forward(0.0, &SVector::from([1.0, 1.0]), &SVector::from([1.0, 1.0]))
+            .unwrap();
+        assert_eq!((bq[1], bp[1]), (s, 1.0 / s), "s = {s}");
+    }
+    let polar = point_transformation(Polar);
+    for scale in [1e-9, 1e-15, 1e12] {
+        let (q, p) = (
+            SVector::from([3.0, 4.0]) * scale,
+            SVector::from([0.3, -0.7]),
+        );
+        let (bq, bp) = polar.forward(0.0, &q, &p).unwrap();
+        assert_relative_eq!(bq[0], 5.0 * scale, max_relative = 4.0 * EPS);
+        assert_relative_eq!(
+            bp[1],
+            (-0.3 * 4.0 - 0.7 * 3.0) * scale,
+            max_relative = 16.0 * EPS
+        );
     }
 }

@@ -7,6 +7,7 @@
 use crate::ad::{lift, real_parts};
 use crate::brackets::{jacobian, PhaseMap};
 use crate::error::{Error, Result};
+use crate::implicit::newton_converged;
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -63,15 +64,14 @@ impl<M: PhaseMap<N>, const N: usize> Inverse<M, N> {
             let (a, b) = self.map.apply(tr, q, p);
             (a - wq, b - wp)
         };
-        let norm =
-            |a: &SVector<f64, N>, b: &SVector<f64, N>| (a.norm_squared() + b.norm_squared()).sqrt();
-        let scale = 1.0 + norm(&wq, &wp);
+        let amax = |a: &SVector<f64, N>, b: &SVector<f64, N>| a.amax().max(b.amax());
         let (mut q, mut p) = self.guess.unwrap_or((wq, wp));
         let (mut rq, mut rp) = residual(&q, &p);
         let mut iterations = 0;
+        let mut previous_step = (f64::INFINITY, f64::INFINITY);
         let inv = loop {
             let at = || format!("t = {tr}, q = {q:?}, p = {p:?}");
-            if !norm(&rq, &rp).is_finite() {
+            if !amax(&rq, &rp).is_finite() {
                 return Err(Error::NotConverged {
                     what: format!("inverse map (residual not finite at {})", at()),
                     iterations,
@@ -81,25 +81,44 @@ impl<M: PhaseMap<N>, const N: usize> Inverse<M, N> {
             let inv = jacobian(&self.map, tr, &q, &p)?
                 .checked_inverse("Jacobian of the map to invert", at)?;
             let (dq, dp) = inv.apply(&rq, &rp);
-            let converged = norm(&rq, &rp) <= 4.0 * f64::EPSILON * scale
-                || norm(&dq, &dp) <= 2.0 * f64::EPSILON * (1.0 + norm(&q, &p));
-            if converged {
-                q -= dq;
-                p -= dp;
+            // Each block (coordinates, momenta) must have converged on its own scale: the two may
+            // carry very different units.
+            let block_converged = |r: &SVector<f64, N>,
+                                   w: &SVector<f64, N>,
+                                   d: &SVector<f64, N>,
+                                   z: &SVector<f64, N>,
+                                   prev: f64| {
+                newton_converged(
+                    r.amax(),
+                    w.amax().max((r + w).amax()),
+                    d.amax(),
+                    z.amax(),
+                    prev,
+                )
+            };
+            if block_converged(&rq, &wq, &dq, &q, previous_step.0)
+                && block_converged(&rp, &wp, &dp, &p, previous_step.1)
+            {
+                let (qn, pn) = (q - dq, p - dp);
+                let (aq, ap) = residual(&qn, &pn);
+                if aq.amax() <= rq.amax() && ap.amax() <= rp.amax() {
+                    (q, p) = (qn, pn);
+                }
                 break inv;
             }
             if iterations >= MAX_ITER {
                 return Err(Error::NotConverged {
                     what: "inverse map".into(),
                     iterations,
-                    residual: norm(&rq, &rp),
+                    residual: amax(&rq, &rp),
                 });
             }
+            previous_step = (dq.amax(), dp.amax());
             let mut lambda = 1.0;
             loop {
                 let (qn, pn) = (q - dq * lambda, p - dp * lambda);
                 let (aq, ap) = residual(&qn, &pn);
-                if norm(&aq, &ap) < norm(&rq, &rp) || lambda < 1e-9 {
+                if amax(&aq, &ap) < amax(&rq, &rp) || lambda < 1e-9 {
                     (q, p, rq, rp) = (qn, pn, aq, ap);
                     break;
                 }

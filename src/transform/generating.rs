@@ -22,14 +22,17 @@
 //! result is estimated from the second derivatives `A = F_kk`, `B = F_ku`, `C = F_uu` (known
 //! argument `k`, solved argument `u`):
 //!
-//! $$ \delta u \approx \varepsilon \|B^{-1}\| (\|A\|\|k\| + \|B\|\|u\| + \|b\|),\qquad
-//!    \delta o \approx \varepsilon (\|B\|\|k\| + \|C\|\|u\|) + \|C\|\,\delta u , $$
+//! $$ \delta u \approx \varepsilon\, |B^{-1}| (|A||k| + |B||u| + |b|),\qquad
+//!    \delta o \approx \varepsilon (|B^{\mathsf T}||k| + |C||u| + |o|) + |C|\,\delta u $$
 //!
-//! and a result whose estimate exceeds the tolerance (default `1e−8`) is refused with
-//! [`Error::Singular`], carrying the point and `rcond = ε/relative error`. This catches caustics and
-//! focal points (`det B → 0`: the oscillator's principal function at `ωτ → π`) as well as generators
-//! that blow up (`F₁ = ½mωq² cot Q` at `Q → kπ`; the free-fall `F₁` at `t → 0`, where the identity
-//! map has no type-1 generator). **What to do there:** switch kind — near the identity use an F2
+//! (componentwise, with absolute values of the matrices and vectors, so that the estimate does not
+//! depend on the units of the individual variables), and a result whose estimate, relative to the
+//! size of the result, exceeds the tolerance (default `1e−8`) is refused with [`Error::Singular`],
+//! carrying the point and `rcond = ε/relative error`. This catches a singular mixed Hessian
+//! (`det B = 0`: `F₁ = ½mωq² cot Q` at `q = 0`) and generators whose second derivatives blow up so
+//! that the result is formed by cancellation (`F₁ = ½mωq² cot Q` at `Q → kπ`; the free-fall `F₁` at
+//! `t → 0`, where the identity map has no type-1 generator; the oscillator's principal function at
+//! the focal point `ωτ → π`, where `B = −ω/sin ωτ`). **What to do there:** switch kind — near the identity use an F2
 //! (`F₂ = q·P + …`) or F3 generator, near the exchange map an F1 or F4 one; the Legendre relations
 //! `F₂ = F₁ + Q·P`, `F₃ = F₁ − q·p`, `F₄ = F₁ + Q·P − q·p` translate between them.
 
@@ -39,7 +42,7 @@ use crate::error::{positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::implicit::{self, ImplicitSystem};
 use crate::phase::{check_phase, checked_inverse};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 use num_dual::{Dual, DualNum};
 
 /// The four classical kinds of generating function (SPEC §0.5).
@@ -347,17 +350,29 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
             (h.pp, h.qp.transpose(), h.qq, y, x)
         };
         let binv = checked_inverse(&b, &format!("{what}: mixed Hessian ∂²F/∂x∂y"), at)?;
-        let norm = |m: &SMatrix<f64, N, N>| m.abs().column_sum().amax();
-        let vn = |v: &SVector<f64, N>| v.amax();
+        // Componentwise (Skeel-type) first-order error bounds: invariant under a change of units of
+        // the individual variables, and unbounded where |B⁻¹| or the generator blows up.
         let eps = f64::EPSILON;
-        let err_u = eps * norm(&binv) * (norm(&a) * vn(k) + norm(&b) * vn(u) + vn(target));
-        let err_o = eps * (norm(&b) * vn(k) + norm(&c) * vn(u) + vn(output)) + norm(&c) * err_u;
-        let size = vn(k) + vn(u) + vn(target) + vn(output);
-        let rel = if size > 0.0 {
-            (err_u + err_o) / size
-        } else {
-            0.0
+        let (ka, ua, ta, oa) = (k.abs(), u.abs(), target.abs(), output.abs());
+        let (aa, ba, ca, bia) = (a.abs(), b.abs(), c.abs(), binv.abs());
+        let du = bia * (aa * ka + ba * ua + ta) * eps;
+        let dout = (ba.transpose() * ka + ca * ua + oa) * eps + ca * du;
+        // Relative to the size of each result block. A block that came out exactly zero has no
+        // relative accuracy; its error is measured against the overall size of the point instead
+        // (a zero formed by cancelling huge terms — the oscillator's principal function exactly at
+        // its focal point — is then refused, a zero of ordinary size is not).
+        let overall = ka.amax().max(ua.amax()).max(ta.amax()).max(oa.amax());
+        let relative = |d: &SVector<f64, N>, v: &SVector<f64, N>| {
+            let dn = d.amax();
+            if dn == 0.0 {
+                0.0
+            } else if v.amax() > 0.0 {
+                dn / v.amax()
+            } else {
+                dn / overall
+            }
         };
+        let rel = relative(&du, &ua).max(relative(&dout, &oa));
         if rel.is_finite() && rel <= self.tolerance {
             Ok(())
         } else {
