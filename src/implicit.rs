@@ -78,7 +78,7 @@ pub(crate) fn newton_converged(
 /// Solve `r(t, a, b, u) = 0` on reals by damped Newton (backtracking on `‖r‖`) from each start in
 /// turn until one converges; the first failure is reported if all do.
 ///
-/// Convergence by [`newton_converged`] with the residual's scale `max(‖b‖, ‖r + b‖)`; the final
+/// Convergence by the scale-relative stopping rule (residual, step or rounding floor) with the residual's scale `max(‖b‖, ‖r + b‖)`; the final
 /// Newton correction is applied if it does not increase the residual. A singular or
 /// ill-conditioned Jacobian is [`Error::Singular`].
 pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
