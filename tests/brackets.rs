@@ -3,6 +3,7 @@
 mod common;
 
 use approx::assert_relative_eq;
+use common::{Prob16_1, Prob16_2, Prob16_3};
 use hamilton_jacobi::brackets::{
     certify, integral_defect, lagrange_bracket, lagrange_bracket_matrix, liouville_determinant,
     poisson_bracket, poisson_bracket_matrix, reciprocity_defect, time_derivative, Coordinate,
@@ -214,58 +215,6 @@ fn t6_free_fall_flow_is_canonical() {
 // ---------------------------------------------------------------------------------------------
 // T7: canonicity exercises.
 
-/// Prob. 16/2: Q = ln(sin p / q), P = q cot p.
-struct Prob16_2;
-impl PhaseMap<1> for Prob16_2 {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        (
-            SVector::from([(p[0].sin() / q[0]).ln()]),
-            SVector::from([q[0] / p[0].tan()]),
-        )
-    }
-}
-
-/// Prob. 16/3: Q = q^α cos βp, P = q^α sin βp.
-struct Prob16_3 {
-    alpha: f64,
-    beta: f64,
-}
-impl PhaseMap<1> for Prob16_3 {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        let qa = q[0].powf(self.alpha);
-        let (s, c) = (p[0] * self.beta).sin_cos();
-        (SVector::from([qa * c]), SVector::from([qa * s]))
-    }
-}
-
-/// Time-dependent: Q = √(2q) eᵗ cos p, P = √(2q) e⁻ᵗ sin p.
-struct TimeDependent;
-impl PhaseMap<1> for TimeDependent {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        let r = (q[0] * 2.0).sqrt();
-        let (s, c) = p[0].sin_cos();
-        (
-            SVector::from([r * t.exp() * c]),
-            SVector::from([r * (-t).exp() * s]),
-        )
-    }
-}
-
 #[test]
 fn t7_canonicity_exercises() {
     let points = [(0.7, 1.1), (1.9, 0.4), (0.2, 2.5)];
@@ -294,7 +243,7 @@ fn t7_canonicity_exercises() {
             assert!(reciprocity_defect(&m, 0.0, &q, &p).unwrap() < 1e-13);
         }
         for t in [0.0, 0.7, -1.3] {
-            let c = certify(&TimeDependent, t, &q, &p).unwrap();
+            let c = certify(&Prob16_1, t, &q, &p).unwrap();
             assert!(
                 c.symplectic_defect < 64.0 * EPS * t.abs().exp().powi(2),
                 "t = {t}: {}",

@@ -4,6 +4,7 @@
 mod common;
 
 use approx::assert_relative_eq;
+use common::{Prob16_1, Prob16_2, Prob16_3};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::{ExactFlow, HarmonicOscillator};
 use hamilton_jacobi::transform::{CanonicalTransformation, GeneratingFunction, Kind};
@@ -379,56 +380,6 @@ use hamilton_jacobi::transform::point::{
     point_transformation, Parabolic, Polar, RotatingFrame, Spherical,
 };
 use hamilton_jacobi::transform::{Compose, Inverse};
-
-/// Prob. 16/2: Q = ln(sin p / q), P = q cot p.
-struct Prob16_2;
-impl PhaseMap<1> for Prob16_2 {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        (
-            SVector::from([(p[0].sin() / q[0]).ln()]),
-            SVector::from([q[0] / p[0].tan()]),
-        )
-    }
-}
-/// Prob. 16/3: Q = q^α cos βp, P = q^α sin βp.
-struct Prob16_3 {
-    alpha: f64,
-    beta: f64,
-}
-impl PhaseMap<1> for Prob16_3 {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        let qa = q[0].powf(self.alpha);
-        let (s, c) = (p[0] * self.beta).sin_cos();
-        (SVector::from([qa * c]), SVector::from([qa * s]))
-    }
-}
-/// In the spirit of Prob. 16/1: Q = √(2q) eᵗ cos p, P = √(2q) e⁻ᵗ sin p.
-struct Prob16_1;
-impl PhaseMap<1> for Prob16_1 {
-    fn apply<D: DualNum<f64> + Copy>(
-        &self,
-        t: D,
-        q: &SVector<D, 1>,
-        p: &SVector<D, 1>,
-    ) -> (SVector<D, 1>, SVector<D, 1>) {
-        let r = (q[0] * 2.0).sqrt();
-        let (s, c) = p[0].sin_cos();
-        (
-            SVector::from([r * t.exp() * c]),
-            SVector::from([r * (-t).exp() * s]),
-        )
-    }
-}
 
 /// The three verdicts (definition, Liouville, brackets) at a point, with tolerance `tol`.
 fn verdicts<M: PhaseMap<1>>(m: &M, t: f64, q: f64, p: f64, tol: f64) -> [bool; 3] {

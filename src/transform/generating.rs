@@ -253,34 +253,7 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         q: &SVector<D, N>,
         p: &SVector<D, N>,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
-        let kind = self.kind();
-        let (x, other_old) = split(kind.old_argument_is_q(), q, p);
-        let (qr, pr) = (real_parts(q), real_parts(p));
-        let mut starts = Vec::with_capacity(4);
-        starts.extend(self.generator.forward_guess(t.re(), &qr, &pr));
-        let (same, other) = split(kind.new_argument_is_q(), &qr, &pr);
-        starts.extend([same, other, SVector::zeros()]);
-        let what = self.what("forward");
-        let (y, _) = implicit::solve(
-            &ForwardRelation(&self.generator),
-            t,
-            &x,
-            &other_old,
-            &starts,
-            &what,
-        )?;
-        let (_, fy) = partials(&self.generator, t, &x, &y);
-        let other_new = fy * D::from(kind.s_new());
-        self.check_precision(
-            t.re(),
-            &real_parts(&x),
-            &real_parts(&y),
-            &real_parts(&other_old),
-            &real_parts(&other_new),
-            true,
-            &what,
-        )?;
-        Ok(split(kind.new_argument_is_q(), &y, &other_new))
+        self.solve_side(t, q, p, true)
     }
 
     /// Inverse map `(Q, P) ↦ (q, p)` in any number type.
@@ -290,34 +263,60 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         big_q: &SVector<D, N>,
         big_p: &SVector<D, N>,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        self.solve_side(t, big_q, big_p, false)
+    }
+
+    /// The map from one side to the other: from the given pair take the generator's argument `k`
+    /// on this side and the conjugate value `b` it must reproduce, solve the relation for the
+    /// argument `u` on the other side, and evaluate the other side's conjugate value.
+    fn solve_side<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        first: &SVector<D, N>,
+        second: &SVector<D, N>,
+        forward: bool,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
         let kind = self.kind();
-        let (y, other_new) = split(kind.new_argument_is_q(), big_q, big_p);
-        let (qr, pr) = (real_parts(big_q), real_parts(big_p));
-        let mut starts = Vec::with_capacity(4);
-        starts.extend(self.generator.inverse_guess(t.re(), &qr, &pr));
-        let (same, other) = split(kind.old_argument_is_q(), &qr, &pr);
-        starts.extend([same, other, SVector::zeros()]);
-        let what = self.what("inverse");
-        let (x, _) = implicit::solve(
-            &InverseRelation(&self.generator),
-            t,
-            &y,
-            &other_new,
-            &starts,
-            &what,
-        )?;
-        let (fx, _) = partials(&self.generator, t, &x, &y);
-        let other_old = fx * D::from(kind.s_old());
+        let (known_is_q, unknown_is_q) = if forward {
+            (kind.old_argument_is_q(), kind.new_argument_is_q())
+        } else {
+            (kind.new_argument_is_q(), kind.old_argument_is_q())
+        };
+        let (k, b) = split(known_is_q, first, second);
+        let (fr, sr) = (real_parts(first), real_parts(second));
+        let guess = if forward {
+            self.generator.forward_guess(t.re(), &fr, &sr)
+        } else {
+            self.generator.inverse_guess(t.re(), &fr, &sr)
+        };
+        let (same, other) = split(unknown_is_q, &fr, &sr);
+        let starts: Vec<_> = guess
+            .into_iter()
+            .chain([same, other, SVector::zeros()])
+            .collect();
+        let what = self.what(if forward { "forward" } else { "inverse" });
+        let (u, _) = if forward {
+            implicit::solve(&ForwardRelation(&self.generator), t, &k, &b, &starts, &what)?
+        } else {
+            implicit::solve(&InverseRelation(&self.generator), t, &k, &b, &starts, &what)?
+        };
+        let (x, y) = if forward { (k, u) } else { (u, k) };
+        let (fx, fy) = partials(&self.generator, t, &x, &y);
+        let out = if forward {
+            fy * D::from(kind.s_new())
+        } else {
+            fx * D::from(kind.s_old())
+        };
         self.check_precision(
             t.re(),
             &real_parts(&x),
             &real_parts(&y),
-            &real_parts(&other_new),
-            &real_parts(&other_old),
-            false,
+            &real_parts(&b),
+            &real_parts(&out),
+            forward,
             &what,
         )?;
-        Ok(split(kind.old_argument_is_q(), &x, &other_old))
+        Ok(split(unknown_is_q, &u, &out))
     }
 
     /// Estimate the relative rounding error of a solved map (see the [module docs](self)) and

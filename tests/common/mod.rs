@@ -2,7 +2,9 @@
 //! independent integrator oracle.
 #![allow(dead_code)]
 
+use hamilton_jacobi::brackets::PhaseMap;
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::DualNum;
 use hamilton_jacobi::{Hamiltonian, Lagrangian};
 use proptest::test_runner::{Config, RngSeed};
 
@@ -114,4 +116,56 @@ pub fn central_sample_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
             SVector::from([1.5, -0.4, 0.0]),
         ),
     ]
+}
+
+/// Ardema Prob. 16/2: `Q = ln(sin p / q)`, `P = q cot p` (canonical).
+pub struct Prob16_2;
+impl PhaseMap<1> for Prob16_2 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        (
+            SVector::from([(p[0].sin() / q[0]).ln()]),
+            SVector::from([q[0] / p[0].tan()]),
+        )
+    }
+}
+
+/// Ardema Prob. 16/3: `Q = q^α cos βp`, `P = q^α sin βp` (canonical iff α = ½, β = 2).
+pub struct Prob16_3 {
+    pub alpha: f64,
+    pub beta: f64,
+}
+impl PhaseMap<1> for Prob16_3 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let qa = q[0].powf(self.alpha);
+        let (s, c) = (p[0] * self.beta).sin_cos();
+        (SVector::from([qa * c]), SVector::from([qa * s]))
+    }
+}
+
+/// In the spirit of Ardema Prob. 16/1 (time-dependent): `Q = √(2q) eᵗ cos p`, `P = √(2q) e⁻ᵗ sin p`.
+pub struct Prob16_1;
+impl PhaseMap<1> for Prob16_1 {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        let r = (q[0] * 2.0).sqrt();
+        let (s, c) = p[0].sin_cos();
+        (
+            SVector::from([r * t.exp() * c]),
+            SVector::from([r * (-t).exp() * s]),
+        )
+    }
 }
