@@ -125,15 +125,24 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
             }
             previous_step = du.amax();
             // Backtracking: halve the step until the residual decreases (accept a step of 2⁻³⁰).
+            // Trial points outside the residual's domain (non-finite) are rejected like worse ones.
             let mut lambda = 1.0;
             loop {
                 let un = u - du * lambda;
                 let (rn, jn) = residual_and_jacobian(sys, t, a, b, &un);
-                if rn.norm() < r.norm() || lambda < 1e-9 {
+                let finite_trial = rn.amax().is_finite() && jn.iter().all(|x| x.is_finite());
+                if finite_trial && (rn.norm() < r.norm() || lambda < 1e-9) {
                     u = un;
                     r = rn;
                     jac = jn;
                     break;
+                }
+                if lambda < 1e-9 {
+                    return Err(Error::NotConverged {
+                        what: format!("{what} (every step from u = {u:?} leaves the domain)"),
+                        iterations,
+                        residual: r.norm(),
+                    });
                 }
                 lambda *= 0.5;
             }

@@ -4,6 +4,7 @@
 pub mod ad;
 pub mod brackets;
 pub mod error;
+pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;
 pub mod lagrangian;
