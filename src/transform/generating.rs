@@ -83,12 +83,17 @@ impl Kind {
             1.0
         }
     }
-    fn name(self) -> &'static str {
-        match self {
-            Kind::F1 => "F1",
-            Kind::F2 => "F2",
-            Kind::F3 => "F3",
-            Kind::F4 => "F4",
+    /// Name of one direction of the map, for error messages (static: no allocation per solve).
+    fn map_name(self, forward: bool) -> &'static str {
+        match (self, forward) {
+            (Kind::F1, true) => "forward map of the type-1 generator",
+            (Kind::F2, true) => "forward map of the type-2 generator",
+            (Kind::F3, true) => "forward map of the type-3 generator",
+            (Kind::F4, true) => "forward map of the type-4 generator",
+            (Kind::F1, false) => "inverse map of the type-1 generator",
+            (Kind::F2, false) => "inverse map of the type-2 generator",
+            (Kind::F3, false) => "inverse map of the type-3 generator",
+            (Kind::F4, false) => "inverse map of the type-4 generator",
         }
     }
 }
@@ -155,28 +160,14 @@ fn partials<G: GeneratingFunction<N> + ?Sized, D: DualNum<f64> + Copy, const N: 
     (fx, fy)
 }
 
-/// Forward relation: `s ∂F/∂x (t, x = a, y = u) − b = 0` for the new argument `u`.
-struct ForwardRelation<'a, G: ?Sized>(&'a G);
-impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N>
-    for ForwardRelation<'_, G>
-{
-    fn residual<D: DualNum<f64> + Copy>(
-        &self,
-        t: D,
-        a: &SVector<D, N>,
-        b: &SVector<D, N>,
-        u: &SVector<D, N>,
-    ) -> SVector<D, N> {
-        let (fx, _) = partials(self.0, t, a, u);
-        fx * D::from(self.0.kind().s_old()) - b
-    }
+/// The generator's relation for one direction of the map, with known argument `a`, target `b`
+/// and unknown `u`: forward `s ∂F/∂x (t, x = a, y = u) − b = 0` (unknown: the new argument),
+/// inverse `s′ ∂F/∂y (t, x = u, y = a) − b = 0` (unknown: the old argument).
+struct Relation<'a, G: ?Sized> {
+    generator: &'a G,
+    forward: bool,
 }
-
-/// Inverse relation: `s′ ∂F/∂y (t, x = u, y = a) − b = 0` for the old argument `u`.
-struct InverseRelation<'a, G: ?Sized>(&'a G);
-impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N>
-    for InverseRelation<'_, G>
-{
+impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N> for Relation<'_, G> {
     fn residual<D: DualNum<f64> + Copy>(
         &self,
         t: D,
@@ -184,8 +175,14 @@ impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N>
         b: &SVector<D, N>,
         u: &SVector<D, N>,
     ) -> SVector<D, N> {
-        let (_, fy) = partials(self.0, t, u, a);
-        fy * D::from(self.0.kind().s_new()) - b
+        let kind = self.generator.kind();
+        if self.forward {
+            let (fx, _) = partials(self.generator, t, a, u);
+            fx * D::from(kind.s_old()) - b
+        } else {
+            let (_, fy) = partials(self.generator, t, u, a);
+            fy * D::from(kind.s_new()) - b
+        }
     }
 }
 
@@ -239,13 +236,6 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         self.generator.kind()
     }
 
-    fn what(&self, direction: &str) -> String {
-        format!(
-            "{direction} map of the type-{} generator",
-            &self.kind().name()[1..]
-        )
-    }
-
     /// Forward map `(q, p) ↦ (Q, P)` in any number type (exact derivatives through the solve).
     pub fn forward_generic<D: DualNum<f64> + Copy>(
         &self,
@@ -290,16 +280,19 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
             self.generator.inverse_guess(t.re(), &fr, &sr)
         };
         let (same, other) = split(unknown_is_q, &fr, &sr);
-        let starts: Vec<_> = guess
-            .into_iter()
-            .chain([same, other, SVector::zeros()])
-            .collect();
-        let what = self.what(if forward { "forward" } else { "inverse" });
-        let (u, _) = if forward {
-            implicit::solve(&ForwardRelation(&self.generator), t, &k, &b, &starts, &what)?
-        } else {
-            implicit::solve(&InverseRelation(&self.generator), t, &k, &b, &starts, &what)?
+        // The generator's own guess first (if any), then the new/old variable of the same letter,
+        // the other one, and zero; a fixed array (this runs on every evaluation of K).
+        let zero = SVector::zeros();
+        let (starts, count) = match guess {
+            Some(g) => ([g, same, other, zero], 4),
+            None => ([same, other, zero, zero], 3),
         };
+        let what = kind.map_name(forward);
+        let relation = Relation {
+            generator: &self.generator,
+            forward,
+        };
+        let (u, _) = implicit::solve(&relation, t, &k, &b, &starts[..count], what)?;
         let (x, y) = if forward { (k, u) } else { (u, k) };
         let (fx, fy) = partials(&self.generator, t, &x, &y);
         let out = if forward {
@@ -314,7 +307,7 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
             &real_parts(&b),
             &real_parts(&out),
             forward,
-            &what,
+            what,
         )?;
         Ok(split(unknown_is_q, &u, &out))
     }
@@ -348,7 +341,9 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         } else {
             (h.pp, h.qp.transpose(), h.qq, y, x)
         };
-        let binv = checked_inverse(&b, &format!("{what}: mixed Hessian ∂²F/∂x∂y"), at)?;
+        let binv = checked_inverse(&b, "mixed Hessian ∂²F/∂x∂y of the generator", || {
+            format!("{} ({what})", at())
+        })?;
         // Componentwise (Skeel-type) first-order error bounds: invariant under a change of units of
         // the individual variables, and unbounded where |B⁻¹| or the generator blows up.
         let eps = f64::EPSILON;
