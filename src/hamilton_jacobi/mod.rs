@@ -1,6 +1,9 @@
 //! Hamilton–Jacobi theory (SPEC M47, M48, M52–M57): the Hamilton–Jacobi equation, complete
-//! integrals and the motion they generate (Jacobi's theorem).
+//! integrals and the motion they generate (Jacobi's theorem), separated coordinates reduced to
+//! quadratures between turning points.
 
 pub mod complete;
+pub mod quadrature;
 
 pub use complete::{completeness, hj_residual, CompleteIntegral, ElementConvention, Elements};
+pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};

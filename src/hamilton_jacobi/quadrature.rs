@@ -1,0 +1,666 @@
+//! Quadratures between turning points (SPEC M26, X1; [Ardema 9.2, 10.1]).
+//!
+//! Separating the Hamilton–Jacobi equation reduces every coordinate to integrals of the form
+//!
+//! $$ \int_{x_1}^{x} \frac{g(x)\\,dx}{\sqrt{F(x)}}, \qquad F(x) = (x - x_1)(x_2 - x)\\,P(x), $$
+//!
+//! where `F = p²` is the radicand of the separated momentum and `x₁ < x₂` are the turning points
+//! (simple roots of `F`, `P > 0` on `[x₁, x₂]`). The integrand has inverse-square-root end points.
+//! The substitution (SPEC X1)
+//!
+//! $$ x = \tfrac12(x_1 + x_2) - \tfrac12(x_2 - x_1)\cos s, \qquad s \in [0, \pi], $$
+//!
+//! gives `x − x₁ = L sin²(s/2)`, `x₂ − x = L cos²(s/2)` (`L = x₂ − x₁`) and
+//! `dx/√F = ds/√P(x)`: a smooth integrand. Both offsets are computed from `s` directly (never as a
+//! difference of nearly equal numbers), and the upper half `s ∈ [π/2, π]` is integrated in the
+//! reflected variable `σ = π − s`, so each turning point sits at the origin of its own variable.
+//! For a known factorisation (Kepler, pendulum, heavy top) the caller supplies `P` exactly
+//! ([`Libration::new`]); otherwise [`Libration::from_radicand`] finds the roots of a generic `F` and
+//! evaluates `P = F/((x − x₁)(x₂ − x))`, replaced by its Taylor expansion through `F‴` within a
+//! relative distance `ε^{1/4}` of a root, where the division would amplify rounding in `F`.
+//!
+//! In `s` the period integrals are those of smooth periodic functions; when the two roots merge
+//! (a double root: circular orbit, steady precession) the integrals tend to the finite
+//! small-oscillation limit `π g(x₀)/√P(x₀)`, which a factorised `P` reproduces exactly (`L = 0`).
+//! A generic `F` with a double root is refused ([`Error::Separatrix`]), as is one whose turning
+//! point is (numerically) a double root: that is a separatrix, where the time to reach it diverges.
+//!
+//! Integrals use the Clenshaw–Curtis rule of the `quadrature` crate on each half (the integrands are
+//! analytic there, so it converges geometrically and, unlike the crate's double-exponential rule
+//! whose tabulated weights limit it to about 1e−14 relative, to rounding level), bisected
+//! adaptively until the requested relative tolerance is met (sharply peaked integrands such as the
+//! swept angle near periapsis at e → 1 are resolved by the subdivision). Every result carries its
+//! error estimate and the number of integrand evaluations; a non-finite integrand value is an
+//! error, never silently dropped.
+
+use crate::error::{finite, Error, Result};
+use num_dual::{Dual3_64, Dual64, DualNum};
+use std::cell::Cell;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// A radicand `F(x)` (the square of a separated momentum), written once for every dual type so
+/// that its derivatives at the turning points come from AD.
+pub trait Radicand {
+    /// `F(x)`.
+    fn radicand<D: DualNum<f64> + Copy>(&self, x: D) -> D;
+}
+
+impl<R: Radicand + ?Sized> Radicand for &R {
+    fn radicand<D: DualNum<f64> + Copy>(&self, x: D) -> D {
+        (**self).radicand(x)
+    }
+}
+
+/// The reduced radicand `P(x) = F(x)/((x − x₁)(x₂ − x))`, evaluated from `x` and the exactly
+/// computed offsets `d₁ = x − x₁ ≥ 0`, `d₂ = x₂ − x ≥ 0`.
+pub trait ReducedRadicand {
+    /// `P(x)`; must be positive on `[x₁, x₂]`.
+    fn reduced(&self, x: f64, d1: f64, d2: f64) -> f64;
+}
+
+impl<F: Fn(f64, f64, f64) -> f64> ReducedRadicand for F {
+    fn reduced(&self, x: f64, d1: f64, d2: f64) -> f64 {
+        self(x, d1, d2)
+    }
+}
+
+/// `P = F/(d₁ d₂)` for a generic [`Radicand`], with third-order Taylor expansions about the roots.
+#[derive(Clone, Debug)]
+pub struct Factored<R> {
+    radicand: R,
+    /// `[F′, F″/2, F‴/6]` at `x₁`.
+    lower: [f64; 3],
+    /// `[−F′, F″/2, −F‴/6]` at `x₂` (expansion in `d₂ = x₂ − x`).
+    upper: [f64; 3],
+    /// Offsets below which the expansion is used.
+    switch: f64,
+}
+
+impl<R: Radicand> Factored<R> {
+    /// The radicand.
+    pub fn radicand(&self) -> &R {
+        &self.radicand
+    }
+}
+
+impl<R: Radicand> ReducedRadicand for Factored<R> {
+    fn reduced(&self, x: f64, d1: f64, d2: f64) -> f64 {
+        if d1 <= self.switch && d1 <= d2 {
+            let [a, b, c] = self.lower;
+            (a + d1 * (b + d1 * c)) / d2
+        } else if d2 <= self.switch {
+            let [a, b, c] = self.upper;
+            (a + d2 * (b + d2 * c)) / d1
+        } else {
+            self.radicand.radicand(x) / (d1 * d2)
+        }
+    }
+}
+
+/// A quadrature result: value, error estimate and cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quadrature {
+    /// The integral.
+    pub value: f64,
+    /// Estimated absolute error (from the Clenshaw–Curtis rule's successive refinements).
+    pub error: f64,
+    /// Integrand evaluations.
+    pub evaluations: usize,
+}
+
+impl Quadrature {
+    fn zero() -> Self {
+        Self {
+            value: 0.0,
+            error: 0.0,
+            evaluations: 0,
+        }
+    }
+    fn add(self, o: Self) -> Self {
+        Self {
+            value: self.value + o.value,
+            error: self.error + o.error,
+            evaluations: self.evaluations + o.evaluations,
+        }
+    }
+    /// The result multiplied by a constant.
+    pub fn scale(self, c: f64) -> Self {
+        Self {
+            value: self.value * c,
+            error: self.error * c.abs(),
+            evaluations: self.evaluations,
+        }
+    }
+}
+
+/// A point of the libration interval as seen by an integrand: the substitution variable and the
+/// offsets from both turning points, all exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    /// `x`.
+    pub x: f64,
+    /// `x − x₁ = L sin²(s/2)`.
+    pub d1: f64,
+    /// `x₂ − x = L cos²(s/2)`.
+    pub d2: f64,
+    /// The reduced radicand `P(x) > 0`.
+    pub reduced: f64,
+}
+
+impl Node {
+    /// `√F(x) = √(d₁ d₂ P)`, the separated momentum's magnitude.
+    pub fn sqrt_radicand(&self) -> f64 {
+        (self.d1 * self.d2 * self.reduced).sqrt()
+    }
+    /// `dx/ds = √(d₁ d₂)`.
+    pub fn jacobian(&self) -> f64 {
+        (self.d1 * self.d2).sqrt()
+    }
+}
+
+/// Default relative tolerance of the turning-point quadratures.
+pub const DEFAULT_TOLERANCE: f64 = 1e-14;
+
+/// Maximum bisection depth of the adaptive Clenshaw–Curtis rule.
+const MAX_DEPTH: u32 = 16;
+
+/// The libration interval `[x₁, x₂]` of a separated coordinate, with its reduced radicand.
+#[derive(Clone, Debug)]
+pub struct Libration<P> {
+    x1: f64,
+    x2: f64,
+    reduced: P,
+    tolerance: f64,
+}
+
+impl<P: ReducedRadicand> Libration<P> {
+    /// Turning points `x₁ ≤ x₂` and the exact reduced radicand `P` (`F = (x − x₁)(x₂ − x) P`).
+    /// `x₁ = x₂` is allowed: the integrals are then their small-oscillation limits.
+    pub fn new(x1: f64, x2: f64, reduced: P) -> Result<Self> {
+        let x1 = finite("lower turning point x₁", x1)?;
+        let x2 = finite("upper turning point x₂", x2)?;
+        if x2 < x1 {
+            return Err(Error::invalid(
+                "turning points",
+                format!("need x₁ ≤ x₂, got x₁ = {x1}, x₂ = {x2}"),
+            ));
+        }
+        let lib = Self {
+            x1,
+            x2,
+            reduced,
+            tolerance: DEFAULT_TOLERANCE,
+        };
+        for s in [0.0, FRAC_PI_2, PI] {
+            let n = lib.node(s);
+            if !(n.reduced > 0.0 && n.reduced.is_finite()) {
+                return Err(Error::out_of_domain(
+                    format!("reduced radicand P at x = {}", n.x),
+                    n.reduced,
+                    "(0, ∞): the turning points must be simple roots of F",
+                ));
+            }
+        }
+        Ok(lib)
+    }
+
+    /// The same interval with another relative tolerance (default [`DEFAULT_TOLERANCE`]).
+    pub fn with_tolerance(mut self, tolerance: f64) -> Result<Self> {
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(Error::out_of_domain(
+                "quadrature tolerance",
+                tolerance,
+                "(0, ∞)",
+            ));
+        }
+        self.tolerance = tolerance;
+        Ok(self)
+    }
+
+    /// Lower turning point `x₁`.
+    pub fn lower(&self) -> f64 {
+        self.x1
+    }
+    /// Upper turning point `x₂`.
+    pub fn upper(&self) -> f64 {
+        self.x2
+    }
+    /// The reduced radicand.
+    pub fn reduced_radicand(&self) -> &P {
+        &self.reduced
+    }
+
+    /// The point with substitution variable `s ∈ [0, π]`.
+    pub fn node(&self, s: f64) -> Node {
+        if s <= FRAC_PI_2 {
+            self.node_lower(s)
+        } else {
+            self.node_upper(PI - s)
+        }
+    }
+
+    fn node_lower(&self, s: f64) -> Node {
+        let l = self.x2 - self.x1;
+        let (sh, ch) = (0.5 * s).sin_cos();
+        let (d1, d2) = (l * sh * sh, l * ch * ch);
+        let x = self.x1 + d1;
+        Node {
+            x,
+            d1,
+            d2,
+            reduced: self.reduced.reduced(x, d1, d2),
+        }
+    }
+
+    fn node_upper(&self, sigma: f64) -> Node {
+        let l = self.x2 - self.x1;
+        let (sh, ch) = (0.5 * sigma).sin_cos();
+        let (d2, d1) = (l * sh * sh, l * ch * ch);
+        let x = self.x2 - d2;
+        Node {
+            x,
+            d1,
+            d2,
+            reduced: self.reduced.reduced(x, d1, d2),
+        }
+    }
+
+    /// The substitution variable `s ∈ [0, π]` of `x ∈ [x₁, x₂]`.
+    pub fn phase(&self, x: f64) -> Result<f64> {
+        let x = finite("x", x)?;
+        let l = self.x2 - self.x1;
+        if x < self.x1 || x > self.x2 {
+            return Err(Error::out_of_domain(
+                "x",
+                x,
+                format!("[{}, {}] (between the turning points)", self.x1, self.x2),
+            ));
+        }
+        if l == 0.0 {
+            return Ok(0.0);
+        }
+        let (d1, d2) = (x - self.x1, self.x2 - x);
+        Ok(if d1 <= d2 {
+            2.0 * (d1 / l).sqrt().min(1.0).asin()
+        } else {
+            PI - 2.0 * (d2 / l).sqrt().min(1.0).asin()
+        })
+    }
+
+    /// `∫ f(node) ds` over `s ∈ [0, π]` — the full interval `x₁ → x₂`. The integrand receives the
+    /// [`Node`] and must include every factor except `ds` (e.g. `g(x)/√P` for `∫ g dx/√F`).
+    pub fn integrate_full(&self, f: impl Fn(&Node) -> f64) -> Result<Quadrature> {
+        self.integrate_between(f, 0.0, PI)
+    }
+
+    /// `∫ f(node) ds` over `s ∈ [s₀, s₁] ⊂ [0, π]`, `s₀ ≤ s₁`.
+    pub fn integrate_between(
+        &self,
+        f: impl Fn(&Node) -> f64,
+        s0: f64,
+        s1: f64,
+    ) -> Result<Quadrature> {
+        let (s0, s1) = (finite("s₀", s0)?, finite("s₁", s1)?);
+        if !(0.0..=PI).contains(&s0) || !(0.0..=PI).contains(&s1) || s0 > s1 {
+            return Err(Error::invalid(
+                "substitution range",
+                format!("need 0 ≤ s₀ ≤ s₁ ≤ π, got [{s0}, {s1}]"),
+            ));
+        }
+        // The scale of the answer, for a relative tolerance: a coarse midpoint estimate.
+        let scale = {
+            let mut acc = 0.0;
+            for k in 0..8 {
+                let s = s0 + (s1 - s0) * (k as f64 + 0.5) / 8.0;
+                acc += f(&self.node(s)).abs();
+            }
+            acc * (s1 - s0) / 8.0
+        };
+        let target = self.tolerance * scale.max(f64::MIN_POSITIVE);
+        let mut out = Quadrature::zero();
+        if s0 < FRAC_PI_2 {
+            let hi = s1.min(FRAC_PI_2);
+            out = out.add(adaptive(|s| f(&self.node_lower(s)), s0, hi, target)?);
+        }
+        if s1 > FRAC_PI_2 {
+            let (a, b) = (PI - s1, PI - s0.max(FRAC_PI_2));
+            out = out.add(adaptive(|sg| f(&self.node_upper(sg)), a, b, target)?);
+        }
+        Ok(out)
+    }
+
+    /// `∫_{x₁}^{x₂} g(x) dx / √F(x)` (half a period of a time-like integral).
+    pub fn inverse_sqrt_integral(&self, g: impl Fn(f64) -> f64) -> Result<Quadrature> {
+        self.integrate_full(|n| g(n.x) / n.reduced.sqrt())
+    }
+
+    /// `∫_{x₁}^{x} g(ξ) dξ / √F(ξ)` for `x` in the interval.
+    pub fn inverse_sqrt_integral_to(&self, g: impl Fn(f64) -> f64, x: f64) -> Result<Quadrature> {
+        let s = self.phase(x)?;
+        self.integrate_between(|n| g(n.x) / n.reduced.sqrt(), 0.0, s)
+    }
+
+    /// `∫_{x₁}^{x₂} √F(x) dx` (half the action `∮ p dx`).
+    pub fn sqrt_integral(&self) -> Result<Quadrature> {
+        self.integrate_full(|n| n.d1 * n.d2 * n.reduced.sqrt())
+    }
+
+    /// `∫_{x₁}^{x} √F(ξ) dξ`.
+    pub fn sqrt_integral_to(&self, x: f64) -> Result<Quadrature> {
+        let s = self.phase(x)?;
+        self.integrate_between(|n| n.d1 * n.d2 * n.reduced.sqrt(), 0.0, s)
+    }
+}
+
+impl<R: Radicand> Libration<Factored<R>> {
+    /// Turning points of a generic radicand around `inside` (where `F > 0`), searched within
+    /// `[lower_bound, upper_bound]`; see [`turning_points`]. Refuses double roots (separatrices).
+    pub fn from_radicand(
+        radicand: R,
+        inside: f64,
+        lower_bound: f64,
+        upper_bound: f64,
+    ) -> Result<Self> {
+        let (x1, x2) = turning_points(&radicand, inside, lower_bound, upper_bound)?;
+        let at = |x: f64| {
+            let d = radicand.radicand(Dual3_64::from_re(x).derivative());
+            [d.v1, 0.5 * d.v2, d.v3 / 6.0]
+        };
+        let lower = at(x1);
+        let u = at(x2);
+        let upper = [-u[0], u[1], -u[2]];
+        let l = x2 - x1;
+        // Separatrix test: a turning point where F′ vanishes relative to the interval's scale.
+        let mid = radicand.radicand(0.5 * (x1 + x2)) / (0.25 * l * l);
+        for (which, slope) in [("lower", lower[0]), ("upper", upper[0])] {
+            let ratio = slope / l / mid;
+            if !(ratio > 64.0 * f64::EPSILON) {
+                return Err(Error::Separatrix {
+                    what: format!("{which} turning point of the radicand"),
+                    distance: ratio.max(0.0),
+                    hint:
+                        "F has a (numerically) double root there: the motion is asymptotic to an \
+                           unstable equilibrium and its period diverges; supply the exact reduced \
+                           radicand (Libration::new) or move away from the separatrix"
+                            .into(),
+                });
+            }
+        }
+        let reduced = Factored {
+            radicand,
+            lower,
+            upper,
+            switch: f64::EPSILON.powf(0.25) * l,
+        };
+        Libration::new(x1, x2, reduced)
+    }
+}
+
+/// The turning points `x₁ < inside < x₂` of a radicand: the nearest roots of `F` below and above a
+/// point where `F > 0`, searched outward geometrically within `[lower_bound, upper_bound]` and
+/// refined to full precision by safeguarded Newton (AD derivative) with bisection.
+///
+/// Errors: `F(inside) ≤ 0` (not an allowed point), or no sign change before a bound (the motion is
+/// unbounded on that side, or rotational).
+pub fn turning_points<R: Radicand>(
+    radicand: &R,
+    inside: f64,
+    lower_bound: f64,
+    upper_bound: f64,
+) -> Result<(f64, f64)> {
+    let inside = finite("interior point", inside)?;
+    let (lo, hi) = (
+        finite("lower search bound", lower_bound)?,
+        finite("upper search bound", upper_bound)?,
+    );
+    if !(lo < inside && inside < hi) {
+        return Err(Error::invalid(
+            "turning-point search",
+            format!("need lower bound < interior point < upper bound, got {lo} < {inside} < {hi}"),
+        ));
+    }
+    let f0 = radicand.radicand(inside);
+    if !(f0 > 0.0) {
+        return Err(Error::out_of_domain(
+            format!("radicand F at the interior point {inside}"),
+            f0,
+            "(0, ∞): the point must lie in the allowed region",
+        ));
+    }
+    let x1 = bracket_root(radicand, inside, lo)?;
+    let x2 = bracket_root(radicand, inside, hi)?;
+    Ok((x1, x2))
+}
+
+/// The root of `F` nearest to `inside` in the direction of `bound`.
+///
+/// The outward scan watches the slope as well as the sign: where `F` passes through a local
+/// minimum between two positive samples, the minimum is located (bisection on `F′`) so that a pair
+/// of close roots is not stepped over; a minimum that touches zero to rounding is a (numerically)
+/// double root — a separatrix — and is reported as such.
+fn bracket_root<R: Radicand>(radicand: &R, inside: f64, bound: f64) -> Result<f64> {
+    let dir = (bound - inside).signum();
+    let eval = |x: f64| radicand.radicand(Dual64::from_re(x).derivative());
+    let scale = radicand.radicand(inside).abs();
+    let mut step = 1e-3 * inside.abs().max((bound - inside).abs().min(1.0));
+    let mut good = inside;
+    let mut good_slope = eval(inside).eps * dir;
+    let bad = loop {
+        let x = if (inside + dir * step - bound) * dir >= 0.0 {
+            bound
+        } else {
+            inside + dir * step
+        };
+        let fx = eval(x);
+        if fx.re.is_nan() {
+            return Err(Error::NonFinite {
+                what: format!("radicand F at x = {x}"),
+                value: fx.re,
+            });
+        }
+        if fx.re <= 0.0 {
+            break x;
+        }
+        let slope = fx.eps * dir;
+        if good_slope < 0.0 && slope > 0.0 {
+            // A local minimum of F between `good` and `x`.
+            let (mut a, mut b) = (good, x);
+            for _ in 0..200 {
+                let m = 0.5 * (a + b);
+                if m == a || m == b {
+                    break;
+                }
+                if eval(m).eps * dir < 0.0 {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            let m = 0.5 * (a + b);
+            let fm = radicand.radicand(m);
+            if fm <= 0.0 {
+                break m;
+            }
+            if fm <= 64.0 * f64::EPSILON * scale {
+                return Err(Error::Separatrix {
+                    what: format!("turning-point search: F has a double root at x ≈ {m}"),
+                    distance: fm / scale,
+                    hint: "the motion is asymptotic to an unstable equilibrium there (its period \
+                           diverges); move away from the separatrix or pass the motion's own \
+                           factorised radicand to Libration::new"
+                        .into(),
+                });
+            }
+        }
+        if x == bound {
+            return Err(Error::out_of_domain(
+                "turning-point search",
+                bound,
+                format!(
+                    "F > 0 up to the search bound {bound}: no turning point on that side \
+                     (unbounded or rotational motion)"
+                ),
+            ));
+        }
+        good = x;
+        good_slope = slope;
+        step *= 2.0;
+    };
+    // Safeguarded Newton on [good, bad]: F(good) > 0 ≥ F(bad).
+    let (mut a, mut b) = (good, bad);
+    let mut x = 0.5 * (a + b);
+    for _ in 0..200 {
+        let d = radicand.radicand(Dual64::from_re(x).derivative());
+        if d.re == 0.0 {
+            return Ok(x);
+        }
+        if d.re > 0.0 {
+            a = x;
+        } else {
+            b = x;
+        }
+        let newton = x - d.re / d.eps;
+        let inside_bracket = (newton - a) * (newton - b) < 0.0;
+        let next = if inside_bracket && d.eps.is_finite() {
+            newton
+        } else {
+            0.5 * (a + b)
+        };
+        if (a - b).abs() <= 4.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE) || next == x {
+            return Ok(if radicand.radicand(b).abs() < radicand.radicand(a).abs() {
+                b
+            } else {
+                a
+            });
+        }
+        x = next;
+    }
+    Err(Error::NotConverged {
+        what: "turning-point refinement".into(),
+        iterations: 200,
+        residual: (a - b).abs(),
+    })
+}
+
+/// Adaptive Clenshaw–Curtis quadrature of `f` over `[a, b]` to absolute error `target`.
+fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64) -> Result<Quadrature> {
+    let bad = Cell::new(f64::NAN);
+    let seen_bad = Cell::new(false);
+    let g = |s: f64| {
+        let v = f(s);
+        if !v.is_finite() && !seen_bad.get() {
+            seen_bad.set(true);
+            bad.set(s);
+        }
+        v
+    };
+    let out = recurse(&g, a, b, target, 0)?;
+    if seen_bad.get() {
+        return Err(Error::NonFinite {
+            what: format!("quadrature integrand at s = {}", bad.get()),
+            value: f(bad.get()),
+        });
+    }
+    Ok(out)
+}
+
+fn recurse(f: &impl Fn(f64) -> f64, a: f64, b: f64, target: f64, depth: u32) -> Result<Quadrature> {
+    if a == b {
+        return Ok(Quadrature::zero());
+    }
+    let o = quadrature::clenshaw_curtis::integrate(f, a, b, target);
+    let q = Quadrature {
+        value: o.integral,
+        error: o.error_estimate,
+        evaluations: o.num_function_evaluations as usize,
+    };
+    if q.error <= target {
+        return Ok(q);
+    }
+    if depth >= MAX_DEPTH {
+        return Err(Error::NotConverged {
+            what: "adaptive Clenshaw–Curtis quadrature".into(),
+            iterations: depth as usize,
+            residual: q.error,
+        });
+    }
+    let m = 0.5 * (a + b);
+    let left = recurse(f, a, m, 0.5 * target, depth + 1)?;
+    let right = recurse(f, m, b, 0.5 * target, depth + 1)?;
+    Ok(left.add(right).add(Quadrature {
+        value: 0.0,
+        error: 0.0,
+        evaluations: q.evaluations,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Circle;
+    impl Radicand for Circle {
+        // F = 1 − x², roots ±1, P = 1.
+        fn radicand<D: DualNum<f64> + Copy>(&self, x: D) -> D {
+            -(x * x) + 1.0
+        }
+    }
+
+    #[test]
+    fn arcsine_integrals() {
+        let lib = Libration::from_radicand(Circle, 0.3, -2.0, 2.0).unwrap();
+        assert!((lib.lower() + 1.0).abs() < 1e-15 && (lib.upper() - 1.0).abs() < 1e-15);
+        // ∫_{-1}^{1} dx/√(1−x²) = π, ∫ x² dx/√(1−x²) = π/2, ∫ √(1−x²) dx = π/2.
+        let a = lib.inverse_sqrt_integral(|_| 1.0).unwrap();
+        let b = lib.inverse_sqrt_integral(|x| x * x).unwrap();
+        let c = lib.sqrt_integral().unwrap();
+        assert!((a.value - PI).abs() < 4e-15, "{a:?}");
+        assert!((b.value - FRAC_PI_2).abs() < 4e-15, "{b:?}");
+        assert!((c.value - FRAC_PI_2).abs() < 4e-15, "{c:?}");
+        // Partial: ∫_{-1}^{x} dξ/√(1−ξ²) = asin x + π/2.
+        for x in [-0.999_999, -0.5, 0.0, 0.7, 0.999_999_999] {
+            let p = lib.inverse_sqrt_integral_to(|_| 1.0, x).unwrap();
+            assert!((p.value - (x.asin() + FRAC_PI_2)).abs() < 1e-14, "{x}");
+        }
+    }
+
+    #[test]
+    fn degenerate_interval_gives_the_small_oscillation_limit() {
+        // F = (x − 1)(1 − x)·4: P = 4, integral π/2.
+        let lib = Libration::new(1.0, 1.0, |_: f64, _: f64, _: f64| 4.0).unwrap();
+        let q = lib.inverse_sqrt_integral(|_| 1.0).unwrap();
+        assert!((q.value - FRAC_PI_2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn refusals() {
+        struct Hump;
+        impl Radicand for Hump {
+            // F = (1 − x²)²: double roots at ±1, F > 0 elsewhere.
+            fn radicand<D: DualNum<f64> + Copy>(&self, x: D) -> D {
+                let u = -(x * x) + 1.0;
+                u * u
+            }
+        }
+        struct Dip;
+        impl Radicand for Dip {
+            // F = ((x − 0.5)² − 1e−8)(x + 1.2): roots −1.2 and the close pair 0.5 ± 1e−4, which
+            // the scan's geometric steps straddle; the nearest turning point above is 0.5 − 1e−4.
+            fn radicand<D: DualNum<f64> + Copy>(&self, x: D) -> D {
+                let u = x - 0.5;
+                (u * u - 1e-8) * (x + 1.2)
+            }
+        }
+        assert!(matches!(
+            Libration::from_radicand(Hump, 0.0, -2.0, 2.0),
+            Err(Error::Separatrix { .. })
+        ));
+        let (_, x2) = turning_points(&Dip, -1.0, -1.5, 2.0).unwrap();
+        assert!((x2 - (0.5 - 1e-4)).abs() < 1e-15, "{x2}");
+        assert!(turning_points(&Circle, 1.5, -2.0, 2.0).is_err());
+        assert!(turning_points(&Circle, 0.0, -0.5, 0.5).is_err());
+        assert!(turning_points(&Circle, f64::NAN, -2.0, 2.0).is_err());
+        assert!(Libration::new(1.0, 0.0, |_: f64, _: f64, _: f64| 1.0).is_err());
+        assert!(Libration::new(0.0, 1.0, |_: f64, _: f64, _: f64| -1.0).is_err());
+    }
+}
