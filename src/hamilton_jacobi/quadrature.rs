@@ -374,7 +374,7 @@ impl<R: Radicand> Libration<Factored<R>> {
         let mid = radicand.radicand(0.5 * (x1 + x2)) / (0.25 * l * l);
         for (which, slope) in [("lower", lower[0]), ("upper", upper[0])] {
             let ratio = slope / l / mid;
-            if !(ratio > 64.0 * f64::EPSILON) {
+            if ratio.is_nan() || ratio <= 64.0 * f64::EPSILON {
                 return Err(Error::Separatrix {
                     what: format!("{which} turning point of the radicand"),
                     distance: ratio.max(0.0),
@@ -420,7 +420,7 @@ pub fn turning_points<R: Radicand>(
         ));
     }
     let f0 = radicand.radicand(inside);
-    if !(f0 > 0.0) {
+    if f0.is_nan() || f0 <= 0.0 {
         return Err(Error::out_of_domain(
             format!("radicand F at the interior point {inside}"),
             f0,
