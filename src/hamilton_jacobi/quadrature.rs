@@ -56,6 +56,11 @@ impl<R: Radicand + ?Sized> Radicand for &R {
 pub trait ReducedRadicand {
     /// `P(x)`; must be positive on `[x₁, x₂]`.
     fn reduced(&self, x: f64, d1: f64, d2: f64) -> f64;
+    /// Relative accuracy of [`reduced`](Self::reduced) (default: a few rounding errors). The
+    /// adaptive quadrature does not subdivide below this noise level.
+    fn noise(&self) -> f64 {
+        4.0 * f64::EPSILON
+    }
 }
 
 impl<F: Fn(f64, f64, f64) -> f64> ReducedRadicand for F {
@@ -94,6 +99,11 @@ impl<R: Radicand> ReducedRadicand for Factored<R> {
         } else {
             self.radicand.radicand(x) / (d1 * d2)
         }
+    }
+    /// Taylor truncation `(d/L)³` and cancellation `ε/(d/L)` at the switch `d/L = ε^{1/4}`, with
+    /// a factor 4 for the scale of the higher derivatives.
+    fn noise(&self) -> f64 {
+        4.0 * f64::EPSILON.powf(0.75)
     }
 }
 
@@ -266,18 +276,27 @@ impl<P: ReducedRadicand> Libration<P> {
     }
 
     /// The substitution variable `s ∈ [0, π]` of `x ∈ [x₁, x₂]`.
+    ///
+    /// A point within rounding (`8ε|x|`) of a turning point is that turning point: integrals from
+    /// a point near an apsis behave like `√(x − x₁)`, so a one-ulp disagreement between a user's
+    /// `x` and the computed root would otherwise cost `√ε` in the result. Points farther outside
+    /// are an error.
     pub fn phase(&self, x: f64) -> Result<f64> {
         let x = finite("x", x)?;
         let l = self.x2 - self.x1;
+        let slack = 8.0 * f64::EPSILON * x.abs();
+        if x <= self.x1 + slack && x >= self.x1 - slack {
+            return Ok(0.0);
+        }
+        if x >= self.x2 - slack && x <= self.x2 + slack {
+            return Ok(PI);
+        }
         if x < self.x1 || x > self.x2 {
             return Err(Error::out_of_domain(
                 "x",
                 x,
                 format!("[{}, {}] (between the turning points)", self.x1, self.x2),
             ));
-        }
-        if l == 0.0 {
-            return Ok(0.0);
         }
         let (d1, d2) = (x - self.x1, self.x2 - x);
         Ok(if d1 <= d2 {
@@ -317,16 +336,95 @@ impl<P: ReducedRadicand> Libration<P> {
             acc * (s1 - s0) / 8.0
         };
         let target = self.tolerance * scale.max(f64::MIN_POSITIVE);
+        let noise = self.reduced.noise();
         let mut out = Quadrature::zero();
         if s0 < FRAC_PI_2 {
             let hi = s1.min(FRAC_PI_2);
-            out = out.add(adaptive(|s| f(&self.node_lower(s)), s0, hi, target)?);
+            out = out.add(adaptive(|s| f(&self.node_lower(s)), s0, hi, target, noise)?);
         }
         if s1 > FRAC_PI_2 {
             let (a, b) = (PI - s1, PI - s0.max(FRAC_PI_2));
-            out = out.add(adaptive(|sg| f(&self.node_upper(sg)), a, b, target)?);
+            out = out.add(adaptive(|sg| f(&self.node_upper(sg)), a, b, target, noise)?);
         }
         Ok(out)
+    }
+
+    /// `∫ f ds` from `s₀` to `s₁` in either order (negative when `s₁ < s₀`).
+    pub fn integrate_signed(
+        &self,
+        f: impl Fn(&Node) -> f64,
+        s0: f64,
+        s1: f64,
+    ) -> Result<Quadrature> {
+        if s1 >= s0 {
+            self.integrate_between(f, s0, s1)
+        } else {
+            Ok(self.integrate_between(f, s1, s0)?.scale(-1.0))
+        }
+    }
+
+    /// Inverts a monotone integral: the `s ∈ [0, π]` with `∫₀^s density ds = target`, for a positive
+    /// `density` (e.g. `dt/ds`) whose integral over `[0, π]` is `total`. Safeguarded Newton, whose
+    /// derivative is the density itself; the integral is updated incrementally. Returns `s` and the
+    /// accumulated quadrature cost.
+    pub fn solve_phase(
+        &self,
+        density: impl Fn(&Node) -> f64,
+        target: f64,
+        total: f64,
+    ) -> Result<(f64, Quadrature)> {
+        let target = finite("phase target", target)?;
+        if !(0.0..=total).contains(&target) {
+            return Err(Error::out_of_domain(
+                "phase target",
+                target,
+                format!("[0, {total}]"),
+            ));
+        }
+        if target == 0.0 {
+            return Ok((0.0, Quadrature::zero()));
+        }
+        if target == total {
+            return Ok((PI, Quadrature::zero()));
+        }
+        let (mut lo, mut hi) = (0.0, PI);
+        let mut s = PI * target / total;
+        let mut cost = self.integrate_between(&density, 0.0, s)?;
+        let mut value = cost.value;
+        for _ in 0..100 {
+            let r = value - target;
+            if r > 0.0 {
+                hi = s;
+            } else {
+                lo = s;
+            }
+            if r.abs() <= 4.0 * f64::EPSILON * total || hi - lo <= 4.0 * f64::EPSILON {
+                return Ok((s, cost));
+            }
+            let d = density(&self.node(s));
+            let newton = s - r / d;
+            let next = if newton > lo && newton < hi && d > 0.0 {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if next == s {
+                return Ok((s, cost));
+            }
+            let step = self.integrate_signed(&density, s, next)?;
+            value += step.value;
+            cost = Quadrature {
+                value,
+                error: cost.error + step.error,
+                evaluations: cost.evaluations + step.evaluations,
+            };
+            s = next;
+        }
+        Err(Error::NotConverged {
+            what: "phase inversion of a turning-point integral".into(),
+            iterations: 100,
+            residual: (value - target).abs(),
+        })
     }
 
     /// `∫_{x₁}^{x₂} g(x) dx / √F(x)` (half a period of a time-like integral).
@@ -542,8 +640,10 @@ fn bracket_root<R: Radicand>(radicand: &R, inside: f64, bound: f64) -> Result<f6
     })
 }
 
-/// Adaptive Clenshaw–Curtis quadrature of `f` over `[a, b]` to absolute error `target`.
-fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64) -> Result<Quadrature> {
+/// Adaptive Clenshaw–Curtis quadrature of `f` over `[a, b]` to absolute error `target`, bisecting
+/// until each piece meets its share of the target or its error estimate is at the integrand's
+/// relative `noise` level (below which refinement cannot gain accuracy).
+fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64, noise: f64) -> Result<Quadrature> {
     let bad = Cell::new(f64::NAN);
     let seen_bad = Cell::new(false);
     let g = |s: f64| {
@@ -554,7 +654,7 @@ fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64) -> Result<Quadr
         }
         v
     };
-    let out = recurse(&g, a, b, target, 0)?;
+    let out = recurse(&g, a, b, target, noise, 0)?;
     if seen_bad.get() {
         return Err(Error::NonFinite {
             what: format!("quadrature integrand at s = {}", bad.get()),
@@ -564,7 +664,14 @@ fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64) -> Result<Quadr
     Ok(out)
 }
 
-fn recurse(f: &impl Fn(f64) -> f64, a: f64, b: f64, target: f64, depth: u32) -> Result<Quadrature> {
+fn recurse(
+    f: &impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    target: f64,
+    noise: f64,
+    depth: u32,
+) -> Result<Quadrature> {
     if a == b {
         return Ok(Quadrature::zero());
     }
@@ -574,7 +681,7 @@ fn recurse(f: &impl Fn(f64) -> f64, a: f64, b: f64, target: f64, depth: u32) -> 
         error: o.error_estimate,
         evaluations: o.num_function_evaluations as usize,
     };
-    if q.error <= target {
+    if q.error <= target || q.error <= noise * q.value.abs() {
         return Ok(q);
     }
     if depth >= MAX_DEPTH {
@@ -585,8 +692,8 @@ fn recurse(f: &impl Fn(f64) -> f64, a: f64, b: f64, target: f64, depth: u32) -> 
         });
     }
     let m = 0.5 * (a + b);
-    let left = recurse(f, a, m, 0.5 * target, depth + 1)?;
-    let right = recurse(f, m, b, 0.5 * target, depth + 1)?;
+    let left = recurse(f, a, m, 0.5 * target, noise, depth + 1)?;
+    let right = recurse(f, m, b, 0.5 * target, noise, depth + 1)?;
     Ok(left.add(right).add(Quadrature {
         value: 0.0,
         error: 0.0,
