@@ -172,7 +172,11 @@ impl Node {
 pub const DEFAULT_TOLERANCE: f64 = 1e-14;
 
 /// Maximum bisection depth of the adaptive Clenshaw–Curtis rule.
-const MAX_DEPTH: u32 = 16;
+const MAX_DEPTH: u32 = 60;
+
+/// Budget of integrand evaluations per adaptive integral; exceeding it is reported as
+/// [`Error::NotConverged`] rather than spending unbounded time.
+const MAX_EVALUATIONS: usize = 200_000;
 
 /// The libration interval `[x₁, x₂]` of a separated coordinate, with its reduced radicand.
 #[derive(Clone, Debug)]
@@ -468,11 +472,14 @@ impl<R: Radicand> Libration<Factored<R>> {
         let u = at(x2);
         let upper = [-u[0], u[1], -u[2]];
         let l = x2 - x1;
-        // Separatrix test: a turning point where F′ vanishes relative to the interval's scale.
-        let mid = radicand.radicand(0.5 * (x1 + x2)) / (0.25 * l * l);
-        for (which, slope) in [("lower", lower[0]), ("upper", upper[0])] {
-            let ratio = slope / l / mid;
-            if ratio.is_nan() || ratio <= 64.0 * f64::EPSILON {
+        // Separatrix test. Near a turning point F ≈ F′d + ½F″d²; the energy-like distance to the
+        // double root that F would have if the two merged is F′²/(2|F″|). When that is within the
+        // rounding noise of F (64 ε |F|), the turning point cannot be told from a double root.
+        let scale = radicand.radicand(0.5 * (x1 + x2)).abs();
+        for (which, d) in [("lower", lower), ("upper", upper)] {
+            let gap = d[0] * d[0] / (4.0 * d[1].abs().max(f64::MIN_POSITIVE));
+            let ratio = gap / scale;
+            if ratio.is_nan() || ratio <= 64.0 * f64::EPSILON || d[0] <= 0.0 {
                 return Err(Error::Separatrix {
                     what: format!("{which} turning point of the radicand"),
                     distance: ratio.max(0.0),
@@ -654,7 +661,8 @@ fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64, noise: f64) -> 
         }
         v
     };
-    let out = recurse(&g, a, b, target, noise, 0)?;
+    let spent = Cell::new(0usize);
+    let out = recurse(&g, a, b, target, noise, 0, &spent)?;
     if seen_bad.get() {
         return Err(Error::NonFinite {
             what: format!("quadrature integrand at s = {}", bad.get()),
@@ -671,6 +679,7 @@ fn recurse(
     target: f64,
     noise: f64,
     depth: u32,
+    spent: &Cell<usize>,
 ) -> Result<Quadrature> {
     if a == b {
         return Ok(Quadrature::zero());
@@ -681,10 +690,11 @@ fn recurse(
         error: o.error_estimate,
         evaluations: o.num_function_evaluations as usize,
     };
+    spent.set(spent.get() + q.evaluations);
     if q.error <= target || q.error <= noise * q.value.abs() {
         return Ok(q);
     }
-    if depth >= MAX_DEPTH {
+    if depth >= MAX_DEPTH || spent.get() > MAX_EVALUATIONS {
         return Err(Error::NotConverged {
             what: "adaptive Clenshaw–Curtis quadrature".into(),
             iterations: depth as usize,
@@ -692,8 +702,8 @@ fn recurse(
         });
     }
     let m = 0.5 * (a + b);
-    let left = recurse(f, a, m, 0.5 * target, noise, depth + 1)?;
-    let right = recurse(f, m, b, 0.5 * target, noise, depth + 1)?;
+    let left = recurse(f, a, m, 0.5 * target, noise, depth + 1, spent)?;
+    let right = recurse(f, m, b, 0.5 * target, noise, depth + 1, spent)?;
     Ok(left.add(right).add(Quadrature {
         value: 0.0,
         error: 0.0,

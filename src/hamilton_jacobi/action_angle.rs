@@ -1,0 +1,353 @@
+//! Action–angle variables of one-degree-of-freedom systems by quadrature (SPEC M55, M26, X1, X2;
+//! [Ardema 17.3, 9.2]; [Goldstein 10.6]).
+//!
+//! For `H = ½ a(q) p² + V(q)` (`a > 0` the inverse mass) and an energy `h` with a libration
+//! between turning points `q₁ < q₂` (roots of `F = p² = 2(h − V)/a`):
+//!
+//! $$ J(h) = \frac{1}{2\pi}\oint p\\,dq = \frac1\pi\int_{q_1}^{q_2}\sqrt{F}\\,dq, \qquad
+//!    T = 2\int_{q_1}^{q_2}\frac{dq}{a\sqrt F} = 2\pi\frac{dJ}{dh}, \qquad
+//!    \omega = \frac{\partial H}{\partial J} = \frac{2\pi}{T}, $$
+//!
+//! and the angle `w = ω (t − t₁)`, with `t − t₁` the time since the lower turning point (`w = π`
+//! at the upper one). `(w, J)` are canonical: `J` is the new momentum, constant, and `w` the new
+//! coordinate, advancing at the rate `ω(J)`.
+//!
+//! The quadratures run through the turning points in the substitution variable of
+//! [`Libration`]. Near a separatrix the upper turning point approaches a double root of `F` and
+//! the period diverges logarithmically; a generic potential is refused once `F′` at the turning
+//! point vanishes to rounding ([`Error::Separatrix`]). For the pendulum,
+//! [`ActionAngle::pendulum`] takes the distance `δ = π − a` to the separatrix itself and uses the
+//! exact factorisation `F = 4n² sin(d₁/2) sin(d₂/2)` with `sin(d₁/2) = sin(δ + d₂/2)`, so the
+//! period is resolved for every `δ > 0` representable (SPEC X2), never ∞ or NaN.
+
+use super::quadrature::{Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand};
+use crate::error::{finite, Error, Result};
+use crate::systems::{HarmonicOscillator, Pendulum};
+use num_dual::DualNum;
+use std::f64::consts::{PI, TAU};
+
+/// A one-degree-of-freedom system `H = ½ a(q) p² + V(q)`, written once for every dual type.
+pub trait OneDegreeOfFreedom {
+    /// Inverse mass `a(q) > 0` (default 1).
+    fn inverse_mass<D: DualNum<f64> + Copy>(&self, _q: D) -> D {
+        D::one()
+    }
+    /// Potential `V(q)`.
+    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D;
+    /// `H(q, p)`.
+    fn energy(&self, q: f64, p: f64) -> f64 {
+        0.5 * self.inverse_mass(q) * p * p + self.potential(q)
+    }
+}
+
+impl OneDegreeOfFreedom for Pendulum {
+    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
+        // n²(1 − cos q) = 2n² sin²(q/2), without cancellation near q = 0.
+        let s = (q * 0.5).sin();
+        s * s * (2.0 * self.n() * self.n())
+    }
+}
+
+impl OneDegreeOfFreedom for HarmonicOscillator {
+    fn inverse_mass<D: DualNum<f64> + Copy>(&self, _q: D) -> D {
+        D::from(1.0 / self.mass())
+    }
+    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
+        q * q * (0.5 * self.mass() * self.omega() * self.omega())
+    }
+}
+
+/// The energy radicand `F(q) = p² = 2(h − V(q))/a(q)`.
+#[derive(Clone, Copy, Debug)]
+pub struct EnergyRadicand<S> {
+    system: S,
+    h: f64,
+}
+
+impl<S: OneDegreeOfFreedom> Radicand for EnergyRadicand<S> {
+    fn radicand<D: DualNum<f64> + Copy>(&self, q: D) -> D {
+        (-self.system.potential(q) + self.h) * 2.0 / self.system.inverse_mass(q)
+    }
+}
+
+/// The pendulum's exact reduced radicand for the libration `[−a, a]`, `a = π − δ`:
+/// `P = n² sinc(d₁/2) sinc(d₂/2)`, with `sin(d₁/2)` evaluated as `sin(δ + d₂/2)` past `π/2` so that
+/// the gap `δ` enters exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PendulumReduced {
+    n: f64,
+    delta: f64,
+}
+
+impl PendulumReduced {
+    fn half_sine(&self, d: f64, other: f64) -> f64 {
+        let x = 0.5 * d;
+        if x <= 0.5 * PI {
+            x.sin()
+        } else {
+            (self.delta + 0.5 * other).sin()
+        }
+    }
+}
+
+impl ReducedRadicand for PendulumReduced {
+    fn reduced(&self, _q: f64, d1: f64, d2: f64) -> f64 {
+        let sinc = |d: f64, other: f64| {
+            if d == 0.0 {
+                1.0
+            } else {
+                self.half_sine(d, other) / (0.5 * d)
+            }
+        };
+        self.n * self.n * sinc(d1, d2) * sinc(d2, d1)
+    }
+}
+
+/// Action–angle variables of a libration of a [`OneDegreeOfFreedom`] system.
+#[derive(Clone, Debug)]
+pub struct ActionAngle<S, P> {
+    system: S,
+    h: f64,
+    libration: Libration<P>,
+    action: Quadrature,
+    half_period: Quadrature,
+}
+
+impl<S: OneDegreeOfFreedom + Clone> ActionAngle<S, Factored<EnergyRadicand<S>>> {
+    /// The libration with energy `h` through `inside` (where `V(inside) < h`); the turning points
+    /// are searched in `[lower_bound, upper_bound]`.
+    pub fn new(system: S, h: f64, inside: f64, lower_bound: f64, upper_bound: f64) -> Result<Self> {
+        let h = finite("energy h", h)?;
+        let radicand = EnergyRadicand {
+            system: system.clone(),
+            h,
+        };
+        let libration = Libration::from_radicand(radicand, inside, lower_bound, upper_bound)?;
+        Self::with_libration(system, h, libration)
+    }
+
+    /// The libration through the state `(q, p)`; see [`ActionAngle::new`].
+    pub fn from_state(
+        system: S,
+        q: f64,
+        p: f64,
+        lower_bound: f64,
+        upper_bound: f64,
+    ) -> Result<Self> {
+        let (q, p) = (finite("q", q)?, finite("p", p)?);
+        let h = system.energy(q, p);
+        let inside = if p != 0.0 {
+            q
+        } else {
+            // At a turning point: step a little towards lower potential.
+            let slope = system
+                .potential(num_dual::Dual64::from_re(q).derivative())
+                .eps;
+            let step = 1e-6 * q.abs().max(1e-3);
+            if slope > 0.0 {
+                q - step
+            } else {
+                q + step
+            }
+        };
+        Self::new(system, h, inside, lower_bound, upper_bound)
+    }
+}
+
+impl ActionAngle<Pendulum, PendulumReduced> {
+    /// The pendulum's libration at distance `δ = π − a ∈ (0, π)` from the separatrix, with the
+    /// exact reduced radicand (accurate for every representable `δ > 0`; `δ = 0` is the separatrix
+    /// and an error).
+    pub fn pendulum(pendulum: Pendulum, delta: f64) -> Result<Self> {
+        let delta = finite("gap δ = π − a", delta)?;
+        if delta == 0.0 {
+            return Err(Error::Separatrix {
+                what: "pendulum action–angle variables".into(),
+                distance: 0.0,
+                hint: "δ = 0 is the separatrix: infinite period, no angle variable".into(),
+            });
+        }
+        if !(delta > 0.0 && delta < PI) {
+            return Err(Error::out_of_domain("gap δ = π − a", delta, "(0, π)"));
+        }
+        let a = PI - delta;
+        let n = pendulum.n();
+        let h = 2.0 * n * n * (0.5 * a).sin().powi(2);
+        let libration = Libration::new(-a, a, PendulumReduced { n, delta })?;
+        Self::with_libration(pendulum, h, libration)
+    }
+}
+
+impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
+    /// From a libration interval whose reduced radicand is that of `F = 2(h − V)/a` (e.g. an exact
+    /// factorisation).
+    pub fn with_libration(system: S, h: f64, libration: Libration<P>) -> Result<Self> {
+        let action = libration.sqrt_integral()?.scale(1.0 / PI);
+        let half_period = libration.integrate_full(|n| time_density(&system, n))?;
+        Ok(Self {
+            system,
+            h,
+            libration,
+            action,
+            half_period,
+        })
+    }
+
+    /// The energy `h`.
+    pub fn energy(&self) -> f64 {
+        self.h
+    }
+    /// Turning points `(q₁, q₂)`.
+    pub fn turning_points(&self) -> (f64, f64) {
+        (self.libration.lower(), self.libration.upper())
+    }
+    /// The libration interval.
+    pub fn libration(&self) -> &Libration<P> {
+        &self.libration
+    }
+    /// The action `J = (1/2π) ∮ p dq`.
+    pub fn action(&self) -> Quadrature {
+        self.action
+    }
+    /// The period `T = 2 ∫ dq/q̇`.
+    pub fn period(&self) -> Quadrature {
+        let q = self.half_period;
+        Quadrature {
+            value: 2.0 * q.value,
+            error: 2.0 * q.error,
+            evaluations: q.evaluations,
+        }
+    }
+    /// The frequency `ω = ∂H/∂J = 2π/T`.
+    pub fn frequency(&self) -> f64 {
+        PI / self.half_period.value
+    }
+
+    /// The angle `w ∈ [0, 2π)` of a state on this libration (`w = 0` at the lower turning point,
+    /// increasing along the motion). The state must have this energy to within `1e−10` relative.
+    pub fn angle(&self, q: f64, p: f64) -> Result<f64> {
+        let (q, p) = (finite("q", q)?, finite("p", p)?);
+        let h = self.system.energy(q, p);
+        if (h - self.h).abs() > 1e-10 * self.h.abs().max(f64::MIN_POSITIVE) {
+            return Err(Error::invalid(
+                "state",
+                format!("energy {h} differs from the libration's {}", self.h),
+            ));
+        }
+        let s = self.phase_of_state(q, p)?;
+        let t = self
+            .libration
+            .integrate_between(|n| time_density(&self.system, n), 0.0, s)?
+            .value;
+        let half = self.half_period.value;
+        // q̇ = a p: moving up when p > 0.
+        let since = if p >= 0.0 || s == PI {
+            t
+        } else {
+            2.0 * half - t
+        };
+        Ok((since * self.frequency()).rem_euclid(TAU))
+    }
+
+    /// The substitution variable of `(q, p)`. Within the outer quarters of the interval it is the
+    /// root of `√(d₁ d₂ P)(s) = |p|` (Illinois iteration, bracketed by the quarter): there `q`
+    /// determines the phase only to `√ε` (the phase varies like `√(q − q₁)`), while `p`
+    /// determines it to full precision.
+    fn phase_of_state(&self, q: f64, p: f64) -> Result<f64> {
+        let lib = &self.libration;
+        let s_q = lib.phase(q)?;
+        let outer = PI / 4.0;
+        if lib.upper() == lib.lower() || (outer..=PI - outer).contains(&s_q) {
+            return Ok(s_q);
+        }
+        let (mut a, mut b) = if s_q < 0.5 * PI {
+            (0.0, outer)
+        } else {
+            (PI, PI - outer)
+        };
+        let g = |s: f64| lib.node(s).sqrt_radicand() - p.abs();
+        let (mut ga, mut gb) = (g(a), g(b));
+        if !(ga <= 0.0 && gb > 0.0) {
+            return Ok(s_q);
+        }
+        let mut side = 0;
+        for _ in 0..100 {
+            let c = (a * gb - b * ga) / (gb - ga);
+            let gc = g(c);
+            if gc == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * c.abs().max(f64::MIN_POSITIVE) {
+                return Ok(c);
+            }
+            if gc < 0.0 {
+                a = c;
+                ga = gc;
+                if side == -1 {
+                    gb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = c;
+                gb = gc;
+                if side == 1 {
+                    ga *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(0.5 * (a + b))
+    }
+
+    /// The state `(q, p)` at angle `w` (any real; taken modulo 2π): inverts the time law by
+    /// Newton on the quadrature.
+    pub fn state(&self, w: f64) -> Result<(f64, f64)> {
+        let w = finite("angle w", w)?.rem_euclid(TAU);
+        let half = self.half_period.value;
+        let t = w / self.frequency();
+        let (up, target) = if t <= half {
+            (true, t)
+        } else {
+            (false, 2.0 * half - t)
+        };
+        let (s, _) = self.libration.solve_phase(
+            |n| time_density(&self.system, n),
+            target.clamp(0.0, half),
+            half,
+        )?;
+        let node = self.libration.node(s);
+        let p = node.sqrt_radicand();
+        Ok((node.x, if up { p } else { -p }))
+    }
+}
+
+/// `dt/ds = 1/(a(q) √P)` (from `q̇ = a p`, `dq = √(d₁d₂) ds`, `p = √(d₁d₂P)`).
+fn time_density<S: OneDegreeOfFreedom>(system: &S, n: &Node) -> f64 {
+    1.0 / (system.inverse_mass(n.x) * n.reduced.sqrt())
+}
+
+/// The period of a libration of energy `h` through `inside`, by quadrature (SPEC M26
+/// `time_of_flight` over a full cycle).
+pub fn libration_period<S: OneDegreeOfFreedom + Clone>(
+    system: S,
+    h: f64,
+    inside: f64,
+    lower_bound: f64,
+    upper_bound: f64,
+) -> Result<Quadrature> {
+    Ok(ActionAngle::new(system, h, inside, lower_bound, upper_bound)?.period())
+}
+
+/// Time of flight `∫_{q₀}^{q₁} dq/q̇` between two points of one leg of the libration of energy `h`
+/// (SPEC M26), either end allowed to be a turning point; negative when `q₁ < q₀`.
+pub fn time_of_flight<S: OneDegreeOfFreedom + Clone>(
+    system: S,
+    h: f64,
+    q0: f64,
+    q1: f64,
+    lower_bound: f64,
+    upper_bound: f64,
+) -> Result<Quadrature> {
+    let (q0, q1) = (finite("q₀", q0)?, finite("q₁", q1)?);
+    let aa = ActionAngle::new(system, h, 0.5 * (q0 + q1), lower_bound, upper_bound)?;
+    let lib = aa.libration();
+    let (s0, s1) = (lib.phase(q0)?, lib.phase(q1)?);
+    lib.integrate_signed(|n| time_density(&aa.system, n), s0, s1)
+}
