@@ -4,51 +4,27 @@ mod common;
 
 use approx::assert_relative_eq;
 use hamilton_jacobi::hamilton_jacobi::{
-    completeness, hj_residual, CompleteIntegral, ElementConvention, Elements,
+    completeness, hj_residual, ElementConvention, Elements, OscillatorIntegral, ProjectileIntegral,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::{HarmonicOscillator, Projectile};
-use hamilton_jacobi::DualNum;
 use proptest::prelude::*;
 
 const G: f64 = 9.81;
 
-/// T3: S = −(γ²/2 + g k) t + γ x − (2/3) √(2g) (k − y)^{3/2}, α = (γ, k) (ascending branch).
-struct ProjectileS;
-impl CompleteIntegral<2> for ProjectileS {
-    fn action<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 2>, a: &SVector<D, 2>) -> D {
-        let (gamma, k) = (a[0], a[1]);
-        let d = k - q[1];
-        -(gamma * gamma * 0.5 + k * G) * t + gamma * q[0]
-            - d * d.sqrt() * ((2.0 / 3.0) * (2.0 * G).sqrt())
-    }
+/// T3's integral (ascending branch), shipped as `ProjectileIntegral`.
+fn projectile_integral() -> ProjectileIntegral {
+    ProjectileIntegral::new(G).unwrap()
 }
 
-/// T4: S = −½ n² α² t + (n/2)(x √(α² − x²) + α² asin(x/α)), H = ½(p² + n² x²).
-struct OscillatorS {
-    n: f64,
-}
-impl CompleteIntegral<1> for OscillatorS {
-    fn action<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 1>, a: &SVector<D, 1>) -> D {
-        let (x, al) = (q[0], a[0]);
-        let n = self.n;
-        -(al * al) * t * (0.5 * n * n)
-            + (x * (al * al - x * x).sqrt() + al * al * (x / al).asin()) * (0.5 * n)
-    }
-    /// α is the amplitude √(x² + p²/n²): exact, and inside the domain α ≥ |x|.
-    fn alpha_guess(
-        &self,
-        _t: f64,
-        q: &SVector<f64, 1>,
-        p: &SVector<f64, 1>,
-    ) -> Option<SVector<f64, 1>> {
-        Some(SVector::from([q[0].hypot(p[0] / self.n)]))
-    }
+/// T4's integral, shipped as `OscillatorIntegral`.
+fn oscillator_integral(n: f64) -> OscillatorIntegral {
+    OscillatorIntegral::new(n).unwrap()
 }
 
 #[test]
 fn t3_projectile_complete_integral() {
-    let el = Elements::new(ProjectileS, ElementConvention::AlphaMomenta);
+    let el = Elements::new(projectile_integral(), ElementConvention::AlphaMomenta);
     let (u0, v0) = (5.0, 12.31);
     // Initial data at t = 0: γ = u₀, k = y₀ + v₀²/(2g) = 7.72355249745158, β = (x₀, −v₀).
     let (alpha, beta) = el
@@ -65,7 +41,7 @@ fn t3_projectile_complete_integral() {
     assert_relative_eq!(p[0], 5.0, epsilon = 1e-13);
     assert_relative_eq!(p[1], 2.5, epsilon = 1e-12);
     // Under the opposite convention β = −∂S/∂α: β₁ = −x₀.
-    let el18 = Elements::new(ProjectileS, ElementConvention::AlphaCoordinates);
+    let el18 = Elements::new(projectile_integral(), ElementConvention::AlphaCoordinates);
     let (a2, b2) = el18
         .elements(0.0, &SVector::from([0.7, 0.0]), &SVector::from([u0, v0]))
         .unwrap();
@@ -75,12 +51,24 @@ fn t3_projectile_complete_integral() {
     assert!(el.state(2.0, &alpha, &beta).is_err());
     // HJ residual and completeness.
     let h = Projectile::new(1.0, G).unwrap();
-    let r = hj_residual(&ProjectileS, &h, 0.4, &SVector::from([1.0, 2.0]), &alpha).unwrap();
+    let r = hj_residual(
+        &projectile_integral(),
+        &h,
+        0.4,
+        &SVector::from([1.0, 2.0]),
+        &alpha,
+    )
+    .unwrap();
     assert!(r.abs() < 1e-13, "residual {r}");
     assert!(
-        completeness(&ProjectileS, 0.4, &SVector::from([1.0, 2.0]), &alpha)
-            .unwrap()
-            .abs()
+        completeness(
+            &projectile_integral(),
+            0.4,
+            &SVector::from([1.0, 2.0]),
+            &alpha
+        )
+        .unwrap()
+        .abs()
             > 0.1
     );
 }
@@ -88,7 +76,7 @@ fn t3_projectile_complete_integral() {
 #[test]
 fn t4_oscillator_complete_integral() {
     let n = 2.0;
-    let el = Elements::new(OscillatorS { n }, ElementConvention::AlphaMomenta);
+    let el = Elements::new(oscillator_integral(n), ElementConvention::AlphaMomenta);
     let (amp, t0) = (1.5, 0.3);
     // x = α sin n(t − t₀), β = −n² α t₀; the state on the ascending branch (cos > 0).
     for t in [0.35, 0.5, 0.9] {
@@ -108,7 +96,7 @@ fn t4_oscillator_complete_integral() {
     }
     let h = HarmonicOscillator::new(1.0, n).unwrap();
     let r = hj_residual(
-        &OscillatorS { n },
+        &oscillator_integral(n),
         &h,
         0.7,
         &SVector::from([0.4]),
@@ -129,11 +117,11 @@ proptest! {
                            n in 0.2..3.0f64, amp in 0.1..2.0f64, frac in -0.99..0.99f64) {
         let h = Projectile::new(1.0, G).unwrap();
         let alpha = SVector::from([gamma, y + above]);
-        let r = hj_residual(&ProjectileS, &h, t, &SVector::from([x, y]), &alpha).unwrap();
+        let r = hj_residual(&projectile_integral(), &h, t, &SVector::from([x, y]), &alpha).unwrap();
         let scale = gamma * gamma + G * (y.abs() + above);
         prop_assert!(r.abs() <= 1e-13 * (1.0 + scale), "projectile residual {r}");
         let osc = HarmonicOscillator::new(1.0, n).unwrap();
-        let r = hj_residual(&OscillatorS { n }, &osc, t, &SVector::from([frac * amp]), &SVector::from([amp])).unwrap();
+        let r = hj_residual(&oscillator_integral(n), &osc, t, &SVector::from([frac * amp]), &SVector::from([amp])).unwrap();
         prop_assert!(r.abs() <= 1e-13 * (1.0 + n * n * amp * amp), "oscillator residual {r}");
     }
 }
