@@ -1,15 +1,27 @@
-//! Hamilton–Jacobi theory (SPEC M47, M48, M52–M57): the Hamilton–Jacobi equation, complete
-//! integrals and the motion they generate (Jacobi's theorem), separated coordinates reduced to
-//! quadratures between turning points, central forces, action–angle variables.
+//! Hamilton–Jacobi theory (SPEC M25–M27, M47, M48, M52–M57): the Hamilton–Jacobi equation,
+//! complete integrals and the motion they generate (Jacobi's theorem); separated coordinates
+//! reduced to quadratures between turning points; central forces; action–angle variables;
+//! Liouville's separable systems; order reduction with the energy integral; Jacobi's last
+//! multiplier and the two-degree-of-freedom quadrature.
 
 pub mod action_angle;
 pub mod central;
 pub mod complete;
 pub mod integrals;
+pub mod liouville;
+pub mod multiplier;
 pub mod quadrature;
+pub mod reduction;
 
 pub use action_angle::{libration_period, time_of_flight, ActionAngle, OneDegreeOfFreedom};
 pub use central::{central_quadrature, CentralPotential, InverseDistance, RadialMotion};
 pub use complete::{completeness, hj_residual, CompleteIntegral, ElementConvention, Elements};
 pub use integrals::{KeplerPolarIntegral, OscillatorIntegral, ProjectileIntegral};
+pub use liouville::{liouville_separated_integrals, Liouville, LiouvilleSystem};
+pub use multiplier::{
+    divergence, hamiltonian_divergence, hamiltonian_multiplier_residual, multiplier_residual,
+    two_dof_quadrature, variational_flow, ScalarField, TwoDofMomenta, TwoDofQuadrature,
+    VariationalFlow, VectorField,
+};
 pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
+pub use reduction::{ReducedHamiltonian, ReducedRates, Whittaker};
