@@ -234,7 +234,7 @@ impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
                 format!("energy {h} differs from the libration's {}", self.h),
             ));
         }
-        let s = self.phase_of_state(q, p)?;
+        let s = self.libration.phase_with_momentum(q, p)?;
         let t = self
             .libration
             .integrate_between(|n| time_density(&self.system, n), 0.0, s)?
@@ -247,53 +247,6 @@ impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
             2.0 * half - t
         };
         Ok((since * self.frequency()).rem_euclid(TAU))
-    }
-
-    /// The substitution variable of `(q, p)`. Within the outer quarters of the interval it is the
-    /// root of `√(d₁ d₂ P)(s) = |p|` (Illinois iteration, bracketed by the quarter): there `q`
-    /// determines the phase only to `√ε` (the phase varies like `√(q − q₁)`), while `p`
-    /// determines it to full precision.
-    fn phase_of_state(&self, q: f64, p: f64) -> Result<f64> {
-        let lib = &self.libration;
-        let s_q = lib.phase(q)?;
-        let outer = PI / 4.0;
-        if lib.upper() == lib.lower() || (outer..=PI - outer).contains(&s_q) {
-            return Ok(s_q);
-        }
-        let (mut a, mut b) = if s_q < 0.5 * PI {
-            (0.0, outer)
-        } else {
-            (PI, PI - outer)
-        };
-        let g = |s: f64| lib.node(s).sqrt_radicand() - p.abs();
-        let (mut ga, mut gb) = (g(a), g(b));
-        if !(ga <= 0.0 && gb > 0.0) {
-            return Ok(s_q);
-        }
-        let mut side = 0;
-        for _ in 0..100 {
-            let c = (a * gb - b * ga) / (gb - ga);
-            let gc = g(c);
-            if gc == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * c.abs().max(f64::MIN_POSITIVE) {
-                return Ok(c);
-            }
-            if gc < 0.0 {
-                a = c;
-                ga = gc;
-                if side == -1 {
-                    gb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = c;
-                gb = gc;
-                if side == 1 {
-                    ga *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        Ok(0.5 * (a + b))
     }
 
     /// The state `(q, p)` at angle `w` (any real; taken modulo 2π): inverts the time law by

@@ -1,5 +1,6 @@
 //! Hamilton–Jacobi theory (SPEC M25–M27, M47, M48, M52–M57): the Hamilton–Jacobi equation,
-//! complete integrals and the motion they generate (Jacobi's theorem); separated coordinates
+//! complete integrals and the motion they generate (Jacobi's theorem); Hamilton's principal
+//! function by shooting; separated coordinates
 //! reduced to quadratures between turning points; central forces; action–angle variables;
 //! Liouville's separable systems; order reduction with the energy integral; Jacobi's last
 //! multiplier and the two-degree-of-freedom quadrature.
@@ -10,6 +11,7 @@ pub mod complete;
 pub mod integrals;
 pub mod liouville;
 pub mod multiplier;
+pub mod principal;
 pub mod quadrature;
 pub mod reduction;
 
@@ -22,6 +24,11 @@ pub use multiplier::{
     divergence, hamiltonian_divergence, hamiltonian_multiplier_residual, multiplier_residual,
     two_dof_quadrature, variational_flow, ScalarField, TwoDofMomenta, TwoDofQuadrature,
     VariationalFlow, VectorField,
+};
+pub use principal::{
+    principal_function, principal_function_generic, propagate, propagate_fixed, PrincipalError,
+    PrincipalFunction, PrincipalOptions, PrincipalValue, Propagation, PropagationOptions,
+    StateError, Work,
 };
 pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
 pub use reduction::{ReducedHamiltonian, ReducedRates, Whittaker};

@@ -310,6 +310,54 @@ impl<P: ReducedRadicand> Libration<P> {
         })
     }
 
+    /// The substitution variable of a point `x` where the separated momentum is `p` (`p² = F`,
+    /// either sign). Within the outer quarters of the interval it is the root of
+    /// `√(d₁ d₂ P)(s) = |p|` (Illinois iteration, bracketed by the quarter): there `x` determines
+    /// the phase only to `√ε` (the phase varies like `√(x − x₁)`), while `p` determines it to full
+    /// precision. Elsewhere it is [`phase`](Self::phase)`(x)`.
+    pub fn phase_with_momentum(&self, x: f64, p: f64) -> Result<f64> {
+        let p = finite("momentum p", p)?;
+        let s_x = self.phase(x)?;
+        let outer = PI / 4.0;
+        if self.x2 == self.x1 || (outer..=PI - outer).contains(&s_x) {
+            return Ok(s_x);
+        }
+        let (mut a, mut b) = if s_x < 0.5 * PI {
+            (0.0, outer)
+        } else {
+            (PI, PI - outer)
+        };
+        let g = |s: f64| self.node(s).sqrt_radicand() - p.abs();
+        let (mut ga, mut gb) = (g(a), g(b));
+        if !(ga <= 0.0 && gb > 0.0) {
+            return Ok(s_x);
+        }
+        let mut side = 0;
+        for _ in 0..100 {
+            let c = (a * gb - b * ga) / (gb - ga);
+            let gc = g(c);
+            if gc == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * c.abs().max(f64::MIN_POSITIVE) {
+                return Ok(c);
+            }
+            if gc < 0.0 {
+                a = c;
+                ga = gc;
+                if side == -1 {
+                    gb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = c;
+                gb = gc;
+                if side == 1 {
+                    ga *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(0.5 * (a + b))
+    }
+
     /// `∫ f(node) ds` over `s ∈ [0, π]` — the full interval `x₁ → x₂`. The integrand receives the
     /// [`Node`] and must include every factor except `ds` (e.g. `g(x)/√P` for `∫ g dx/√F`).
     pub fn integrate_full(&self, f: impl Fn(&Node) -> f64) -> Result<Quadrature> {
