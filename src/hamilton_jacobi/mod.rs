@@ -14,6 +14,7 @@ pub mod multiplier;
 pub mod principal;
 pub mod quadrature;
 pub mod reduction;
+pub mod separable;
 
 pub use action_angle::{libration_period, time_of_flight, ActionAngle, OneDegreeOfFreedom};
 pub use central::{central_quadrature, CentralPotential, InverseDistance, RadialMotion};
@@ -32,3 +33,4 @@ pub use principal::{
 };
 pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
 pub use reduction::{ReducedHamiltonian, ReducedRates, Whittaker};
+pub use separable::{LiouvilleSeparation, SeparatedMotion, SeparatedSystem};

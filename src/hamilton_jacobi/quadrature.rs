@@ -190,6 +190,11 @@ pub struct Libration<P> {
 impl<P: ReducedRadicand> Libration<P> {
     /// Turning points `x₁ ≤ x₂` and the exact reduced radicand `P` (`F = (x − x₁)(x₂ − x) P`).
     /// `x₁ = x₂` is allowed: the integrals are then their small-oscillation limits.
+    ///
+    /// The offsets `d₁, d₂` are computed from the width `L = x₂ − x₁`, so they are only as precise
+    /// as `L`: a narrow libration far from the origin (`L ≪ |x|`) loses `ε|x|/L` relative. Pass
+    /// such an interval in a local variable `x − x₀` whose turning points are known as offsets
+    /// (the heavy top's fast nutation does this).
     pub fn new(x1: f64, x2: f64, reduced: P) -> Result<Self> {
         let x1 = finite("lower turning point x₁", x1)?;
         let x2 = finite("upper turning point x₂", x2)?;

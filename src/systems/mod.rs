@@ -8,6 +8,7 @@
 //! | [`Kepler2`], [`Kepler3`] | 2, 3 | Kepler's equation, elliptic orbits (SPEC M28, X3) |
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral, SPEC T24) |
+//! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top_motion`], SPEC M30, M57) |
 
 use crate::error::Result;
 use nalgebra::SVector;
@@ -19,12 +20,15 @@ pub mod kepler_orbit;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
+mod top;
+pub mod top_motion;
 
 pub use bead::BeadOnHoop;
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
+pub use top::{HeavyTop, SteadyPrecession};
 
 /// A named conserved quantity and its value at a phase point.
 #[derive(Clone, Debug, PartialEq)]
