@@ -68,7 +68,7 @@ fn pendulum_action_closed_form_and_frequency() {
         let (k, e) = (ellip::ellipk(m).unwrap(), ellip::ellipe(m).unwrap());
         let closed = 8.0 * 1.3 / PI * (e - (1.0 - m) * k);
         assert_relative_eq!(aa.action().value, closed, max_relative = 1e-13);
-        // The generic route (root search + Taylor-guarded reduced radicand) agrees.
+        // The generic route (root search + derivative-form reduced radicand) agrees.
         let generic = ActionAngle::new(pen, aa.energy(), 0.0, -PI, PI).unwrap();
         assert_relative_eq!(generic.action().value, closed, max_relative = 1e-13);
         assert_relative_eq!(

@@ -27,7 +27,7 @@ fn t13_half_period_and_swept_angle() {
     let exact = RadialMotion::kepler_elements(1.0, 1.0, 0.5).unwrap();
     assert_relative_eq!(exact.half_period().value, PI, max_relative = 1e-12);
     assert_relative_eq!(exact.apsidal_angle().value, PI, max_relative = 1e-12);
-    // The same through the generic root search and Taylor-guarded reduced radicand.
+    // The same through the generic root search and derivative-form reduced radicand.
     let (h, k) = (-0.5, (0.75f64).sqrt());
     let generic = RadialMotion::new(InverseDistance::new(1.0).unwrap(), h, k, 1.0, 10.0).unwrap();
     assert_relative_eq!(generic.periapsis(), 0.5, max_relative = 1e-15);

@@ -18,7 +18,7 @@
 //! `r_a = (μ + μe)/(−2h)`, `r_p = k²/(μ + μe)`; [`RadialMotion::kepler`] uses that form, which
 //! stays exact for `e → 0` (where the two apsides merge and the integrals tend to their
 //! circular-orbit limits) and for `e → 1`. Any other potential goes through the generic root
-//! search and Taylor-guarded reduced radicand of [`Libration::from_radicand`].
+//! search and derivative-form reduced radicand of [`Libration::from_radicand`].
 
 use super::quadrature::{Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand};
 use crate::error::{finite, positive, Error, Result};

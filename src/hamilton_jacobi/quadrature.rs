@@ -16,8 +16,9 @@
 //! reflected variable `σ = π − s`, so each turning point sits at the origin of its own variable.
 //! For a known factorisation (Kepler, pendulum, heavy top) the caller supplies `P` exactly
 //! ([`Libration::new`]); otherwise [`Libration::from_radicand`] finds the roots of a generic `F` and
-//! evaluates `P = F/((x − x₁)(x₂ − x))`, replaced by its Taylor expansion through `F‴` within a
-//! relative distance `ε^{1/4}` of a root, where the division would amplify rounding in `F`.
+//! evaluates `P = F/((x − x₁)(x₂ − x))`; near a root, where that division would amplify the
+//! rounding of `F`, it uses `F(x₁ + d) = d ∫₀¹ F′(x₁ + τd) dτ` with the AD derivative instead
+//! ([`Factored`]).
 //!
 //! In `s` the period integrals are those of smooth periodic functions; when the two roots merge
 //! (a double root: circular orbit, steady precession) the integrals tend to the finite
@@ -69,41 +70,94 @@ impl<F: Fn(f64, f64, f64) -> f64> ReducedRadicand for F {
     }
 }
 
-/// `P = F/(d₁ d₂)` for a generic [`Radicand`], with third-order Taylor expansions about the roots.
+/// `P = F/(d₁ d₂)` for a generic [`Radicand`]. Near a root the quotient would divide the
+/// rounding error of `F` (absolute, from its own terms) by a small `d`; there `F` is replaced by
+/// the integral of its AD derivative from the root,
+///
+/// $$ F(x_1 + d_1) = d_1 \int_0^1 F'(x_1 + \tau d_1)\,d\tau, $$
+///
+/// by 8-point Gauss–Legendre (exact to degree 15 in `τ`), which involves no cancellation. The switch
+/// is at `d = 0.1 ℓ`, with `ℓ` the smaller of the interval width and the root's own length scale
+/// `|F′/F″|`, so the Gauss rule spans at most a tenth of the distance over which `F′` changes.
 #[derive(Clone, Debug)]
 pub struct Factored<R> {
     radicand: R,
-    /// `[F′, F″/2, F‴/6]` at `x₁`.
-    lower: [f64; 3],
-    /// `[−F′, F″/2, −F‴/6]` at `x₂` (expansion in `d₂ = x₂ − x`).
-    upper: [f64; 3],
-    /// Offsets below which the expansion is used.
-    switch: f64,
+    x1: f64,
+    x2: f64,
+    /// Offsets from `x₁` and `x₂` below which the derivative form is used.
+    switch: [f64; 2],
+    /// Relative accuracy of `P` (see [`ReducedRadicand::noise`]).
+    noise: f64,
 }
 
+/// 8-point Gauss–Legendre nodes and weights on `[0, 1]`.
+const GAUSS8: [(f64, f64); 8] = [
+    (0.019855071751231856, 0.05061426814518815),
+    (0.10166676129318664, 0.11119051722668725),
+    (0.2372337950418355, 0.15685332293894366),
+    (0.4082826787521751, 0.181341891689181),
+    (0.591717321247825, 0.181341891689181),
+    (0.7627662049581645, 0.15685332293894366),
+    (0.8983332387068134, 0.11119051722668725),
+    (0.9801449282487682, 0.05061426814518815),
+];
+
 impl<R: Radicand> Factored<R> {
+    fn new(radicand: R, x1: f64, x2: f64) -> Self {
+        let l = x2 - x1;
+        let scale = |x: f64| {
+            let d = radicand.radicand(num_dual::Dual2_64::from_re(x).derivative());
+            let local = (d.v1 / d.v2).abs();
+            0.1 * if local.is_finite() { local.min(l) } else { l }
+        };
+        let switch = [scale(x1), scale(x2)];
+        // The direct quotient's relative error where it takes over is about ε |F|_max / |F(x)|:
+        // the absolute rounding of F, of the size of its largest values, over the value there.
+        let big = radicand.radicand(0.5 * (x1 + x2)).abs();
+        let small = radicand
+            .radicand(x1 + switch[0])
+            .abs()
+            .min(radicand.radicand(x2 - switch[1]).abs());
+        let noise = 4.0 * f64::EPSILON * (big / small).max(10.0);
+        Self {
+            radicand,
+            x1,
+            x2,
+            switch,
+            noise,
+        }
+    }
     /// The radicand.
     pub fn radicand(&self) -> &R {
         &self.radicand
+    }
+    /// `∫₀¹ F′(x₀ + σ τ d) dτ` (`σ = ±1`).
+    fn mean_slope(&self, x0: f64, sigma: f64, d: f64) -> f64 {
+        GAUSS8
+            .iter()
+            .map(|&(t, w)| {
+                let x = x0 + sigma * t * d;
+                w * self.radicand.radicand(Dual64::from_re(x).derivative()).eps
+            })
+            .sum()
     }
 }
 
 impl<R: Radicand> ReducedRadicand for Factored<R> {
     fn reduced(&self, x: f64, d1: f64, d2: f64) -> f64 {
-        if d1 <= self.switch && d1 <= d2 {
-            let [a, b, c] = self.lower;
-            (a + d1 * (b + d1 * c)) / d2
-        } else if d2 <= self.switch {
-            let [a, b, c] = self.upper;
-            (a + d2 * (b + d2 * c)) / d1
+        if d1 <= self.switch[0] && d1 <= d2 {
+            self.mean_slope(self.x1, 1.0, d1) / d2
+        } else if d2 <= self.switch[1] {
+            -self.mean_slope(self.x2, -1.0, d2) / d1
         } else {
             self.radicand.radicand(x) / (d1 * d2)
         }
     }
-    /// Taylor truncation `(d/L)³` and cancellation `ε/(d/L)` at the switch `d/L = ε^{1/4}`, with
-    /// a factor 4 for the scale of the higher derivatives.
+    /// Cancellation at the switch: `4ε |F(mid)| / |F(switch)|` (at least `40ε`). Near a separatrix
+    /// `F` is tiny at the switch and this grows: the generic route's accuracy degrades there, and
+    /// the quadrature stops refining at that level instead of failing.
     fn noise(&self) -> f64 {
-        4.0 * f64::EPSILON.powf(0.75)
+        self.noise
     }
 }
 
@@ -519,12 +573,11 @@ impl<R: Radicand> Libration<Factored<R>> {
         let (x1, x2) = turning_points(&radicand, inside, lower_bound, upper_bound)?;
         let at = |x: f64| {
             let d = radicand.radicand(Dual3_64::from_re(x).derivative());
-            [d.v1, 0.5 * d.v2, d.v3 / 6.0]
+            [d.v1, 0.5 * d.v2]
         };
         let lower = at(x1);
         let u = at(x2);
-        let upper = [-u[0], u[1], -u[2]];
-        let l = x2 - x1;
+        let upper = [-u[0], u[1]];
         // Separatrix test. Near a turning point F ≈ F′d + ½F″d²; the energy-like distance to the
         // double root that F would have if the two merged is F′²/(2|F″|). When that is within the
         // rounding noise of F (64 ε |F|), the turning point cannot be told from a double root.
@@ -544,12 +597,7 @@ impl<R: Radicand> Libration<Factored<R>> {
                 });
             }
         }
-        let reduced = Factored {
-            radicand,
-            lower,
-            upper,
-            switch: f64::EPSILON.powf(0.25) * l,
-        };
+        let reduced = Factored::new(radicand, x1, x2);
         Libration::new(x1, x2, reduced)
     }
 }
@@ -791,6 +839,17 @@ mod tests {
         for x in [-0.999_999, -0.5, 0.0, 0.7, 0.999_999_999] {
             let p = lib.inverse_sqrt_integral_to(|_| 1.0, x).unwrap();
             assert!((p.value - (x.asin() + FRAC_PI_2)).abs() < 1e-14, "{x}");
+        }
+    }
+
+    #[test]
+    fn gauss_rule_is_exact_to_degree_15() {
+        for k in 0..16 {
+            let q: f64 = GAUSS8.iter().map(|&(t, w)| w * t.powi(k)).sum();
+            assert!(
+                (q - 1.0 / (k as f64 + 1.0)).abs() < 4e-16,
+                "degree {k}: {q}"
+            );
         }
     }
 
