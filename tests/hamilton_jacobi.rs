@@ -49,6 +49,17 @@ fn t3_projectile_complete_integral() {
     assert_relative_eq!(b2[0], -0.7, epsilon = 1e-15);
     // After the apex the ascending S has no preimage: the state at t = 2 is refused, not wrong.
     assert!(el.state(2.0, &alpha, &beta).is_err());
+    // The descending branch with the same elements reaches T1's end point at t = 2:
+    // (x, y) = (10, 5), p = (5, −7.31).
+    let down = Elements::new(
+        ProjectileIntegral::descending(G).unwrap(),
+        ElementConvention::AlphaMomenta,
+    );
+    let (q2, p2) = down.state(2.0, &alpha, &beta).unwrap();
+    assert_relative_eq!(q2[0], 10.0, epsilon = 1e-13);
+    assert_relative_eq!(q2[1], 5.0, epsilon = 1e-12);
+    assert_relative_eq!(p2[0], 5.0, epsilon = 1e-13);
+    assert_relative_eq!(p2[1], -7.31, epsilon = 1e-12);
     // HJ residual and completeness.
     let h = Projectile::new(1.0, G).unwrap();
     let r = hj_residual(
@@ -117,9 +128,11 @@ proptest! {
                            n in 0.2..3.0f64, amp in 0.1..2.0f64, frac in -0.99..0.99f64) {
         let h = Projectile::new(1.0, G).unwrap();
         let alpha = SVector::from([gamma, y + above]);
-        let r = hj_residual(&projectile_integral(), &h, t, &SVector::from([x, y]), &alpha).unwrap();
         let scale = gamma * gamma + G * (y.abs() + above);
-        prop_assert!(r.abs() <= 1e-13 * (1.0 + scale), "projectile residual {r}");
+        for s in [projectile_integral(), ProjectileIntegral::descending(G).unwrap()] {
+            let r = hj_residual(&s, &h, t, &SVector::from([x, y]), &alpha).unwrap();
+            prop_assert!(r.abs() <= 1e-13 * (1.0 + scale), "projectile residual {r}");
+        }
         let osc = HarmonicOscillator::new(1.0, n).unwrap();
         let r = hj_residual(&oscillator_integral(n), &osc, t, &SVector::from([frac * amp]), &SVector::from([amp])).unwrap();
         prop_assert!(r.abs() <= 1e-13 * (1.0 + n * n * amp * amp), "oscillator residual {r}");

@@ -9,21 +9,33 @@ use crate::error::{positive, Result};
 use nalgebra::SVector;
 use num_dual::{Dual64, DualNum};
 
-/// Projectile `H = ½(p_x² + p_y²) + g y` (unit mass), ascending branch `p_y ≥ 0` [Ardema 17.4]:
+/// Projectile `H = ½(p_x² + p_y²) + g y` (unit mass) [Ardema 17.4]:
 ///
-/// $$ S = -(\tfrac12\gamma^2 + g k)\\,t + \gamma x - \tfrac23\sqrt{2g}\\,(k - y)^{3/2}, \qquad \alpha = (\gamma, k), $$
+/// $$ S = -(\tfrac12\gamma^2 + g k)\\,t + \gamma x \mp \tfrac23\sqrt{2g}\\,(k - y)^{3/2}, \qquad \alpha = (\gamma, k), $$
 ///
-/// with `γ = p_x` and `k` the apex height. Domain `y < k`.
+/// with `γ = p_x` and `k` the apex height; the upper sign is the ascending branch (`p_y ≥ 0`,
+/// [`ProjectileIntegral::new`]), the lower the descending one ([`ProjectileIntegral::descending`]).
+/// Both give the same elements `β = (x₀, −v₀)` for one trajectory (SPEC T3). Domain `y < k`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectileIntegral {
     g: f64,
+    /// `+1` ascending, `−1` descending.
+    branch: f64,
 }
 
 impl ProjectileIntegral {
-    /// Gravity `g > 0`.
+    /// Ascending branch, gravity `g > 0`.
     pub fn new(g: f64) -> Result<Self> {
         Ok(Self {
             g: positive("gravity g", g)?,
+            branch: 1.0,
+        })
+    }
+    /// Descending branch (`p_y ≤ 0`, after the apex), gravity `g > 0`.
+    pub fn descending(g: f64) -> Result<Self> {
+        Ok(Self {
+            g: positive("gravity g", g)?,
+            branch: -1.0,
         })
     }
 }
@@ -33,7 +45,7 @@ impl CompleteIntegral<2> for ProjectileIntegral {
         let (gamma, k) = (a[0], a[1]);
         let d = k - q[1];
         -(gamma * gamma * 0.5 + k * self.g) * t + gamma * q[0]
-            - d * d.sqrt() * ((2.0 / 3.0) * (2.0 * self.g).sqrt())
+            - d * d.sqrt() * (self.branch * (2.0 / 3.0) * (2.0 * self.g).sqrt())
     }
     /// Exact: `γ = p_x`, `k = y + p_y²/(2g)`.
     fn alpha_guess(
