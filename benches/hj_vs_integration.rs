@@ -9,6 +9,10 @@
 //!   action–angle variables (period by quadrature) and inverts the angle; `elliptic` is the Jacobi
 //!   elliptic closed form; `rk4` as above.
 //!
+//! * Heavy top T14a (I = 1, J = ½, mgℓ = 1, released from rest at 60° with ω_z = 5), to
+//!   t = 1.7 (past half a nutation): `hj` builds the cubic and its quadratures and inverts the
+//!   time law ([`Nutation::propagate`]); `rk4` as above, against a 2²⁰-step RK4 reference.
+//!
 //! The errors and step counts are printed once before timing; the ratios `rk4 / hj` and
 //! `hj / closed form` are the figures of merit.
 
@@ -17,7 +21,8 @@ use hamilton_jacobi::hamilton_jacobi::{ActionAngle, RadialMotion};
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::pendulum_exact::exact_state;
-use hamilton_jacobi::systems::{Kepler2, Pendulum};
+use hamilton_jacobi::systems::top_motion::Nutation;
+use hamilton_jacobi::systems::{HeavyTop, Kepler2, Pendulum};
 use hamilton_jacobi::Hamiltonian;
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -124,6 +129,38 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("rk4", |b| {
         b.iter(|| rk4(&pen, black_box(q0), black_box(p0), t, n_pen))
+    });
+    g.finish();
+
+    // Heavy top.
+    let top = HeavyTop::new(1.0, 0.5, 1.0).unwrap();
+    let theta0 = PI / 3.0;
+    let q0 = SVector::from([0.0, theta0, 0.0]);
+    let p0 = top.momenta_from_spin(theta0, 0.0, 0.0, 5.0).unwrap();
+    let t = 1.7;
+    let top_hj = |t: f64| {
+        Nutation::from_state(&top, &q0, &p0)
+            .unwrap()
+            .propagate(&q0, &p0, t)
+            .unwrap()
+    };
+    let (q_ref, p_ref) = rk4(&top, q0, p0, t, 1 << 20);
+    let (qh, ph) = top_hj(t);
+    let hj_err = (qh - q_ref).amax().max((ph - p_ref).amax());
+    let (n_top, rk_err) = matched_steps(
+        |n| {
+            let (q, p) = rk4(&top, q0, p0, t, n);
+            (q - q_ref).amax().max((p - p_ref).amax())
+        },
+        hj_err.max(1e-13),
+    );
+    println!(
+        "Top T14a, t = 1.7: |HJ − reference| {hj_err:.2e}; RK4 needs {n_top} steps for {rk_err:.2e}"
+    );
+    let mut g = c.benchmark_group("top_t14a_state");
+    g.bench_function("hj", |b| b.iter(|| top_hj(black_box(t))));
+    g.bench_function("rk4", |b| {
+        b.iter(|| rk4(&top, black_box(q0), black_box(p0), t, n_top))
     });
     g.finish();
 }
