@@ -7,6 +7,7 @@ pub mod error;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;
+pub mod integrate;
 pub mod lagrangian;
 pub mod phase;
 pub mod systems;

@@ -1,0 +1,461 @@
+//! Numerical integration of Hamilton's equations: the problem, the method and the run kept apart.
+//!
+//! ```text
+//! integrate(&problem, &method, &mut observer) -> Result<Report>
+//! ```
+//!
+//! * A [`Problem`] is a system with an initial state `(t₀, q₀, p₀)` and a final time `t₁`.
+//! * A method is a small value carrying its coefficients and knobs. Fixed-step one-step methods
+//!   implement [`OneStep`] — one step written once for every dual type, so that the step map can be
+//!   certified symplectic by AD ([`StepMap`]) — and run under [`Fixed`], which adds the step loop,
+//!   optional compensated summation and dense output. A step that cannot be differentiated (an
+//!   exact flow through Kepler's equation) refuses dual arguments with an error; adaptive methods
+//!   implement [`Method`] directly.
+//! * Each method states the capability it needs as a trait bound on the system (explicit splitting
+//!   needs [`Separable`](crate::Separable), Gauss–Legendre any [`Hamiltonian`]): applying a method
+//!   to a system without that capability does not compile.
+//! * An [`Observer`] sees every step (with dense output over it) and may stop the run.
+//! * Every run reports its [`Work`] — steps and evaluations of `H`, its gradient and Hessian — and
+//!   its wall time, so that cost can be compared as counts as well as time.
+
+pub mod exact;
+pub mod observers;
+pub mod rk4;
+
+pub use exact::ExactStep;
+pub use observers::{EnergyMonitor, Event, Events, Recorder};
+pub use rk4::Rk4;
+
+use crate::brackets::PhaseMap;
+use crate::error::{all_finite, finite, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use nalgebra::SVector;
+use num_dual::DualNum;
+use std::time::{Duration, Instant};
+
+/// A point of extended phase space `(t, q, p)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State<const N: usize> {
+    /// Time.
+    pub t: f64,
+    /// Coordinates.
+    pub q: SVector<f64, N>,
+    /// Momenta.
+    pub p: SVector<f64, N>,
+}
+
+impl<const N: usize> State<N> {
+    /// A state; rejects non-finite entries.
+    pub fn new(t: f64, q: SVector<f64, N>, p: SVector<f64, N>) -> Result<Self> {
+        finite("t", t)?;
+        all_finite("q", q.as_slice())?;
+        all_finite("p", p.as_slice())?;
+        Ok(Self { t, q, p })
+    }
+    fn is_finite(&self) -> bool {
+        self.t.is_finite()
+            && self.q.iter().all(|v| v.is_finite())
+            && self.p.iter().all(|v| v.is_finite())
+    }
+}
+
+/// An initial-value problem for Hamilton's equations of `system`.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem<'a, S, const N: usize> {
+    /// The system.
+    pub system: &'a S,
+    /// The initial state.
+    pub start: State<N>,
+    /// The final time (before or after `t₀`).
+    pub t1: f64,
+}
+
+impl<'a, S, const N: usize> Problem<'a, S, N> {
+    /// The motion of `system` from `(q₀, p₀)` at `t₀` to `t₁ ≠ t₀`.
+    pub fn new(
+        system: &'a S,
+        t0: f64,
+        q0: SVector<f64, N>,
+        p0: SVector<f64, N>,
+        t1: f64,
+    ) -> Result<Self> {
+        let start = State::new(t0, q0, p0)?;
+        let t1 = finite("final time t₁", t1)?;
+        if t1 == t0 {
+            return Err(Error::invalid("time span", "t₁ = t₀: nothing to integrate"));
+        }
+        Ok(Self { system, start, t1 })
+    }
+    /// `t₁ − t₀`.
+    pub fn span(&self) -> f64 {
+        self.t1 - self.start.t
+    }
+}
+
+/// Work done by a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps (adaptive methods).
+    pub rejected: usize,
+    /// Evaluations of the vector field or of one of `∂H/∂q`, `∂H/∂p` (one AD gradient pass each;
+    /// a separable kick or drift counts one).
+    pub gradients: usize,
+    /// Evaluations of `H` alone.
+    pub hamiltonians: usize,
+    /// Evaluations of the Hessian of `H` (implicit methods' Newton).
+    pub hessians: usize,
+    /// Newton iterations (implicit methods).
+    pub newton_iterations: usize,
+    /// Evaluations of a closed-form flow (exact or Kepler drift).
+    pub flows: usize,
+}
+
+impl Work {
+    /// Sum of two counts.
+    pub fn add(&self, o: &Work) -> Work {
+        Work {
+            steps: self.steps + o.steps,
+            rejected: self.rejected + o.rejected,
+            gradients: self.gradients + o.gradients,
+            hamiltonians: self.hamiltonians + o.hamiltonians,
+            hessians: self.hessians + o.hessians,
+            newton_iterations: self.newton_iterations + o.newton_iterations,
+            flows: self.flows + o.flows,
+        }
+    }
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report<const N: usize> {
+    /// The state where the run ended (`t₁`, or where an observer stopped it).
+    pub last: State<N>,
+    /// Whether an observer stopped the run before `t₁`.
+    pub stopped: bool,
+    /// Work counts.
+    pub work: Work,
+    /// Wall time of the run.
+    pub elapsed: Duration,
+}
+
+/// What an observer wants after a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Control {
+    /// Go on.
+    Continue,
+    /// Stop the run now (at the end of this step).
+    Stop,
+    /// Stop the run at time `t` inside this step (e.g. a terminal event); the driver ends the run
+    /// with the dense-output state there.
+    StopAt(f64),
+}
+
+/// Dense output over one step: the state at any time between its ends.
+pub trait Dense<const N: usize> {
+    /// The interpolated state at `t` (between the step's ends).
+    fn at(&self, t: f64) -> State<N>;
+}
+
+/// One step as seen by observers: its ends and its dense output.
+pub struct StepView<'a, const N: usize> {
+    /// State at the beginning of the step.
+    pub prev: &'a State<N>,
+    /// State at the end of the step.
+    pub next: &'a State<N>,
+    /// Interpolation within the step.
+    pub dense: &'a dyn Dense<N>,
+}
+
+/// Sees the run step by step (SPEC DESIGN "observers"): record, monitor invariants, locate events,
+/// stop early. All methods default to doing nothing.
+pub trait Observer<const N: usize> {
+    /// Called once with the initial state.
+    fn start(&mut self, _state: &State<N>) {}
+    /// Called after every accepted step.
+    fn step(&mut self, _step: &StepView<'_, N>) -> Control {
+        Control::Continue
+    }
+}
+
+/// The observer that does nothing.
+impl<const N: usize> Observer<N> for () {}
+
+/// A closure `FnMut(&State) -> Control` called at the end of every step.
+pub struct Each<F>(pub F);
+
+impl<F: FnMut(&State<N>) -> Control, const N: usize> Observer<N> for Each<F> {
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        (self.0)(step.next)
+    }
+}
+
+impl<A: Observer<N>, B: Observer<N>, const N: usize> Observer<N> for (A, B) {
+    fn start(&mut self, state: &State<N>) {
+        self.0.start(state);
+        self.1.start(state);
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        let a = self.0.step(step);
+        let b = self.1.step(step);
+        match (a, b) {
+            (Control::StopAt(x), Control::StopAt(y)) => {
+                // The earlier one in the direction of integration.
+                if (x - step.prev.t).abs() <= (y - step.prev.t).abs() {
+                    Control::StopAt(x)
+                } else {
+                    Control::StopAt(y)
+                }
+            }
+            (Control::StopAt(x), _) | (_, Control::StopAt(x)) => Control::StopAt(x),
+            (Control::Stop, _) | (_, Control::Stop) => Control::Stop,
+            _ => Control::Continue,
+        }
+    }
+}
+
+/// An integration method for systems of type `S`.
+pub trait Method<S, const N: usize> {
+    /// A short label (with the knob), e.g. `"Verlet h=0.01"`.
+    fn label(&self) -> String;
+    /// Run the method on the problem, reporting every step to the observer.
+    fn run<O: Observer<N>>(
+        &self,
+        problem: &Problem<'_, S, N>,
+        observer: &mut O,
+    ) -> Result<Report<N>>;
+}
+
+/// Integrate `problem` with `method`, reporting every step to `observer`.
+pub fn integrate<S, M: Method<S, N>, O: Observer<N>, const N: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &M,
+    observer: &mut O,
+) -> Result<Report<N>> {
+    method.run(problem, observer)
+}
+
+/// A fixed-step one-step method written once for every dual type (so that its step map can be
+/// differentiated: [`StepMap`]).
+///
+/// `increment` returns `(Δq, Δp)` of one step of size `dt` from `(t, q, p)`; the driver adds them
+/// (with compensated summation if asked), which keeps the rounding of long runs small.
+pub trait OneStep<S, const N: usize> {
+    /// Order of the method.
+    fn order(&self) -> u32;
+    /// Name of the method.
+    fn name(&self) -> String;
+    /// The increments of one step.
+    #[allow(clippy::type_complexity)]
+    fn increment<D: DualNum<f64> + Copy>(
+        &self,
+        system: &S,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+        dt: D,
+        work: &mut Work,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)>;
+}
+
+/// A fixed-step run: `steps` equal steps over the problem's span.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fixed<M> {
+    /// The one-step method.
+    pub method: M,
+    /// Number of steps over the span.
+    pub steps: usize,
+    /// Kahan-compensated accumulation of the increments (Hairer, Lubich & Wanner, *Geometric
+    /// Numerical Integration*, 2nd ed., VIII.5): rounding then grows like `√n` instead of `n`.
+    pub compensated: bool,
+}
+
+impl<M> Fixed<M> {
+    /// `steps ≥ 1` steps of `method`, with compensated summation.
+    pub fn new(method: M, steps: usize) -> Result<Self> {
+        if steps == 0 {
+            return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
+        }
+        Ok(Self {
+            method,
+            steps,
+            compensated: true,
+        })
+    }
+    /// The same with plain summation.
+    pub fn uncompensated(mut self) -> Self {
+        self.compensated = false;
+        self
+    }
+}
+
+/// Cubic Hermite interpolation between two states from their time derivatives (third order; the
+/// dense output of fixed-step methods).
+pub struct Hermite<'a, S, const N: usize> {
+    system: &'a S,
+    prev: State<N>,
+    next: State<N>,
+}
+
+impl<S: Hamiltonian<N>, const N: usize> Dense<N> for Hermite<'_, S, N> {
+    fn at(&self, t: f64) -> State<N> {
+        let h = self.next.t - self.prev.t;
+        let th = if h == 0.0 { 0.0 } else { (t - self.prev.t) / h };
+        let (dq0, dp0) =
+            self.system
+                .vector_field_unchecked(self.prev.t, &self.prev.q, &self.prev.p);
+        let (dq1, dp1) =
+            self.system
+                .vector_field_unchecked(self.next.t, &self.next.q, &self.next.p);
+        let h00 = (1.0 + 2.0 * th) * (1.0 - th) * (1.0 - th);
+        let h10 = th * (1.0 - th) * (1.0 - th);
+        let h01 = th * th * (3.0 - 2.0 * th);
+        let h11 = th * th * (th - 1.0);
+        State {
+            t,
+            q: self.prev.q * h00 + dq0 * (h10 * h) + self.next.q * h01 + dq1 * (h11 * h),
+            p: self.prev.p * h00 + dp0 * (h10 * h) + self.next.p * h01 + dp1 * (h11 * h),
+        }
+    }
+}
+
+/// Kahan-compensated `x += dx`.
+#[inline]
+fn compensated_add<const N: usize>(
+    x: &mut SVector<f64, N>,
+    carry: &mut SVector<f64, N>,
+    dx: &SVector<f64, N>,
+) {
+    for i in 0..N {
+        let y = dx[i] - carry[i];
+        let s = x[i] + y;
+        carry[i] = (s - x[i]) - y;
+        x[i] = s;
+    }
+}
+
+impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed<M> {
+    fn label(&self) -> String {
+        format!("{} n={}", OneStep::<S, N>::name(&self.method), self.steps)
+    }
+
+    fn run<O: Observer<N>>(
+        &self,
+        problem: &Problem<'_, S, N>,
+        observer: &mut O,
+    ) -> Result<Report<N>> {
+        let clock = Instant::now();
+        let mut work = Work::default();
+        let (t0, span) = (problem.start.t, problem.span());
+        let dt = span / self.steps as f64;
+        if !(dt.is_finite() && dt != 0.0) {
+            return Err(Error::out_of_domain(
+                "step size",
+                dt,
+                "finite and non-zero (span / steps)",
+            ));
+        }
+        let mut state = problem.start;
+        let (mut cq, mut cp) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+        observer.start(&state);
+        let mut stopped = false;
+        for k in 0..self.steps {
+            let (dq, dp) = self.method.increment(
+                problem.system,
+                state.t,
+                &state.q,
+                &state.p,
+                dt,
+                &mut work,
+            )?;
+            let mut next = state;
+            if self.compensated {
+                compensated_add(&mut next.q, &mut cq, &dq);
+                compensated_add(&mut next.p, &mut cp, &dp);
+            } else {
+                next.q += dq;
+                next.p += dp;
+            }
+            // Times from the step index, not by accumulation.
+            next.t = if k + 1 == self.steps {
+                problem.t1
+            } else {
+                t0 + dt * (k + 1) as f64
+            };
+            work.steps += 1;
+            if !next.is_finite() {
+                return Err(Error::NonFinite {
+                    what: format!(
+                        "{} state at t = {}",
+                        OneStep::<S, N>::name(&self.method),
+                        next.t
+                    ),
+                    value: f64::NAN,
+                });
+            }
+            let dense = Hermite {
+                system: problem.system,
+                prev: state,
+                next,
+            };
+            let control = observer.step(&StepView {
+                prev: &state,
+                next: &next,
+                dense: &dense,
+            });
+            match control {
+                Control::Continue => state = next,
+                Control::Stop => {
+                    state = next;
+                    stopped = k + 1 < self.steps;
+                    break;
+                }
+                Control::StopAt(t) => {
+                    state = dense.at(t);
+                    stopped = true;
+                    break;
+                }
+            }
+        }
+        Ok(Report {
+            last: state,
+            stopped,
+            work,
+            elapsed: clock.elapsed(),
+        })
+    }
+}
+
+/// One step of a [`OneStep`] method as a [`PhaseMap`] (for [`certify`](crate::brackets::certify)):
+/// `(q, p) ↦ (q, p) + increment(q, p)`. A failed step (e.g. Newton not converging) maps to NaN,
+/// which `certify` reports as an error.
+pub struct StepMap<'a, S, M> {
+    /// The system.
+    pub system: &'a S,
+    /// The method.
+    pub method: &'a M,
+    /// The step size.
+    pub dt: f64,
+}
+
+impl<S, M: OneStep<S, N>, const N: usize> PhaseMap<N> for StepMap<'_, S, M> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        let mut work = Work::default();
+        match self
+            .method
+            .increment(self.system, t, q, p, D::from(self.dt), &mut work)
+        {
+            Ok((dq, dp)) => (q + dq, p + dp),
+            Err(_) => {
+                let nan = SVector::from_element(D::from(f64::NAN));
+                (nan, nan)
+            }
+        }
+    }
+}
