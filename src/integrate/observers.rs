@@ -29,7 +29,7 @@ impl<const N: usize> Observer<N> for Recorder<N> {
     }
     fn step(&mut self, step: &StepView<'_, N>) -> Control {
         self.seen += 1;
-        if self.seen % self.every == 0 {
+        if self.seen.is_multiple_of(self.every) {
             self.states.push(*step.next);
         }
         Control::Continue
@@ -95,7 +95,7 @@ impl<S: Hamiltonian<N>, const N: usize> Observer<N> for EnergyMonitor<'_, S> {
     }
     fn step(&mut self, step: &StepView<'_, N>) -> Control {
         self.seen += 1;
-        if self.seen % self.every == 0 {
+        if self.seen.is_multiple_of(self.every) {
             let s = step.next;
             let h = self.system.hamiltonian(s.t, &s.q, &s.p);
             let e = (h - self.h0) / self.h0.abs().max(f64::MIN_POSITIVE);
