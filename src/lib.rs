@@ -12,6 +12,7 @@ pub mod lagrangian;
 pub mod phase;
 pub mod systems;
 pub mod transform;
+pub mod workprecision;
 
 pub use error::{Error, Result};
 pub use hamiltonian::{Hamiltonian, PhaseFunction, Separable};
