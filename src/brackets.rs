@@ -236,7 +236,7 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
         pp: SMatrix::zeros(),
     };
     for i in 0..2 * N {
-        let (_, dq, dp) = phase_gradient(
+        let (value, dq, dp) = phase_gradient(
             |qd, pd| {
                 let (qq, pp) = map.apply(PhaseDual::from_re(t), qd, pd);
                 if i < N {
@@ -248,6 +248,12 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
             q,
             p,
         );
+        if !value.is_finite() {
+            return Err(Error::NonFinite {
+                what: format!("map output component {i} at t = {t}, q = {q:?}, p = {p:?}"),
+                value,
+            });
+        }
         let (a, b): (&mut SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>) = if i < N {
             (&mut m.qq, &mut m.qp)
         } else {
