@@ -197,7 +197,7 @@ fn energy_drift_and_brouwer_law() {
         .map(|(x, y)| (x - mx) * (y - my))
         .sum::<f64>()
         / lx.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
-    eprintln!("Brouwer slope {slope:.3}, RMS relative energy errors {rms:.2e?}");
+    eprintln!("Brouwer slope {slope:.3}, RMS relative energy errors {rms:?}");
     assert!(slope <= 0.75, "Brouwer slope {slope}, RMS errors {rms:?}");
     assert!(
         rms[3] < 1e-12,
