@@ -18,13 +18,18 @@
 //! point vanishes to rounding ([`Error::Separatrix`]). For the pendulum,
 //! [`ActionAngle::pendulum`] takes the distance `δ = π − a` to the separatrix itself and uses the
 //! exact factorisation `F = 4n² sin(d₁/2) sin(d₂/2)` with `sin(d₁/2) = sin(δ + d₂/2)`, so the
-//! period is resolved for every `δ > 0` representable (SPEC X2), never ∞ or NaN.
+//! period is resolved for every gap down to [`MIN_GAP`] (SPEC X2), never ∞ or NaN.
 
-use super::quadrature::{Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand};
+use super::quadrature::{
+    interior_point, Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand,
+};
 use crate::error::{finite, Error, Result};
 use crate::systems::{HarmonicOscillator, Pendulum};
 use num_dual::DualNum;
 use std::f64::consts::{PI, TAU};
+
+/// Smallest gap `δ = π − a` accepted by [`ActionAngle::pendulum`].
+pub const MIN_GAP: f64 = 1e-290;
 
 /// A one-degree-of-freedom system `H = ½ a(q) p² + V(q)`, written once for every dual type.
 pub trait OneDegreeOfFreedom {
@@ -136,20 +141,12 @@ impl<S: OneDegreeOfFreedom + Clone> ActionAngle<S, Factored<EnergyRadicand<S>>> 
     ) -> Result<Self> {
         let (q, p) = (finite("q", q)?, finite("p", p)?);
         let h = system.energy(q, p);
-        let inside = if p != 0.0 {
-            q
-        } else {
-            // At a turning point: step a little towards lower potential.
-            let slope = system
-                .potential(num_dual::Dual64::from_re(q).derivative())
-                .eps;
-            let step = 1e-6 * q.abs().max(1e-3);
-            if slope > 0.0 {
-                q - step
-            } else {
-                q + step
-            }
+        let radicand = EnergyRadicand {
+            system: system.clone(),
+            h,
         };
+        // At a turning point (p = 0) the search starts from a point just inside.
+        let inside = interior_point(&radicand, q, lower_bound, upper_bound)?;
         Self::new(system, h, inside, lower_bound, upper_bound)
     }
 }
@@ -169,6 +166,16 @@ impl ActionAngle<Pendulum, PendulumReduced> {
         }
         if !(delta > 0.0 && delta < PI) {
             return Err(Error::out_of_domain("gap δ = π − a", delta, "(0, π)"));
+        }
+        if delta < MIN_GAP {
+            return Err(Error::Separatrix {
+                what: "pendulum action–angle variables".into(),
+                distance: delta,
+                hint: format!(
+                    "δ below {MIN_GAP:e}: the reduced radicand at the turning point (∝ δ) leaves \
+                     the normal double range; the period is (4/n) ln(8/δ) to full precision there"
+                ),
+            });
         }
         let a = PI - delta;
         let n = pendulum.n();
@@ -228,7 +235,19 @@ impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
     pub fn angle(&self, q: f64, p: f64) -> Result<f64> {
         let (q, p) = (finite("q", q)?, finite("p", p)?);
         let h = self.system.energy(q, p);
-        if (h - self.h).abs() > 1e-10 * self.h.abs().max(f64::MIN_POSITIVE) {
+        // Relative to the size of the energy's terms (h itself may be 0, and V a difference of
+        // terms): |h|, |V|, a p², and |q V′| as a proxy for V's own terms.
+        let dv = self
+            .system
+            .potential(num_dual::Dual64::from_re(q).derivative())
+            .eps;
+        let terms = self
+            .h
+            .abs()
+            .max(self.system.potential(q).abs())
+            .max((self.system.inverse_mass(q) * p * p).abs())
+            .max((q * dv).abs());
+        if (h - self.h).abs() > 1e-10 * terms.max(f64::MIN_POSITIVE) {
             return Err(Error::invalid(
                 "state",
                 format!("energy {h} differs from the libration's {}", self.h),
@@ -299,6 +318,13 @@ pub fn time_of_flight<S: OneDegreeOfFreedom + Clone>(
     upper_bound: f64,
 ) -> Result<Quadrature> {
     let (q0, q1) = (finite("q₀", q0)?, finite("q₁", q1)?);
+    if q0 == q1 {
+        return Ok(Quadrature {
+            value: 0.0,
+            error: 0.0,
+            evaluations: 0,
+        });
+    }
     let aa = ActionAngle::new(system, h, 0.5 * (q0 + q1), lower_bound, upper_bound)?;
     let lib = aa.libration();
     let (s0, s1) = (lib.phase(q0)?, lib.phase(q1)?);

@@ -232,6 +232,7 @@ impl<P: ReducedRadicand> RadialMotion<P> {
     pub fn state_at(&self, t: f64) -> Result<(f64, f64, f64)> {
         let t = finite("time t", t)?;
         let half = self.half_period.value;
+        check_time_resolution(t, 2.0 * half)?;
         let revolutions = (t / (2.0 * half)).floor();
         let tau = t - revolutions * 2.0 * half;
         let (outbound, target) = if tau <= half {
@@ -254,6 +255,22 @@ impl<P: ReducedRadicand> RadialMotion<P> {
         };
         Ok((node.x, rdot, theta))
     }
+}
+
+/// Refuses times whose rounding (`ulp(t)`) is a sizeable fraction (> 1e−6) of the period: the
+/// phase would be meaningless.
+pub(crate) fn check_time_resolution(t: f64, period: f64) -> Result<()> {
+    if t.abs() * f64::EPSILON > 1e-6 * period {
+        return Err(Error::out_of_domain(
+            "time t",
+            t,
+            format!(
+                "|t| ≤ {:e} (beyond, ulp(t) exceeds 1e−6 of the period {period})",
+                1e-6 * period / f64::EPSILON
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn nonzero_k(k: f64) -> Result<f64> {
@@ -281,7 +298,9 @@ fn angle_density(k: f64, n: &Node) -> f64 {
 /// Time and angle between radii `r₀` and `r₁` on one leg of the orbit in the potential `V` for a
 /// particle of mass `m`, energy `h` and angular momentum `K = m r² θ̇` (SPEC M27 API):
 /// `(∫ dr/ṙ, ∫ (K/(m r²)) dr/ṙ)` with `ṙ² = (2/m)(h − V) − K²/(m² r²)`, both end points allowed to
-/// be apsides. `r_max` bounds the apsis search. Returns `(Δt, Δθ)`, negative when `r₁ < r₀`.
+/// be apsides. `r_max` bounds the apsis search (an argument beyond SPEC M27's signature: the
+/// outer apsis must be bracketed). Returns `(Δt, Δθ)`, negative when `r₁ < r₀`, zero when
+/// `r₀ = r₁`.
 #[allow(clippy::too_many_arguments)]
 pub fn central_quadrature<V: CentralPotential>(
     potential: V,
@@ -294,6 +313,14 @@ pub fn central_quadrature<V: CentralPotential>(
 ) -> Result<(Quadrature, Quadrature)> {
     let m = positive("mass m", m)?;
     let (r0, r1) = (positive("r₀", r0)?, positive("r₁", r1)?);
+    if r0 == r1 {
+        let zero = Quadrature {
+            value: 0.0,
+            error: 0.0,
+            evaluations: 0,
+        };
+        return Ok((zero, zero));
+    }
     let per_mass = PerMass { potential, m };
     let inside = 0.5 * (r0 + r1);
     let motion = RadialMotion::new(per_mass, h / m, k / m, inside, r_max)?;

@@ -62,6 +62,10 @@ pub trait ReducedRadicand {
     fn noise(&self) -> f64 {
         4.0 * f64::EPSILON
     }
+    /// Relative accuracy of `P` at one point (default: [`noise`](Self::noise) everywhere).
+    fn noise_at(&self, _x: f64, _d1: f64, _d2: f64) -> f64 {
+        self.noise()
+    }
 }
 
 impl<F: Fn(f64, f64, f64) -> f64> ReducedRadicand for F {
@@ -86,8 +90,10 @@ pub struct Factored<R> {
     x2: f64,
     /// Offsets from `x₁` and `x₂` below which the derivative form is used.
     switch: [f64; 2],
-    /// Relative accuracy of `P` (see [`ReducedRadicand::noise`]).
+    /// Relative accuracy of `P` at worst (see [`ReducedRadicand::noise`]).
     noise: f64,
+    /// The absolute rounding noise `σ` of `F`.
+    sigma: f64,
 }
 
 /// 8-point Gauss–Legendre nodes and weights on `[0, 1]`.
@@ -111,20 +117,27 @@ impl<R: Radicand> Factored<R> {
             0.1 * if local.is_finite() { local.min(l) } else { l }
         };
         let switch = [scale(x1), scale(x2)];
-        // The direct quotient's relative error where it takes over is about ε |F|_max / |F(x)|:
-        // the absolute rounding of F, of the size of its largest values, over the value there.
-        let big = radicand.radicand(0.5 * (x1 + x2)).abs();
-        let small = radicand
-            .radicand(x1 + switch[0])
-            .abs()
-            .min(radicand.radicand(x2 - switch[1]).abs());
-        let noise = 4.0 * f64::EPSILON * (big / small).max(10.0);
+        // The direct quotient's relative error where it takes over is the absolute rounding noise
+        // of F (measured, see `rounding_noise`: it reflects the size of F's terms, which may be far
+        // larger than F itself) over the value of F there.
+        let (xa, xb) = (x1 + switch[0], x2 - switch[1]);
+        let sigma = rounding_noise(&radicand, xa, 0.01 * switch[0]).max(rounding_noise(
+            &radicand,
+            xb,
+            0.01 * switch[1],
+        ));
+        let small = radicand.radicand(xa).abs().min(radicand.radicand(xb).abs());
+        // Plus the offset loss: x = x₁ + d rounds to ulp(x), which moves F by F′·ulp(x), i.e.
+        // relatively ulp(x)/d at the switch (large when |x| ≫ L).
+        let offset = f64::EPSILON * x1.abs().max(x2.abs()) / switch[0].min(switch[1]);
+        let noise = (8.0 * sigma / small + 2.0 * offset).max(40.0 * f64::EPSILON);
         Self {
             radicand,
             x1,
             x2,
             switch,
             noise,
+            sigma,
         }
     }
     /// The radicand.
@@ -153,11 +166,24 @@ impl<R: Radicand> ReducedRadicand for Factored<R> {
             self.radicand.radicand(x) / (d1 * d2)
         }
     }
-    /// Cancellation at the switch: `4ε |F(mid)| / |F(switch)|` (at least `40ε`). Near a separatrix
-    /// `F` is tiny at the switch and this grows: the generic route's accuracy degrades there, and
-    /// the quadrature stops refining at that level instead of failing.
+    /// The worst case, at the switch: `8σ/|F|` plus the offset loss `2ε|x|/d` (at least `40ε`).
+    /// Near a separatrix, or for a radicand that cancels (nearly circular orbits), `F` is tiny at
+    /// the switch and this grows: the generic route's accuracy degrades, and the quadrature stops
+    /// refining at that level instead of failing.
     fn noise(&self) -> f64 {
         self.noise
+    }
+    /// `8σ/|F(x)| + 2ε|x|/min(d₁, d₂)` where the quotient is used, `40ε` in the derivative form.
+    fn noise_at(&self, x: f64, d1: f64, d2: f64) -> f64 {
+        let floor = 40.0 * f64::EPSILON;
+        if (d1 <= self.switch[0] && d1 <= d2) || d2 <= self.switch[1] {
+            return floor;
+        }
+        let f = self.radicand.radicand(x).abs();
+        let offset = f64::EPSILON * x.abs() / d1.min(d2);
+        (8.0 * self.sigma / f + 2.0 * offset)
+            .max(floor)
+            .min(self.noise)
     }
 }
 
@@ -225,8 +251,10 @@ impl Node {
 /// Default relative tolerance of the turning-point quadratures.
 pub const DEFAULT_TOLERANCE: f64 = 1e-14;
 
-/// Maximum bisection depth of the adaptive Clenshaw–Curtis rule.
-const MAX_DEPTH: u32 = 60;
+/// Maximum bisection depth of the adaptive Clenshaw–Curtis rule: enough to grade geometrically
+/// down to the smallest subnormal spacing at an end point (e.g. the pendulum's logarithmic peak of
+/// width `√δ` at the separatrix); the evaluation budget bounds the cost.
+const MAX_DEPTH: u32 = 1100;
 
 /// Budget of integrand evaluations per adaptive integral; exceeding it is reported as
 /// [`Error::NotConverged`] rather than spending unbounded time.
@@ -446,16 +474,29 @@ impl<P: ReducedRadicand> Libration<P> {
             }
             acc * (s1 - s0) / 8.0
         };
-        let target = self.tolerance * scale.max(f64::MIN_POSITIVE);
-        let noise = self.reduced.noise();
+        // Each half gets half the target, so the sum meets it.
+        let target = 0.5 * self.tolerance * scale.max(f64::MIN_POSITIVE);
+        let noise_of = |n: Node| self.reduced.noise_at(n.x, n.d1, n.d2);
         let mut out = Quadrature::zero();
         if s0 < FRAC_PI_2 {
             let hi = s1.min(FRAC_PI_2);
-            out = out.add(adaptive(|s| f(&self.node_lower(s)), s0, hi, target, noise)?);
+            out = out.add(adaptive(
+                |s| f(&self.node_lower(s)),
+                |s| noise_of(self.node_lower(s)),
+                s0,
+                hi,
+                target,
+            )?);
         }
         if s1 > FRAC_PI_2 {
             let (a, b) = (PI - s1, PI - s0.max(FRAC_PI_2));
-            out = out.add(adaptive(|sg| f(&self.node_upper(sg)), a, b, target, noise)?);
+            out = out.add(adaptive(
+                |sg| f(&self.node_upper(sg)),
+                |sg| noise_of(self.node_upper(sg)),
+                a,
+                b,
+                target,
+            )?);
         }
         Ok(out)
     }
@@ -578,14 +619,31 @@ impl<R: Radicand> Libration<Factored<R>> {
         let lower = at(x1);
         let u = at(x2);
         let upper = [-u[0], u[1]];
-        // Separatrix test. Near a turning point F ≈ F′d + ½F″d²; the energy-like distance to the
-        // double root that F would have if the two merged is F′²/(2|F″|). When that is within the
-        // rounding noise of F (64 ε |F|), the turning point cannot be told from a double root.
+        // Separatrix test. Near a turning point F ≈ F′d + ½F″d²; the depth of the double root
+        // that F would have if the two merged is F′²/(4|F″|). When that is within the rounding
+        // noise of F (measured at the root, at least ε |F(mid)|), the turning point cannot be told
+        // from a double root.
         let scale = radicand.radicand(0.5 * (x1 + x2)).abs();
-        for (which, d) in [("lower", lower), ("upper", upper)] {
+        let l = x2 - x1;
+        for (which, d, x) in [("lower", lower, x1), ("upper", upper, x2)] {
             let gap = d[0] * d[0] / (4.0 * d[1].abs().max(f64::MIN_POSITIVE));
+            let local = (d[0] / d[1]).abs().min(l);
+            let noise = rounding_noise(&radicand, x, 1e-3 * local).max(f64::EPSILON * scale);
             let ratio = gap / scale;
-            if ratio.is_nan() || ratio <= 64.0 * f64::EPSILON || d[0] <= 0.0 {
+            if ratio.is_nan() || gap <= 64.0 * noise || d[0] <= 0.0 {
+                if d[1] < 0.0 {
+                    // F is concave there: the root merges with the other turning point, i.e.
+                    // the libration shrinks onto a stable equilibrium (e.g. a circular orbit).
+                    return Err(Error::invalid(
+                        "radicand",
+                        format!(
+                            "the turning points {x1} and {x2} cannot be told apart from a double \
+                             root of F within its rounding noise ({noise:e}): the motion is at \
+                             its small-oscillation limit; use an exact factorisation \
+                             (Libration::new, RadialMotion::kepler) or the linearised motion"
+                        ),
+                    ));
+                }
                 return Err(Error::Separatrix {
                     what: format!("{which} turning point of the radicand"),
                     distance: ratio.max(0.0),
@@ -597,14 +655,83 @@ impl<R: Radicand> Libration<Factored<R>> {
                 });
             }
         }
+        // The scan samples F only at its steps: check that F stays positive between the roots
+        // found (a forbidden region narrower than a step would otherwise be stepped over), and
+        // that it stands above its own rounding noise.
+        let sigma_mid = rounding_noise(&radicand, 0.5 * (x1 + x2), 1e-3 * l);
+        for k in 1..64 {
+            let x = x1 + l * (0.5 - 0.5 * (PI * k as f64 / 64.0).cos());
+            let f = radicand.radicand(x);
+            if f.is_finite() && f.abs() <= 64.0 * sigma_mid && (k == 32 || f <= 0.0) {
+                return Err(Error::invalid(
+                    "radicand",
+                    format!(
+                        "F = {f} at x = {x} is at its rounding noise (≈ {sigma_mid:e}): the \
+                         separated momentum is too small against the terms it is computed from \
+                         (e.g. a nearly circular orbit); use an exact factorisation \
+                         (Libration::new, RadialMotion::kepler)"
+                    ),
+                ));
+            }
+            if f.is_nan() || f <= 0.0 {
+                return Err(Error::invalid(
+                    "turning points",
+                    format!(
+                        "F = {f} ≤ 0 at x = {x}, between the roots {x1} and {x2} found by the \
+                         scan: it stepped over a forbidden region; narrow the search bounds"
+                    ),
+                ));
+            }
+        }
         let reduced = Factored::new(radicand, x1, x2);
         Libration::new(x1, x2, reduced)
     }
 }
 
+/// A point where `F > 0` next to `x` (which may be a turning point, `F(x) ≈ 0`): `x` itself if
+/// `F(x) > 0`, otherwise a step towards increasing `F` of a thousandth of the local scale
+/// `|F′/F″|` (or of the search interval), halved until `F > 0`.
+pub fn interior_point<R: Radicand>(radicand: &R, x: f64, lower: f64, upper: f64) -> Result<f64> {
+    // The sign test on reals (dual arithmetic may round the value differently).
+    let f = radicand.radicand(x);
+    if f > 0.0 {
+        return Ok(x);
+    }
+    let d = radicand.radicand(num_dual::Dual2_64::from_re(x).derivative());
+    let dir = d.v1.signum();
+    let local = (d.v1 / d.v2).abs();
+    let mut step = 1e-3
+        * if local.is_finite() && local > 0.0 {
+            local.min(upper - lower)
+        } else {
+            upper - lower
+        };
+    for _ in 0..200 {
+        let y = x + dir * step;
+        if y > lower && y < upper && radicand.radicand(y) > 0.0 {
+            return Ok(y);
+        }
+        step *= 0.5;
+        if step == 0.0 {
+            break;
+        }
+    }
+    Err(Error::out_of_domain(
+        format!("radicand F near x = {x}"),
+        f,
+        "F > 0 on one side: x must lie in or on the boundary of an allowed region",
+    ))
+}
+
 /// The turning points `x₁ < inside < x₂` of a radicand: the nearest roots of `F` below and above a
 /// point where `F > 0`, searched outward geometrically within `[lower_bound, upper_bound]` and
 /// refined to full precision by safeguarded Newton (AD derivative) with bisection.
+///
+/// The scan starts at a hundredth of the local length scale of `F` and doubles its step; a
+/// forbidden region (where `F < 0`) narrower than the step at that distance can be stepped over.
+/// [`Libration::from_radicand`] samples `F` at 63 points between the roots found and refuses an
+/// interval where it is not positive, but a barrier narrower than that sampling is not resolved:
+/// give search bounds that exclude such features.
 ///
 /// Errors: `F(inside) ≤ 0` (not an allowed point), or no sign change before a bound (the motion is
 /// unbounded on that side, or rotational).
@@ -638,6 +765,27 @@ pub fn turning_points<R: Radicand>(
     Ok((x1, x2))
 }
 
+/// The absolute rounding noise of `F` near `x`, measured by the difference-table method of Moré
+/// & Wild (*Estimating computational noise*, SIAM J. Sci. Comput. 33 (2011) 1292–1314,
+/// doi:10.1137/100786125): sixth differences of `F` on 13 points spaced `h` remove the smooth
+/// part (`F⁽⁶⁾h⁶`, negligible for `h` well below the scale of `F`) and leave noise with standard
+/// deviation `σ √C(12, 6) ≈ 30.4 σ`; the largest of the seven differences is used. It reflects
+/// the size of the terms `F` is computed from — e.g. `2h + 2μ/r − k²/r²` near a circular orbit,
+/// where terms of size 1 cancel to leave `F ≈ e²` — which a value of `F` alone cannot reveal.
+pub fn rounding_noise<R: Radicand>(radicand: &R, x: f64, h: f64) -> f64 {
+    let h = h.max(16.0 * f64::EPSILON * x.abs()).max(f64::MIN_POSITIVE);
+    let f: [f64; 13] = std::array::from_fn(|j| radicand.radicand(x + (j as f64 - 6.0) * h));
+    const BINOM6: [f64; 7] = [1.0, -6.0, 15.0, -20.0, 15.0, -6.0, 1.0];
+    let mut largest: f64 = 0.0;
+    for start in 0..7 {
+        let d: f64 = (0..7).map(|k| BINOM6[k] * f[start + k]).sum();
+        if d.is_finite() {
+            largest = largest.max(d.abs());
+        }
+    }
+    (largest / 924f64.sqrt()).max(f64::EPSILON * f[6].abs())
+}
+
 /// The root of `F` nearest to `inside` in the direction of `bound`.
 ///
 /// The outward scan watches the slope as well as the sign: where `F` passes through a local
@@ -648,7 +796,24 @@ fn bracket_root<R: Radicand>(radicand: &R, inside: f64, bound: f64) -> Result<f6
     let dir = (bound - inside).signum();
     let eval = |x: f64| radicand.radicand(Dual64::from_re(x).derivative());
     let scale = radicand.radicand(inside).abs();
-    let mut step = 1e-3 * inside.abs().max((bound - inside).abs().min(1.0));
+    // First step: a hundredth of the local length scale of F at the start — the distance over
+    // which its linear (|F/F′|) or quadratic (√|F/F″|) part changes it by its own size — so that
+    // the scan starts on the scale of the motion, not of |x|. Then doubling.
+    let local = {
+        let d = radicand.radicand(num_dual::Dual2_64::from_re(inside).derivative());
+        let lin = (d.re / d.v1).abs();
+        let quad = (d.re / d.v2).abs().sqrt();
+        [lin, quad]
+            .into_iter()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let span = (bound - inside).abs();
+    let mut step = if local.is_finite() {
+        (0.01 * local).min(0.5 * span)
+    } else {
+        1e-3 * inside.abs().max(span.min(1.0))
+    };
     let mut good = inside;
     let mut good_slope = eval(inside).eps * dir;
     let bad = loop {
@@ -750,8 +915,14 @@ fn bracket_root<R: Radicand>(radicand: &R, inside: f64, bound: f64) -> Result<f6
 
 /// Adaptive Clenshaw–Curtis quadrature of `f` over `[a, b]` to absolute error `target`, bisecting
 /// until each piece meets its share of the target or its error estimate is at the integrand's
-/// relative `noise` level (below which refinement cannot gain accuracy).
-fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64, noise: f64) -> Result<Quadrature> {
+/// relative noise level `noise(s)` (below which refinement cannot gain accuracy).
+fn adaptive(
+    f: impl Fn(f64) -> f64,
+    noise: impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    target: f64,
+) -> Result<Quadrature> {
     let bad = Cell::new(f64::NAN);
     let seen_bad = Cell::new(false);
     let g = |s: f64| {
@@ -763,22 +934,25 @@ fn adaptive(f: impl Fn(f64) -> f64, a: f64, b: f64, target: f64, noise: f64) -> 
         v
     };
     let spent = Cell::new(0usize);
-    let out = recurse(&g, a, b, target, noise, 0, &spent)?;
+    let out = recurse(&g, &noise, a, b, target, 0, &spent);
     if seen_bad.get() {
         return Err(Error::NonFinite {
-            what: format!("quadrature integrand at s = {}", bad.get()),
+            what: format!(
+                "quadrature integrand at s = {} (P ≤ 0 there: are the turning points right?)",
+                bad.get()
+            ),
             value: f(bad.get()),
         });
     }
-    Ok(out)
+    out
 }
 
 fn recurse(
     f: &impl Fn(f64) -> f64,
+    noise_at: &impl Fn(f64) -> f64,
     a: f64,
     b: f64,
     target: f64,
-    noise: f64,
     depth: u32,
     spent: &Cell<usize>,
 ) -> Result<Quadrature> {
@@ -792,8 +966,15 @@ fn recurse(
         evaluations: o.num_function_evaluations as usize,
     };
     spent.set(spent.get() + q.evaluations);
+    // The integrand's relative noise on this piece: the worst of its ends and middle.
+    let noise = noise_at(a).max(noise_at(b)).max(noise_at(0.5 * (a + b)));
     if q.error <= target || q.error <= noise * q.value.abs() {
-        return Ok(q);
+        // The estimate of the rule's convergence does not see the integrand's own noise or the
+        // summation's rounding: both are added.
+        return Ok(Quadrature {
+            error: q.error + (noise + 4.0 * f64::EPSILON) * q.value.abs(),
+            ..q
+        });
     }
     if depth >= MAX_DEPTH || spent.get() > MAX_EVALUATIONS {
         return Err(Error::NotConverged {
@@ -803,8 +984,8 @@ fn recurse(
         });
     }
     let m = 0.5 * (a + b);
-    let left = recurse(f, a, m, 0.5 * target, noise, depth + 1, spent)?;
-    let right = recurse(f, m, b, 0.5 * target, noise, depth + 1, spent)?;
+    let left = recurse(f, noise_at, a, m, 0.5 * target, depth + 1, spent)?;
+    let right = recurse(f, noise_at, m, b, 0.5 * target, depth + 1, spent)?;
     Ok(left.add(right).add(Quadrature {
         value: 0.0,
         error: 0.0,

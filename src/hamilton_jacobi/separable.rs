@@ -26,7 +26,7 @@
 //! coordinates (no turning points, e.g. a pendulum above the separatrix) are not covered.
 
 use super::liouville::LiouvilleSystem;
-use super::quadrature::{Factored, Libration, Node, Radicand};
+use super::quadrature::{interior_point, Factored, Libration, Node, Radicand};
 use crate::ad::gradient;
 use crate::error::{all_finite, Error, Result};
 use nalgebra::{SMatrix, SVector};
@@ -116,8 +116,18 @@ impl<S: SeparatedSystem<N> + Clone, const N: usize> SeparatedMotion<S, N> {
                 r,
                 c,
             };
+            // Consistency p_r² = F_r(q_r; c), relative to the size of F's terms: its value, p²,
+            // and its sensitivities |q ∂F/∂q| and Σ|c_j ∂F/∂c_j| (F may be a difference of large
+            // terms, and is 0 at a turning point).
             let f = rad.radicand(q[r]);
-            let scale = f.abs().max(p[r] * p[r]).max(f64::MIN_POSITIVE);
+            let (_, dfdc) = radicand_gradient(&system, r, q[r], &c);
+            let dfdq = rad.radicand(Dual64::from_re(q[r]).derivative()).eps;
+            let scale = f
+                .abs()
+                .max(p[r] * p[r])
+                .max((q[r] * dfdq).abs())
+                .max(dfdc.component_mul(&c).abs().sum())
+                .max(f64::MIN_POSITIVE);
             if (f - p[r] * p[r]).abs() > 1e-10 * scale {
                 return Err(Error::invalid(
                     "state",
@@ -145,13 +155,11 @@ impl<S: SeparatedSystem<N> + Clone, const N: usize> SeparatedMotion<S, N> {
                 continue;
             }
             let (lo, hi) = system.search_bounds(r);
+            // At a turning point (p = 0) the search starts from a point just inside.
             let inside = if p[r] != 0.0 {
                 q[r]
             } else {
-                // At a turning point: a point just inside, towards larger F.
-                let slope = rad.radicand(Dual64::from_re(q[r]).derivative()).eps;
-                let step = 1e-7 * q[r].abs().max((hi - lo).min(1.0));
-                q[r] + step * slope.signum()
+                interior_point(&rad, q[r], lo, hi)?
             };
             let libration = Libration::from_radicand(rad, inside, lo, hi)?;
             let s = libration.phase_with_momentum(q[r], p[r])?;
@@ -211,7 +219,7 @@ impl<S: SeparatedSystem<N>, const N: usize> SeparatedMotion<S, N> {
                 Coordinate::Ignorable { rates, .. } => k += rates * u[r],
                 Coordinate::Librating { libration, passage } => {
                     let passages = (u[r] / PI).floor();
-                    let within = u[r] - passages * PI;
+                    let within = (u[r] - passages * PI).clamp(0.0, PI);
                     k += passage * passages;
                     let odd = (passages as i64).rem_euclid(2) == 1;
                     for j in 0..N {
@@ -263,6 +271,21 @@ impl<S: SeparatedSystem<N>, const N: usize> SeparatedMotion<S, N> {
     /// Newton (the Jacobian is the matrix of integrands), started from the mean rates.
     pub fn state_at(&self, t: f64) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         let t = crate::error::finite("t", t)?;
+        // The shortest passage sets the phase resolution needed.
+        let shortest = self
+            .coordinates
+            .iter()
+            .filter_map(|c| match c {
+                Coordinate::Librating { passage, .. } => {
+                    Some(passage[self.system.energy_index()].abs())
+                }
+                Coordinate::Ignorable { .. } => None,
+            })
+            .filter(|v| *v > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if shortest.is_finite() {
+            super::central::check_time_resolution(t, 2.0 * shortest)?;
+        }
         let mut target = self.beta;
         target[self.system.energy_index()] += t;
         let scale = target.amax().max(self.mean_jacobian().amax() * PI);
