@@ -18,13 +18,22 @@
 //! * Every run reports its [`Work`] — steps and evaluations of `H`, its gradient and Hessian — and
 //!   its wall time, so that cost can be compared as counts as well as time.
 
+pub mod coefficients;
+pub mod dop853;
 pub mod exact;
+pub mod gauss;
 pub mod observers;
 pub mod rk4;
+pub mod splitting;
+pub mod wisdom_holman;
 
+pub use dop853::Dop853;
 pub use exact::ExactStep;
+pub use gauss::{Gauss, ImplicitMidpoint};
 pub use observers::{EnergyMonitor, Event, Events, Recorder};
 pub use rk4::Rk4;
+pub use splitting::Splitting;
+pub use wisdom_holman::{kepler_drift, KeplerJ2, PerturbedKepler, WisdomHolman};
 
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, Error, Result};
