@@ -1,5 +1,5 @@
 //! Explicit splitting and composition methods for separable `H = T(p) + V(q)`, run by one
-//! composition kernel over the `const` tables of [`coefficients`](super::coefficients).
+//! composition kernel over the `const` tables of [`coefficients`].
 //!
 //! The exact flows of the two parts are explicit:
 //!

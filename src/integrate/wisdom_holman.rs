@@ -8,7 +8,7 @@
 //! error of the second-order map is `O(ε h²)` instead of `O(h²)`; Laskar & Robutel's `SABA_n` and
 //! `SBAB_n` push the `ε` term to `O(ε h^{2n} + ε² h²)` (J. Laskar & P. Robutel, Celest. Mech. Dyn.
 //! Astron. 80 (2001) 39–62, doi:10.1023/A:1012098603882). Tables in
-//! [`coefficients`](super::coefficients), run by the same composition kernel as
+//! [`coefficients`], run by the same composition kernel as
 //! [`Splitting`](super::Splitting).
 //!
 //! # The Kepler drift, generic over dual numbers
