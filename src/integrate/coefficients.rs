@@ -94,6 +94,7 @@ impl Table {
 
     /// Call `f(flow, c)` for every sub-step in order, adjacent sub-steps of the same flow merged
     /// (`c` multiplies the step size). Stops at the first error.
+    #[inline]
     pub fn for_each_stage<E>(
         &self,
         mut f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,

@@ -599,6 +599,7 @@ impl<H: Hamiltonian<N>, const N: usize, const S: usize> OneStep<H, N> for Gauss<
     /// or step size or a vector field that is not finite at the state; [`Error::NotConverged`] if
     /// the stage equations defeat all three solvers (the message names each failure);
     /// [`Error::Singular`] if the exact Newton matrix needed for dual arguments is singular.
+    #[inline]
     fn increment<D: DualNum<f64> + Copy>(
         &self,
         system: &H,

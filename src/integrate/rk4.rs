@@ -23,6 +23,7 @@ impl<S: Hamiltonian<N>, const N: usize> OneStep<S, N> for Rk4 {
     fn name(&self) -> String {
         "RK4".into()
     }
+    #[inline]
     fn increment<D: DualNum<f64> + Copy>(
         &self,
         system: &S,

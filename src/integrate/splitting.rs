@@ -49,6 +49,7 @@ pub(crate) trait SubFlows<D: DualNum<f64> + Copy, const N: usize> {
 /// The composition kernel: run the word of `table` over the step `dt` from `(t, q, p)` and return
 /// the accumulated increments `(Δq, Δp)`. The time seen by a sub-flow is `t` plus the `A`-time
 /// elapsed before it.
+#[inline]
 pub(crate) fn compose<D, F, const N: usize>(
     table: &Table,
     flows: &mut F,
@@ -226,6 +227,7 @@ impl<S: Separable<N>, const N: usize> OneStep<S, N> for Splitting {
     fn name(&self) -> String {
         self.table.name.into()
     }
+    #[inline]
     fn increment<D: DualNum<f64> + Copy>(
         &self,
         system: &S,

@@ -136,6 +136,7 @@ impl<S: PerturbedKepler<N>, const N: usize> OneStep<S, N> for WisdomHolman {
     fn name(&self) -> String {
         self.table.name.into()
     }
+    #[inline]
     fn increment<D: DualNum<f64> + Copy>(
         &self,
         system: &S,
