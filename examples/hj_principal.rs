@@ -69,7 +69,7 @@ fn main() -> Result<()> {
     row("∂S/∂t₁ = −H", -h, ds[5]);
     println!(
         "\nM = {} steps, {} Newton iterations, {} evaluations of ∇H\n",
-        r.steps, r.iterations, r.work.evaluations
+        r.steps, r.iterations, r.work.gradients
     );
 
     // T2.

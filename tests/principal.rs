@@ -564,7 +564,7 @@ fn propagator_against_exact_oscillator() {
     assert!((r.action.value() - action).abs() <= 1e-11);
     assert!((r.q[0].eps()[0] - s / w).abs() <= 1e-11);
     assert!((r.q[0].value() - x1).abs() <= r.error.q[0] + 8.0 * EPS);
-    assert_eq!(r.work.evaluations, 4 * r.work.steps);
+    assert_eq!(r.work.gradients, 4 * r.work.steps);
     // A fixed step count gives the same numbers as the adaptive run that ended there.
     let f = propagate_fixed(
         &osc,

@@ -29,7 +29,7 @@ pub use multiplier::{
 pub use principal::{
     principal_function, principal_function_generic, propagate, propagate_fixed, PrincipalError,
     PrincipalFunction, PrincipalOptions, PrincipalValue, Propagation, PropagationOptions,
-    StateError, Work,
+    StateError,
 };
 pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
 pub use reduction::{ReducedHamiltonian, ReducedRates, Whittaker};

@@ -62,25 +62,16 @@
 use crate::ad::{lift, real_parts, GradDual};
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::integrate::Work;
 use crate::phase::checked_inverse;
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::DualNum;
 
-/// Work done by a propagation or a shooting solve: Runge–Kutta steps and evaluations of the
-/// vector field (one AD gradient of `H` each), summed over all runs, iterations and levels.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Work {
-    /// Runge–Kutta steps.
-    pub steps: usize,
-    /// Vector-field evaluations (four per step).
-    pub evaluations: usize,
-}
-
-impl Work {
-    fn add_steps(&mut self, steps: usize) {
-        self.steps += steps;
-        self.evaluations += 4 * steps;
-    }
+/// Counts `steps` classical RK4 steps (four AD gradients of `H` each) in the crate's [`Work`],
+/// summed over all runs, iterations and levels of a propagation or a shooting solve.
+fn add_rk4_steps(work: &mut Work, steps: usize) {
+    work.steps += steps;
+    work.gradients += 4 * steps;
 }
 
 /// Componentwise absolute error estimates of a propagated state and its action.
@@ -339,11 +330,11 @@ fn run_pair<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     let coarse = match reuse {
         Some(run) => run,
         None => {
-            work.add_steps(steps);
+            add_rk4_steps(work, steps);
             rk4_run(h, t0, t1, q0, p0, steps)?
         }
     };
-    work.add_steps(2 * steps);
+    add_rk4_steps(work, 2 * steps);
     let fine = rk4_run(h, t0, t1, q0, p0, 2 * steps)?;
     Some(Pair::new(coarse, fine, 2 * steps))
 }
