@@ -18,6 +18,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use hamilton_jacobi::hamilton_jacobi::{ActionAngle, RadialMotion};
+use hamilton_jacobi::integrate::{integrate, Fixed, Problem, Rk4};
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::pendulum_exact::exact_state;
@@ -27,6 +28,7 @@ use hamilton_jacobi::Hamiltonian;
 use std::f64::consts::PI;
 use std::hint::black_box;
 
+/// RK4 (the crate's fixed-step driver) from `(q0, p0)` at t = 0 to `t` in `n` steps.
 fn rk4<H: Hamiltonian<N>, const N: usize>(
     h: &H,
     q0: SVector<f64, N>,
@@ -34,18 +36,9 @@ fn rk4<H: Hamiltonian<N>, const N: usize>(
     t: f64,
     n: usize,
 ) -> (SVector<f64, N>, SVector<f64, N>) {
-    let (mut q, mut p) = (q0, p0);
-    let dt = t / n as f64;
-    let f = |q: &SVector<f64, N>, p: &SVector<f64, N>| h.vector_field_unchecked(0.0, q, p);
-    for _ in 0..n {
-        let (k1q, k1p) = f(&q, &p);
-        let (k2q, k2p) = f(&(q + k1q * (0.5 * dt)), &(p + k1p * (0.5 * dt)));
-        let (k3q, k3p) = f(&(q + k2q * (0.5 * dt)), &(p + k2p * (0.5 * dt)));
-        let (k4q, k4p) = f(&(q + k3q * dt), &(p + k3p * dt));
-        q += (k1q + k2q * 2.0 + k3q * 2.0 + k4q) * (dt / 6.0);
-        p += (k1p + k2p * 2.0 + k3p * 2.0 + k4p) * (dt / 6.0);
-    }
-    (q, p)
+    let problem = Problem::new(h, 0.0, q0, p0, t).unwrap();
+    let run = integrate(&problem, &Fixed::new(Rk4, n).unwrap(), &mut ()).unwrap();
+    (run.last.q, run.last.p)
 }
 
 /// Smallest power-of-two multiple of 16 steps whose error is at most `target`.
