@@ -9,6 +9,7 @@ pub mod hamiltonian;
 pub mod implicit;
 pub mod integrate;
 pub mod lagrangian;
+pub mod perturbation;
 pub mod phase;
 pub mod systems;
 pub mod transform;

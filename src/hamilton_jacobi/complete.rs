@@ -182,6 +182,22 @@ impl<S: CompleteIntegral<N>, const N: usize> Elements<S, N> {
         })
     }
 
+    /// [`Elements::state`] in any number type `D`: the real state by Newton, its derivatives with
+    /// respect to `(t, α, β)` exactly through the implicit solve (implicit AD, [`crate::implicit`]).
+    /// No input validation (NaN in gives an error or NaN out); used by the element equations of
+    /// perturbation theory (M60), which differentiate `K(q(α, β, t), p(α, β, t), t)`.
+    pub fn state_generic<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        alpha: &SVector<D, N>,
+        beta: &SVector<D, N>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        match self.convention {
+            ElementConvention::AlphaMomenta => self.map.inverse_generic(t, beta, alpha),
+            ElementConvention::AlphaCoordinates => self.map.inverse_generic(t, alpha, beta),
+        }
+    }
+
     /// The state `(q, p)` at time `t` of the motion with constants `(α, β)`: solve `∂S/∂α = ±β`
     /// for `q` (Newton), then `p = ∂S/∂q` [Ardema eqs. 17.26–17.33].
     pub fn state(

@@ -1,0 +1,20 @@
+//! Perturbation methods [Ardema ch. 18]: variation of constants in its general form (M58) and in
+//! Lagrange-bracket form (M59), canonical variation of elements (M60), and a small fixed-step
+//! integrator for the resulting element equations.
+//!
+//! * [`variation`]: `γ̇ = (∂φ/∂γ)⁻¹ g` for any unperturbed general solution `x = φ(γ, t)` and
+//!   perturbation `g(x, t)` (M58); the Lagrange-bracket matrix `[γ_j, γ_s]`, its time independence,
+//!   and `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j = −∂U*/∂γ_j` (M59, Lagrange's planetary
+//!   equations).
+//! * [`canonical`]: `α̇ = ∂K*/∂β`, `β̇ = −∂K*/∂α` from a complete integral of the unperturbed
+//!   Hamilton–Jacobi equation (or any closed-form canonical element map) with the derivatives of
+//!   `K* = K(q(α, β, t), p(α, β, t), t)` by AD through the implicit solve (M60); averaging over a
+//!   fast phase.
+//! * [`ode`]: the element equations are general first-order ODEs, not Hamiltonian systems, so the
+//!   crate's [`integrate`](crate::integrate) drivers (which require a
+//!   [`Hamiltonian`](crate::Hamiltonian)) cannot run them; [`ode`] provides classical RK4 with a
+//!   Richardson error estimate for them.
+
+pub mod canonical;
+pub mod ode;
+pub mod variation;
