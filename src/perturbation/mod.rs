@@ -14,7 +14,13 @@
 //!   crate's [`integrate`](crate::integrate) drivers (which require a
 //!   [`Hamiltonian`](crate::Hamiltonian)) cannot run them; [`ode`] provides classical RK4 with a
 //!   Richardson error estimate for them.
+//! * [`normal_form`]: the Lie-series normal form of a perturbed oscillator to any order (the
+//!   frequency–amplitude series and the near-identity transformation), with a convergence
+//!   warning near the separatrix; [`lindstedt`]: the Lindstedt–Poincaré expansion that
+//!   cross-checks it.
 
 pub mod canonical;
+pub mod lindstedt;
+pub mod normal_form;
 pub mod ode;
 pub mod variation;
