@@ -2,6 +2,9 @@
 //! Lagrange-bracket form (M59), canonical variation of elements (M60), and a small fixed-step
 //! integrator for the resulting element equations.
 //!
+//! * [`elements`]: Kepler element sets — classical, equinoctial, modified equinoctial (every conic)
+//!   and Delaunay (canonical) — with maps to the state written for dual numbers, and Kepler's
+//!   equation for elliptic, parabolic (Barker) and hyperbolic orbits.
 //! * [`variation`]: `γ̇ = (∂φ/∂γ)⁻¹ g` for any unperturbed general solution `x = φ(γ, t)` and
 //!   perturbation `g(x, t)` (M58); the Lagrange-bracket matrix `[γ_j, γ_s]`, its time independence,
 //!   and `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j = −∂U*/∂γ_j` (M59, Lagrange's planetary
@@ -20,6 +23,7 @@
 //!   cross-checks it.
 
 pub mod canonical;
+pub mod elements;
 pub mod lindstedt;
 pub mod normal_form;
 pub mod ode;
