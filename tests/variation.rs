@@ -691,3 +691,39 @@ fn x12_singular_elements_are_refused() {
     let e = rk4_richardson(&ode, 0.0, &V1::new(0.0), &V1::new(0.0), 1.0, 10).unwrap_err();
     assert!(matches!(e, Error::Singular { .. }));
 }
+
+/// The element equations run through the crate's adaptive integrator (`Ode` adapts an
+/// `ElementOde` to `FirstOrderSystem`): T10 at t = 2 and T9 at t = 2000 by DOP853. Tolerances:
+/// DOP853's global error here is a few rtol·|y| (smooth, non-oscillatory T10 rates), and for T9 the
+/// element rates are slow, so rtol 1e−12 leaves θ(2000) within 5e−11 of the quadrature value.
+#[test]
+fn element_equations_by_dop853() {
+    use hamilton_jacobi::perturbation::ode::Ode;
+    let (a0, b0) = (V2::new(3.0, 4.0), V2::new(0.0, 0.0));
+    let m59 = LagrangeBracketForm {
+        solution: Projectile,
+        force: LinearDrag,
+    };
+    let sys = Ode(m59);
+    let problem = Problem::new(&sys, 0.0, a0, b0, 2.0).unwrap();
+    let rep = integrate(&problem, &Dop853::new(1e-13, 1e-13).unwrap(), &mut ()).unwrap();
+    let (q, _) = Projectile.state(2.0, &rep.last.q, &rep.last.p);
+    assert!((q[0] - 4.51188363905974).abs() < 1e-12, "x = {}", q[0]);
+    assert!((q[1] + 10.2046234821692).abs() < 1e-12, "y = {}", q[1]);
+
+    let n = 1.0;
+    let ode = Ode(CanonicalElementEquations {
+        map: OscillatorElements { n },
+        k: Quartic { n },
+    });
+    let problem = Problem::new(&ode, 0.0, V1::new(0.045), V1::new(0.0), 2000.0).unwrap();
+    let rep = integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut ()).unwrap();
+    let (th, _) = OscillatorElements { n }.closed(2000.0, rep.last.q[0], rep.last.p[0]);
+    println!(
+        "T9 by DOP853 on the element equations: θ(2000) = {th:.10e}, α − 0.045 = {:.1e}, {} steps",
+        rep.last.q[0] - 0.045,
+        rep.work.steps
+    );
+    assert!((rep.last.q[0] - 0.045).abs() < 1e-12);
+    assert!((th - 4.7330593e-4).abs() < 5e-11);
+}

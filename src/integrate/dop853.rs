@@ -67,9 +67,10 @@
 //!   (from J. R. Dormand and P. J. Prince, *J. Comp. Appl. Math.* 6 (1980) 19–26) are reproduced
 //!   below at their full 30-digit precision.
 
-use super::{Control, Dense, Method, Observer, Problem, Report, State, StepView, Work};
+use super::{
+    Control, Dense, FirstOrderSystem, Method, Observer, Problem, Report, State, StepView, Work,
+};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::Hamiltonian;
 use nalgebra::SVector;
 use std::cell::{Cell, OnceCell};
 use std::time::Instant;
@@ -494,14 +495,18 @@ struct Dop853Dense<'a, S, const N: usize> {
     evaluations: Cell<usize>,
 }
 
-impl<S: Hamiltonian<N>, const N: usize> Dop853Dense<'_, S, N> {
+impl<S: FirstOrderSystem<N>, const N: usize> Dop853Dense<'_, S, N> {
     fn coefficients(&self) -> [Pair<N>; 8] {
         let (t0, h) = (self.prev.t, self.h);
         let y0 = (self.prev.q, self.prev.p);
         let mut k = *self.k;
         for i in 13..16 {
             let (q, p) = advance(&y0, h, A[i], &k);
-            k[i] = self.system.vector_field_unchecked(t0 + C[i] * h, &q, &p);
+            // A failure inside the dense output shows as NaN in the interpolant.
+            k[i] = self.system.field(t0 + C[i] * h, &q, &p).unwrap_or((
+                SVector::from_element(f64::NAN),
+                SVector::from_element(f64::NAN),
+            ));
         }
         self.evaluations.set(self.evaluations.get() + 3);
         let ydiff = (self.next.q - self.prev.q, self.next.p - self.prev.p);
@@ -519,7 +524,7 @@ impl<S: Hamiltonian<N>, const N: usize> Dop853Dense<'_, S, N> {
     }
 }
 
-impl<S: Hamiltonian<N>, const N: usize> Dense<N> for Dop853Dense<'_, S, N> {
+impl<S: FirstOrderSystem<N>, const N: usize> Dense<N> for Dop853Dense<'_, S, N> {
     fn at(&self, t: f64) -> State<N> {
         if t == self.prev.t {
             return *self.prev;
@@ -545,7 +550,7 @@ impl<S: Hamiltonian<N>, const N: usize> Dense<N> for Dop853Dense<'_, S, N> {
 
 /// Starting step size (HNW II.4; Fortran `HINIT` with `IORD = 8`), signed like `dir`.
 #[allow(clippy::too_many_arguments)]
-fn initial_step<S: Hamiltonian<N>, const N: usize>(
+fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
     system: &S,
     y0: &State<N>,
     f0: &Pair<N>,
@@ -554,7 +559,7 @@ fn initial_step<S: Hamiltonian<N>, const N: usize>(
     rtol: f64,
     atol: f64,
     work: &mut Work,
-) -> f64 {
+) -> Result<f64> {
     let sk = |v: f64| atol + rtol * v.abs();
     let y = (y0.q, y0.p);
     // ‖f₀‖ and ‖y₀‖ in the weighted norm (Fortran DNF = ‖f₀‖², DNY = ‖y₀‖²).
@@ -571,7 +576,7 @@ fn initial_step<S: Hamiltonian<N>, const N: usize>(
     h = h.min(h_max);
     let h_signed = h * dir;
     let y1 = (y.0 + f0.0 * h_signed, y.1 + f0.1 * h_signed);
-    let f1 = system.vector_field_unchecked(y0.t + h_signed, &y1.0, &y1.1);
+    let f1 = system.field(y0.t + h_signed, &y1.0, &y1.1)?;
     work.gradients += 1;
     let der2 = norm2(
         flat(&y)
@@ -589,13 +594,13 @@ fn initial_step<S: Hamiltonian<N>, const N: usize>(
     };
     let h = (100.0 * h).min(h1).min(h_max);
     if h > 0.0 && h.is_finite() {
-        h * dir
+        Ok(h * dir)
     } else {
-        1e-6f64.min(h_max) * dir
+        Ok(1e-6f64.min(h_max) * dir)
     }
 }
 
-impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Dop853 {
+impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
     fn label(&self) -> String {
         format!("DOP853 rtol={:e} atol={:e}", self.rtol, self.atol)
     }
@@ -629,7 +634,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Dop853 {
         // k[0..12] stages of the step, k[12] = f(t + h, y₁); 13..16 for dense output.
         let zero = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
         let mut k: [Pair<N>; 16] = [zero; 16];
-        k[0] = system.vector_field_unchecked(state.t, &state.q, &state.p);
+        k[0] = system.field(state.t, &state.q, &state.p)?;
         work.gradients += 1;
         if !pair_finite(&k[0]) {
             return Err(Error::NonFinite {
@@ -642,7 +647,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Dop853 {
         }
         let mut h = match self.h0 {
             Some(h0) => h0.min(h_max) * dir,
-            None => initial_step(system, &state, &k[0], dir, h_max, rtol, atol, &mut work),
+            None => initial_step(system, &state, &k[0], dir, h_max, rtol, atol, &mut work)?,
         };
         observer.start(&state);
 
@@ -690,7 +695,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Dop853 {
             let y = (state.q, state.p);
             for i in 1..12 {
                 let (q, p) = advance(&y, h, A[i], &k);
-                k[i] = system.vector_field_unchecked(state.t + C[i] * h, &q, &p);
+                k[i] = system.field(state.t + C[i] * h, &q, &p)?;
             }
             work.gradients += 11;
             let y1 = advance(&y, h, &B, &k);
@@ -719,7 +724,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Dop853 {
             };
             let mut k13 = zero;
             if err.is_finite() && err <= 1.0 && pair_finite(&y1) {
-                k13 = system.vector_field_unchecked(t_new, &y1.0, &y1.1);
+                k13 = system.field(t_new, &y1.0, &y1.1)?;
                 work.gradients += 1;
                 if !pair_finite(&k13) {
                     err = f64::INFINITY;

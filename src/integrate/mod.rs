@@ -42,6 +42,33 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 use std::time::{Duration, Instant};
 
+/// A first-order system on `ℝᴺ × ℝᴺ`, `(q̇, ṗ) = f(t, q, p)`, evaluated on reals: Hamilton's
+/// equations of any [`Hamiltonian`] (blanket implementation), or any other ODE whose state splits
+/// into two `N`-blocks (e.g. element equations of perturbation theory,
+/// [`crate::perturbation::ode::Ode`]). Adaptive methods ([`Dop853`]) need only this.
+pub trait FirstOrderSystem<const N: usize> {
+    /// `f(t, q, p)`; an error where the system is undefined.
+    #[allow(clippy::type_complexity)]
+    fn field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)>;
+}
+
+impl<H: Hamiltonian<N>, const N: usize> FirstOrderSystem<N> for H {
+    #[inline]
+    fn field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        Ok(self.vector_field_unchecked(t, q, p))
+    }
+}
+
 /// A point of extended phase space `(t, q, p)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct State<const N: usize> {

@@ -1,6 +1,6 @@
 //! Perturbation methods [Ardema ch. 18]: variation of constants in its general form (M58) and in
-//! Lagrange-bracket form (M59), canonical variation of elements (M60), and a small fixed-step
-//! integrator for the resulting element equations.
+//! Lagrange-bracket form (M59), canonical variation of elements (M60), Kepler element sets,
+//! higher-order normal forms, and the integration of element equations.
 //!
 //! * [`elements`]: Kepler element sets — classical, equinoctial, modified equinoctial (every conic)
 //!   and Delaunay (canonical) — with maps to the state written for dual numbers, and Kepler's
@@ -13,10 +13,10 @@
 //!   Hamilton–Jacobi equation (or any closed-form canonical element map) with the derivatives of
 //!   `K* = K(q(α, β, t), p(α, β, t), t)` by AD through the implicit solve (M60); averaging over a
 //!   fast phase.
-//! * [`ode`]: the element equations are general first-order ODEs, not Hamiltonian systems, so the
-//!   crate's [`integrate`](crate::integrate) drivers (which require a
-//!   [`Hamiltonian`](crate::Hamiltonian)) cannot run them; [`ode`] provides classical RK4 with a
-//!   Richardson error estimate for them.
+//! * [`ode`]: the element equations are general first-order ODEs; [`ode::Ode`] hands them to the
+//!   crate's adaptive integrator ([`Dop853`](crate::integrate::Dop853) runs any
+//!   [`FirstOrderSystem`](crate::integrate::FirstOrderSystem)), and [`ode`] also has classical RK4
+//!   with a Richardson error estimate for fixed-step runs.
 //! * [`normal_form`]: the Lie-series normal form of a perturbed oscillator to any order (the
 //!   frequency–amplitude series and the near-identity transformation), with a convergence
 //!   warning near the separatrix; [`lindstedt`]: the Lindstedt–Poincaré expansion that

@@ -213,3 +213,16 @@ mod tests {
         assert!(rk4(&Rotation, 0.0, &SVector::from([f64::NAN]), &z, 1.0, 1).is_err());
     }
 }
+
+/// An [`ElementOde`] as a [`FirstOrderSystem`](crate::integrate::FirstOrderSystem), so that the
+/// crate's adaptive integrator runs element equations: `integrate(&Problem::new(&Ode(eq), t₀, a₀,
+/// b₀, t₁)?, &Dop853::new(rtol, atol)?, &mut observer)` — with step control, dense output and
+/// events (the state's `q` and `p` blocks are the elements `a` and `b`).
+#[derive(Clone, Copy, Debug)]
+pub struct Ode<O>(pub O);
+
+impl<O: ElementOde<N>, const N: usize> crate::integrate::FirstOrderSystem<N> for Ode<O> {
+    fn field(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+        self.0.rhs(t, a, b)
+    }
+}
