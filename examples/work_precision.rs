@@ -13,6 +13,7 @@ use hamilton_jacobi::integrate::{
     WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
+use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::pendulum_exact::{exact_state, period};
 use hamilton_jacobi::systems::{Kepler2, Pendulum};
@@ -141,6 +142,20 @@ fn main() -> Result<()> {
     let exact_q = SVector::from([qe]);
     let mut pen = Comparison::new("Pendulum q₀ = 1, 100 periods", "final angle error");
     general_methods(&mut pen, &problem, exact_q, 1_000)?;
+    // The perturbation theory on the same axes: the Lie-series normal form of order N (built
+    // afresh in every timed run) predicts the state after 100 periods.
+    let orders: Vec<f64> = (1..=12).map(f64::from).collect();
+    pen.push(sweep(
+        "normal form (order N)",
+        "order",
+        &orders,
+        Timing::default(),
+        |order| {
+            let nf = PendulumNormalForm::new(1.0, order as usize)?;
+            let (q, _) = nf.state_at(1.0, 0.0, t1)?;
+            Ok(((q - exact_q[0]).abs(), Default::default()))
+        },
+    )?);
     pen.push(fixed_series(
         &problem,
         ExactStep,
