@@ -5,6 +5,15 @@
 //! * [`elements`]: Kepler element sets — classical, equinoctial, modified equinoctial (every conic)
 //!   and Delaunay (canonical) — with maps to the state written for dual numbers, and Kepler's
 //!   equation for elliptic, parabolic (Barker) and hyperbolic orbits.
+//! * [`forces`]: perturbation models written once for dual numbers — `J₂`, a third body (fixed or
+//!   on a circle, with the indirect term), linear drag, constant thrust (inertial or RTN), sums and
+//!   user-defined models — and the Cartesian system `H = |p|²/2 − μ/|q| + U` with forces;
+//!   [`kepler_variation`]: the Kepler general solution in classical and equinoctial elements for
+//!   M58/M59 (Lagrange's planetary equations for any disturbing function), secular rates by
+//!   averaging, Brouwer's first-order `J₂` rates, mean-element propagation.
+//! * [`gauss_variational`]: Gauss's variational equations for a perturbing acceleration in the RTN
+//!   frame, in modified equinoctial elements (regular at `e = 0`, `i = 0`) and in classical
+//!   elements; the rotating exponential atmosphere.
 //! * [`variation`]: `γ̇ = (∂φ/∂γ)⁻¹ g` for any unperturbed general solution `x = φ(γ, t)` and
 //!   perturbation `g(x, t)` (M58); the Lagrange-bracket matrix `[γ_j, γ_s]`, its time independence,
 //!   and `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j = −∂U*/∂γ_j` (M59, Lagrange's planetary
@@ -24,6 +33,9 @@
 
 pub mod canonical;
 pub mod elements;
+pub mod forces;
+pub mod gauss_variational;
+pub mod kepler_variation;
 pub mod lindstedt;
 pub mod normal_form;
 pub mod ode;
