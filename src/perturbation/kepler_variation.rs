@@ -546,3 +546,75 @@ pub fn osculating_classical(
 ) -> Result<Classical> {
     state_to_classical(mu, q, p)
 }
+
+/// The Kepler motion in Delaunay constants as canonical elements (M60, SPEC §0.6 `AlphaMomenta`):
+/// momenta `α = (L, G, H)`, coordinates `β = (l₀, g, h)` with the mean anomaly
+/// `l = l₀ + n(L)(t − t₀)`, `n = μ²/L³`. The shear `l₀ ↦ l` removes the Kepler Hamiltonian
+/// `−μ²/(2L²)`, so a perturbation `K` alone drives the elements: `α̇ = −∂K*/∂β`,
+/// `β̇ = ∂K*/∂α` (Hamilton's equations in Delaunay variables; Brouwer & Clemence 1961 ch. XI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DelaunayElements {
+    mu: f64,
+    epoch: f64,
+}
+
+impl DelaunayElements {
+    /// Delaunay constants for gravitational parameter `μ > 0`, mean anomaly counted from `t₀`.
+    ///
+    /// # Errors
+    /// [`Error::OutOfDomain`] / [`Error::NonFinite`] for a bad `μ` or `t₀`.
+    pub fn new(mu: f64, epoch: f64) -> Result<Self> {
+        Ok(Self {
+            mu: positive("gravitational parameter μ", mu)?,
+            epoch: finite("epoch t₀", epoch)?,
+        })
+    }
+
+    /// `(α, β) = ((L, G, H), (l₀, g, h))` of classical elements at time `t`.
+    ///
+    /// # Errors
+    /// As [`Classical::to_delaunay`].
+    pub fn constants(&self, el: &Classical, t: f64) -> Result<Pair<3>> {
+        let t = finite("time t", t)?;
+        let d = el.to_delaunay(self.mu)?;
+        let n = self.mu * self.mu / d.big_l.powi(3);
+        Ok((
+            Vector3::new(d.big_l, d.big_g, d.big_h),
+            Vector3::new(d.l - n * (t - self.epoch), d.g, d.h),
+        ))
+    }
+}
+
+impl super::canonical::CanonicalElements<3> for DelaunayElements {
+    fn convention(&self) -> crate::hamilton_jacobi::ElementConvention {
+        crate::hamilton_jacobi::ElementConvention::AlphaMomenta
+    }
+    fn state_generic<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        alpha: &SVector<D, 3>,
+        beta: &SVector<D, 3>,
+    ) -> Result<(SVector<D, 3>, SVector<D, 3>)> {
+        let n = alpha[0].powi(3).recip() * (self.mu * self.mu);
+        super::elements::Delaunay {
+            l: beta[0] + n * (t - self.epoch),
+            g: beta[1],
+            h: beta[2],
+            big_l: alpha[0],
+            big_g: alpha[1],
+            big_h: alpha[2],
+        }
+        .to_state(self.mu)
+    }
+}
+
+/// A disturbing function `U(q, t)` as the perturbing Hamiltonian `K(t, q, p) = U(q, t)` of the
+/// canonical element equations.
+#[derive(Clone, Copy, Debug)]
+pub struct AsHamiltonian<U>(pub U);
+
+impl<U: DisturbingFunction<3>> crate::hamiltonian::PhaseFunction<3> for AsHamiltonian<U> {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>, _p: &SVector<D, 3>) -> D {
+        self.0.disturbing_function(t, q)
+    }
+}
