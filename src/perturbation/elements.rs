@@ -335,7 +335,12 @@ pub fn solve_barker<D: DualNum<f64> + Copy>(mean_anomaly: D) -> Result<D> {
     // B³ + 3B − 3M = 0: Cardano with P = 1, Q = 3|M|/2; s³ = Q + √(Q² + 1) > 0.
     let sign = if m < 0.0 { -1.0 } else { 1.0 };
     let q = mean_anomaly * (1.5 * sign);
-    let s = (q + (q * q + 1.0).sqrt()).cbrt();
+    // √(Q² + 1) as Q·√(1 + Q⁻²) for Q > 1, so that Q² cannot overflow (|M| up to f64::MAX).
+    let s = if q.re() > 1.0 {
+        (q * ((q * q).recip() + 1.0).sqrt() + q).cbrt()
+    } else {
+        (q + (q * q + 1.0).sqrt()).cbrt()
+    };
     let s2 = s * s;
     Ok((q * 2.0 / (s2 + 1.0 + s2.recip())) * sign)
 }
@@ -1507,12 +1512,26 @@ pub fn propagate<D: DualNum<f64> + Copy>(
 /// hyperbolic; the other elements are constant).
 ///
 /// # Errors
-/// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result.
+/// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result;
+/// [`Error::OutOfDomain`] when `|M|` is so large that one ulp exceeds 1e−6 rad (the phase would
+/// be lost). The elliptic `M` is returned in `[0, 2π)`.
 pub fn propagate_classical(mu: f64, el: &Classical, dt: f64) -> Result<Classical> {
     let n = el.mean_motion(mu)?;
     let dt = finite("time step dt", dt)?;
     let mut out = *el;
-    out.mean_anomaly = finite("propagated mean anomaly", el.mean_anomaly + n * dt)?;
+    let m = finite("propagated mean anomaly", el.mean_anomaly + n * dt)?;
+    // The phase is meaningless once ulp(M) is a sizeable fraction of a radian.
+    if m.abs() * f64::EPSILON > 1e-6 {
+        return Err(Error::out_of_domain(
+            "propagated mean anomaly M",
+            m,
+            format!(
+                "|M| ≤ {:e} (beyond, one ulp of M exceeds 1e−6 rad and the phase is lost)",
+                1e-6 / f64::EPSILON
+            ),
+        ));
+    }
+    out.mean_anomaly = if el.e < 1.0 { wrap_two_pi(m) } else { m };
     Ok(out)
 }
 
@@ -1569,7 +1588,9 @@ mod tests {
 
     #[test]
     fn barker_closed_form() {
-        for m in [0.0, 1e-300, 1e-8, 0.3, -2.0, 1e6, -1e12] {
+        for m in [
+            0.0, 1e-300, 1e-8, 0.3, -2.0, 1e6, -1e12, 1e154, 1e200, -1e300,
+        ] {
             let b: f64 = solve_barker(m).unwrap();
             let back = b + b * b * b / 3.0;
             assert!(

@@ -53,6 +53,18 @@
 //! without short-period terms). Its position error against the osculating motion is of the size
 //! of the short-period terms, `O(J₂ (R/a)² a)`, plus the along-track drift from the neglected
 //! second-order secular rates, `O(J₂² (R/a)⁴ a · n t)`.
+//!
+//! # Limits
+//! * Classical elements are refused only where the Jacobian is exactly singular (`e = 0`,
+//!   `i = 0`); close to those points the planetary equations lose accuracy like `ε/e` and
+//!   `ε/sin i` (the inverse of a nearly singular Jacobian: 2e−4 relative at `e = 1e−12`). Use
+//!   [`EquinoctialSolution`] for nearly circular or equatorial orbits.
+//! * Both solutions are elliptic. For hyperbolic orbits use Gauss's equations in modified
+//!   equinoctial elements ([`GaussEquations`](super::gauss_variational::GaussEquations)), which
+//!   hold for every conic.
+//! * Averaging ([`secular_rates`], [`average_over_phase`](super::canonical::average_over_phase))
+//!   does not judge whether the perturbation is small; ask
+//!   [`PhaseAverage::require_small`](super::canonical::PhaseAverage::require_small).
 
 use std::f64::consts::{PI, TAU};
 

@@ -52,14 +52,29 @@ pub struct LindstedtSeries {
 
 impl LindstedtSeries {
     /// Period ratio `τ/(2π/n)` truncated after `a^{2N}` (`N` = the order of the expansion).
-    pub fn period_ratio_at(&self, amplitude: f64) -> f64 {
-        horner(&self.period_ratio, amplitude * amplitude)
+    ///
+    /// The truncated series is evaluated as it stands: no convergence check (the radius depends
+    /// on the restoring force; for the pendulum it is the separatrix `a = π`, and
+    /// [`PendulumNormalForm::period_ratio`](super::normal_form::PendulumNormalForm::period_ratio)
+    /// is the checked API with its warning).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`](crate::Error::NonFinite) for a non-finite amplitude.
+    pub fn period_ratio_at(&self, amplitude: f64) -> crate::Result<f64> {
+        let a = crate::error::finite("amplitude a", amplitude)?;
+        Ok(horner(&self.period_ratio, a * a))
     }
 
     /// The Lindstedt solution `θ(t)` truncated at the order of the expansion, for amplitude `a`
-    /// and small-oscillation frequency `n` (the phase `s = ω t` uses the truncated `ω`).
-    pub fn theta(&self, n: f64, amplitude: f64, t: f64) -> f64 {
-        let eps = amplitude * amplitude;
+    /// and small-oscillation frequency `n` (the phase `s = ω t` uses the truncated `ω`). No
+    /// convergence check, as [`Self::period_ratio_at`].
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`](crate::Error::NonFinite) for non-finite arguments.
+    pub fn theta(&self, n: f64, amplitude: f64, t: f64) -> crate::Result<f64> {
+        crate::error::finite("n", n)?;
+        crate::error::finite("time t", t)?;
+        let eps = crate::error::finite("amplitude a", amplitude)?.powi(2);
         let omega = n * horner(&self.frequency, eps);
         let s = omega * t;
         let mut sum = 0.0;
@@ -74,7 +89,7 @@ impl LindstedtSeries {
             sum += power * v;
             power *= eps;
         }
-        amplitude * sum
+        Ok(amplitude * sum)
     }
 }
 

@@ -39,7 +39,7 @@ use super::ode::{ElementOde, Pair};
 use crate::ad::{gradient, lift, phase_gradient, PhaseDual};
 use crate::error::{all_finite, Error, Result};
 use crate::phase::{check_phase, PhaseMatrix};
-use nalgebra::{DMatrix, SMatrix, SVector};
+use nalgebra::{DMatrix, SVector};
 use num_dual::{Dual64, DualNum};
 
 /// The general solution `x = φ(γ, t)` of an unperturbed system, written once for every dual type.
@@ -157,52 +157,40 @@ pub fn solution_jacobian<S: GeneralSolution<N> + ?Sized, const N: usize>(
     gamma2: &SVector<f64, N>,
 ) -> Result<PhaseMatrix<N>> {
     check_phase(t, gamma1, gamma2)?;
-    let mut m = PhaseMatrix {
-        qq: SMatrix::zeros(),
-        qp: SMatrix::zeros(),
-        pq: SMatrix::zeros(),
-        pp: SMatrix::zeros(),
-    };
-    for i in 0..2 * N {
-        let (value, d1, d2) = phase_gradient(
-            |a, b| {
-                let (x1, x2) = solution.state(PhaseDual::from_re(t), a, b);
-                if i < N {
-                    x1[i]
-                } else {
-                    x2[i - N]
-                }
-            },
-            gamma1,
-            gamma2,
-        );
-        if !value.is_finite() {
-            return Err(Error::invalid(
-                "general solution φ(γ, t)",
-                format!(
-                    "state component {i} is {value} at {}: outside the domain of the elements",
-                    at(t, gamma1, gamma2)
-                ),
-            ));
-        }
-        if !(d1.iter().chain(d2.iter()).all(|v| v.is_finite())) {
-            return Err(Error::Singular {
-                what: format!(
-                    "∂φ/∂γ (row {i} not finite: the elements are singular here, SPEC X12)"
-                ),
-                at: at(t, gamma1, gamma2),
-                rcond: 0.0,
-            });
-        }
-        let (a, b): (&mut SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>) = if i < N {
-            (&mut m.qq, &mut m.qp)
-        } else {
-            (&mut m.pq, &mut m.pp)
-        };
-        a.set_row(i % N, &d1.transpose());
-        b.set_row(i % N, &d2.transpose());
+    crate::brackets::jacobian(&AsPhaseMap(solution), t, gamma1, gamma2).map_err(|e| match e {
+        // φ itself not finite: outside the domain of the elements.
+        Error::NonFinite { what, value } => Error::invalid(
+            "general solution φ(γ, t)",
+            format!(
+                "{what} is {value} at {}: outside the domain of the elements",
+                at(t, gamma1, gamma2)
+            ),
+        ),
+        // φ finite but a derivative not: the elements are singular there.
+        Error::InvalidInput { .. } => Error::Singular {
+            what: "∂φ/∂γ (not finite: the elements are singular here, SPEC X12)".into(),
+            at: at(t, gamma1, gamma2),
+            rcond: 0.0,
+        },
+        other => other,
+    })
+}
+
+/// A general solution at its time argument as a [`PhaseMap`](crate::brackets::PhaseMap)
+/// `(γ₁, γ₂) ↦ φ(γ, t)`, so that its Jacobian comes from [`crate::brackets::jacobian`].
+struct AsPhaseMap<'a, S: ?Sized>(&'a S);
+
+impl<S: GeneralSolution<N> + ?Sized, const N: usize> crate::brackets::PhaseMap<N>
+    for AsPhaseMap<'_, S>
+{
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        gamma1: &SVector<D, N>,
+        gamma2: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>) {
+        self.0.state(t, gamma1, gamma2)
     }
-    Ok(m)
 }
 
 /// Right-hand side of the general variation-of-constants equations (M58),
