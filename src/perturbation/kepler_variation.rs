@@ -62,7 +62,7 @@
 //! * Both solutions are elliptic. For hyperbolic orbits use Gauss's equations in modified
 //!   equinoctial elements ([`GaussEquations`](super::gauss_variational::GaussEquations)), which
 //!   hold for every conic.
-//! * Averaging ([`secular_rates`], [`average_over_phase`](super::canonical::average_over_phase))
+//! * Averaging ([`secular_rates`], [`average_over_phase`])
 //!   does not judge whether the perturbation is small; ask
 //!   [`PhaseAverage::require_small`](super::canonical::PhaseAverage::require_small).
 

@@ -59,7 +59,7 @@ impl LindstedtSeries {
     /// is the checked API with its warning).
     ///
     /// # Errors
-    /// [`Error::NonFinite`](crate::Error::NonFinite) for a non-finite amplitude.
+    /// [`Error::NonFinite`] for a non-finite amplitude.
     pub fn period_ratio_at(&self, amplitude: f64) -> crate::Result<f64> {
         let a = crate::error::finite("amplitude a", amplitude)?;
         Ok(horner(&self.period_ratio, a * a))
@@ -70,7 +70,7 @@ impl LindstedtSeries {
     /// convergence check, as [`Self::period_ratio_at`].
     ///
     /// # Errors
-    /// [`Error::NonFinite`](crate::Error::NonFinite) for non-finite arguments.
+    /// [`Error::NonFinite`] for non-finite arguments.
     pub fn theta(&self, n: f64, amplitude: f64, t: f64) -> crate::Result<f64> {
         crate::error::finite("n", n)?;
         crate::error::finite("time t", t)?;
