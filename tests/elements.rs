@@ -868,3 +868,27 @@ proptest! {
         prop_assert!(c.symplectic_defect <= 1e-12, "{:e}", c.symplectic_defect);
     }
 }
+
+/// A nearly parabolic orbit away from periapsis: `a` from vis-viva (no cancellation there) and `E`
+/// from `e sin E = r·v/√(μa)`, `e cos E = 1 − r/a` keep the round trip at rounding level; what
+/// remains is the storage of `e` next to 1, which enters the transverse velocity through
+/// `√(1 − e²)`: relative `½ ε/(1 − e) ≈ 5.5e−8` times the transverse share of `|v|`
+/// (`≈ √(1 − e²)/(1 − e cos E) ≈ 3e−5` at `E ≈ 2.2`), i.e. about 2e−12; asserted ≤ 1e−10.
+#[test]
+fn nearly_parabolic_round_trip_away_from_periapsis() {
+    use hamilton_jacobi::perturbation::elements::state_to_classical;
+    for i in [0.0, 0.7] {
+        let c = Classical::new(2.0, 1.0 - 1e-9, i, 0.3, 1.1, 2.0).unwrap();
+        let (r, v) = c.to_state(1.0).unwrap();
+        let back = state_to_classical(1.0, &r, &v).unwrap();
+        let (r2, v2) = back.to_state(1.0).unwrap();
+        let err = ((r2 - r).norm() / r.norm()).max((v2 - v).norm() / v.norm());
+        assert!(err <= 1e-10, "i = {i}: {err:e}");
+        assert!(
+            ((back.a - c.a) / c.a).abs() <= 8.0 * f64::EPSILON,
+            "a {} vs {}",
+            back.a,
+            c.a
+        );
+    }
+}

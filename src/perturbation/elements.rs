@@ -833,7 +833,18 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
         let w = ev.dot(&ahead).atan2(ev.dot(&node));
         (w, u - w)
     };
-    let a = p / ((1.0 - e) * (1.0 + e));
+    // a from whichever route is better conditioned: vis-viva, 1/a = 2/r − v²/μ (cancels near
+    // periapsis of a nearly parabolic orbit), or a = p/(1 − e²) (amplifies the rounding of e by
+    // 1/(1 − e²)).
+    let v2 = v.norm_squared();
+    let inv_a = 2.0 / rn - v2 / mu;
+    let one_minus_e2 = (1.0 - e) * (1.0 + e);
+    let vis_viva_gain = (2.0 / rn + v2 / mu) / inv_a.abs();
+    let a = if e < 1.0 && inv_a > 0.0 && vis_viva_gain < 1.0 / one_minus_e2 {
+        1.0 / inv_a
+    } else {
+        p / one_minus_e2
+    };
     let nu = if e < 1.0 {
         nu
     } else {
@@ -845,7 +856,17 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
             x
         }
     };
-    let m = true_to_mean(nu, e)?;
+    // Eccentric ellipses: E directly from e sin E = r·v/√(μa), e cos E = 1 − r/a, which avoids
+    // the conversion through ν (ill-conditioned near apoapsis as e → 1); M by the
+    // cancellation-free Kepler function. For small e these two products are themselves small and
+    // inaccurate relative to E, while ν = u − ω from the eccentricity vector keeps ω + M exact:
+    // the ν route is kept there.
+    let m = if (0.5..1.0).contains(&e) {
+        let ecc_anom = (r.dot(v) / (mu * a).sqrt()).atan2(1.0 - rn / a);
+        crate::systems::kepler_orbit::kepler_lhs(ecc_anom, e)
+    } else {
+        true_to_mean(nu, e)?
+    };
     let el = Classical {
         a,
         e,

@@ -193,7 +193,7 @@ fn x_minus_sin(x: f64) -> f64 {
 
 /// `E − e sin E`, evaluated as `(1 − e) sin E + (E − sin E)` for `|E| < 1` to avoid the
 /// cancellation at `e → 1`, `E → 0`.
-fn kepler_lhs(ecc_anom: f64, e: f64) -> f64 {
+pub(crate) fn kepler_lhs(ecc_anom: f64, e: f64) -> f64 {
     if ecc_anom.abs() < 1.0 {
         (1.0 - e) * ecc_anom.sin() + x_minus_sin(ecc_anom)
     } else {
