@@ -332,18 +332,24 @@ pub struct Hermite<'a, S, const N: usize> {
     system: &'a S,
     prev: State<N>,
     next: State<N>,
+    /// The end-point derivatives, evaluated once on the first interpolation (an event search
+    /// interpolates many times within one step; steps without observers interested in the
+    /// interior never pay for them).
+    slopes: std::cell::OnceCell<[(SVector<f64, N>, SVector<f64, N>); 2]>,
 }
 
 impl<S: Hamiltonian<N>, const N: usize> Dense<N> for Hermite<'_, S, N> {
     fn at(&self, t: f64) -> State<N> {
         let h = self.next.t - self.prev.t;
         let th = if h == 0.0 { 0.0 } else { (t - self.prev.t) / h };
-        let (dq0, dp0) =
-            self.system
-                .vector_field_unchecked(self.prev.t, &self.prev.q, &self.prev.p);
-        let (dq1, dp1) =
-            self.system
-                .vector_field_unchecked(self.next.t, &self.next.q, &self.next.p);
+        let [(dq0, dp0), (dq1, dp1)] = *self.slopes.get_or_init(|| {
+            [
+                self.system
+                    .vector_field_unchecked(self.prev.t, &self.prev.q, &self.prev.p),
+                self.system
+                    .vector_field_unchecked(self.next.t, &self.next.q, &self.next.p),
+            ]
+        });
         let h00 = (1.0 + 2.0 * th) * (1.0 - th) * (1.0 - th);
         let h10 = th * (1.0 - th) * (1.0 - th);
         let h01 = th * th * (3.0 - 2.0 * th);
@@ -434,6 +440,7 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                 system: problem.system,
                 prev: state,
                 next,
+                slopes: std::cell::OnceCell::new(),
             };
             let control = observer.step(&StepView {
                 prev: &state,
