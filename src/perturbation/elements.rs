@@ -783,15 +783,52 @@ fn ecc_vector(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>, rn: f64) -> Vector3<f
     r * (v.norm_squared() / mu - 1.0 / rn) - v * (r.dot(v) / mu)
 }
 
+/// Semi-major axis from a state, by whichever route is better conditioned: vis-viva,
+/// `1/a = 2/r − v²/μ` (cancels near periapsis of a nearly parabolic orbit, gain
+/// `(2/r + v²/μ)/|1/a|`), or `a = p/((1 − e)(1 + e))` (amplifies the rounding of `e` by
+/// `1/(1 − e²)`; keeps `a(1 − e) = p/(1 + e)` exact, which is what fixes the state near periapsis).
+fn semi_major_axis(mu: f64, v: &Vector3<f64>, rn: f64, p: f64, e: f64) -> f64 {
+    let v2 = v.norm_squared();
+    let inv_a = 2.0 / rn - v2 / mu;
+    let one_minus_e2 = (1.0 - e) * (1.0 + e);
+    let vis_viva_gain = (2.0 / rn + v2 / mu) / inv_a.abs();
+    if e < 1.0 && inv_a > 0.0 && vis_viva_gain < 1.0 / one_minus_e2 {
+        1.0 / inv_a
+    } else {
+        p / one_minus_e2
+    }
+}
+
+/// Mean anomaly of an eccentric ellipse (`½ ≤ e < 1`) directly from the eccentric anomaly,
+/// `e sin E = r·v/√(μa)`, `e cos E = 1 − r/a`, and the cancellation-free Kepler function; this
+/// avoids the conversion through `ν`, ill-conditioned near apoapsis as `e → 1`. `None` for
+/// smaller `e`, where these two products are small and inaccurate relative to `E` and the `ν`
+/// route from the eccentricity vector is the better one.
+fn eccentric_mean_anomaly(
+    mu: f64,
+    r: &Vector3<f64>,
+    v: &Vector3<f64>,
+    rn: f64,
+    a: f64,
+    e: f64,
+) -> Option<f64> {
+    (0.5..1.0).contains(&e).then(|| {
+        let ecc_anom = (r.dot(v) / (mu * a).sqrt()).atan2(1.0 - rn / a);
+        crate::systems::kepler_orbit::kepler_lhs(ecc_anom, e)
+    })
+}
+
 /// Classical elements from a state (elliptic or hyperbolic).
 ///
 /// `h = q × p`, `i = atan2(√(h_x² + h_y²), h_z)`, `Ω = atan2(h_x, −h_y)`, eccentricity vector
-/// `e = ((|v|² − μ/r) r − (r·v) v)/μ`, semi-latus rectum `p = |h|²/μ` and
-/// `a = p/((1 − e)(1 + e))` (not the vis-viva `1/a = 2/r − |v|²/μ`: with `a` and `e` computed
-/// from the same rounded `e`, the periapsis distance `a(1 − e) = p/(1 + e)` is reproduced to
-/// full precision even for `e → 1`); `ω` and the argument of latitude `u = ω + ν` are measured
-/// in the orbit plane from the node; `M` from [`true_to_mean`] (Vallado 2013 §2.5, algorithm 9;
-/// Battin 1999 ch. 3). Conventions at `e = 0` and `i ∈ {0, π}`: [module docs](self). `Ω`, `ω`
+/// `e = ((|v|² − μ/r) r − (r·v) v)/μ`, semi-latus rectum `p = |h|²/μ`; `a` from vis-viva
+/// `1/a = 2/r − |v|²/μ` or from `a = p/((1 − e)(1 + e))`, whichever is better conditioned at
+/// the state (the latter keeps `a(1 − e) = p/(1 + e)` exact near periapsis as `e → 1`); `ω` and
+/// the argument of latitude `u = ω + ν` are measured in the orbit plane from the node; `M` from
+/// [`true_to_mean`], or for `e ≥ ½` from the eccentric anomaly `e sin E = r·v/√(μa)`,
+/// `e cos E = 1 − r/a` (Vallado 2013 §2.5, algorithm 9; Battin 1999 ch. 3). Round trips
+/// state → elements → state stay within a few times the representation limit of the elements
+/// (the rounding of `e` next to 1 costs `ulp(e)/(1 − e)` at apoapsis). Conventions at `e = 0` and `i ∈ {0, π}`: [module docs](self). `Ω`, `ω`
 /// are returned in `[0, 2π)`, and `M` in `[0, 2π)` for ellipses.
 ///
 /// # Errors
@@ -833,18 +870,7 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
         let w = ev.dot(&ahead).atan2(ev.dot(&node));
         (w, u - w)
     };
-    // a from whichever route is better conditioned: vis-viva, 1/a = 2/r − v²/μ (cancels near
-    // periapsis of a nearly parabolic orbit), or a = p/(1 − e²) (amplifies the rounding of e by
-    // 1/(1 − e²)).
-    let v2 = v.norm_squared();
-    let inv_a = 2.0 / rn - v2 / mu;
-    let one_minus_e2 = (1.0 - e) * (1.0 + e);
-    let vis_viva_gain = (2.0 / rn + v2 / mu) / inv_a.abs();
-    let a = if e < 1.0 && inv_a > 0.0 && vis_viva_gain < 1.0 / one_minus_e2 {
-        1.0 / inv_a
-    } else {
-        p / one_minus_e2
-    };
+    let a = semi_major_axis(mu, v, rn, p, e);
     let nu = if e < 1.0 {
         nu
     } else {
@@ -861,11 +887,9 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
     // cancellation-free Kepler function. For small e these two products are themselves small and
     // inaccurate relative to E, while ν = u − ω from the eccentricity vector keeps ω + M exact:
     // the ν route is kept there.
-    let m = if (0.5..1.0).contains(&e) {
-        let ecc_anom = (r.dot(v) / (mu * a).sqrt()).atan2(1.0 - rn / a);
-        crate::systems::kepler_orbit::kepler_lhs(ecc_anom, e)
-    } else {
-        true_to_mean(nu, e)?
+    let m = match eccentric_mean_anomaly(mu, r, v, rn, a, e) {
+        Some(m) => m,
+        None => true_to_mean(nu, e)?,
     };
     let el = Classical {
         a,
@@ -1089,9 +1113,11 @@ fn equinoctial_pq(h: &Vector3<f64>, hn: f64) -> Result<(f64, f64)> {
 /// Equinoctial elements from a state (elliptic only).
 ///
 /// `(p, q)` from the orbit normal (the equinoctial frame), `k = e·f̂`, `h = e·ĝ` with the
-/// eccentricity vector `e`, `a = (|h|²/μ)/((1 − e)(1 + e))` with `e = √(h² + k²)`, and
-/// `λ = ϖ + M(L − ϖ)` from the true longitude `L = atan2(q·ĝ, q·f̂)` ([`true_to_mean`];
-/// `λ = L` at `e = 0`). Nothing here is singular at `e = 0` or `i = 0`.
+/// eccentricity vector `e`, `a` from vis-viva or from `a = (|h|²/μ)/((1 − e)(1 + e))` with
+/// `e = √(h² + k²)` (the better conditioned, as in [`state_to_classical`]), and `λ = ϖ + M`
+/// with `M` from the true longitude `L = atan2(q·ĝ, q·f̂)` ([`true_to_mean`]; `λ = L` at
+/// `e = 0`), or for `e ≥ ½` from the eccentric anomaly. Nothing here is singular at `e = 0` or
+/// `i = 0`.
 ///
 /// # Errors
 /// [`Error::NonFinite`]; [`Error::InvalidInput`] for `q = 0`; [`Error::OutOfDomain`] for
@@ -1106,10 +1132,16 @@ pub fn state_to_equinoctial(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Resu
             "[0, 1)",
         ));
     }
+    let rn = r.norm();
+    let a = semi_major_axis(mu, v, rn, mee.p, e);
     let varpi = if e > 0.0 { mee.g.atan2(mee.f) } else { 0.0 };
-    let lambda = varpi + true_to_mean(mee.l - varpi, e)?;
+    let m = match eccentric_mean_anomaly(mu, r, v, rn, a, e) {
+        Some(m) => m,
+        None => true_to_mean(mee.l - varpi, e)?,
+    };
+    let lambda = varpi + m;
     let el = Equinoctial {
-        a: mee.p / ((1.0 - e) * (1.0 + e)),
+        a,
         h: mee.g,
         k: mee.f,
         p: mee.k,
