@@ -195,10 +195,13 @@ impl Comparison {
             for x in &s.samples {
                 let _ = writeln!(
                     out,
-                    "| {} | {} = {} | {:.2e} | {} | {} | {} | {} |",
+                    "| {} | {} | {:.2e} | {} | {} | {} | {} |",
                     s.label,
-                    s.knob,
-                    fmt_knob(x.knob),
+                    if s.knob.is_empty() {
+                        "—".to_string()
+                    } else {
+                        format!("{} = {}", s.knob, fmt_knob(x.knob))
+                    },
                     x.error,
                     fmt_time(x.seconds),
                     x.work.steps,
@@ -234,7 +237,10 @@ impl Comparison {
     }
 
     /// An SVG work-precision diagram: error (x, log) against wall time (y, log), one polyline
-    /// with markers per series, legend, titles.
+    /// with markers per series, legend beside the plot, titles (drawn with [`crate::plot`]).
+    /// Errors of exactly 0 are drawn at a floor a decade or more below the smallest positive
+    /// error (10⁻¹⁷ if there is none), and the axis title says so. Fails, writing nothing, if no
+    /// sample can be drawn.
     #[cfg(feature = "cli")]
     pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
         svg::work_precision(self, path)
@@ -273,115 +279,29 @@ pub fn fmt_time(s: f64) -> String {
 #[cfg(feature = "cli")]
 mod svg {
     use super::Comparison;
-    use crate::error::{Error, Result};
-    use plotters::prelude::*;
+    use crate::error::Result;
+    use crate::plot::{Figure, Style};
 
-    const COLORS: [RGBColor; 10] = [
-        RGBColor(31, 119, 180),
-        RGBColor(255, 127, 14),
-        RGBColor(44, 160, 44),
-        RGBColor(214, 39, 40),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-        RGBColor(188, 189, 34),
-        RGBColor(23, 190, 207),
-    ];
-
-    /// Where an error of exactly zero is drawn on the logarithmic axis.
-    const ZERO_AT: f64 = 1e-17;
-
-    fn err(e: impl std::fmt::Display) -> Error {
-        Error::invalid("SVG work-precision diagram", e.to_string())
+    /// The work-precision diagram of `c` as a [`Figure`]: error (x, log) against wall time
+    /// (y, log), one line with markers per series. Errors of exactly 0 are drawn at the plot's
+    /// zero floor, which the axis title states.
+    pub(super) fn figure(c: &Comparison) -> Figure {
+        c.series.iter().fold(
+            Figure::new(&c.title, &c.error_label, "wall time [s]")
+                .log_x()
+                .log_y(),
+            |f, s| {
+                f.curve(
+                    &s.label,
+                    s.samples.iter().map(|x| (x.error, x.seconds)),
+                    Style::LineMarkers,
+                )
+            },
+        )
     }
 
     pub(super) fn work_precision(c: &Comparison, path: &std::path::Path) -> Result<()> {
-        // Errors of exactly 0 (exact to the last bit) are drawn at the floor ZERO_AT.
-        let shown = |e: f64| if e == 0.0 { ZERO_AT } else { e };
-        let any_zero = c
-            .series
-            .iter()
-            .flat_map(|s| s.samples.iter())
-            .any(|x| x.error == 0.0);
-        let pts: Vec<(f64, f64)> = c
-            .series
-            .iter()
-            .flat_map(|s| s.samples.iter())
-            .filter(|x| x.error.is_finite() && x.error >= 0.0 && x.seconds > 0.0)
-            .map(|x| (shown(x.error), x.seconds))
-            .collect();
-        if pts.is_empty() {
-            return Err(err("no finite, positive samples to plot"));
-        }
-        let (mut emin, mut emax, mut tmin, mut tmax) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);
-        for &(e, t) in &pts {
-            emin = emin.min(e);
-            emax = emax.max(e);
-            tmin = tmin.min(t);
-            tmax = tmax.max(t);
-        }
-        let pad = |lo: f64, hi: f64| (lo / 2.0, hi * 2.0);
-        let (e0, e1) = pad(emin, emax);
-        let (t0, t1) = pad(tmin, tmax);
-        let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&c.title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(50)
-            .y_label_area_size(80)
-            .build_cartesian_2d((e0..e1).log_scale(), (t0..t1).log_scale())
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(if any_zero {
-                format!(
-                    "{} (an error of 0 is drawn at {ZERO_AT:.0e})",
-                    c.error_label
-                )
-            } else {
-                c.error_label.clone()
-            })
-            .y_desc("wall time [s]")
-            .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
-            .draw()
-            .map_err(err)?;
-        for (i, s) in c.series.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
-            let line: Vec<(f64, f64)> = s
-                .samples
-                .iter()
-                .filter(|x| x.error.is_finite() && x.error >= 0.0 && x.seconds > 0.0)
-                .map(|x| (shown(x.error), x.seconds))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
-                .map_err(err)?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            chart
-                .draw_series(
-                    line.iter()
-                        .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
-                )
-                .map_err(err)?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-        Ok(())
+        figure(c).to_svg(path)
     }
 }
 
@@ -425,6 +345,27 @@ mod tests {
         let md = c.to_markdown(&[1e-6]);
         assert!(md.contains("time to 1e-6"));
         assert!(md.contains("10.00 ms"));
+    }
+
+    #[cfg(feature = "cli")]
+    #[test]
+    fn svg_draws_every_series_and_states_the_zero_floor() {
+        let mut c = Comparison::new("oscillator", "final error");
+        c.push(series(&[(1e-4, 1e-3), (1e-8, 1e-1)]));
+        let mut exact = series(&[(0.0, 2e-3), (1e-12, 1e-2)]);
+        exact.label = "exact".into();
+        c.push(exact);
+        let svg = svg::figure(&c).to_svg_string().unwrap();
+        assert!(svg.contains("final error (0 drawn at 1e\u{2212}13)"));
+        assert!(svg.contains("wall time [s]"));
+        assert!(svg.contains("exact"));
+        let path = std::env::temp_dir().join(format!("hj-wp-{}.svg", std::process::id()));
+        c.to_svg(&path).unwrap();
+        let written = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(written, svg);
+        assert!(Comparison::new("empty", "error").to_svg(&path).is_err());
+        assert!(!path.exists());
     }
 
     #[test]

@@ -1,0 +1,1572 @@
+//! General SVG line plots: several labelled curves on linear or logarithmic axes, with a legend
+//! beside the plotting area.
+//!
+//! A [`Figure`](crate::plot::Figure) is built with a few chained calls and written with
+//! [`Figure::to_svg`](crate::plot::Figure::to_svg) (or returned as text by
+//! [`Figure::to_svg_string`](crate::plot::Figure::to_svg_string)):
+//!
+//! ```no_run
+//! use hamilton_jacobi::plot::{Figure, Style};
+//!
+//! let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.1).collect();
+//! let drift: Vec<(f64, f64)> = t.iter().map(|&t| (t, 1e-12 * (1.0 + t * t))).collect();
+//! Figure::new("energy error", "t", "|ΔE / E|")
+//!     .log_y()
+//!     .curve("leapfrog, h = 0.1", drift, Style::Line)
+//!     .to_svg(std::path::Path::new("energy.svg"))?;
+//! # Ok::<(), hamilton_jacobi::Error>(())
+//! ```
+//!
+//! The drawing is 900 × 600 pixels:
+//!
+//! * **Legend.** The legend sits in a column to the right of the plotting area, as wide as the
+//!   longest label needs (at most a third of the figure; longer labels are wrapped onto several
+//!   lines), so it never covers a curve. Each entry shows the curve's line and/or marker as drawn.
+//!   Curves with an empty label have no entry. If the entries do not fit the height of the figure
+//!   the legend's font shrinks, and as a last resort the remaining entries are summarised as
+//!   "… and N more". A long title is wrapped (at most three lines).
+//! * **Colours and markers.** Curves take the colours of a ten-colour palette in order, with lines
+//!   2 pixels wide; markers cycle through circle, square, triangle and diamond, so that curves
+//!   with markers stay distinguishable in grey-scale and beyond ten curves.
+//! * **Points that cannot be drawn.** A point with a NaN or infinite coordinate is omitted; so is a
+//!   point with a negative coordinate on a logarithmic axis. A line is interrupted where points
+//!   were omitted (a point left alone between omitted ones is drawn as a dot), and the curve's
+//!   legend label says how many were omitted, e.g. "(3 non-finite points omitted)".
+//! * **Zeros on a logarithmic axis.** A coordinate of exactly 0 on a logarithmic axis is drawn at
+//!   a floor: the power of ten at least one decade below the smallest positive value on that axis
+//!   (10⁻¹⁷ if there is none), and the axis title says so, e.g. "error (0 drawn at 1e−17)".
+//! * **Ranges and ticks.** Ranges cover every drawable point, padded by 5 % of the span on a linear
+//!   axis and by a factor 2 on a logarithmic one; a range of a single value is widened (±10 % of
+//!   the value, ±1 if it is 0; one decade either side on a logarithmic axis). Logarithmic axes are
+//!   labelled at powers of ten (`1e-6`), every few decades if the range is wide, and at 2 and 5
+//!   times powers of ten (`2e-6`) if it spans less than three of them; linear axes at multiples of
+//!   1, 2 or 5 times a power of ten, with as many digits as the step needs (scientific notation
+//!   if the largest label is 10⁵ or more, or below 10⁻³). Tick labels are spaced so that they do
+//!   not collide; axis titles too long for their axis are set smaller.
+//! * **Equal aspect.** With [`Figure::equal_aspect`](crate::plot::Figure::equal_aspect) one unit
+//!   has the same length on both axes (on a logarithmic axis: one decade), the shorter range being
+//!   widened about its centre — for orbits and phase portraits.
+//! * **Large curves.** A curve with more than [`MAX_DRAWN_POINTS`](crate::plot::MAX_DRAWN_POINTS)
+//!   drawable points is thinned for drawing: every k-th point is kept, together with the first and
+//!   last point of every unbroken stretch. With many curves the allowance per curve is lower: the
+//!   lines of a figure share 32 000 points (at least 1 000 per curve) and its markers 6 000 (at
+//!   least 300 per curve), so that files stay below about a megabyte.
+//! * **Errors.** A figure without a single drawable point is an error, not a blank file, as is a
+//!   range too wide to represent in floating point.
+
+use crate::error::{Error, Result};
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// A curve with more drawable points than this is thinned for drawing (every k-th point, plus the
+/// first and last point of every unbroken stretch).
+pub const MAX_DRAWN_POINTS: usize = 4000;
+
+/// Points of the lines of one figure, shared among the curves drawn with lines (each of them gets
+/// at most [`MAX_DRAWN_POINTS`] and at least [`MIN_LINE_POINTS_PER_CURVE`]).
+const LINE_BUDGET: usize = 32_000;
+/// Every curve drawn with a line may draw at least this many points of it.
+const MIN_LINE_POINTS_PER_CURVE: usize = 1000;
+
+/// Markers of one figure, shared among the curves drawn with markers (each of them gets at most
+/// [`MAX_DRAWN_POINTS`] and at least [`MIN_MARKERS_PER_CURVE`]).
+const MARKER_BUDGET: usize = 6000;
+/// Every curve drawn with markers may draw at least this many.
+const MIN_MARKERS_PER_CURVE: usize = 300;
+
+/// Where a value of exactly 0 is drawn on a logarithmic axis that has no positive value.
+const DEFAULT_ZERO_FLOOR: f64 = 1e-17;
+
+/// The ten-colour palette, in the order curves take it.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Width of the drawing in pixels.
+const WIDTH: u32 = 900;
+/// Height of the drawing in pixels.
+const HEIGHT: u32 = 600;
+/// Font family of every text.
+const FONT: &str = "sans-serif";
+/// Font sizes in SVG pixels: the title.
+const TITLE_PX: f64 = 20.0;
+/// Axis titles (before shrinking to fit their axis).
+const DESC_PX: f64 = 16.0;
+/// Tick labels.
+const TICK_PX: f64 = 14.0;
+/// Legend labels (before shrinking to fit the height).
+const LEGEND_PX: f64 = 14.0;
+/// Legend labels shrink no further than this.
+const MIN_LEGEND_PX: f64 = 10.0;
+/// A wrapped title keeps at most this many lines.
+const MAX_TITLE_LINES: usize = 3;
+/// Margins of the chart inside its region (top, bottom, left, right), in pixels.
+const MARGIN: (u32, u32, u32, u32) = (10, 6, 6, 30);
+/// Tick mark length; plotters puts the tick labels twice as far from the axis.
+const TICK_LEN: i32 = 5;
+/// Legend geometry, in pixels: padding inside the legend box.
+const LEGEND_PAD: f64 = 10.0;
+/// Length of the line of a legend swatch.
+const SWATCH_W: f64 = 30.0;
+/// Gap between a legend swatch and its label.
+const SWATCH_GAP: f64 = 8.0;
+/// Room left beside the legend box within its column.
+const LEGEND_OUTER: f64 = 10.0;
+/// Line width of the curves.
+const STROKE: u32 = 2;
+/// Marker radius on a line ([`Style::LineMarkers`]).
+const LINE_MARKER_R: i32 = 4;
+/// Marker radius without a line ([`Style::Markers`]).
+const SCATTER_MARKER_R: i32 = 3;
+
+/// How an axis maps values to positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Scale {
+    /// Uniform.
+    #[default]
+    Linear,
+    /// Logarithmic (base 10): equal ratios at equal distances. Only positive values can be drawn;
+    /// zeros are drawn at a floor (see the [module documentation](self)).
+    Log,
+}
+
+/// How a curve is drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Style {
+    /// A polyline through the points.
+    #[default]
+    Line,
+    /// A polyline with a marker at every point (markers of very long curves are thinned).
+    LineMarkers,
+    /// Markers only (a scatter plot).
+    Markers,
+}
+
+impl Style {
+    /// Whether the points are joined by a line.
+    fn line(self) -> bool {
+        matches!(self, Style::Line | Style::LineMarkers)
+    }
+
+    /// Whether a marker is drawn at every point.
+    fn markers(self) -> bool {
+        matches!(self, Style::LineMarkers | Style::Markers)
+    }
+
+    /// Radius of the markers, in pixels.
+    fn marker_radius(self) -> i32 {
+        if self == Style::Markers {
+            SCATTER_MARKER_R
+        } else {
+            LINE_MARKER_R
+        }
+    }
+}
+
+/// One labelled curve: points `(x, y)` in drawing order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    /// Legend label (no legend entry if empty).
+    pub label: String,
+    /// The points, in order along the curve.
+    pub points: Vec<(f64, f64)>,
+    /// Line, markers or both.
+    pub style: Style,
+}
+
+/// A figure: title, axis titles and scales, curves. See the [module documentation](self) for how
+/// it is drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Figure {
+    /// Title, above the plot (none if empty).
+    pub title: String,
+    /// Title of the horizontal axis.
+    pub x_label: String,
+    /// Title of the vertical axis.
+    pub y_label: String,
+    /// Scale of the horizontal axis.
+    pub x_scale: Scale,
+    /// Scale of the vertical axis.
+    pub y_scale: Scale,
+    /// The curves, drawn in order (later curves on top) and listed in the legend in order.
+    pub curves: Vec<Curve>,
+    /// One unit (one decade on a logarithmic axis) has the same length on both axes.
+    pub equal_aspect: bool,
+}
+
+impl Figure {
+    /// A figure with linear axes and no curves.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            curves: Vec::new(),
+            equal_aspect: false,
+        }
+    }
+
+    /// Make the horizontal axis logarithmic.
+    pub fn log_x(mut self) -> Self {
+        self.x_scale = Scale::Log;
+        self
+    }
+
+    /// Make the vertical axis logarithmic.
+    pub fn log_y(mut self) -> Self {
+        self.y_scale = Scale::Log;
+        self
+    }
+
+    /// Give one unit the same length on both axes (for orbits and phase portraits).
+    pub fn equal_aspect(mut self) -> Self {
+        self.equal_aspect = true;
+        self
+    }
+
+    /// Add a curve.
+    pub fn curve(
+        mut self,
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, f64)>,
+        style: Style,
+    ) -> Self {
+        self.curves.push(Curve {
+            label: label.into(),
+            points: points.into_iter().collect(),
+            style,
+        });
+        self
+    }
+
+    /// Write the figure as an SVG file at `path`. Nothing is written if the figure cannot be drawn
+    /// (see [`Figure::to_svg_string`]).
+    pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
+        let svg = self.to_svg_string()?;
+        std::fs::write(path, svg)
+            .map_err(|e| Error::invalid(format!("SVG file {}", path.display()), e.to_string()))
+    }
+
+    /// The figure as SVG text. Fails if no point of any curve can be drawn, or if a range is too
+    /// wide to represent.
+    pub fn to_svg_string(&self) -> Result<String> {
+        let layout = Layout::new(self)?;
+        let mut out = String::new();
+        {
+            let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
+            layout.draw(&root).map_err(|e| self.error(e))?;
+            root.present().map_err(|e| self.error(e))?;
+        }
+        Ok(out)
+    }
+
+    /// How errors name the figure.
+    fn what(&self) -> String {
+        if self.title.is_empty() {
+            "SVG figure".to_string()
+        } else {
+            format!("SVG figure \"{}\"", self.title)
+        }
+    }
+
+    /// An [`Error::InvalidInput`] naming the figure.
+    fn error(&self, why: impl std::fmt::Display) -> Error {
+        Error::invalid(self.what(), why.to_string())
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Preparation: which points are drawn where.
+
+/// One axis: scale and, on a logarithmic axis with zeros, where the zeros go.
+#[derive(Clone, Copy, Debug)]
+struct AxisMap {
+    scale: Scale,
+    floor: f64,
+}
+
+impl AxisMap {
+    /// Plot coordinate of `v` (log10 on a logarithmic axis); `None` if it cannot be drawn.
+    fn map(self, v: f64) -> Option<f64> {
+        match self.scale {
+            Scale::Linear => Some(v),
+            Scale::Log if v > 0.0 => Some(v.log10()),
+            Scale::Log if v == 0.0 => Some(self.floor.log10()),
+            Scale::Log => None,
+        }
+    }
+}
+
+/// The floor for zeros on a logarithmic axis: the power of ten at least one decade below the
+/// smallest positive value, or [`DEFAULT_ZERO_FLOOR`].
+fn zero_floor(values: impl Iterator<Item = f64>) -> f64 {
+    let min = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .min_by(f64::total_cmp);
+    match min {
+        None => DEFAULT_ZERO_FLOOR,
+        Some(m) => {
+            let f = 10f64.powi(m.log10().floor() as i32 - 1);
+            if f > 0.0 && f < m {
+                f
+            } else {
+                m
+            }
+        }
+    }
+}
+
+/// A curve ready to draw, in plot coordinates: legend label, polylines and dots.
+struct Prepared {
+    label: String,
+    style: Style,
+    index: usize,
+    /// Unbroken stretches of drawable points.
+    segments: Vec<Vec<(f64, f64)>>,
+    /// Number of drawable points.
+    drawable: usize,
+    /// Polylines to draw (stretches of two or more points, thinned); set by [`Prepared::thin`].
+    lines: Vec<Vec<(f64, f64)>>,
+    /// Markers to draw (thinned), or for a line the points left alone between omitted ones.
+    dots: Vec<(f64, f64)>,
+}
+
+impl Prepared {
+    /// Sort the points of curve number `index` into drawable stretches, counting the others.
+    fn new(index: usize, curve: &Curve, xm: AxisMap, ym: AxisMap) -> Self {
+        let (mut non_finite, mut negative) = (0usize, 0usize);
+        let mut segments: Vec<Vec<(f64, f64)>> = Vec::new();
+        let mut current: Vec<(f64, f64)> = Vec::new();
+        for &(x, y) in &curve.points {
+            let p = if !(x.is_finite() && y.is_finite()) {
+                non_finite += 1;
+                None
+            } else {
+                match (xm.map(x), ym.map(y)) {
+                    (Some(px), Some(py)) => Some((px, py)),
+                    _ => {
+                        negative += 1;
+                        None
+                    }
+                }
+            };
+            match p {
+                Some(p) => current.push(p),
+                None if !current.is_empty() => segments.push(std::mem::take(&mut current)),
+                None => {}
+            }
+        }
+        if !current.is_empty() {
+            segments.push(current);
+        }
+        let drawable = segments.iter().map(Vec::len).sum();
+        let label = legend_label(&curve.label, non_finite, negative);
+        Self {
+            label,
+            style: curve.style,
+            index,
+            segments,
+            drawable,
+            lines: Vec::new(),
+            dots: Vec::new(),
+        }
+    }
+
+    /// Choose what is drawn: lines thinned to `line_cap` points, markers to `marker_cap`.
+    fn thin(&mut self, line_cap: usize, marker_cap: usize) {
+        if self.style.line() {
+            self.lines = thin(&self.segments, line_cap)
+                .into_iter()
+                .filter(|s| s.len() >= 2)
+                .collect();
+        }
+        self.dots = if self.style.markers() {
+            thin(&self.segments, marker_cap).concat()
+        } else {
+            self.segments
+                .iter()
+                .filter(|s| s.len() == 1)
+                .flatten()
+                .copied()
+                .collect()
+        };
+    }
+
+    /// Radius of the dots: markers, or a dot the width of the line.
+    fn dot_radius(&self) -> i32 {
+        match self.style {
+            Style::Line => STROKE as i32,
+            s => s.marker_radius(),
+        }
+    }
+
+    /// The curve's colour.
+    fn color(&self) -> RGBColor {
+        PALETTE[self.index % PALETTE.len()]
+    }
+
+    /// The curve's marker shape.
+    fn shape(&self) -> Shape {
+        SHAPES[self.index % SHAPES.len()]
+    }
+}
+
+/// The legend label with a note on omitted points.
+fn legend_label(label: &str, non_finite: usize, negative: usize) -> String {
+    let points = |n: usize| if n == 1 { "point" } else { "points" };
+    let note = match (non_finite, negative) {
+        (0, 0) => return label.to_string(),
+        (n, 0) => format!("{n} non-finite {} omitted", points(n)),
+        (0, m) => format!("{m} negative {} omitted", points(m)),
+        (n, m) => format!("{n} non-finite and {m} negative {} omitted", points(n + m)),
+    };
+    if label.is_empty() {
+        format!("({note})")
+    } else {
+        format!("{label} ({note})")
+    }
+}
+
+/// Every k-th point (k chosen so that at most `max` remain), plus the first and last point of
+/// every stretch. Global index runs over all stretches.
+fn thin(segments: &[Vec<(f64, f64)>], max: usize) -> Vec<Vec<(f64, f64)>> {
+    let n: usize = segments.iter().map(Vec::len).sum();
+    let max = max.max(2);
+    if n <= max {
+        return segments.to_vec();
+    }
+    let k = n.div_ceil(max - 1);
+    let mut g = 0usize;
+    segments
+        .iter()
+        .map(|seg| {
+            let last = seg.len().saturating_sub(1);
+            let kept = seg
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| i == 0 || i == last || (g + i).is_multiple_of(k))
+                .map(|(_, &p)| p)
+                .collect();
+            g += seg.len();
+            kept
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ranges and ticks.
+
+/// Padded range of the plot coordinates `lo..=hi`.
+fn padded(lo: f64, hi: f64, scale: Scale) -> (f64, f64) {
+    match scale {
+        Scale::Log => {
+            if hi - lo < 1e-9 {
+                (lo - 1.0, hi + 1.0)
+            } else {
+                let p = 2f64.log10();
+                (lo - p, hi + p)
+            }
+        }
+        Scale::Linear => {
+            let span = hi - lo;
+            let mag = lo.abs().max(hi.abs());
+            if span <= 1e-12 * mag || span == 0.0 {
+                let c = 0.5 * (lo + hi);
+                let half = if c == 0.0 { 1.0 } else { 0.1 * c.abs() };
+                (c - half, c + half)
+            } else {
+                (lo - 0.05 * span, hi + 0.05 * span)
+            }
+        }
+    }
+}
+
+/// Widen the range of one axis so that both have the same units per pixel.
+fn equalise(x: &mut (f64, f64), y: &mut (f64, f64), w: f64, h: f64) {
+    let ux = (x.1 - x.0) / w;
+    let uy = (y.1 - y.0) / h;
+    let widen = |r: &mut (f64, f64), span: f64| {
+        let c = 0.5 * (r.0 + r.1);
+        *r = (c - 0.5 * span, c + 0.5 * span);
+    };
+    if ux > uy {
+        widen(y, ux * h);
+    } else if uy > ux {
+        widen(x, uy * w);
+    }
+}
+
+/// Tick positions (plot coordinates) with labels, and positions of light grid lines.
+#[derive(Clone, Debug, Default)]
+struct Ticks {
+    major: Vec<(f64, String)>,
+    light: Vec<f64>,
+}
+
+impl Ticks {
+    /// The label of the tick at `v`.
+    fn label(&self, v: f64) -> String {
+        self.major
+            .iter()
+            .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
+            .map(|(_, s)| s.clone())
+            .unwrap_or_default()
+    }
+
+    /// Estimated width of the widest label, in pixels.
+    fn max_label_width(&self) -> f64 {
+        self.major
+            .iter()
+            .map(|(_, s)| text_width(s, TICK_PX))
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether labels `pixels` apart along the axis would collide.
+    fn fits(&self, pixels_per_unit: f64, horizontal: bool) -> bool {
+        let need = if horizontal {
+            self.max_label_width() + 14.0
+        } else {
+            2.2 * TICK_PX
+        };
+        self.major
+            .windows(2)
+            .all(|w| (w[1].0 - w[0].0) * pixels_per_unit >= need)
+    }
+}
+
+/// A linear plotters coordinate over `lo..hi` with given key points (bold and light).
+struct TickedAxis {
+    lo: f64,
+    hi: f64,
+    bold: Vec<f64>,
+    light: Vec<f64>,
+}
+
+impl TickedAxis {
+    /// The coordinate over `range` with the positions of `ticks`.
+    fn new(range: (f64, f64), ticks: &Ticks) -> Self {
+        Self {
+            lo: range.0,
+            hi: range.1,
+            bold: ticks.major.iter().map(|t| t.0).collect(),
+            light: ticks.light.clone(),
+        }
+    }
+}
+
+impl Ranged for TickedAxis {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        let t = (v - self.lo) / (self.hi - self.lo);
+        let len = f64::from(limit.1 - limit.0);
+        let p = f64::from(limit.0) + len * t;
+        // Far outside points are clamped well beyond the drawing, never wrapped around.
+        p.round().clamp(-1e6, 1e6) as i32
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            self.light.clone()
+        } else {
+            self.bold.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+/// Labels of a linear axis at multiples of `step` = m · 10^e (m ∈ {1, 2, 5}).
+fn linear_ticks_with_step(lo: f64, hi: f64, m: f64, e: i32) -> Ticks {
+    let step = m * 10f64.powi(e);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    let mut ticks = Ticks::default();
+    if last < first || last - first > 200 {
+        return ticks;
+    }
+    let values: Vec<f64> = (first..=last).map(|i| i as f64 * step).collect();
+    let max_abs = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let scientific = !(1e-3..1e5).contains(&max_abs);
+    for v in values {
+        let v = if v.abs() < 1e-6 * step { 0.0 } else { v };
+        let label = if scientific {
+            if v == 0.0 {
+                "0".to_string()
+            } else {
+                // Mantissa digits down to the step: 1.5e5, 2e-7.
+                let exp = v.abs().log10().floor() as i32;
+                format!("{:.*e}", (exp - e).max(0) as usize, v)
+            }
+        } else {
+            format!("{:.*}", (-e).max(0) as usize, v)
+        };
+        ticks.major.push((v, label));
+    }
+    let half = 0.5 * step;
+    let first_h = (lo / half).ceil() as i64;
+    let last_h = (hi / half).floor() as i64;
+    ticks.light = (first_h..=last_h)
+        .filter(|i| i.rem_euclid(2) == 1)
+        .map(|i| i as f64 * half)
+        .collect();
+    ticks
+}
+
+/// Ticks of a linear axis of `pixels` length: the densest 1-2-5 step that gives at most a couple
+/// of labels more than one per 100 (horizontal) or 60 (vertical) pixels, and whose labels do not
+/// collide.
+fn linear_ticks(lo: f64, hi: f64, pixels: f64, horizontal: bool) -> Ticks {
+    let target = (pixels / if horizontal { 100.0 } else { 60.0 }).clamp(3.0, 10.0);
+    let raw = (hi - lo) / target;
+    let mut e = raw.log10().floor() as i32;
+    let f = raw / 10f64.powi(e);
+    let ms = [1.0, 2.0, 5.0];
+    let mut mi = if f < 2.0 {
+        0
+    } else if f < 5.0 {
+        1
+    } else {
+        2
+    };
+    let mut fallback = None;
+    for _ in 0..12 {
+        let t = linear_ticks_with_step(lo, hi, ms[mi], e);
+        let n = t.major.len();
+        if n >= 2 && n as f64 <= target + 2.0 && t.fits(pixels / (hi - lo), horizontal) {
+            return t;
+        }
+        if n < 2 {
+            break;
+        }
+        // The sparsest labels with at least two ticks, if none fits.
+        fallback = Some(t);
+        mi += 1;
+        if mi == 3 {
+            mi = 0;
+            e += 1;
+        }
+    }
+    fallback.unwrap_or_else(|| linear_ticks_with_step(lo, hi, ms[mi], e))
+}
+
+/// Label of m · 10^k on a logarithmic axis.
+fn log_label(m: i32, k: i32) -> String {
+    format!("{m}e{k}")
+}
+
+/// Ticks of a logarithmic axis (plot coordinates are log10 of the values).
+fn log_ticks(lo: f64, hi: f64, pixels: f64, horizontal: bool) -> Ticks {
+    let ppu = pixels / (hi - lo);
+    let eps = 1e-9;
+    let kmin = (lo - eps).ceil() as i32;
+    let kmax = (hi + eps).floor() as i32;
+    let inside = |v: f64| v >= lo - eps && v <= hi + eps;
+    if kmax - kmin + 1 >= 3 {
+        // Powers of ten, every s decades.
+        let mut chosen = None;
+        for s in [1, 2, 3, 4, 5, 10, 20, 25, 50, 100] {
+            let major: Vec<(f64, String)> = (kmin..=kmax)
+                .filter(|k| k.rem_euclid(s) == 0)
+                .map(|k| (k as f64, log_label(1, k)))
+                .collect();
+            let t = Ticks {
+                major,
+                light: Vec::new(),
+            };
+            if t.major.len() >= 2 && t.fits(ppu, horizontal) {
+                chosen = Some((s, t));
+                break;
+            }
+            if t.major.len() < 2 {
+                chosen = Some((s, t));
+                break;
+            }
+        }
+        let (s, mut t) = chosen.unwrap_or((
+            1,
+            Ticks {
+                major: vec![(kmin as f64, log_label(1, kmin))],
+                light: Vec::new(),
+            },
+        ));
+        if s == 1 {
+            if ppu >= 50.0 {
+                t.light = (kmin - 1..=kmax)
+                    .flat_map(|k| (2..=9).map(move |m| (m as f64).log10() + k as f64))
+                    .filter(|&v| inside(v))
+                    .collect();
+            }
+        } else {
+            t.light = (kmin..=kmax)
+                .filter(|k| k.rem_euclid(s) != 0)
+                .map(|k| k as f64)
+                .collect();
+        }
+        t
+    } else {
+        // Less than three powers of ten: label m · 10^k for m in a sub-sequence of 1…9.
+        let candidates = |ms: &[i32]| -> Vec<(f64, String)> {
+            (kmin - 2..=kmax + 1)
+                .flat_map(|k| ms.iter().map(move |&m| (m, k)))
+                .map(|(m, k)| ((m as f64).log10() + k as f64, log_label(m, k)))
+                .filter(|&(v, _)| inside(v))
+                .collect()
+        };
+        let all: Vec<i32> = (1..=9).collect();
+        let mut best = None;
+        for ms in [&all[..], &[1, 2, 5], &[1, 3], &[1]] {
+            let t = Ticks {
+                major: candidates(ms),
+                light: Vec::new(),
+            };
+            if t.major.len() >= 2 && t.fits(ppu, horizontal) {
+                best = Some(t);
+                break;
+            }
+        }
+        let mut t = best.unwrap_or_else(|| Ticks {
+            major: candidates(&[1, 2, 5]),
+            light: Vec::new(),
+        });
+        t.light = candidates(&all)
+            .into_iter()
+            .map(|(v, _)| v)
+            .filter(|v| t.major.iter().all(|(m, _)| (m - v).abs() > 1e-9))
+            .collect();
+        t
+    }
+}
+
+/// Ticks of an axis of `pixels` length over `range` (plot coordinates).
+fn ticks(scale: Scale, range: (f64, f64), pixels: f64, horizontal: bool) -> Ticks {
+    match scale {
+        Scale::Linear => linear_ticks(range.0, range.1, pixels, horizontal),
+        Scale::Log => log_ticks(range.0, range.1, pixels, horizontal),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Text measurement and wrapping (estimates for a DejaVu/Arial-like sans-serif font).
+
+/// Estimated advance width of `c`, in ems.
+fn char_em(c: char) -> f64 {
+    match c {
+        'i' | 'j' | 'l' | '\'' | '|' | '.' | ',' | ':' | ';' | '!' => 0.3,
+        ' ' | 'f' | 't' | 'r' | 'I' | '(' | ')' | '[' | ']' | '{' | '}' | '/' | '\\' | '-' => 0.4,
+        'm' | 'w' | 'M' | 'W' | '%' | '@' | '—' => 0.92,
+        'A'..='Z' => 0.72,
+        '0'..='9' => 0.64,
+        c if (c as u32) >= 0x2E80 => 1.0,
+        _ => 0.62,
+    }
+}
+
+/// Estimated width of `s` in pixels at font size `px`.
+fn text_width(s: &str, px: f64) -> f64 {
+    s.chars().map(char_em).sum::<f64>() * px
+}
+
+/// Break `s` into lines no wider than `max` pixels at size `px`, at whitespace; a word wider than
+/// `max` is broken between characters.
+fn wrap(s: &str, max: f64, px: f64) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in s.split_whitespace() {
+        let candidate = if line.is_empty() {
+            word.to_string()
+        } else {
+            format!("{line} {word}")
+        };
+        if text_width(&candidate, px) <= max {
+            line = candidate;
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+        }
+        // The word alone: break it if it is still too wide.
+        for c in word.chars() {
+            let mut next = line.clone();
+            next.push(c);
+            if !line.is_empty() && text_width(&next, px) > max {
+                lines.push(std::mem::take(&mut line));
+                line.push(c);
+            } else {
+                line = next;
+            }
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// plotters' font size for a size in SVG pixels (its SVG backend writes `size / 1.24`).
+fn font(px: f64) -> TextStyle<'static> {
+    TextStyle::from((FONT, px * 1.24).into_font()).color(&BLACK)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Layout and drawing.
+
+/// Marker shapes, cycled through by curve index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shape {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+}
+
+/// The order in which curves take marker shapes.
+const SHAPES: [Shape; 4] = [
+    Shape::Circle,
+    Shape::Square,
+    Shape::Triangle,
+    Shape::Diamond,
+];
+
+/// One legend entry: swatch of curve `curve`, wrapped label lines.
+struct Entry {
+    curve: usize,
+    lines: Vec<String>,
+}
+
+/// Everything decided before drawing.
+struct Layout {
+    title_lines: Vec<String>,
+    title_h: u32,
+    curves: Vec<Prepared>,
+    x_desc: String,
+    y_desc: String,
+    /// Font sizes of the axis titles (x, y): shrunk if longer than their axis.
+    desc_px: (f64, f64),
+    /// Height of the plotting area in pixels.
+    plot_h: f64,
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    x_ticks: Ticks,
+    y_ticks: Ticks,
+    x_area: u32,
+    y_area: u32,
+    legend: Vec<Entry>,
+    /// Entries not shown for lack of room.
+    legend_more: usize,
+    legend_px: f64,
+    legend_w: u32,
+}
+
+impl Layout {
+    /// Decide everything about the drawing of `fig`; fails if nothing can be drawn.
+    fn new(fig: &Figure) -> Result<Self> {
+        let err = |why: &str| fig.error(why);
+        // Zero floors from the points with two finite coordinates.
+        let finite = || {
+            fig.curves
+                .iter()
+                .flat_map(|c| c.points.iter())
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+        };
+        let xm = AxisMap {
+            scale: fig.x_scale,
+            floor: zero_floor(finite().map(|p| p.0)),
+        };
+        let ym = AxisMap {
+            scale: fig.y_scale,
+            floor: zero_floor(finite().map(|p| p.1)),
+        };
+        let x_zero =
+            fig.x_scale == Scale::Log && finite().any(|p| p.0 == 0.0 && ym.map(p.1).is_some());
+        let y_zero =
+            fig.y_scale == Scale::Log && finite().any(|p| p.1 == 0.0 && xm.map(p.0).is_some());
+
+        let mut curves: Vec<Prepared> = fig
+            .curves
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Prepared::new(i, c, xm, ym))
+            .collect();
+        if curves.iter().all(|c| c.drawable == 0) {
+            return Err(err(if fig.curves.is_empty() {
+                "the figure has no curves"
+            } else {
+                "no curve has a drawable point (all are non-finite, or negative on a logarithmic axis)"
+            }));
+        }
+
+        // Data ranges in plot coordinates.
+        let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
+        for &(x, y) in curves.iter().flat_map(|c| c.segments.iter().flatten()) {
+            xr = (xr.0.min(x), xr.1.max(x));
+            yr = (yr.0.min(y), yr.1.max(y));
+        }
+        let x_range = padded(xr.0, xr.1, fig.x_scale);
+        let y_range = padded(yr.0, yr.1, fig.y_scale);
+        let representable = |r: (f64, f64)| (r.1 - r.0).is_finite() && r.1 > r.0;
+        if !representable(x_range) || !representable(y_range) {
+            return Err(err("the range of the points is too wide to draw"));
+        }
+
+        // Thinning: each kind of drawing shares a budget among the curves that use it.
+        let cap = |uses: fn(Style) -> bool, budget: usize, min: usize| {
+            let n = curves
+                .iter()
+                .filter(|c| uses(c.style) && c.drawable > 0)
+                .count()
+                .max(1);
+            (budget / n).clamp(min, MAX_DRAWN_POINTS)
+        };
+        let line_cap = cap(Style::line, LINE_BUDGET, MIN_LINE_POINTS_PER_CURVE);
+        let marker_cap = cap(Style::markers, MARKER_BUDGET, MIN_MARKERS_PER_CURVE);
+        for c in &mut curves {
+            c.thin(line_cap, marker_cap);
+        }
+
+        // Axis titles.
+        let floor_note = |m: AxisMap| {
+            format!(" (0 drawn at 1e{})", (m.floor.log10().round() as i32)).replace('-', "\u{2212}")
+        };
+        let x_desc = if x_zero {
+            format!("{}{}", fig.x_label, floor_note(xm))
+        } else {
+            fig.x_label.clone()
+        };
+        let y_desc = if y_zero {
+            format!("{}{}", fig.y_label, floor_note(ym))
+        } else {
+            fig.y_label.clone()
+        };
+
+        // Title: wrapped, at most MAX_TITLE_LINES lines (the last one cut short with "…").
+        let mut title_lines = wrap(&fig.title, WIDTH as f64 - 40.0, TITLE_PX);
+        if title_lines.len() > MAX_TITLE_LINES {
+            title_lines.truncate(MAX_TITLE_LINES);
+            if let Some(last) = title_lines.last_mut() {
+                while !last.is_empty() && text_width(last, TITLE_PX) > WIDTH as f64 - 60.0 {
+                    last.pop();
+                }
+                last.push('…');
+            }
+        }
+        let title_h = if title_lines.is_empty() {
+            8
+        } else {
+            (title_lines.len() as f64 * TITLE_PX * 1.25 + 14.0).ceil() as u32
+        };
+
+        // Legend: column width from the labels, font shrunk if the entries do not fit the height.
+        let body_h = (HEIGHT - title_h) as f64;
+        let avail_h = body_h - MARGIN.0 as f64 - 10.0;
+        let max_text_w =
+            WIDTH as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
+        let labelled: Vec<usize> = (0..curves.len())
+            .filter(|&i| !curves[i].label.is_empty())
+            .collect();
+        let mut legend_px = LEGEND_PX;
+        let (legend, legend_more) = loop {
+            let entries: Vec<Entry> = labelled
+                .iter()
+                .map(|&i| Entry {
+                    curve: i,
+                    lines: wrap(&curves[i].label, max_text_w, legend_px),
+                })
+                .collect();
+            let heights: Vec<f64> = entries
+                .iter()
+                .map(|e| legend_entry_h(e.lines.len(), legend_px))
+                .collect();
+            let total: f64 = 2.0 * LEGEND_PAD + heights.iter().sum::<f64>();
+            if total <= avail_h {
+                break (entries, 0);
+            }
+            if legend_px > MIN_LEGEND_PX {
+                legend_px -= 1.0;
+                continue;
+            }
+            // Keep what fits, leaving a line for "… and N more".
+            let mut used = 2.0 * LEGEND_PAD + legend_entry_h(1, legend_px);
+            let mut keep = 0;
+            for h in &heights {
+                if used + h > avail_h {
+                    break;
+                }
+                used += h;
+                keep += 1;
+            }
+            let more = entries.len() - keep;
+            let mut entries = entries;
+            entries.truncate(keep);
+            break (entries, more);
+        };
+        let text_w = legend
+            .iter()
+            .flat_map(|e| e.lines.iter())
+            .map(|l| text_width(l, legend_px))
+            .chain(std::iter::once(if legend_more > 0 {
+                text_width(&more_label(legend_more), legend_px)
+            } else {
+                0.0
+            }))
+            .fold(0.0, f64::max);
+        let legend_w = if legend.is_empty() && legend_more == 0 {
+            0
+        } else {
+            (2.0 * LEGEND_PAD + SWATCH_W + SWATCH_GAP + text_w + LEGEND_OUTER).ceil() as u32
+        };
+
+        // Axes: label areas and ticks, iterated because the width of the y labels decides the
+        // width of the plotting area, and with equal aspect the ranges depend on both sizes.
+        let x_area = (2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX;
+        let x_area = x_area.ceil() as u32;
+        let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
+        let region_w = (WIDTH - legend_w) as f64;
+        let plot_w_for = |y_area: u32| (region_w - (MARGIN.2 + MARGIN.3 + y_area) as f64).max(10.0);
+        let axes = |y_area: u32| {
+            let plot_w = plot_w_for(y_area);
+            let (mut xr, mut yr) = (x_range, y_range);
+            if fig.equal_aspect {
+                equalise(&mut xr, &mut yr, plot_w, plot_h);
+            }
+            let yt = ticks(fig.y_scale, yr, plot_h, false);
+            let xt = ticks(fig.x_scale, xr, plot_w, true);
+            let need = 1.3 * DESC_PX + 8.0 + yt.max_label_width() + (2 * TICK_LEN) as f64 + 4.0;
+            (xr, yr, xt, yt, need.ceil() as u32)
+        };
+        let mut y_area = 60u32;
+        let mut attempt = axes(y_area);
+        for _ in 0..4 {
+            if attempt.4 <= y_area {
+                break;
+            }
+            y_area = attempt.4.div_ceil(10) * 10;
+            attempt = axes(y_area);
+        }
+        let (x_range, y_range, x_ticks, y_ticks, _) = attempt;
+        let plot_w = plot_w_for(y_area);
+
+        // Axis titles shrink if longer than their axis.
+        let fit = |s: &str, len: f64| {
+            let w = text_width(s, DESC_PX);
+            if w > len {
+                (DESC_PX * len / w).max(9.0)
+            } else {
+                DESC_PX
+            }
+        };
+        let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
+
+        Ok(Self {
+            title_lines,
+            title_h,
+            curves,
+            x_desc,
+            y_desc,
+            desc_px,
+            plot_h,
+            x_range,
+            y_range,
+            x_ticks,
+            y_ticks,
+            x_area,
+            y_area,
+            legend,
+            legend_more,
+            legend_px,
+            legend_w,
+        })
+    }
+
+    /// Draw title, axes, curves and legend.
+    fn draw<'a>(
+        &self,
+        root: &DrawingArea<SVGBackend<'a>, Shift>,
+    ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
+    {
+        root.fill(&WHITE)?;
+        let title_style = font(TITLE_PX).pos(Pos::new(HPos::Center, VPos::Top));
+        for (i, line) in self.title_lines.iter().enumerate() {
+            let y = 8 + (i as f64 * TITLE_PX * 1.25).round() as i32;
+            root.draw_text(line, &title_style, (WIDTH as i32 / 2, y))?;
+        }
+        let (_, body) = root.split_vertically(self.title_h);
+        let (region, legend_area) = body.split_horizontally(WIDTH - self.legend_w);
+
+        let x_spec = TickedAxis::new(self.x_range, &self.x_ticks);
+        let y_spec = TickedAxis::new(self.y_range, &self.y_ticks);
+        let mut chart = ChartBuilder::on(&region)
+            .margin_top(MARGIN.0)
+            .margin_bottom(MARGIN.1)
+            .margin_left(MARGIN.2)
+            .margin_right(MARGIN.3)
+            .x_label_area_size(self.x_area)
+            .y_label_area_size(self.y_area)
+            .build_cartesian_2d(x_spec, y_spec)?;
+        let fx = |v: &f64| self.x_ticks.label(*v);
+        let fy = |v: &f64| self.y_ticks.label(*v);
+        chart
+            .configure_mesh()
+            .set_all_tick_mark_size(TICK_LEN)
+            .bold_line_style(BLACK.mix(0.16))
+            .light_line_style(BLACK.mix(0.06))
+            .axis_style(BLACK)
+            .label_style(font(TICK_PX))
+            .axis_desc_style(font(self.desc_px.0))
+            .x_desc(self.x_desc.as_str())
+            .x_label_formatter(&fx)
+            .y_label_formatter(&fy)
+            .draw()?;
+        // The y axis title, at the left edge of the label area, in its own size.
+        let y_desc_style = font(self.desc_px.1)
+            .transform(FontTransform::Rotate270)
+            .pos(Pos::new(HPos::Center, VPos::Top));
+        let y_mid = MARGIN.0 as i32 + (0.5 * self.plot_h).round() as i32;
+        region.draw_text(&self.y_desc, &y_desc_style, (MARGIN.2 as i32, y_mid))?;
+
+        // Close the frame (the axes draw its left and bottom sides).
+        chart.plotting_area().draw(&PathElement::new(
+            vec![
+                (self.x_range.0, self.y_range.1),
+                (self.x_range.1, self.y_range.1),
+                (self.x_range.1, self.y_range.0),
+            ],
+            BLACK.stroke_width(1),
+        ))?;
+
+        for c in &self.curves {
+            let color = c.color();
+            chart.draw_series(
+                c.lines
+                    .iter()
+                    .map(|s| PathElement::new(s.clone(), color.stroke_width(STROKE))),
+            )?;
+            if c.dots.is_empty() {
+                continue;
+            }
+            let r = c.dot_radius();
+            let pts = c.dots.iter().copied();
+            let shape = if c.style.markers() {
+                c.shape()
+            } else {
+                Shape::Circle
+            };
+            let style = color.filled();
+            match shape {
+                Shape::Circle => chart.draw_series(
+                    pts.map(|p| EmptyElement::at(p) + Circle::new((0, 0), r, style)),
+                )?,
+                Shape::Square => {
+                    let a = r - 1;
+                    chart.draw_series(
+                        pts.map(|p| {
+                            EmptyElement::at(p) + Rectangle::new([(-a, -a), (a, a)], style)
+                        }),
+                    )?
+                }
+                Shape::Triangle => chart.draw_series(
+                    pts.map(|p| EmptyElement::at(p) + Polygon::new(triangle(r), style)),
+                )?,
+                Shape::Diamond => chart.draw_series(
+                    pts.map(|p| EmptyElement::at(p) + Polygon::new(diamond(r), style)),
+                )?,
+            };
+        }
+
+        self.draw_legend(&legend_area)?;
+        Ok(())
+    }
+
+    /// Draw the legend box in its column.
+    fn draw_legend<'a>(
+        &self,
+        area: &DrawingArea<SVGBackend<'a>, Shift>,
+    ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
+    {
+        if self.legend_w == 0 {
+            return Ok(());
+        }
+        let px = self.legend_px;
+        let line_h = legend_line_h(px);
+        let box_w = self.legend_w as f64 - LEGEND_OUTER;
+        let mut h = 2.0 * LEGEND_PAD
+            + self
+                .legend
+                .iter()
+                .map(|e| legend_entry_h(e.lines.len(), px))
+                .sum::<f64>();
+        if self.legend_more > 0 {
+            h += legend_entry_h(1, px);
+        }
+        h -= legend_gap(px);
+        let (x0, y0) = (2i32, MARGIN.0 as i32);
+        area.draw(&Rectangle::new(
+            [(x0, y0), (x0 + box_w as i32, y0 + h.round() as i32)],
+            ShapeStyle::from(&WHITE).filled(),
+        ))?;
+        area.draw(&Rectangle::new(
+            [(x0, y0), (x0 + box_w as i32, y0 + h.round() as i32)],
+            BLACK.mix(0.4).stroke_width(1),
+        ))?;
+        let text_style = font(px).pos(Pos::new(HPos::Left, VPos::Center));
+        let sx = x0 as f64 + LEGEND_PAD;
+        let tx = (sx + SWATCH_W + SWATCH_GAP).round() as i32;
+        let mut y = y0 as f64 + LEGEND_PAD;
+        for e in &self.legend {
+            let c = &self.curves[e.curve];
+            let color = c.color();
+            let yc = (y + 0.5 * line_h).round() as i32;
+            if c.style.line() {
+                area.draw(&PathElement::new(
+                    vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)],
+                    color.stroke_width(STROKE),
+                ))?;
+            }
+            if c.style.markers() {
+                let r = c.style.marker_radius();
+                let style = color.filled();
+                let at = ((sx + 0.5 * SWATCH_W) as i32, yc);
+                match c.shape() {
+                    Shape::Circle => {
+                        area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, style)))?
+                    }
+                    Shape::Square => {
+                        let a = r - 1;
+                        area.draw(
+                            &(EmptyElement::at(at) + Rectangle::new([(-a, -a), (a, a)], style)),
+                        )?
+                    }
+                    Shape::Triangle => {
+                        area.draw(&(EmptyElement::at(at) + Polygon::new(triangle(r), style)))?
+                    }
+                    Shape::Diamond => {
+                        area.draw(&(EmptyElement::at(at) + Polygon::new(diamond(r), style)))?
+                    }
+                }
+            }
+            for (j, line) in e.lines.iter().enumerate() {
+                let ly = (y + (j as f64 + 0.5) * line_h).round() as i32;
+                area.draw_text(line, &text_style, (tx, ly))?;
+            }
+            y += legend_entry_h(e.lines.len(), px);
+        }
+        if self.legend_more > 0 {
+            let ly = (y + 0.5 * line_h).round() as i32;
+            area.draw_text(&more_label(self.legend_more), &text_style, (tx, ly))?;
+        }
+        Ok(())
+    }
+}
+
+/// Height of a line of legend text.
+fn legend_line_h(px: f64) -> f64 {
+    1.3 * px
+}
+
+/// Vertical gap between legend entries.
+fn legend_gap(px: f64) -> f64 {
+    0.5 * px
+}
+
+/// Height of a legend entry of `lines` lines, including the gap below it.
+fn legend_entry_h(lines: usize, px: f64) -> f64 {
+    lines.max(1) as f64 * legend_line_h(px) + legend_gap(px)
+}
+
+/// The last legend line when `n` entries do not fit.
+fn more_label(n: usize) -> String {
+    format!("… and {n} more")
+}
+
+/// A triangle marker about the origin, for a nominal radius `r`.
+fn triangle(r: i32) -> Vec<(i32, i32)> {
+    let r = r + 1;
+    vec![(0, -r), (r, r - 1), (-r, r - 1)]
+}
+
+/// A diamond marker about the origin, for a nominal radius `r`.
+fn diamond(r: i32) -> Vec<(i32, i32)> {
+    let r = r + 1;
+    vec![(0, -r), (r, 0), (0, r), (-r, 0)]
+}
+
+/// Unit tests of layout, ticks, legend, thinning and errors.
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The contents of the SVG's text elements.
+    fn texts(svg: &str) -> Vec<String> {
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let body = &t[t.find('>')? + 1..t.find("</text>")?];
+                Some(body.trim().to_string())
+            })
+            .collect()
+    }
+
+    /// Whether `text` is drawn, possibly wrapped over consecutive text elements.
+    fn has_text(svg: &str, text: &str) -> bool {
+        let escaped = text
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+            .replace('"', "&quot;")
+            .replace('\'', "&apos;");
+        texts(svg).join(" ").contains(&escaped)
+    }
+
+    /// Number of points of each polyline drawn in `color`.
+    fn polyline_points(svg: &str, color: &str) -> Vec<usize> {
+        svg.lines()
+            .filter(|l| l.contains("<polyline") && l.contains(color))
+            .filter_map(|l| {
+                let start = l.find("points=\"")? + 8;
+                let end = start + l[start..].find('"')?;
+                Some(l[start..end].split_whitespace().count())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn svg_has_title_axis_titles_and_every_label() {
+        let long = "osculating elements (planetary equations, DOP853)";
+        let svg = Figure::new("Kepler, e = 0.9", "time t", "energy E")
+            .curve("exact", [(0.0, 1.0), (1.0, 2.0)], Style::Line)
+            .curve(
+                "RK4 & friends <h>",
+                [(0.0, 1.5), (1.0, 2.5)],
+                Style::LineMarkers,
+            )
+            .curve(long, [(0.5, 1.0), (0.7, 2.0)], Style::Markers)
+            .to_svg_string()
+            .unwrap();
+        for text in [
+            "Kepler, e = 0.9",
+            "time t",
+            "energy E",
+            "exact",
+            "RK4 & friends <h>",
+            long,
+        ] {
+            assert!(has_text(&svg, text), "{text}: {:?}", texts(&svg));
+        }
+        // The long label is wrapped.
+        assert!(!texts(&svg).iter().any(|t| t == long));
+    }
+
+    #[test]
+    fn log_axis_with_zeros_names_the_floor() {
+        let fig = Figure::new("t", "error", "time [s]").log_x().log_y().curve(
+            "a",
+            [(0.0, 1e-3), (1e-8, 1e-4), (1e-4, 1e-5)],
+            Style::LineMarkers,
+        );
+        let svg = fig.to_svg_string().unwrap();
+        // Smallest positive error 1e-8: zeros are drawn a decade lower.
+        assert!(has_text(&svg, "error (0 drawn at 1e\u{2212}9)"), "{svg}");
+        assert!(has_text(&svg, "time [s]"));
+        assert!(!svg.contains("time [s] (0 drawn"));
+        // Without any positive value the floor is 1e-17.
+        let svg = Figure::new("t", "x", "y")
+            .log_y()
+            .curve("a", [(0.0, 0.0), (1.0, 0.0)], Style::Line)
+            .to_svg_string()
+            .unwrap();
+        assert!(has_text(&svg, "y (0 drawn at 1e\u{2212}17)"));
+        assert_eq!(zero_floor([3e-7, 2.0].into_iter()), 1e-8);
+        assert_eq!(zero_floor([1e-6].into_iter()), 1e-7);
+    }
+
+    #[test]
+    fn log_ticks_are_powers_of_ten() {
+        let svg = Figure::new("t", "x", "y")
+            .log_x()
+            .log_y()
+            .curve("a", [(1e-10, 1e-6), (1e-2, 1e-3)], Style::Line)
+            .to_svg_string()
+            .unwrap();
+        assert!(has_text(&svg, "1e-6"), "{:?}", texts(&svg));
+        assert!(has_text(&svg, "1e-4"));
+        // Narrow range: 1-2-5 multiples.
+        let t = log_ticks(0.2f64.log10(), 0.9f64.log10(), 500.0, false);
+        assert!(t.major.len() >= 2);
+        assert!(t.major.iter().all(|(_, l)| l.ends_with("e-1")), "{t:?}");
+    }
+
+    #[test]
+    fn linear_tick_labels_have_sensible_digits() {
+        let t = linear_ticks(0.0, 1.0, 600.0, true);
+        let labels: Vec<&str> = t.major.iter().map(|(_, l)| l.as_str()).collect();
+        assert_eq!(labels, ["0.0", "0.2", "0.4", "0.6", "0.8", "1.0"]);
+        let t = linear_ticks(-3e6, 3e6, 400.0, false);
+        assert!(
+            t.major.iter().any(|(_, l)| l == "2e6" || l == "1e6"),
+            "{t:?}"
+        );
+        assert!(t.major.iter().any(|(_, l)| l == "0"));
+    }
+
+    #[test]
+    fn empty_figure_is_an_error() {
+        assert!(Figure::new("t", "x", "y").to_svg_string().is_err());
+        let nan = Figure::new("t", "x", "y").curve("a", [(f64::NAN, 1.0)], Style::Line);
+        assert!(nan.to_svg_string().is_err());
+        let negative = Figure::new("t", "x", "y")
+            .log_y()
+            .curve("a", [(1.0, -1.0)], Style::Line);
+        assert!(negative.to_svg_string().is_err());
+        // Nothing is written on error.
+        let path = std::env::temp_dir().join(format!("hj-plot-empty-{}.svg", std::process::id()));
+        assert!(Figure::new("t", "x", "y").to_svg(&path).is_err());
+        assert!(!path.exists());
+    }
+
+    #[test]
+    fn omitted_points_are_counted_in_the_label() {
+        let pts = [
+            (0.0, 1.0),
+            (1.0, f64::NAN),
+            (2.0, f64::INFINITY),
+            (f64::NEG_INFINITY, 3.0),
+            (4.0, 2.0),
+        ];
+        let svg = Figure::new("t", "x", "y")
+            .curve("leapfrog", pts, Style::Line)
+            .curve("other", [(0.0, 0.0), (1.0, 1.0)], Style::Line)
+            .to_svg_string()
+            .unwrap();
+        assert!(
+            has_text(&svg, "leapfrog (3 non-finite points omitted)"),
+            "{:?}",
+            texts(&svg)
+        );
+        assert!(has_text(&svg, "other"));
+        let svg = Figure::new("t", "x", "y")
+            .log_y()
+            .curve("b", [(0.0, -1.0), (1.0, 1.0), (2.0, f64::NAN)], Style::Line)
+            .to_svg_string()
+            .unwrap();
+        assert!(has_text(
+            &svg,
+            "b (1 non-finite and 1 negative points omitted)"
+        ));
+    }
+
+    #[test]
+    fn large_curves_are_thinned() {
+        let n = 100_000;
+        let line: Vec<(f64, f64)> = (0..n)
+            .map(|i| (i as f64, (i as f64 * 1e-3).sin()))
+            .collect();
+        let svg = Figure::new("t", "x", "y")
+            .curve("big", line.clone(), Style::Line)
+            .to_svg_string()
+            .unwrap();
+        let counts = polyline_points(&svg, "#1F77B4");
+        let drawn: usize = counts.iter().sum::<usize>() - 2; // minus the legend swatch
+        assert!(drawn <= MAX_DRAWN_POINTS, "{counts:?}");
+        assert!(drawn > MAX_DRAWN_POINTS / 2);
+        assert!(svg.len() < 1_000_000, "{}", svg.len());
+
+        let mut fig = Figure::new("t", "x", "y");
+        for k in 0..4 {
+            fig = fig.curve(format!("c{k}"), line.clone(), Style::LineMarkers);
+        }
+        let svg = fig.to_svg_string().unwrap();
+        let circles = svg.matches("<circle").count();
+        assert!(circles <= MARKER_BUDGET / 4 + 1, "{circles}");
+        assert!(svg.len() < 1_000_000, "{}", svg.len());
+
+        // Thinning keeps the ends of every stretch.
+        let segs = vec![(0..10).map(|i| (i as f64, 0.0)).collect::<Vec<_>>(); 3];
+        let t = thin(&segs, 10);
+        assert!(t
+            .iter()
+            .all(|s| s.first() == Some(&(0.0, 0.0)) && s.last() == Some(&(9.0, 0.0))));
+        assert!(t.iter().map(Vec::len).sum::<usize>() < 30);
+    }
+
+    #[test]
+    fn equal_aspect_gives_equal_units() {
+        let mut x = (0.0, 1.0);
+        let mut y = (0.0, 4.0);
+        equalise(&mut x, &mut y, 600.0, 400.0);
+        assert_eq!(y, (0.0, 4.0));
+        assert!(((x.1 - x.0) / 600.0 - 4.0 / 400.0).abs() < 1e-12);
+        assert!((x.0 + x.1 - 1.0).abs() < 1e-12);
+        let ellipse: Vec<(f64, f64)> = (0..=100)
+            .map(|i| {
+                let t = i as f64 * std::f64::consts::TAU / 100.0;
+                (3.0 * t.cos(), t.sin())
+            })
+            .collect();
+        let fig =
+            Figure::new("orbit", "x", "y")
+                .equal_aspect()
+                .curve("ellipse", ellipse, Style::Line);
+        let layout = Layout::new(&fig).unwrap();
+        let plot_w = (WIDTH - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
+        let plot_h = (HEIGHT - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
+        let ux = (layout.x_range.1 - layout.x_range.0) / plot_w;
+        let uy = (layout.y_range.1 - layout.y_range.0) / plot_h;
+        assert!((ux / uy - 1.0).abs() < 1e-9, "{ux} {uy}");
+    }
+
+    #[test]
+    fn degenerate_ranges_are_widened() {
+        let svg = Figure::new("t", "x", "y")
+            .curve("one point", [(2.0, 5.0)], Style::Markers)
+            .to_svg_string()
+            .unwrap();
+        assert!(svg.contains("<circle"));
+        let svg = Figure::new("t", "x", "y")
+            .log_x()
+            .log_y()
+            .curve("flat", [(1e-3, 0.0), (1e-3, 0.0)], Style::Line)
+            .to_svg_string()
+            .unwrap();
+        assert!(has_text(&svg, "flat"));
+        assert_eq!(padded(0.0, 0.0, Scale::Linear), (-1.0, 1.0));
+        assert!(Figure::new("t", "x", "y")
+            .curve("huge", [(-f64::MAX, 0.0), (f64::MAX, 1.0)], Style::Line)
+            .to_svg_string()
+            .is_err());
+    }
+
+    #[test]
+    fn wrapping_respects_the_width() {
+        let lines = wrap(
+            "osculating elements (planetary equations, DOP853)",
+            200.0,
+            14.0,
+        );
+        assert!(lines.len() >= 2);
+        assert!(lines.iter().all(|l| text_width(l, 14.0) <= 200.0));
+        let lines = wrap("averyveryveryveryveryveryveryverylongword", 100.0, 14.0);
+        assert!(lines.len() >= 2);
+        assert!(lines.iter().all(|l| text_width(l, 14.0) <= 100.0));
+    }
+}

@@ -1,0 +1,613 @@
+//! A configured system that a scene runs: the [`Case`] trait, and [`HamiltonianCase`], which
+//! turns any [`Hamiltonian`] with an initial state into a case whose methods are chosen by the
+//! capabilities it was given (separable, perturbed Kepler, exact flow) and whose theories are
+//! closures.
+
+use super::spec::MethodKind;
+use crate::error::{Error, Result};
+use crate::integrate::{
+    integrate, Dop853, ExactStep, Fixed, Gauss, ImplicitMidpoint, Method, Observer,
+    PerturbedKepler, Problem, Report, Rk4, Splitting, State, StepView, WisdomHolman, Work,
+};
+use crate::nalgebra::SVector;
+use crate::systems::ExactFlow;
+use crate::{Hamiltonian, Separable};
+
+/// States sampled uniformly in time along one run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct History {
+    /// Times.
+    pub t: Vec<f64>,
+    /// Coordinates at each time.
+    pub q: Vec<Vec<f64>>,
+    /// Momenta at each time.
+    pub p: Vec<Vec<f64>>,
+}
+
+/// One timed run: the error of its final state against the case's reference and the work done.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome {
+    /// Error against the reference (the case's [`Case::error_label`]).
+    pub error: f64,
+    /// Work of the run.
+    pub work: Work,
+}
+
+/// A table the case computes by itself (no time span: e.g. the transformation gallery).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// Column headers.
+    pub header: Vec<String>,
+    /// Rows of cells.
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// As a Markdown table.
+    pub fn to_markdown(&self) -> String {
+        let mut s = format!("| {} |\n", self.header.join(" | "));
+        s += &format!("|{}\n", "---|".repeat(self.header.len()));
+        for r in &self.rows {
+            s += &format!("| {} |\n", r.join(" | "));
+        }
+        s
+    }
+
+    /// As CSV.
+    pub fn to_csv(&self) -> String {
+        let field = |s: &String| {
+            if s.contains([',', '"', '\n']) {
+                format!("\"{}\"", s.replace('"', "\"\""))
+            } else {
+                s.clone()
+            }
+        };
+        let mut s = self.header.iter().map(field).collect::<Vec<_>>().join(",") + "\n";
+        for r in &self.rows {
+            s += &(r.iter().map(field).collect::<Vec<_>>().join(",") + "\n");
+        }
+        s
+    }
+}
+
+/// How a state is drawn in a phase portrait.
+#[derive(Clone, Copy, Debug)]
+pub struct Portrait {
+    /// Horizontal axis label.
+    pub x_label: &'static str,
+    /// Vertical axis label.
+    pub y_label: &'static str,
+    /// Whether both axes share a unit (drawn with equal aspect).
+    pub equal_aspect: bool,
+    /// The projection `(q, p) ↦ (x, y)`.
+    pub project: fn(&[f64], &[f64]) -> (f64, f64),
+}
+
+/// A system configured by a scene: what it can run and what it can report.
+pub trait Case {
+    /// One line describing the configured system and its initial state.
+    fn describe(&self) -> String;
+    /// The period of the unperturbed motion (unit of `span.periods`), if it has one.
+    fn period(&self) -> Option<f64>;
+    /// Whether `kind` applies to this system.
+    fn supports(&self, kind: MethodKind) -> bool;
+    /// What [`Outcome::error`] measures.
+    fn error_label(&self) -> String;
+    /// Fix the end time and compute the reference state there (once, before any run).
+    ///
+    /// # Errors
+    /// If the reference cannot be computed.
+    fn prepare(&mut self, t1: f64) -> Result<()>;
+    /// A note on the reference (how it was obtained and how accurate it is).
+    fn reference_note(&self) -> String;
+    /// One run of `kind` at `knob` to the prepared end time.
+    ///
+    /// # Errors
+    /// Failures of the method, or [`Error::InvalidInput`] for an unsupported kind.
+    fn run(&self, kind: MethodKind, knob: f64) -> Result<Outcome>;
+    /// `samples + 1` states uniform in time from the start to the prepared end time.
+    ///
+    /// # Errors
+    /// As [`Case::run`].
+    fn history(&self, kind: MethodKind, knob: f64, samples: usize) -> Result<History>;
+    /// The conserved energy at a state.
+    ///
+    /// # Errors
+    /// If the Hamiltonian cannot be evaluated there.
+    fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64>;
+    /// How states are drawn in a phase portrait.
+    fn portrait(&self) -> Portrait;
+    /// Names of the osculating elements, if the system has any.
+    fn element_names(&self) -> Option<&'static [&'static str]> {
+        None
+    }
+    /// Osculating elements at a state.
+    ///
+    /// # Errors
+    /// If the system has no elements or they are undefined at the state.
+    fn elements(&self, _q: &[f64], _p: &[f64]) -> Result<Vec<f64>> {
+        Err(Error::invalid(
+            "elements",
+            "this system has no osculating elements",
+        ))
+    }
+    /// A table the case computes on its own, for cases without a time span.
+    ///
+    /// # Errors
+    /// If the computation fails.
+    fn table(&self) -> Option<Result<Table>> {
+        None
+    }
+}
+
+/// Records the state at uniformly spaced times from dense output.
+pub struct Sampler<const N: usize> {
+    times: Vec<f64>,
+    next: usize,
+    /// The sampled states.
+    pub states: Vec<State<N>>,
+}
+
+impl<const N: usize> Sampler<N> {
+    /// Sample at `t0 + k (t1 − t0)/samples`, `k = 0..=samples`.
+    pub fn uniform(t0: f64, t1: f64, samples: usize) -> Self {
+        let n = samples.max(1);
+        let times = (0..=n)
+            .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
+            .collect();
+        Self {
+            times,
+            next: 0,
+            states: Vec::with_capacity(n + 1),
+        }
+    }
+}
+
+impl<const N: usize> Observer<N> for Sampler<N> {
+    fn start(&mut self, state: &State<N>) {
+        if self.times.first() == Some(&state.t) {
+            self.states.push(*state);
+            self.next = 1;
+        }
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> crate::integrate::Control {
+        let forward = step.next.t >= step.prev.t;
+        while let Some(&t) = self.times.get(self.next) {
+            let inside = if forward {
+                t <= step.next.t
+            } else {
+                t >= step.next.t
+            };
+            if !inside {
+                break;
+            }
+            let s = if t == step.next.t {
+                *step.next
+            } else {
+                step.dense.at(t)
+            };
+            self.states.push(s);
+            self.next += 1;
+        }
+        crate::integrate::Control::Continue
+    }
+}
+
+/// Run `method` with or without a sampler.
+fn drive<S, M: Method<S, N>, const N: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &M,
+    sampler: Option<&mut Sampler<N>>,
+) -> Result<Report<N>> {
+    match sampler {
+        Some(s) => integrate(problem, method, s),
+        None => integrate(problem, method, &mut ()),
+    }
+}
+
+fn steps_of(knob: f64) -> Result<usize> {
+    if knob.is_finite() && knob >= 1.0 && knob.fract() == 0.0 && knob <= 1e12 {
+        Ok(knob as usize)
+    } else {
+        Err(Error::invalid(
+            "steps",
+            format!("expected a whole number of steps ≥ 1, got {knob}"),
+        ))
+    }
+}
+
+/// A method runner of one capability: `None` when `kind` is not one of its methods.
+pub type Stepper<H, const N: usize> =
+    fn(&Problem<'_, H, N>, MethodKind, f64, Option<&mut Sampler<N>>) -> Option<Result<Report<N>>>;
+
+/// Runge–Kutta, Gauss–Legendre and DOP853: any Hamiltonian.
+pub fn general_stepper<H: Hamiltonian<N>, const N: usize>(
+    problem: &Problem<'_, H, N>,
+    kind: MethodKind,
+    knob: f64,
+    sampler: Option<&mut Sampler<N>>,
+) -> Option<Result<Report<N>>> {
+    let fixed = |knob: f64| steps_of(knob);
+    Some(match kind {
+        MethodKind::Rk4 => fixed(knob)
+            .and_then(|n| Fixed::new(Rk4, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+        MethodKind::ImplicitMidpoint => fixed(knob)
+            .and_then(|n| Fixed::new(ImplicitMidpoint::new()?, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+        MethodKind::Gauss2 => fixed(knob)
+            .and_then(|n| Fixed::new(Gauss::<2>::new()?, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+        MethodKind::Gauss3 => fixed(knob)
+            .and_then(|n| Fixed::new(Gauss::<3>::new()?, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+        MethodKind::Gauss4 => fixed(knob)
+            .and_then(|n| Fixed::new(Gauss::<4>::new()?, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+        MethodKind::Dop853 => Dop853::new(knob, knob)
+            .and_then(|m| m.with_max_steps(50_000_000))
+            .and_then(|m| drive(problem, &m, sampler)),
+        _ => return None,
+    })
+}
+
+/// The splitting table of a kind, if it is an explicit splitting method.
+pub fn splitting_of(kind: MethodKind) -> Option<Splitting> {
+    Some(match kind {
+        MethodKind::SymplecticEuler => Splitting::SYMPLECTIC_EULER_KD,
+        MethodKind::Verlet => Splitting::VERLET_KDK,
+        MethodKind::VerletDkd => Splitting::VERLET_DKD,
+        MethodKind::Yoshida4 => Splitting::YOSHIDA4,
+        MethodKind::Suzuki4 => Splitting::SUZUKI4,
+        MethodKind::BlanesMoan4 => Splitting::BLANES_MOAN4,
+        MethodKind::Yoshida6 => Splitting::YOSHIDA6A,
+        MethodKind::KahanLi6 => Splitting::KAHAN_LI6,
+        MethodKind::Yoshida8 => Splitting::YOSHIDA8D,
+        MethodKind::KahanLi8 => Splitting::KAHAN_LI8,
+        MethodKind::SofroniouSpaletta10 => Splitting::SOFRONIOU_SPALETTA10,
+        _ => return None,
+    })
+}
+
+/// Explicit splitting methods: separable Hamiltonians.
+pub fn separable_stepper<H: Separable<N>, const N: usize>(
+    problem: &Problem<'_, H, N>,
+    kind: MethodKind,
+    knob: f64,
+    sampler: Option<&mut Sampler<N>>,
+) -> Option<Result<Report<N>>> {
+    let method = splitting_of(kind)?;
+    Some(
+        steps_of(knob)
+            .and_then(|n| Fixed::new(method, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+    )
+}
+
+/// Wisdom–Holman and SABA: perturbed Kepler problems.
+pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
+    problem: &Problem<'_, H, N>,
+    kind: MethodKind,
+    knob: f64,
+    sampler: Option<&mut Sampler<N>>,
+) -> Option<Result<Report<N>>> {
+    let method = match kind {
+        MethodKind::WisdomHolman => WisdomHolman::WH,
+        MethodKind::Saba2 => WisdomHolman::SABA2,
+        MethodKind::Saba3 => WisdomHolman::SABA3,
+        MethodKind::Saba4 => WisdomHolman::SABA4,
+        _ => return None,
+    };
+    Some(
+        steps_of(knob)
+            .and_then(|n| Fixed::new(method, n))
+            .and_then(|m| drive(problem, &m, sampler)),
+    )
+}
+
+/// The exact flow as a method.
+pub fn exact_stepper<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>(
+    problem: &Problem<'_, H, N>,
+    kind: MethodKind,
+    knob: f64,
+    sampler: Option<&mut Sampler<N>>,
+) -> Option<Result<Report<N>>> {
+    (kind == MethodKind::Exact).then(|| {
+        steps_of(knob)
+            .and_then(|n| Fixed::new(ExactStep, n))
+            .and_then(|m| drive(problem, &m, sampler))
+    })
+}
+
+/// A theory: the state `(q, p)` at time `t` for knob value `knob` (e.g. an order).
+pub type Theory<const N: usize> =
+    Box<dyn Fn(f64, f64) -> Result<(SVector<f64, N>, SVector<f64, N>)>>;
+
+/// A reference solution: the state at time `t`, and a note on its accuracy.
+pub type Reference<const N: usize> =
+    Box<dyn Fn(f64) -> Result<((SVector<f64, N>, SVector<f64, N>), String)>>;
+
+/// Any Hamiltonian with an initial state, as a [`Case`].
+pub struct HamiltonianCase<H: Hamiltonian<N>, const N: usize> {
+    system: H,
+    q0: SVector<f64, N>,
+    p0: SVector<f64, N>,
+    period: Option<f64>,
+    description: String,
+    steppers: Vec<Stepper<H, N>>,
+    theories: Vec<(MethodKind, Theory<N>)>,
+    reference: Option<Reference<N>>,
+    error_label: String,
+    portrait: Portrait,
+    elements: Option<(&'static [&'static str], ElementMap)>,
+    prepared: Option<(f64, SVector<f64, N>, String)>,
+}
+
+/// Osculating elements of a state.
+pub type ElementMap = Box<dyn Fn(&[f64], &[f64]) -> Result<Vec<f64>>>;
+
+fn default_portrait(q: &[f64], p: &[f64]) -> (f64, f64) {
+    (q[0], p[0])
+}
+
+impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
+    /// A case with the general methods (RK4, implicit midpoint, Gauss–Legendre, DOP853); the
+    /// reference defaults to DOP853 at a tight tolerance, checked against a looser one.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite initial state.
+    pub fn new(
+        system: H,
+        q0: SVector<f64, N>,
+        p0: SVector<f64, N>,
+        description: impl Into<String>,
+    ) -> Result<Self> {
+        State::new(0.0, q0, p0)?;
+        Ok(Self {
+            system,
+            q0,
+            p0,
+            period: None,
+            description: description.into(),
+            steppers: vec![general_stepper::<H, N>],
+            theories: Vec::new(),
+            reference: None,
+            error_label: "final position error ‖Δq‖".into(),
+            portrait: Portrait {
+                x_label: "q",
+                y_label: "p",
+                equal_aspect: false,
+                project: default_portrait,
+            },
+            elements: None,
+            prepared: None,
+        })
+    }
+
+    /// The period of the motion (unit of `span.periods`).
+    pub fn with_period(mut self, period: f64) -> Self {
+        self.period = Some(period);
+        self
+    }
+
+    /// Add a method capability (e.g. [`separable_stepper`]).
+    pub fn with_stepper(mut self, stepper: Stepper<H, N>) -> Self {
+        self.steppers.push(stepper);
+        self
+    }
+
+    /// Add a theory giving the state at any time.
+    pub fn with_theory(mut self, kind: MethodKind, theory: Theory<N>) -> Self {
+        self.theories.push((kind, theory));
+        self
+    }
+
+    /// Use an exact (or otherwise trusted) reference instead of DOP853.
+    pub fn with_reference(mut self, reference: Reference<N>) -> Self {
+        self.reference = Some(reference);
+        self
+    }
+
+    /// How the error is described.
+    pub fn with_error_label(mut self, label: impl Into<String>) -> Self {
+        self.error_label = label.into();
+        self
+    }
+
+    /// How states are drawn.
+    pub fn with_portrait(mut self, portrait: Portrait) -> Self {
+        self.portrait = portrait;
+        self
+    }
+
+    /// Osculating elements of the states.
+    pub fn with_elements(mut self, names: &'static [&'static str], map: ElementMap) -> Self {
+        self.elements = Some((names, map));
+        self
+    }
+
+    fn problem(&self, t1: f64) -> Result<Problem<'_, H, N>> {
+        Problem::new(&self.system, 0.0, self.q0, self.p0, t1)
+    }
+
+    fn end(&self) -> Result<&(f64, SVector<f64, N>, String)> {
+        self.prepared
+            .as_ref()
+            .ok_or_else(|| Error::invalid("case", "run before prepare: no end time"))
+    }
+
+    fn report(
+        &self,
+        kind: MethodKind,
+        knob: f64,
+        sampler: Option<&mut Sampler<N>>,
+    ) -> Result<Report<N>> {
+        let t1 = self.end()?.0;
+        let problem = self.problem(t1)?;
+        let mut sampler = sampler;
+        for s in &self.steppers {
+            if let Some(r) = s(&problem, kind, knob, sampler.as_deref_mut()) {
+                return r;
+            }
+        }
+        Err(unsupported(kind))
+    }
+
+    fn theory(&self, kind: MethodKind) -> Option<&Theory<N>> {
+        self.theories
+            .iter()
+            .find(|(k, _)| *k == kind)
+            .map(|(_, t)| t)
+    }
+}
+
+fn unsupported(kind: MethodKind) -> Error {
+    Error::invalid(
+        format!("method {}", kind.name()),
+        "does not apply to this system",
+    )
+}
+
+/// Probe whether a stepper handles `kind`, without running it (a zero-length problem is not
+/// constructible, so the stepper is asked on a one-step run of a throwaway problem).
+fn stepper_handles<H: Hamiltonian<N>, const N: usize>(
+    s: Stepper<H, N>,
+    system: &H,
+    q0: SVector<f64, N>,
+    p0: SVector<f64, N>,
+    kind: MethodKind,
+) -> bool {
+    let Ok(problem) = Problem::new(system, 0.0, q0, p0, 1e-9) else {
+        return false;
+    };
+    let knob = match kind.knob() {
+        super::spec::Knob::Rtol => 1e-3,
+        _ => 1.0,
+    };
+    s(&problem, kind, knob, None).is_some()
+}
+
+impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N> {
+    fn describe(&self) -> String {
+        self.description.clone()
+    }
+
+    fn period(&self) -> Option<f64> {
+        self.period
+    }
+
+    fn supports(&self, kind: MethodKind) -> bool {
+        self.theory(kind).is_some()
+            || self
+                .steppers
+                .iter()
+                .any(|&s| stepper_handles(s, &self.system, self.q0, self.p0, kind))
+    }
+
+    fn error_label(&self) -> String {
+        self.error_label.clone()
+    }
+
+    fn prepare(&mut self, t1: f64) -> Result<()> {
+        let (q, note) = match &self.reference {
+            Some(r) => {
+                let ((q, _), note) = r(t1)?;
+                (q, note)
+            }
+            None => {
+                let problem = self.problem(t1)?;
+                let tight = Dop853::new(1e-15, 1e-17)?.with_max_steps(usize::MAX)?;
+                let check = Dop853::new(1e-14, 1e-16)?.with_max_steps(usize::MAX)?;
+                let q = integrate(&problem, &tight, &mut ())?.last.q;
+                let q2 = integrate(&problem, &check, &mut ())?.last.q;
+                (
+                    q,
+                    format!(
+                        "reference: DOP853 at rtol 1e−15 (differs from rtol 1e−14 by {:.1e})",
+                        (q - q2).norm()
+                    ),
+                )
+            }
+        };
+        self.prepared = Some((t1, q, note));
+        Ok(())
+    }
+
+    fn reference_note(&self) -> String {
+        self.prepared
+            .as_ref()
+            .map(|p| p.2.clone())
+            .unwrap_or_default()
+    }
+
+    fn run(&self, kind: MethodKind, knob: f64) -> Result<Outcome> {
+        let (t1, q_ref, _) = self.end()?;
+        if let Some(theory) = self.theory(kind) {
+            let (q, _) = theory(knob, *t1)?;
+            return Ok(Outcome {
+                error: (q - q_ref).norm(),
+                work: Work::default(),
+            });
+        }
+        let r = self.report(kind, knob, None)?;
+        Ok(Outcome {
+            error: (r.last.q - q_ref).norm(),
+            work: r.work,
+        })
+    }
+
+    fn history(&self, kind: MethodKind, knob: f64, samples: usize) -> Result<History> {
+        let t1 = self.end()?.0;
+        let mut h = History::default();
+        if let Some(theory) = self.theory(kind) {
+            let n = samples.max(1);
+            for k in 0..=n {
+                let t = t1 * (k as f64 / n as f64);
+                let (q, p) = if k == 0 {
+                    (self.q0, self.p0)
+                } else {
+                    theory(knob, t)?
+                };
+                h.t.push(t);
+                h.q.push(q.as_slice().to_vec());
+                h.p.push(p.as_slice().to_vec());
+            }
+            return Ok(h);
+        }
+        let mut sampler = Sampler::uniform(0.0, t1, samples);
+        self.report(kind, knob, Some(&mut sampler))?;
+        for s in sampler.states {
+            h.t.push(s.t);
+            h.q.push(s.q.as_slice().to_vec());
+            h.p.push(s.p.as_slice().to_vec());
+        }
+        Ok(h)
+    }
+
+    fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64> {
+        if q.len() != N || p.len() != N {
+            return Err(Error::invalid("energy", "state of the wrong dimension"));
+        }
+        let q = SVector::<f64, N>::from_column_slice(q);
+        let p = SVector::<f64, N>::from_column_slice(p);
+        self.system.value(t, &q, &p)
+    }
+
+    fn portrait(&self) -> Portrait {
+        self.portrait
+    }
+
+    fn element_names(&self) -> Option<&'static [&'static str]> {
+        self.elements.as_ref().map(|e| e.0)
+    }
+
+    fn elements(&self, q: &[f64], p: &[f64]) -> Result<Vec<f64>> {
+        match &self.elements {
+            Some((_, map)) => map(q, p),
+            None => Err(Error::invalid(
+                "elements",
+                "this system has no osculating elements",
+            )),
+        }
+    }
+}

@@ -1,0 +1,674 @@
+//! The systems a scene can name (`[system] name = "…"`), and registration of a user's own.
+//!
+//! | name | keys (default) | methods beyond the general ones |
+//! |---|---|---|
+//! | `kepler` | `mu` (1), `eccentricity`, `semi_major_axis` (1) from periapsis, or `q`, `p` | splitting, exact flow, Hamilton–Jacobi |
+//! | `pendulum` | `n` (1), `amplitude` or `gap` (π − amplitude) from rest, or `q`, `p` | splitting, exact flow, Hamilton–Jacobi, normal form, Lindstedt |
+//! | `j2-orbit` | `mu` (1), `j2` (1.08e−3), `radius` (0.9), `a`, `e`, `i`, `raan`, `argp`, `mean_anomaly` | splitting, Wisdom–Holman/SABA, osculating and mean elements |
+//! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
+//! | `transformation-gallery` | — | none: a table of certification defects |
+//!
+//! The general methods (RK4, implicit midpoint, Gauss–Legendre, DOP853) apply to every
+//! Hamiltonian system.
+
+use super::case::{
+    exact_stepper, kepler_splitting_stepper, separable_stepper, Case, HamiltonianCase, Portrait,
+    Table,
+};
+use super::spec::{MethodKind, SceneError};
+use crate::error::{Error, Result};
+use crate::hamilton_jacobi::action_angle::ActionAngle;
+use crate::hamilton_jacobi::central::RadialMotion;
+use crate::integrate::{integrate, Dop853, Problem};
+use crate::nalgebra::{SVector, Vector2, Vector3};
+use crate::perturbation::elements::{state_to_classical, Classical};
+use crate::perturbation::forces::{PerturbedTwoBody, J2};
+use crate::perturbation::kepler_variation::{planetary_equations, ClassicalSolution, MeanElements};
+use crate::perturbation::lindstedt::lindstedt_pendulum;
+use crate::perturbation::normal_form::PendulumNormalForm;
+use crate::perturbation::ode::Ode;
+use crate::perturbation::variation::GeneralSolution;
+use crate::systems::kepler_orbit::kepler_propagate_planar;
+use crate::systems::pendulum_exact::{exact_state, period_from_gap};
+use crate::systems::top_motion::Nutation;
+use crate::systems::{HeavyTop, Kepler2, Pendulum};
+use std::cell::RefCell;
+use std::collections::BTreeSet;
+use std::f64::consts::{PI, TAU};
+
+/// An initial state `(q, p)`.
+pub type PhaseState<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
+
+/// The `[system]` table of a scene, read key by key: every read is checked (finite number,
+/// positive where required, vector length), and [`Params::finish`] reports keys nobody read.
+pub struct Params<'a> {
+    file: &'a str,
+    table: &'a toml::Table,
+    used: RefCell<BTreeSet<String>>,
+}
+
+impl<'a> Params<'a> {
+    /// Read `table` (the scene's `[system]`) of `file`.
+    pub fn new(file: &'a str, table: &'a toml::Table) -> Self {
+        let used = RefCell::new(BTreeSet::from(["name".to_string()]));
+        Self { file, table, used }
+    }
+
+    /// An error at `system.<key>`.
+    pub fn error(&self, key: &str, message: impl Into<String>) -> SceneError {
+        SceneError::new(self.file, format!("system.{key}"), message)
+    }
+
+    fn number(&self, key: &str, v: &toml::Value) -> std::result::Result<f64, SceneError> {
+        let x = match v {
+            toml::Value::Float(x) => *x,
+            toml::Value::Integer(i) => *i as f64,
+            other => {
+                return Err(self.error(
+                    key,
+                    format!("expected a number, found {}", other.type_str()),
+                ))
+            }
+        };
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.error(key, format!("expected a finite number, found {x}")))
+        }
+    }
+
+    /// An optional finite number.
+    ///
+    /// # Errors
+    /// Wrong type or non-finite.
+    pub fn opt(&self, key: &str) -> std::result::Result<Option<f64>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        self.table.get(key).map(|v| self.number(key, v)).transpose()
+    }
+
+    /// A finite number with a default.
+    ///
+    /// # Errors
+    /// Wrong type or non-finite.
+    pub fn or(&self, key: &str, default: f64) -> std::result::Result<f64, SceneError> {
+        Ok(self.opt(key)?.unwrap_or(default))
+    }
+
+    /// A positive finite number with a default.
+    ///
+    /// # Errors
+    /// Wrong type, non-finite or not positive.
+    pub fn positive_or(&self, key: &str, default: f64) -> std::result::Result<f64, SceneError> {
+        let x = self.or(key, default)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.error(key, format!("expected a positive number, found {x}")))
+        }
+    }
+
+    /// An optional vector of `N` finite numbers.
+    ///
+    /// # Errors
+    /// Wrong type, length or non-finite entries.
+    pub fn vector<const N: usize>(
+        &self,
+        key: &str,
+    ) -> std::result::Result<Option<SVector<f64, N>>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        let Some(v) = self.table.get(key) else {
+            return Ok(None);
+        };
+        let toml::Value::Array(a) = v else {
+            return Err(self.error(
+                key,
+                format!("expected an array of {N} numbers, found {}", v.type_str()),
+            ));
+        };
+        if a.len() != N {
+            return Err(self.error(
+                key,
+                format!(
+                    "expected an array of {N} numbers, found {} entries",
+                    a.len()
+                ),
+            ));
+        }
+        let mut out = SVector::<f64, N>::zeros();
+        for (i, x) in a.iter().enumerate() {
+            out[i] = self.number(&format!("{key}[{i}]"), x)?;
+        }
+        Ok(Some(out))
+    }
+
+    /// Both `q` and `p`, or neither.
+    ///
+    /// # Errors
+    /// Only one of them given, or [`Params::vector`] errors.
+    pub fn state<const N: usize>(&self) -> std::result::Result<Option<PhaseState<N>>, SceneError> {
+        match (self.vector::<N>("q")?, self.vector::<N>("p")?) {
+            (Some(q), Some(p)) => Ok(Some((q, p))),
+            (None, None) => Ok(None),
+            (Some(_), None) => Err(self.error("p", "missing: `q` is given, so `p` is needed too")),
+            (None, Some(_)) => Err(self.error("q", "missing: `p` is given, so `q` is needed too")),
+        }
+    }
+
+    /// Reject keys that were never read.
+    ///
+    /// # Errors
+    /// The first unknown key, with the known ones.
+    pub fn finish(&self) -> std::result::Result<(), SceneError> {
+        let used = self.used.borrow();
+        if let Some(k) = self.table.keys().find(|k| !used.contains(*k)) {
+            let known: Vec<&str> = used.iter().map(String::as_str).collect();
+            return Err(self.error(
+                k,
+                format!("unknown key; this system takes: {}", known.join(", ")),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A library error while building the system, attributed to the `[system]` table.
+    pub fn library(&self, e: Error) -> SceneError {
+        SceneError::new(self.file, "system", e.to_string())
+    }
+}
+
+/// Builds a case from the `[system]` table.
+pub type Builder = Box<dyn Fn(&Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError>>;
+
+/// The named systems scenes can use: the built-in ones and any registered from Rust.
+pub struct Catalogue {
+    entries: Vec<(String, String, Builder)>,
+}
+
+impl Default for Catalogue {
+    fn default() -> Self {
+        Self::builtin()
+    }
+}
+
+impl Catalogue {
+    /// The built-in systems (see the [module docs](self)).
+    pub fn builtin() -> Self {
+        let mut c = Self {
+            entries: Vec::new(),
+        };
+        c.register(
+            "kepler",
+            "planar Kepler problem (exact solution by Kepler's equation)",
+            Box::new(kepler),
+        );
+        c.register(
+            "pendulum",
+            "plane pendulum H = p²/2 − n² cos q (exact solution by elliptic functions)",
+            Box::new(pendulum),
+        );
+        c.register(
+            "j2-orbit",
+            "orbit about an oblate body (J₂), spatial",
+            Box::new(j2_orbit),
+        );
+        c.register(
+            "heavy-top",
+            "heavy symmetric top in Euler angles (solution by quadrature)",
+            Box::new(heavy_top),
+        );
+        c.register(
+            "transformation-gallery",
+            "canonical transformations certified by AD (table only)",
+            Box::new(gallery),
+        );
+        c
+    }
+
+    /// Add (or replace) a system under `name`.
+    pub fn register(&mut self, name: &str, description: &str, builder: Builder) {
+        self.entries.retain(|(n, _, _)| n != name);
+        self.entries
+            .push((name.to_string(), description.to_string(), builder));
+    }
+
+    /// Names and descriptions, in registration order.
+    pub fn list(&self) -> impl Iterator<Item = (&str, &str)> {
+        self.entries
+            .iter()
+            .map(|(n, d, _)| (n.as_str(), d.as_str()))
+    }
+
+    /// Build the case a `[system]` table describes.
+    ///
+    /// # Errors
+    /// Missing or unknown `name`, and every error of the system's own keys.
+    pub fn build(
+        &self,
+        file: &str,
+        table: &toml::Table,
+    ) -> std::result::Result<Box<dyn Case>, SceneError> {
+        let name = match table.get("name") {
+            Some(toml::Value::String(s)) => s.as_str(),
+            Some(v) => {
+                return Err(SceneError::new(
+                    file,
+                    "system.name",
+                    format!("expected a string, found {}", v.type_str()),
+                ))
+            }
+            None => {
+                return Err(SceneError::new(
+                    file,
+                    "system.name",
+                    "missing: which system (e.g. \"kepler\")",
+                ))
+            }
+        };
+        let Some((_, _, builder)) = self.entries.iter().find(|(n, _, _)| n == name) else {
+            let known: Vec<&str> = self.entries.iter().map(|(n, _, _)| n.as_str()).collect();
+            return Err(SceneError::new(
+                file,
+                "system.name",
+                format!(
+                    "unknown system `{name}`, expected one of: {}",
+                    known.join(", ")
+                ),
+            ));
+        };
+        let params = Params::new(file, table);
+        let case = builder(&params)?;
+        params.finish()?;
+        Ok(case)
+    }
+}
+
+fn xy(q: &[f64], _p: &[f64]) -> (f64, f64) {
+    (q[0], q[1])
+}
+
+/// Planar Kepler problem.
+fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let mu = s.positive_or("mu", 1.0)?;
+    let e_key = s.opt("eccentricity")?;
+    let a = s.positive_or("semi_major_axis", 1.0)?;
+    let explicit = s.state::<2>()?;
+    let (q0, p0, from_elements) = match (e_key, explicit) {
+        (Some(_), Some(_)) => {
+            return Err(s.error(
+                "eccentricity",
+                "give either `eccentricity` (start at periapsis) or `q` and `p`, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(s.error(
+                "eccentricity",
+                "missing: give `eccentricity` (start at periapsis) or `q` and `p`",
+            ))
+        }
+        (Some(e), None) => {
+            if !(0.0..1.0).contains(&e) {
+                return Err(s.error(
+                    "eccentricity",
+                    format!("expected an eccentricity in [0, 1), found {e}"),
+                ));
+            }
+            let q0 = SVector::from([a * (1.0 - e), 0.0]);
+            let p0 = SVector::from([0.0, (mu / a * (1.0 + e) / (1.0 - e)).sqrt()]);
+            (q0, p0, Some(e))
+        }
+        (None, Some((q, p))) => (q, p, None),
+    };
+    // Semi-major axis and eccentricity of the state, for the period and the description.
+    let r = q0.norm();
+    let inv_a = 2.0 / r - p0.norm_squared() / mu;
+    if inv_a.is_nan() || inv_a <= 0.0 || r == 0.0 {
+        return Err(s.error("q", "the initial state is not on a bound (elliptic) orbit"));
+    }
+    let a_state = 1.0 / inv_a;
+    let period = TAU * (a_state.powi(3) / mu).sqrt();
+    let sys = Kepler2::new(mu).map_err(|e| s.library(e))?;
+    let description = match from_elements {
+        Some(e) => format!("planar Kepler problem, μ = {mu}, a = {a}, e = {e}, from periapsis"),
+        None => format!(
+            "planar Kepler problem, μ = {mu}, q₀ = ({}, {}), p₀ = ({}, {})",
+            q0[0], q0[1], p0[0], p0[1]
+        ),
+    };
+    let reference = Box::new(move |t: f64| {
+        let (r, v) = kepler_propagate_planar(
+            mu,
+            &Vector2::new(q0[0], q0[1]),
+            &Vector2::new(p0[0], p0[1]),
+            t,
+        )?;
+        Ok((
+            (SVector::from([r[0], r[1]]), SVector::from([v[0], v[1]])),
+            "reference: exact solution (Kepler's equation)".to_string(),
+        ))
+    });
+    let mut case = HamiltonianCase::new(sys, q0, p0, description)
+        .map_err(|e| s.library(e))?
+        .with_period(period)
+        .with_stepper(separable_stepper::<Kepler2, 2>)
+        .with_stepper(exact_stepper::<Kepler2, 2>)
+        .with_reference(reference)
+        .with_portrait(Portrait {
+            x_label: "x",
+            y_label: "y",
+            equal_aspect: true,
+            project: xy,
+        })
+        .with_elements(
+            &["a", "e", "ϖ"],
+            Box::new(move |q, p| {
+                let el = state_to_classical(
+                    mu,
+                    &Vector3::new(q[0], q[1], 0.0),
+                    &Vector3::new(p[0], p[1], 0.0),
+                )?;
+                Ok(vec![el.a, el.e, el.raan + el.argp])
+            }),
+        );
+    if let Some(e) = from_elements {
+        // Hamilton–Jacobi: the radial quadrature through the apsides, time law inverted.
+        let h = (mu * a * (1.0 - e * e)).sqrt();
+        case = case.with_theory(
+            MethodKind::HamiltonJacobi,
+            Box::new(move |_, t| {
+                let motion = RadialMotion::kepler_elements(mu, a, e)?;
+                let (r, rdot, theta) = motion.state_at(t)?;
+                let (st, ct) = theta.sin_cos();
+                Ok((
+                    SVector::from([r * ct, r * st]),
+                    SVector::from([rdot * ct - h / r * st, rdot * st + h / r * ct]),
+                ))
+            }),
+        );
+    }
+    Ok(Box::new(case))
+}
+
+/// Plane pendulum.
+fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let n = s.positive_or("n", 1.0)?;
+    let amplitude = s.opt("amplitude")?;
+    let gap = s.opt("gap")?;
+    let explicit = s.state::<1>()?;
+    let given = [amplitude.is_some(), gap.is_some(), explicit.is_some()];
+    if given.iter().filter(|&&g| g).count() != 1 {
+        return Err(s.error(
+            "amplitude",
+            "give exactly one of `amplitude` (from rest), `gap` (π − amplitude, from rest), \
+             or `q` and `p`",
+        ));
+    }
+    let (q0, p0, delta) = if let Some(a) = amplitude {
+        if !(a > 0.0 && a < PI) {
+            return Err(s.error(
+                "amplitude",
+                format!("expected an amplitude in (0, π), found {a}"),
+            ));
+        }
+        (a, 0.0, PI - a)
+    } else if let Some(d) = gap {
+        if !(d > 0.0 && d < PI) {
+            return Err(s.error(
+                "gap",
+                format!("expected a gap π − amplitude in (0, π), found {d}"),
+            ));
+        }
+        (PI - d, 0.0, d)
+    } else {
+        let (q, p) = explicit.unwrap_or_default();
+        let (q, p) = (q[0], p[0]);
+        // cos a = cos q − p²/(2n²): above the separatrix there is no amplitude.
+        let c = q.cos() - p * p / (2.0 * n * n);
+        if c <= -1.0 {
+            return Err(s.error(
+                "p",
+                "the state is on or above the separatrix (rotation); this scene needs a libration",
+            ));
+        }
+        let a = c.acos();
+        if q.abs() > PI {
+            return Err(s.error("q", format!("expected an angle in [−π, π], found {q}")));
+        }
+        (q, p, PI - a)
+    };
+    let amp = PI - delta;
+    let period = period_from_gap(n, delta).map_err(|e| s.library(e))?;
+    let sys = Pendulum::new(n).map_err(|e| s.library(e))?;
+    let description = if p0 == 0.0 {
+        format!("pendulum, n = {n}, released from rest at amplitude {amp} (gap to the separatrix {delta:.3e})")
+    } else {
+        format!("pendulum, n = {n}, q₀ = {q0}, p₀ = {p0} (amplitude {amp})")
+    };
+    let reference = Box::new(move |t: f64| {
+        let (q, p) = exact_state(n, q0, p0, t)?;
+        Ok((
+            (SVector::from([q]), SVector::from([p])),
+            "reference: exact solution (Jacobi elliptic functions)".to_string(),
+        ))
+    });
+    let order_of = |knob: f64| -> Result<usize> {
+        if knob >= 1.0 && knob.fract() == 0.0 && knob <= 64.0 {
+            Ok(knob as usize)
+        } else {
+            Err(Error::invalid(
+                "order",
+                format!("expected an order in 1..=64, got {knob}"),
+            ))
+        }
+    };
+    let mut case = HamiltonianCase::new(sys, SVector::from([q0]), SVector::from([p0]), description)
+        .map_err(|e| s.library(e))?
+        .with_period(period)
+        .with_error_label("final angle error |Δq|")
+        .with_stepper(separable_stepper::<Pendulum, 1>)
+        .with_stepper(exact_stepper::<Pendulum, 1>)
+        .with_reference(reference)
+        .with_theory(
+            MethodKind::HamiltonJacobi,
+            Box::new(move |_, t| {
+                let aa = ActionAngle::pendulum(Pendulum::new(n)?, delta)?;
+                let w0 = aa.angle(q0, p0)?;
+                let (q, p) = aa.state(w0 + aa.frequency() * t)?;
+                Ok((SVector::from([q]), SVector::from([p])))
+            }),
+        )
+        .with_theory(
+            MethodKind::NormalForm,
+            Box::new(move |knob, t| {
+                let nf = PendulumNormalForm::new(n, order_of(knob)?)?;
+                let (q, p) = nf.state_at(q0, p0, t)?;
+                Ok((SVector::from([q]), SVector::from([p])))
+            }),
+        );
+    if p0 == 0.0 {
+        case = case.with_theory(
+            MethodKind::Lindstedt,
+            Box::new(move |knob, t| {
+                let series = lindstedt_pendulum(order_of(knob)?)?;
+                let q = series.theta(n, amp, t)?;
+                // The series gives θ(t); its momentum is not part of the comparison.
+                Ok((SVector::from([q]), SVector::from([f64::NAN])))
+            }),
+        );
+    }
+    Ok(Box::new(case))
+}
+
+/// Orbit about an oblate body.
+fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let mu = s.positive_or("mu", 1.0)?;
+    let j2v = s.or("j2", 1.08e-3)?;
+    let radius = s.positive_or("radius", 0.9)?;
+    let a = s.positive_or("a", 1.2)?;
+    let e = s.or("e", 0.05)?;
+    let inc = s.or("i", 0.5)?;
+    let raan = s.or("raan", 0.3)?;
+    let argp = s.or("argp", 0.7)?;
+    let m0 = s.or("mean_anomaly", 0.2)?;
+    if !(0.0..1.0).contains(&e) {
+        return Err(s.error(
+            "e",
+            format!("expected an eccentricity in [0, 1), found {e}"),
+        ));
+    }
+    if !(0.0..=PI).contains(&inc) {
+        return Err(s.error(
+            "i",
+            format!("expected an inclination in [0, π], found {inc}"),
+        ));
+    }
+    let el = Classical::new(a, e, inc, raan, argp, m0).map_err(|x| s.library(x))?;
+    let model = J2::new(mu, j2v, radius).map_err(|x| s.library(x))?;
+    let sys = PerturbedTwoBody::conservative(mu, model).map_err(|x| s.library(x))?;
+    let (q0, p0) = el.to_state(mu).map_err(|x| s.library(x))?;
+    let period = TAU * (a.powi(3) / mu).sqrt();
+    let description = format!(
+        "orbit about an oblate body, μ = {mu}, J₂ = {j2v}, R = {radius}; a = {a}, e = {e}, i = {inc}"
+    );
+    let case = HamiltonianCase::new(sys, q0, p0, description)
+        .map_err(|x| s.library(x))?
+        .with_period(period)
+        .with_stepper(separable_stepper::<PerturbedTwoBody<J2>, 3>)
+        .with_stepper(kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>)
+        .with_portrait(Portrait {
+            x_label: "x",
+            y_label: "y",
+            equal_aspect: true,
+            project: xy,
+        })
+        .with_elements(
+            &["a", "e", "i", "Ω", "ω"],
+            Box::new(move |q, p| {
+                let el = state_to_classical(
+                    mu,
+                    &Vector3::new(q[0], q[1], q[2]),
+                    &Vector3::new(p[0], p[1], p[2]),
+                )?;
+                Ok(vec![el.a, el.e, el.i, el.raan, el.argp])
+            }),
+        )
+        .with_theory(
+            MethodKind::OsculatingElements,
+            Box::new(move |rtol, t| {
+                let sol = ClassicalSolution::new(mu, 0.0)?;
+                let (g1, g2) = sol.constants(&el, 0.0)?;
+                let ode = Ode(planetary_equations(sol, model));
+                let pr = Problem::new(&ode, 0.0, g1, g2, t)?;
+                let run = integrate(&pr, &Dop853::new(rtol, rtol)?, &mut ())?;
+                Ok(sol.state(t, &run.last.q, &run.last.p))
+            }),
+        )
+        .with_theory(
+            MethodKind::MeanElements,
+            Box::new(move |_, t| MeanElements::j2(mu, j2v, radius, 0.0, el)?.state(t)),
+        );
+    Ok(Box::new(case))
+}
+
+fn theta_ptheta(q: &[f64], p: &[f64]) -> (f64, f64) {
+    (q[1], p[1])
+}
+
+/// Heavy symmetric top.
+fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let i1 = s.positive_or("inertia", 1.0)?;
+    let i3 = s.positive_or("axial_inertia", 0.5)?;
+    let mgl = s.positive_or("mgl", 1.0)?;
+    let theta = s.or("theta", PI / 3.0)?;
+    let theta_dot = s.or("theta_dot", 0.0)?;
+    let phi_dot = s.or("phi_dot", 0.0)?;
+    let omega_z = s.or("omega_z", 5.0)?;
+    if !(theta > 0.0 && theta < PI) {
+        return Err(s.error("theta", format!("expected a tilt in (0, π), found {theta}")));
+    }
+    let top = HeavyTop::new(i1, i3, mgl).map_err(|x| s.library(x))?;
+    let q0 = SVector::from([0.0, theta, 0.0]);
+    let p0 = top
+        .momenta_from_spin(theta, theta_dot, phi_dot, omega_z)
+        .map_err(|x| s.library(x))?;
+    let nutation = Nutation::from_state(&top, &q0, &p0).map_err(|x| s.library(x))?;
+    let period = nutation.period().map_err(|x| s.library(x))?.value;
+    let description = format!(
+        "heavy symmetric top, I = {i1}, J = {i3}, mgℓ = {mgl}; θ₀ = {theta}, θ̇₀ = {theta_dot}, φ̇₀ = {phi_dot}, ω_z = {omega_z}"
+    );
+    let hj = move |t: f64| -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
+        let top = HeavyTop::new(i1, i3, mgl)?;
+        Nutation::from_state(&top, &q0, &p0)?.propagate(&q0, &p0, t)
+    };
+    let case = HamiltonianCase::new(top, q0, p0, description)
+        .map_err(|x| s.library(x))?
+        .with_period(period)
+        .with_error_label("final angle error ‖Δ(φ, θ, ψ)‖")
+        .with_stepper(exact_stepper::<HeavyTop, 3>)
+        .with_portrait(Portrait {
+            x_label: "θ",
+            y_label: "p_θ",
+            equal_aspect: false,
+            project: theta_ptheta,
+        })
+        .with_theory(MethodKind::HamiltonJacobi, Box::new(move |_, t| hj(t)));
+    Ok(Box::new(case))
+}
+
+/// The transformation gallery: no motion, a table.
+struct Gallery;
+
+impl Case for Gallery {
+    fn describe(&self) -> String {
+        "canonical transformations certified by AD: MᵀJM − J, MJMᵀ − J, det M − 1".into()
+    }
+    fn period(&self) -> Option<f64> {
+        None
+    }
+    fn supports(&self, _kind: MethodKind) -> bool {
+        false
+    }
+    fn error_label(&self) -> String {
+        String::new()
+    }
+    fn prepare(&mut self, _t1: f64) -> Result<()> {
+        Ok(())
+    }
+    fn reference_note(&self) -> String {
+        String::new()
+    }
+    fn run(&self, kind: MethodKind, _knob: f64) -> Result<super::case::Outcome> {
+        Err(Error::invalid(
+            format!("method {}", kind.name()),
+            "the transformation gallery runs no methods",
+        ))
+    }
+    fn history(
+        &self,
+        kind: MethodKind,
+        knob: f64,
+        _samples: usize,
+    ) -> Result<super::case::History> {
+        self.run(kind, knob).map(|_| Default::default())
+    }
+    fn energy(&self, _t: f64, _q: &[f64], _p: &[f64]) -> Result<f64> {
+        Err(Error::invalid(
+            "energy",
+            "the transformation gallery has no motion",
+        ))
+    }
+    fn portrait(&self) -> Portrait {
+        Portrait {
+            x_label: "q",
+            y_label: "p",
+            equal_aspect: false,
+            project: |q, p| (q[0], p[0]),
+        }
+    }
+    fn table(&self) -> Option<Result<Table>> {
+        Some(super::gallery::transformation_gallery())
+    }
+}
+
+fn gallery(_s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    Ok(Box::new(Gallery))
+}

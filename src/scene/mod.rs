@@ -1,0 +1,132 @@
+//! Scenes: comparisons set up in a TOML file instead of Rust, run by the `hj` binary.
+//!
+//! A scene names a system from the [catalogue](catalogue) with its parameters and initial
+//! state, the time span, the methods and theories to compare with the values of their knob, and
+//! the outputs wanted. Nothing is computed that the scene does not ask for.
+//!
+//! ```toml
+//! name = "pendulum-large"                 # prefix of the output files (default: file stem)
+//! title = "Pendulum, amplitude 2.5"       # default: the system's description
+//!
+//! [system]                                # a catalogue entry and its own keys
+//! name = "pendulum"
+//! amplitude = 2.5                         # or gap = π − amplitude, or q = [..], p = [..]
+//!
+//! [span]                                  # exactly one of:
+//! periods = 100                           #   multiples of the system's period
+//! # time = 628.3                          #   or a length of time
+//!
+//! [[method]]                              # any number of these
+//! kind = "kahan-li8"                      # `hj list` shows every kind and its knob
+//! steps = [250, 500, 1000, 2000]
+//!
+//! [[method]]
+//! kind = "dop853"
+//! rtol = [1e-8, 1e-10, 1e-12]
+//!
+//! [[method]]
+//! kind = "normal-form"
+//! orders = [1, 2, 4, 8]
+//!
+//! [output]
+//! table = true                            # tables/<name>.md and .csv (default true)
+//! targets = [1e-6, 1e-9]                  # "time to reach" columns of the table
+//! work_precision = true                   # figures/<name>-work-precision.svg
+//! phase_portrait = [{ method = "exact", steps = 1 }]          # figures/<name>-phase-portrait.svg
+//! energy_error = [{ method = "verlet", steps = 4000 }]        # figures/<name>-energy-error.svg
+//! # elements = [{ method = "kahan-li8", steps = 8000 }]       # Kepler-type systems
+//! samples = 400                           # points per history
+//! ```
+//!
+//! Every mistake is reported on one line as `file: key: what was expected`
+//! ([`SceneError`]): TOML syntax, missing keys, wrong types, unknown keys, systems or method
+//! kinds, non-finite numbers, a method that does not apply to the system, a knob of the wrong
+//! kind, a negative span.
+
+pub mod case;
+pub mod catalogue;
+pub mod gallery;
+pub mod runner;
+pub mod spec;
+
+pub use case::{Case, HamiltonianCase, History, Outcome, Table};
+pub use catalogue::{Catalogue, Params};
+pub use runner::{RunOptions, RunSummary, Scene};
+pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile};
+
+/// The built-in scenes, embedded in the binary: `(name, TOML text)`.
+pub const BUILTIN: [(&str, &str); 10] = [
+    ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
+    ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
+    ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
+    ("kepler-e0.99", include_str!("builtin/kepler-e0.99.toml")),
+    (
+        "pendulum-small",
+        include_str!("builtin/pendulum-small.toml"),
+    ),
+    (
+        "pendulum-large",
+        include_str!("builtin/pendulum-large.toml"),
+    ),
+    (
+        "pendulum-near-separatrix",
+        include_str!("builtin/pendulum-near-separatrix.toml"),
+    ),
+    ("j2-orbit", include_str!("builtin/j2-orbit.toml")),
+    ("heavy-top", include_str!("builtin/heavy-top.toml")),
+    (
+        "transformation-gallery",
+        include_str!("builtin/transformation-gallery.toml"),
+    ),
+];
+
+/// The scenes `hj` runs with no arguments (the showcase): one of each kind, quick.
+pub const SHOWCASE: [&str; 5] = [
+    "kepler-e0.5",
+    "pendulum-near-separatrix",
+    "j2-orbit",
+    "heavy-top",
+    "transformation-gallery",
+];
+
+/// Parse and check a scene; `file` names it in errors.
+///
+/// # Errors
+/// A [`SceneError`] naming the key.
+pub fn parse(file: &str, text: &str, catalogue: &Catalogue) -> Result<Scene, SceneError> {
+    let spec = parse_scene_file(file, text)?;
+    Scene::new(file, spec, catalogue)
+}
+
+/// The TOML text of a built-in scene.
+pub fn builtin_text(name: &str) -> Option<&'static str> {
+    BUILTIN.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// Load a scene from a file path or a built-in name: an argument ending in `.toml`, or naming
+/// an existing file, is read from disk; anything else must be a built-in name.
+///
+/// # Errors
+/// Unreadable file, unknown built-in name, or any [`SceneError`] of the scene.
+pub fn load(arg: &str, catalogue: &Catalogue) -> Result<Scene, SceneError> {
+    let path = std::path::Path::new(arg);
+    if arg.ends_with(".toml") || path.is_file() {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::new(arg, "", format!("cannot read the scene file: {e}")))?;
+        return parse(arg, &text, catalogue);
+    }
+    match builtin_text(arg) {
+        Some(text) => parse(&format!("built-in scene {arg}"), text, catalogue),
+        None => {
+            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+            Err(SceneError::new(
+                arg,
+                "",
+                format!(
+                    "no such file, and not a built-in scene (built-in: {})",
+                    names.join(", ")
+                ),
+            ))
+        }
+    }
+}

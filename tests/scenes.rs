@@ -1,0 +1,419 @@
+//! Scene files: every built-in scene is valid; malformed scenes give one-line errors naming the
+//! key (one test per kind of mistake); a run writes exactly the files the scene plans and its
+//! numbers agree with the oracles; a user's system registered from Rust runs like a built-in one;
+//! the paper references only files `hj reproduce` writes, and its code comes from `examples/`.
+#![cfg(feature = "cli")]
+
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::scene::case::separable_stepper;
+use hamilton_jacobi::scene::{
+    self, Case, Catalogue, HamiltonianCase, MethodKind, RunOptions, SceneError,
+};
+use hamilton_jacobi::systems::HarmonicOscillator;
+use hamilton_jacobi::workprecision::Timing;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+const KEPLER: &str = r#"
+name = "k"
+[system]
+name = "kepler"
+eccentricity = 0.5
+[span]
+periods = 2
+[[method]]
+kind = "kahan-li8"
+steps = [100, 200]
+[output]
+work_precision = true
+"#;
+
+/// Parse `text` after replacing `from` by `to` in [`KEPLER`]-like input; the error it must give.
+fn error_of(text: &str) -> SceneError {
+    match scene::parse("bad.toml", text, &Catalogue::builtin()) {
+        Ok(_) => panic!("scene accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+fn assert_names(e: &SceneError, key: &str, words: &[&str]) {
+    let line = e.to_string();
+    assert!(!line.contains('\n'), "not one line: {line}");
+    assert!(line.starts_with("bad.toml: "), "no file: {line}");
+    assert_eq!(e.key, key, "{line}");
+    for w in words {
+        assert!(line.contains(w), "{line} lacks {w:?}");
+    }
+}
+
+#[test]
+fn builtin_scenes_are_valid() {
+    let catalogue = Catalogue::builtin();
+    let mut names = BTreeSet::new();
+    for (name, text) in scene::BUILTIN {
+        let s = scene::parse(name, text, &catalogue).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.name(), name);
+        assert!(names.insert(name));
+        assert!(!s.planned_outputs().is_empty(), "{name} produces nothing");
+    }
+    for name in scene::SHOWCASE {
+        assert!(
+            names.contains(name),
+            "showcase scene {name} is not built in"
+        );
+    }
+}
+
+#[test]
+fn missing_key() {
+    let e = error_of(&KEPLER.replace("[span]\nperiods = 2", ""));
+    assert_names(&e, "span", &["missing"]);
+    let e = error_of(&KEPLER.replace("kind = \"kahan-li8\"\n", ""));
+    assert_names(&e, "method[0].kind", &["missing field `kind`"]);
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", ""));
+    assert_names(&e, "system.eccentricity", &["missing"]);
+    let e = error_of(&KEPLER.replace("steps = [100, 200]", ""));
+    assert_names(&e, "method[0].steps", &["missing", "kahan-li8"]);
+    let e = error_of(&KEPLER.replace("name = \"kepler\"", ""));
+    assert_names(&e, "system.name", &["missing"]);
+}
+
+#[test]
+fn wrong_type() {
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = \"half\""));
+    assert_names(&e, "system.eccentricity", &["expected a number", "string"]);
+    let e = error_of(&KEPLER.replace("steps = [100, 200]", "steps = 100"));
+    assert_names(&e, "method[0].steps", &["invalid type", "sequence"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = \"two\""));
+    assert_names(&e, "span.periods", &["invalid type"]);
+    let e = error_of(&KEPLER.replace("steps = [100, 200]", "steps = [100, -2]"));
+    assert_names(&e, "method[0].steps[1]", &["-2"]);
+    let e = error_of(&KEPLER.replace("work_precision = true", "work_precision = 1"));
+    assert_names(&e, "output.work_precision", &["invalid type"]);
+}
+
+#[test]
+fn unknown_system() {
+    let e = error_of(&KEPLER.replace("name = \"kepler\"", "name = \"keppler\""));
+    assert_names(
+        &e,
+        "system.name",
+        &["unknown system `keppler`", "kepler", "pendulum"],
+    );
+}
+
+#[test]
+fn unknown_method() {
+    let e = error_of(&KEPLER.replace("kahan-li8", "kahan-li-8"));
+    assert_names(
+        &e,
+        "method[0].kind",
+        &["unknown variant `kahan-li-8`", "kahan-li8"],
+    );
+    // A method that exists but does not apply: splitting needs a separable Hamiltonian.
+    let top = "[system]\nname = \"heavy-top\"\n[span]\ntime = 1\n[[method]]\nkind = \"verlet\"\nsteps = [10]\n";
+    let e = error_of(top);
+    assert_names(&e, "method[0].kind", &["verlet", "does not apply"]);
+    // Theories of one system are not available for another.
+    let e = error_of(&KEPLER.replace(
+        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"normal-form\"\norders = [2]",
+    ));
+    assert_names(&e, "method[0].kind", &["normal-form", "does not apply"]);
+}
+
+#[test]
+fn unknown_keys() {
+    let e = error_of(&KEPLER.replace(
+        "eccentricity = 0.5",
+        "eccentricity = 0.5\neccentrcity = 0.4",
+    ));
+    assert_names(&e, "system.eccentrcity", &["unknown key", "eccentricity"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = 2\nperiod = 3"));
+    assert_names(&e, "span.period", &["unknown field `period`"]);
+    let e = error_of(&KEPLER.replace("steps = [100, 200]", "steps = [100, 200]\nrtol = [1e-6]"));
+    assert_names(&e, "method[0].rtol", &["kahan-li8", "`steps`"]);
+}
+
+#[test]
+fn non_finite_numbers() {
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = nan"));
+    assert_names(&e, "system.eccentricity", &["finite", "NaN"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = inf"));
+    assert_names(&e, "span.periods", &["finite", "inf"]);
+    let dop = KEPLER.replace(
+        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"dop853\"\nrtol = [1e-8, nan]",
+    );
+    let e = error_of(&dop);
+    assert_names(&e, "method[0].rtol[1]", &["tolerance", "NaN"]);
+    let e = error_of(&KEPLER.replace("[output]", "[output]\ntargets = [1e-6, -inf]"));
+    assert_names(&e, "output.targets[1]", &["positive, finite"]);
+}
+
+#[test]
+fn negative_span() {
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = -2"));
+    assert_names(&e, "span.periods", &["positive", "-2"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "time = 0"));
+    assert_names(&e, "span.time", &["positive", "0"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = 2\ntime = 3"));
+    assert_names(&e, "span", &["exactly one"]);
+}
+
+#[test]
+fn out_of_domain_values_and_syntax() {
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = 1.0"));
+    assert_names(&e, "system.eccentricity", &["[0, 1)"]);
+    let e = error_of(&KEPLER.replace("steps = [100, 200]", "steps = [0]"));
+    assert_names(&e, "method[0].steps[0]", &["step count"]);
+    let e = error_of(&KEPLER.replace("[span]", "[span"));
+    assert!(e.key.starts_with("line "), "{e}");
+    assert!(e.to_string().contains("TOML syntax error"), "{e}");
+    let e = error_of(&KEPLER.replace("name = \"k\"", "name = \"a/b\""));
+    assert_names(&e, "name", &["letters"]);
+    let e = error_of(&KEPLER.replace(
+        "[output]",
+        "[output]\nelements = [{ method = \"kahan-li8\" }]",
+    ));
+    assert_names(&e, "output.elements[0].steps", &["missing"]);
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("hj-scene-test-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn quick(out: &Path) -> RunOptions {
+    RunOptions {
+        out: out.to_path_buf(),
+        timing: Timing {
+            min_time: Duration::ZERO,
+            max_runs: 1,
+        },
+        progress: false,
+    }
+}
+
+/// A run writes exactly its planned files; the exact flow and the Hamilton–Jacobi solution reach
+/// rounding level (Kepler's equation as the oracle); an order-8 composition at 200 steps per
+/// period is at its truncation level.
+#[test]
+fn run_writes_planned_files_and_matches_oracles() {
+    let text = r#"
+name = "kepler-check"
+[system]
+name = "kepler"
+eccentricity = 0.5
+[span]
+periods = 2
+[[method]]
+kind = "exact"
+steps = [1, 7]
+[[method]]
+kind = "hamilton-jacobi"
+[[method]]
+kind = "kahan-li8"
+steps = [400]
+[output]
+work_precision = true
+phase_portrait = [{ method = "exact", steps = 1 }]
+energy_error = [{ method = "kahan-li8", steps = 400 }]
+elements = [{ method = "kahan-li8", steps = 400 }]
+samples = 50
+"#;
+    let s = scene::parse("kepler-check.toml", text, &Catalogue::builtin()).unwrap();
+    let planned: BTreeSet<PathBuf> = s.planned_outputs().into_iter().collect();
+    let out = temp_dir("run");
+    let summary = s.run(&quick(&out)).unwrap();
+    let written: BTreeSet<PathBuf> = summary
+        .files
+        .iter()
+        .map(|f| f.strip_prefix(&out).unwrap().to_path_buf())
+        .collect();
+    assert_eq!(planned, written);
+    for f in &summary.files {
+        assert!(
+            std::fs::metadata(f).unwrap().len() > 0,
+            "{} is empty",
+            f.display()
+        );
+    }
+    let csv = std::fs::read_to_string(out.join("tables/kepler-check.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "error").unwrap();
+    let error_of = |label: &str| -> f64 {
+        rows.iter()
+            .find(|r| r[0].contains(label))
+            .unwrap_or_else(|| panic!("{label} missing from {csv}"))[col]
+            .parse()
+            .unwrap()
+    };
+    // Exact flow and HJ: a few dozen roundings of |q| ~ 1 over two periods.
+    assert!(error_of("exact flow") < 1e-13, "{csv}");
+    assert!(error_of("Hamilton–Jacobi quadrature") < 1e-12, "{csv}");
+    // Kahan–Li 8 at h = T/200: the error constant times h⁸ is ~1e−9 here; the run must be far
+    // below the O(h²) methods' level and above rounding.
+    let kl = error_of("Kahan–Li 8");
+    assert!(kl < 1e-6 && kl > 1e-15, "{kl}");
+    let svg = std::fs::read_to_string(out.join("figures/kepler-check-energy-error.svg")).unwrap();
+    assert!(svg.contains("kahan-li8"), "legend missing");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// The pendulum's theories: the normal-form error decreases with the order (amplitude 1, where
+/// the series converges), and Lindstedt–Poincaré agrees in trend.
+#[test]
+fn pendulum_series_converge_in_a_scene() {
+    let text = r#"
+[system]
+name = "pendulum"
+amplitude = 1.0
+[span]
+periods = 3
+[[method]]
+kind = "normal-form"
+orders = [1, 2, 4, 8]
+[[method]]
+kind = "lindstedt"
+orders = [1, 4, 8]
+[output]
+table = false
+"#;
+    let table: toml::Table = toml::from_str(text).unwrap();
+    let system = table["system"].as_table().unwrap();
+    let mut case = Catalogue::builtin().build("p.toml", system).unwrap();
+    case.prepare(3.0 * case.period().unwrap()).unwrap();
+    let nf: Vec<f64> = [1.0, 2.0, 4.0, 8.0]
+        .iter()
+        .map(|&k| case.run(MethodKind::NormalForm, k).unwrap().error)
+        .collect();
+    assert!(nf.windows(2).all(|w| w[1] < w[0]), "{nf:?}");
+    assert!(nf[3] < 1e-6, "{nf:?}");
+    let ld: Vec<f64> = [1.0, 4.0, 8.0]
+        .iter()
+        .map(|&k| case.run(MethodKind::Lindstedt, k).unwrap().error)
+        .collect();
+    assert!(ld[2] < ld[0], "{ld:?}");
+    // And the scene itself is valid.
+    scene::parse("p.toml", text, &Catalogue::builtin()).unwrap();
+}
+
+/// A system registered from Rust runs like a built-in one, with the same key checking.
+#[test]
+fn user_system_registered_from_rust() {
+    let mut catalogue = Catalogue::builtin();
+    catalogue.register(
+        "my-oscillator",
+        "unit harmonic oscillator",
+        Box::new(|s| {
+            let omega = s.positive_or("omega", 1.0)?;
+            let q0 = s.or("q0", 1.0)?;
+            let sys = HarmonicOscillator::new(1.0, omega).map_err(|e| s.library(e))?;
+            let case =
+                HamiltonianCase::new(sys, SVector::from([q0]), SVector::from([0.0]), "oscillator")
+                    .map_err(|e| s.library(e))?
+                    .with_period(std::f64::consts::TAU / omega)
+                    .with_stepper(separable_stepper::<HarmonicOscillator, 1>)
+                    .with_reference(Box::new(move |t: f64| {
+                        let (s, c) = (omega * t).sin_cos();
+                        Ok((
+                            (SVector::from([q0 * c]), SVector::from([-q0 * omega * s])),
+                            "exact".into(),
+                        ))
+                    }));
+            Ok(Box::new(case) as Box<dyn Case>)
+        }),
+    );
+    let text = "[system]\nname = \"my-oscillator\"\nomega = 2.0\n[span]\nperiods = 1\n[[method]]\nkind = \"verlet\"\nsteps = [100, 200]\n";
+    let s = scene::parse("osc.toml", text, &catalogue).unwrap();
+    let out = temp_dir("user");
+    let summary = s.run(&quick(&out)).unwrap();
+    assert!(summary.markdown.contains("Störmer–Verlet"));
+    let e = scene::parse(
+        "osc.toml",
+        &text.replace("omega = 2.0", "omega = -2.0"),
+        &catalogue,
+    )
+    .err()
+    .unwrap();
+    assert_eq!(e.key, "system.omega", "{e}");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// Every figure and table the paper references is written by `hj reproduce` (all built-in
+/// scenes), and every Rust listing in the paper is taken verbatim from `examples/`.
+#[test]
+fn paper_references_are_reproduced() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let paper = std::fs::read_to_string(root.join("paper/paper.md")).unwrap();
+    let catalogue = Catalogue::builtin();
+    let produced: BTreeSet<String> = scene::BUILTIN
+        .iter()
+        .flat_map(|(n, t)| scene::parse(n, t, &catalogue).unwrap().planned_outputs())
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    let mut referenced = BTreeSet::new();
+    for prefix in ["figures/", "tables/"] {
+        for (i, _) in paper.match_indices(prefix) {
+            let rest = &paper[i..];
+            let end = rest
+                .find(|c: char| !(c.is_ascii_alphanumeric() || "/-_.".contains(c)))
+                .unwrap_or(rest.len());
+            let r = rest[..end].trim_end_matches('.');
+            referenced.insert(r.to_string());
+        }
+    }
+    assert!(referenced.len() >= 10, "{referenced:?}");
+    for r in &referenced {
+        assert!(
+            produced.contains(r),
+            "paper references {r}, which `hj reproduce` does not write"
+        );
+        assert!(
+            root.join("paper").join(r).is_file(),
+            "paper/{r} is missing (run `hj reproduce --out paper`)"
+        );
+    }
+    let examples: String = std::fs::read_dir(root.join("examples"))
+        .unwrap()
+        .map(|f| std::fs::read_to_string(f.unwrap().path()).unwrap())
+        .collect();
+    let mut listings = 0;
+    for block in paper.split("```rust").skip(1) {
+        let code = block.split("```").next().unwrap().trim();
+        assert!(
+            examples.contains(code),
+            "paper listing not found in examples/:\n{code}"
+        );
+        listings += 1;
+    }
+    assert!(listings >= 1);
+}
+
+/// The complete example scene in the README parses and passes every check.
+#[test]
+fn readme_scene_example_is_valid() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let section = readme
+        .split("### Scene files")
+        .nth(1)
+        .expect("README scene section");
+    let block = section
+        .split("```toml")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("README scene example");
+    let s =
+        scene::parse("README.md", block, &Catalogue::builtin()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.name(), "pendulum-large");
+    assert_eq!(s.planned_outputs().len(), 5);
+}
