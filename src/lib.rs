@@ -14,7 +14,6 @@ pub mod phase;
 /// SVG line plots (linear or logarithmic axes, legend beside the plot), built on plotters.
 #[cfg(feature = "cli")]
 pub mod plot;
-/// Scene files and the runner behind the `hj` binary.
 #[cfg(feature = "cli")]
 pub mod scene;
 pub mod systems;
