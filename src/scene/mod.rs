@@ -1,6 +1,6 @@
 //! Scenes: comparisons set up in a TOML file instead of Rust, run by the `hj` binary.
 //!
-//! A scene names a system from the [catalogue](catalogue) with its parameters and initial
+//! A scene names a system from the [catalogue] with its parameters and initial
 //! state, the time span, the methods and theories to compare with the values of their knob, and
 //! the outputs wanted. Nothing is computed that the scene does not ask for.
 //!
