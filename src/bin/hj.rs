@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// Output directory: tables under <OUT>/tables, figures under <OUT>/figures.
+    /// Output directory: tables under OUT/tables, figures under OUT/figures.
     #[arg(long, global = true, default_value = "out")]
     out: PathBuf,
     /// Least wall time per timed sample, in milliseconds (the fastest of the repeats counts).
