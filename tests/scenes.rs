@@ -302,6 +302,14 @@ table = false
         .map(|&k| case.run(MethodKind::Lindstedt, k).unwrap().error)
         .collect();
     assert!(ld[2] < ld[0], "{ld:?}");
+    assert_eq!(case.note(MethodKind::NormalForm), None);
+    // Beyond μ = (a/π)² = ½ the series are shown with a warning.
+    let large: toml::Table = toml::from_str("name = \"pendulum\"\namplitude = 2.5").unwrap();
+    let case = Catalogue::builtin().build("p.toml", &large).unwrap();
+    for kind in [MethodKind::NormalForm, MethodKind::Lindstedt] {
+        let note = case.note(kind).unwrap_or_default();
+        assert!(note.contains("warning") && note.contains("0.633"), "{note}");
+    }
     // And the scene itself is valid.
     scene::parse("p.toml", text, &Catalogue::builtin()).unwrap();
 }

@@ -117,6 +117,11 @@ pub trait Case {
     fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64>;
     /// How states are drawn in a phase portrait.
     fn portrait(&self) -> Portrait;
+    /// A caveat about `kind` on this system (e.g. a series used beyond its convergence), shown
+    /// with its results.
+    fn note(&self, _kind: MethodKind) -> Option<String> {
+        None
+    }
     /// Names of the osculating elements, if the system has any.
     fn element_names(&self) -> Option<&'static [&'static str]> {
         None
@@ -193,14 +198,57 @@ impl<const N: usize> Observer<N> for Sampler<N> {
     }
 }
 
-/// Run `method` with or without a sampler.
+/// Records every `every`-th step end exactly (no interpolation), and the last state: the history
+/// of a fixed-step method is the states it computed.
+pub struct StepEnds<const N: usize> {
+    every: usize,
+    seen: usize,
+    /// The recorded states.
+    pub states: Vec<State<N>>,
+}
+
+impl<const N: usize> StepEnds<N> {
+    /// About `samples` states out of a run of `steps` steps.
+    pub fn new(steps: usize, samples: usize) -> Self {
+        Self {
+            every: steps.div_ceil(samples.max(1)).max(1),
+            seen: 0,
+            states: Vec::with_capacity(samples + 2),
+        }
+    }
+}
+
+impl<const N: usize> Observer<N> for StepEnds<N> {
+    fn start(&mut self, state: &State<N>) {
+        self.states.push(*state);
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> crate::integrate::Control {
+        self.seen += 1;
+        if self.seen.is_multiple_of(self.every) {
+            self.states.push(*step.next);
+        }
+        crate::integrate::Control::Continue
+    }
+}
+
+/// How a run is recorded: not at all, at uniform times from dense output (adaptive methods), or
+/// at its own step ends (fixed-step methods).
+pub enum Recording<'a, const N: usize> {
+    /// Uniform times from dense output.
+    Uniform(&'a mut Sampler<N>),
+    /// Step ends.
+    Steps(&'a mut StepEnds<N>),
+}
+
+/// Run `method`, recording as asked.
 fn drive<S, M: Method<S, N>, const N: usize>(
     problem: &Problem<'_, S, N>,
     method: &M,
-    sampler: Option<&mut Sampler<N>>,
+    sampler: Option<&mut Recording<'_, N>>,
 ) -> Result<Report<N>> {
     match sampler {
-        Some(s) => integrate(problem, method, s),
+        Some(Recording::Uniform(s)) => integrate(problem, method, *s),
+        Some(Recording::Steps(s)) => integrate(problem, method, *s),
         None => integrate(problem, method, &mut ()),
     }
 }
@@ -217,15 +265,19 @@ fn steps_of(knob: f64) -> Result<usize> {
 }
 
 /// A method runner of one capability: `None` when `kind` is not one of its methods.
-pub type Stepper<H, const N: usize> =
-    fn(&Problem<'_, H, N>, MethodKind, f64, Option<&mut Sampler<N>>) -> Option<Result<Report<N>>>;
+pub type Stepper<H, const N: usize> = fn(
+    &Problem<'_, H, N>,
+    MethodKind,
+    f64,
+    Option<&mut Recording<'_, N>>,
+) -> Option<Result<Report<N>>>;
 
 /// Runge–Kutta, Gauss–Legendre and DOP853: any Hamiltonian.
 pub fn general_stepper<H: Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
-    sampler: Option<&mut Sampler<N>>,
+    sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
     let fixed = |knob: f64| steps_of(knob);
     Some(match kind {
@@ -274,7 +326,7 @@ pub fn separable_stepper<H: Separable<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
-    sampler: Option<&mut Sampler<N>>,
+    sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
     let method = splitting_of(kind)?;
     Some(
@@ -289,7 +341,7 @@ pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N:
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
-    sampler: Option<&mut Sampler<N>>,
+    sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
     let method = match kind {
         MethodKind::WisdomHolman => WisdomHolman::WH,
@@ -310,7 +362,7 @@ pub fn exact_stepper<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
-    sampler: Option<&mut Sampler<N>>,
+    sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
     (kind == MethodKind::Exact).then(|| {
         steps_of(knob)
@@ -336,6 +388,7 @@ pub struct HamiltonianCase<H: Hamiltonian<N>, const N: usize> {
     description: String,
     steppers: Vec<Stepper<H, N>>,
     theories: Vec<(MethodKind, Theory<N>)>,
+    notes: Vec<(MethodKind, String)>,
     reference: Option<Reference<N>>,
     error_label: String,
     portrait: Portrait,
@@ -371,6 +424,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
             description: description.into(),
             steppers: vec![general_stepper::<H, N>],
             theories: Vec::new(),
+            notes: Vec::new(),
             reference: None,
             error_label: "final position error ‖Δq‖".into(),
             portrait: Portrait {
@@ -399,6 +453,12 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
     /// Add a theory giving the state at any time.
     pub fn with_theory(mut self, kind: MethodKind, theory: Theory<N>) -> Self {
         self.theories.push((kind, theory));
+        self
+    }
+
+    /// A caveat shown with the results of `kind`.
+    pub fn with_note(mut self, kind: MethodKind, note: impl Into<String>) -> Self {
+        self.notes.push((kind, note.into()));
         self
     }
 
@@ -440,7 +500,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
         &self,
         kind: MethodKind,
         knob: f64,
-        sampler: Option<&mut Sampler<N>>,
+        sampler: Option<&mut Recording<'_, N>>,
     ) -> Result<Report<N>> {
         let t1 = self.end()?.0;
         let problem = self.problem(t1)?;
@@ -574,9 +634,19 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
             }
             return Ok(h);
         }
-        let mut sampler = Sampler::uniform(0.0, t1, samples);
-        self.report(kind, knob, Some(&mut sampler))?;
-        for s in sampler.states {
+        let states = if kind.knob() == super::spec::Knob::Steps {
+            let mut ends = StepEnds::new(steps_of(knob)?, samples);
+            let last = self.report(kind, knob, Some(&mut Recording::Steps(&mut ends)))?;
+            if ends.states.last().map(|s| s.t) != Some(last.last.t) {
+                ends.states.push(last.last);
+            }
+            ends.states
+        } else {
+            let mut sampler = Sampler::uniform(0.0, t1, samples);
+            self.report(kind, knob, Some(&mut Recording::Uniform(&mut sampler)))?;
+            sampler.states
+        };
+        for s in states {
             h.t.push(s.t);
             h.q.push(s.q.as_slice().to_vec());
             h.p.push(s.p.as_slice().to_vec());
@@ -595,6 +665,13 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
 
     fn portrait(&self) -> Portrait {
         self.portrait
+    }
+
+    fn note(&self, kind: MethodKind) -> Option<String> {
+        self.notes
+            .iter()
+            .find(|(k, _)| *k == kind)
+            .map(|(_, n)| n.clone())
     }
 
     fn element_names(&self) -> Option<&'static [&'static str]> {

@@ -25,7 +25,7 @@ use crate::perturbation::elements::{state_to_classical, Classical};
 use crate::perturbation::forces::{PerturbedTwoBody, J2};
 use crate::perturbation::kepler_variation::{planetary_equations, ClassicalSolution, MeanElements};
 use crate::perturbation::lindstedt::lindstedt_pendulum;
-use crate::perturbation::normal_form::PendulumNormalForm;
+use crate::perturbation::normal_form::{PendulumNormalForm, PENDULUM_WARNING_MU};
 use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
 use crate::systems::kepler_orbit::kepler_propagate_planar;
@@ -484,6 +484,17 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 Ok((SVector::from([q]), SVector::from([p])))
             }),
         );
+    // Both series are in μ = (a/π)²; beyond μ = ½ their omitted tail may exceed the last term
+    // (SPEC X2): the results are shown with that warning.
+    let mu_small = (amp / PI).powi(2);
+    if mu_small > PENDULUM_WARNING_MU {
+        let note = format!(
+            "warning: μ = (a/π)² = {mu_small:.3} > {PENDULUM_WARNING_MU}, the series may not converge"
+        );
+        case = case
+            .with_note(MethodKind::NormalForm, note.clone())
+            .with_note(MethodKind::Lindstedt, note);
+    }
     if p0 == 0.0 {
         case = case.with_theory(
             MethodKind::Lindstedt,

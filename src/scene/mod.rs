@@ -55,14 +55,22 @@ pub use runner::{RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 10] = [
+pub const BUILTIN: [(&str, &str); 12] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
     ("kepler-e0.99", include_str!("builtin/kepler-e0.99.toml")),
     (
+        "kepler-precession",
+        include_str!("builtin/kepler-precession.toml"),
+    ),
+    (
         "pendulum-small",
         include_str!("builtin/pendulum-small.toml"),
+    ),
+    (
+        "pendulum-moderate",
+        include_str!("builtin/pendulum-moderate.toml"),
     ),
     (
         "pendulum-large",

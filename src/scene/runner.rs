@@ -413,7 +413,10 @@ impl Scene {
             let bar = progress_bar(opts.progress, total as u64, &self.name);
             for (i, m) in self.spec.methods.iter().enumerate() {
                 let knobs = knob_values(&self.file, i, m)?;
-                let knob_name = m.kind.knob().key();
+                let knob_name = match m.kind.knob() {
+                    Knob::Orders => "order",
+                    k => k.key(),
+                };
                 let mut series = Series {
                     label: label_of(m),
                     knob: knob_name.to_string(),
@@ -433,6 +436,12 @@ impl Scene {
                         )),
                     }
                     bar.inc(1);
+                }
+                if let Some(note) = case.note(m.kind) {
+                    series.label += &format!(" ({note})");
+                }
+                if series.samples.is_empty() {
+                    series.label += " (every run failed or was refused)";
                 }
                 comparison.push(series);
             }
@@ -554,6 +563,7 @@ impl Scene {
                         .map(|(q, p)| case.elements(q, p))
                         .collect::<crate::Result<_>>()
                         .map_err(|e| self.err("output.elements", e))?;
+                let mut constant = Vec::new();
                 for (j, n) in names.iter().enumerate() {
                     let e0 = els[0][j];
                     let pts: Vec<(f64, f64)> =
@@ -561,7 +571,20 @@ impl Scene {
                             .zip(&els)
                             .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
                             .collect();
+                    // An element that a theory holds constant differs from its initial value
+                    // only by the rounding of the element map (a few ulps): not drawn, named.
+                    let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
+                    if pts.iter().all(|&(_, d)| d <= floor) {
+                        constant.push(*n);
+                        continue;
+                    }
                     fig = fig.curve(format!("{n}: {label}"), pts, Style::Line);
+                }
+                if !constant.is_empty() {
+                    md += &format!(
+                        "Elements constant to rounding along {label} (not drawn): {}.\n\n",
+                        constant.join(", ")
+                    );
                 }
             }
             self.figure(&opts.out, "elements", &fig, &mut summary.files)?;
