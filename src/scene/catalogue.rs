@@ -489,7 +489,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let mu_small = (amp / PI).powi(2);
     if mu_small > PENDULUM_WARNING_MU {
         let note = format!(
-            "warning: μ = (a/π)² = {mu_small:.3} > {PENDULUM_WARNING_MU}, the series may not converge"
+            "warning: μ = (a/π)² = {mu_small:.7} > {PENDULUM_WARNING_MU}, the series may not converge"
         );
         case = case
             .with_note(MethodKind::NormalForm, note.clone())
