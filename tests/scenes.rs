@@ -308,7 +308,10 @@ table = false
     let case = Catalogue::builtin().build("p.toml", &large).unwrap();
     for kind in [MethodKind::NormalForm, MethodKind::Lindstedt] {
         let note = case.note(kind).unwrap_or_default();
-        assert!(note.contains("warning") && note.contains("0.6332"), "{note}");
+        assert!(
+            note.contains("warning") && note.contains("0.6332"),
+            "{note}"
+        );
     }
     // And the scene itself is valid.
     scene::parse("p.toml", text, &Catalogue::builtin()).unwrap();
