@@ -101,3 +101,25 @@ fn run_writes_under_out() {
     assert!(stdout.contains("Störmer–Verlet"), "{stdout}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn duplicate_scene_names_and_closed_pipes() {
+    let o = hj(&["run", "heavy-top", "heavy-top", "--quiet"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8(o.stderr).unwrap().contains("overwrite"));
+    // `hj list | head -1`: a closed stdout ends the program quietly, without a panic.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hj"))
+        .arg("list")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

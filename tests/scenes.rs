@@ -428,3 +428,75 @@ fn readme_scene_example_is_valid() {
     assert_eq!(s.name(), "pendulum-large");
     assert_eq!(s.planned_outputs().len(), 5);
 }
+
+/// Inputs that would otherwise fail late or mean nothing are refused up front, naming the key.
+#[test]
+fn inconsistent_or_meaningless_inputs() {
+    let kepler_qp =
+        "[system]\nname = \"kepler\"\nq = [1.0, 0.0]\np = [0.0, 1.1]\n[span]\ntime = 3\n";
+    scene::parse("bad.toml", kepler_qp, &Catalogue::builtin()).unwrap();
+    let e = error_of(&kepler_qp.replace("p = [0.0, 1.1]", "p = [0.0, 1.1]\nsemi_major_axis = 2.0"));
+    assert_names(&e, "system.semi_major_axis", &["eccentricity"]);
+    let e = error_of(&kepler_qp.replace("p = [0.0, 1.1]", "p = [0.5, 0.0]"));
+    assert_names(&e, "system.p", &["angular momentum"]);
+    let e = error_of(&kepler_qp.replace("p = [0.0, 1.1]", "p = [0.0, 2.0]"));
+    assert_names(&e, "system.q", &["bound"]);
+    let pendulum = "[system]\nname = \"pendulum\"\ngap = 1e-6\n[span]\nperiods = 1\n";
+    scene::parse("bad.toml", pendulum, &Catalogue::builtin()).unwrap();
+    let e = error_of(&pendulum.replace("gap = 1e-6", "gap = 1e-17"));
+    assert_names(&e, "system.gap", &["double nearest π"]);
+    let e = error_of(&pendulum.replace("gap = 1e-6", "q = [0.0]\np = [0.0]"));
+    assert_names(&e, "system.q", &["equilibrium"]);
+    let e = error_of(&pendulum.replace("gap = 1e-6", "q = [0.0]\np = [2.0]"));
+    assert_names(&e, "system.p", &["separatrix"]);
+    let e = error_of(&pendulum.replace("periods = 1", "periods = 1e308"));
+    assert_names(&e, "span.periods", &["overflows"]);
+    let e = error_of("[system]\nname = \"transformation-gallery\"\n[span]\ntime = 1\n");
+    assert_names(&e, "span", &["no span"]);
+}
+
+/// The pendulum's Hamilton–Jacobi solution and the reference start from the same double q₀: at
+/// 10⁻⁶ from the separatrix they agree to rounding amplified by the conditioning there (the
+/// period's sensitivity ln-divergent in the gap), not to the 1e−9 an inconsistent gap would give.
+/// Lindstedt–Poincaré from −a is the mirror image of the series from +a.
+#[test]
+fn pendulum_start_is_consistent() {
+    let table: toml::Table = toml::from_str("name = \"pendulum\"\ngap = 1e-6").unwrap();
+    let mut case = Catalogue::builtin().build("p.toml", &table).unwrap();
+    case.prepare(2.3 * case.period().unwrap()).unwrap();
+    let hj = case.run(MethodKind::HamiltonJacobi, 1.0).unwrap().error;
+    assert!(hj < 1e-11, "{hj:e}");
+    for q in ["1.0", "-1.0"] {
+        let text = format!("name = \"pendulum\"\nq = [{q}]\np = [0.0]");
+        let table: toml::Table = toml::from_str(&text).unwrap();
+        let mut case = Catalogue::builtin().build("p.toml", &table).unwrap();
+        case.prepare(2.3 * case.period().unwrap()).unwrap();
+        let e = case.run(MethodKind::Lindstedt, 12.0).unwrap().error;
+        assert!(e < 1e-8, "q₀ = {q}: {e:e}");
+    }
+}
+
+/// An elements output in which every element is constant (a theory that holds them fixed) still
+/// produces its figure, and the note on constant elements reaches the table file.
+#[test]
+fn constant_elements_are_drawn_when_nothing_else_is() {
+    let text = r#"
+name = "constant-elements"
+[system]
+name = "kepler"
+eccentricity = 0.5
+[span]
+periods = 1.3
+[output]
+elements = [{ method = "hamilton-jacobi" }]
+samples = 20
+"#;
+    let s = scene::parse("c.toml", text, &Catalogue::builtin()).unwrap();
+    let out = temp_dir("constant");
+    let summary = s.run(&quick(&out)).unwrap();
+    assert!(out.join("figures/constant-elements-elements.svg").is_file());
+    let md = std::fs::read_to_string(out.join("tables/constant-elements.md")).unwrap();
+    assert!(md.contains("Elements constant to rounding"), "{md}");
+    assert_eq!(summary.files.len(), 3);
+    std::fs::remove_dir_all(&out).ok();
+}

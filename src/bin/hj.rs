@@ -62,6 +62,19 @@ enum Failure {
     Run(String),
 }
 
+/// Write a line to stdout; a closed pipe (`hj list | head`) ends the program quietly.
+fn out(text: &str) {
+    use std::io::Write;
+    let mut o = std::io::stdout().lock();
+    if let Err(e) = writeln!(o, "{text}") {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("hj: cannot write to stdout: {e}");
+        std::process::exit(1);
+    }
+}
+
 fn scene_error(e: SceneError) -> Failure {
     Failure::Usage(e.to_string())
 }
@@ -74,6 +87,15 @@ fn run_scenes(names: &[String], cli: &Cli) -> Result<(), Failure> {
         .map(|n| scene::load(n, &catalogue))
         .collect::<Result<_, _>>()
         .map_err(scene_error)?;
+    let mut seen = std::collections::BTreeSet::new();
+    for s in &scenes {
+        if !seen.insert(s.name().to_string()) {
+            return Err(Failure::Usage(format!(
+                "two scenes are named `{}`: their outputs would overwrite each other",
+                s.name()
+            )));
+        }
+    }
     let opts = RunOptions {
         out: cli.out.clone(),
         timing: Timing {
@@ -88,11 +110,11 @@ fn run_scenes(names: &[String], cli: &Cli) -> Result<(), Failure> {
         let t = Instant::now();
         let name = s.name().to_string();
         let summary = s.run(&opts).map_err(|e| Failure::Run(e.to_string()))?;
-        println!("{}", summary.markdown);
+        out(&summary.markdown);
         for f in &summary.files {
-            println!("wrote {}", f.display());
+            out(&format!("wrote {}", f.display()));
         }
-        println!("({name}: {:.1} s)\n", t.elapsed().as_secs_f64());
+        out(&format!("({name}: {:.1} s)\n", t.elapsed().as_secs_f64()));
         written += summary.files.len();
     }
     eprintln!(
@@ -105,7 +127,7 @@ fn run_scenes(names: &[String], cli: &Cli) -> Result<(), Failure> {
 }
 
 fn list() {
-    println!("Built-in scenes (hj run <name>; hj show <name> prints the TOML):");
+    out("Built-in scenes (hj run <name>; hj show <name> prints the TOML):");
     let catalogue = Catalogue::builtin();
     for (name, text) in scene::BUILTIN {
         let title = scene::parse(name, text, &catalogue)
@@ -116,20 +138,25 @@ fn list() {
         } else {
             " "
         };
-        println!("  {star} {name:<26} {title}");
+        out(&format!("  {star} {name:<26} {title}"));
     }
-    println!("  (* part of the showcase that `hj` runs with no arguments)\n");
-    println!("Systems ([system] name = ...):");
+    out("  (* part of the showcase that `hj` runs with no arguments)\n");
+    out("Systems ([system] name = ...):");
     for (name, description) in catalogue.list() {
-        println!("    {name:<26} {description}");
+        out(&format!("    {name:<26} {description}"));
     }
-    println!("\nMethods and theories ([[method]] kind = ..., with its knob):");
+    out("\nMethods and theories ([[method]] kind = ..., with its knob):");
     for k in MethodKind::ALL {
         let knob = match k.knob().key() {
             "" => "—".to_string(),
             key => key.to_string(),
         };
-        println!("    {:<26} {:<7} {}", k.name(), knob, k.description());
+        out(&format!(
+            "    {:<26} {:<7} {}",
+            k.name(),
+            knob,
+            k.description()
+        ));
     }
 }
 
@@ -143,7 +170,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Show { name }) => match scene::builtin_text(name) {
             Some(text) => {
-                print!("{text}");
+                out(text.trim_end_matches('\n'));
                 Ok(())
             }
             None => Err(Failure::Usage(format!(

@@ -136,6 +136,10 @@ pub trait Case {
             "this system has no osculating elements",
         ))
     }
+    /// Whether the case is a table of its own (no span, no methods): see [`Case::table`].
+    fn has_table(&self) -> bool {
+        false
+    }
     /// A table the case computes on its own, for cases without a time span.
     ///
     /// # Errors

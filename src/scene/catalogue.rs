@@ -203,7 +203,7 @@ impl Catalogue {
         );
         c.register(
             "pendulum",
-            "plane pendulum H = p²/2 − n² cos q (exact solution by elliptic functions)",
+            "plane pendulum H = p²/2 + n²(1 − cos q) (exact solution by elliptic functions)",
             Box::new(pendulum),
         );
         c.register(
@@ -290,8 +290,15 @@ fn xy(q: &[f64], _p: &[f64]) -> (f64, f64) {
 fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let mu = s.positive_or("mu", 1.0)?;
     let e_key = s.opt("eccentricity")?;
-    let a = s.positive_or("semi_major_axis", 1.0)?;
+    let a_key = s.opt("semi_major_axis")?;
     let explicit = s.state::<2>()?;
+    if a_key.is_some() && explicit.is_some() {
+        return Err(s.error(
+            "semi_major_axis",
+            "goes with `eccentricity`; with `q` and `p` the orbit follows from the state",
+        ));
+    }
+    let a = s.positive_or("semi_major_axis", 1.0)?;
     let (q0, p0, from_elements) = match (e_key, explicit) {
         (Some(_), Some(_)) => {
             return Err(s.error(
@@ -322,7 +329,17 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let r = q0.norm();
     let inv_a = 2.0 / r - p0.norm_squared() / mu;
     if inv_a.is_nan() || inv_a <= 0.0 || r == 0.0 {
-        return Err(s.error("q", "the initial state is not on a bound (elliptic) orbit"));
+        return Err(s.error(
+            "q",
+            "the initial state (q, p) is not on a bound (elliptic) orbit: 2/|q| − |p|²/μ ≤ 0",
+        ));
+    }
+    if q0[0] * p0[1] - q0[1] * p0[0] == 0.0 {
+        return Err(s.error(
+            "p",
+            "the initial state (q, p) has zero angular momentum (rectilinear motion into the \
+             centre)",
+        ));
     }
     let a_state = 1.0 / inv_a;
     let period = TAU * (a_state.powi(3) / mu).sqrt();
@@ -402,14 +419,19 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
              or `q` and `p`",
         ));
     }
-    let (q0, p0, delta) = if let Some(a) = amplitude {
+    // The gap δ = π − a is what the exact solution, the period and the action–angle variables
+    // need near the separatrix. For a start from rest at the double q₀, δ = (π − fl(π)) + (fl(π) −
+    // q₀): the second difference is exact (Sterbenz), the first is the rounding of π.
+    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
+    let gap_of = |q0: f64| (PI - q0.abs()) + PI_LO;
+    let (q0, p0, delta, amp) = if let Some(a) = amplitude {
         if !(a > 0.0 && a < PI) {
             return Err(s.error(
                 "amplitude",
                 format!("expected an amplitude in (0, π), found {a}"),
             ));
         }
-        (a, 0.0, PI - a)
+        (a, 0.0, gap_of(a), a)
     } else if let Some(d) = gap {
         if !(d > 0.0 && d < PI) {
             return Err(s.error(
@@ -417,25 +439,45 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 format!("expected a gap π − amplitude in (0, π), found {d}"),
             ));
         }
-        (PI - d, 0.0, d)
+        let q0 = PI - d;
+        if q0 >= PI {
+            return Err(s.error(
+                "gap",
+                format!(
+                    "a gap of {d} does not change the double nearest π: the smallest                      representable gap is about 1.2e−16 + 4.4e−16"
+                ),
+            ));
+        }
+        (q0, 0.0, gap_of(q0), q0)
     } else {
         let (q, p) = explicit.unwrap_or_default();
         let (q, p) = (q[0], p[0]);
-        // cos a = cos q − p²/(2n²): above the separatrix there is no amplitude.
-        let c = q.cos() - p * p / (2.0 * n * n);
-        if c <= -1.0 {
-            return Err(s.error(
-                "p",
-                "the state is on or above the separatrix (rotation); this scene needs a libration",
-            ));
-        }
-        let a = c.acos();
         if q.abs() > PI {
             return Err(s.error("q", format!("expected an angle in [−π, π], found {q}")));
         }
-        (q, p, PI - a)
+        // sin(a/2)² = sin(q/2)² + p²/(4n²), without the cancellation of cos a = cos q − p²/2n².
+        let sin_half = ((q / 2.0).sin().powi(2) + p * p / (4.0 * n * n)).sqrt();
+        if sin_half >= 1.0 {
+            return Err(s.error(
+                "p",
+                "the state (q, p) is on or above the separatrix (a rotation); this scene needs a \
+                 libration",
+            ));
+        }
+        if sin_half == 0.0 {
+            return Err(s.error(
+                "q",
+                "the state (q, p) = (0, 0) is the stable equilibrium: there is no motion to compare",
+            ));
+        }
+        let a = 2.0 * sin_half.asin();
+        let delta = if p == 0.0 {
+            gap_of(q)
+        } else {
+            2.0 * sin_half.acos()
+        };
+        (q, p, delta, a)
     };
-    let amp = PI - delta;
     let period = period_from_gap(n, delta).map_err(|e| s.library(e))?;
     let sys = Pendulum::new(n).map_err(|e| s.library(e))?;
     let description = if p0 == 0.0 {
@@ -500,7 +542,8 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             MethodKind::Lindstedt,
             Box::new(move |knob, t| {
                 let series = lindstedt_pendulum(order_of(knob)?)?;
-                let q = series.theta(n, amp, t)?;
+                // The series starts at +a; a start at −a is its mirror image.
+                let q = q0.signum() * series.theta(n, amp, t)?;
                 // The series gives θ(t); its momentum is not part of the comparison.
                 Ok((SVector::from([q]), SVector::from([f64::NAN])))
             }),
@@ -674,6 +717,9 @@ impl Case for Gallery {
             equal_aspect: false,
             project: |q, p| (q[0], p[0]),
         }
+    }
+    fn has_table(&self) -> bool {
+        true
     }
     fn table(&self) -> Option<Result<Table>> {
         Some(super::gallery::transformation_gallery())

@@ -32,10 +32,11 @@
 //! table = true                            # tables/<name>.md and .csv (default true)
 //! targets = [1e-6, 1e-9]                  # "time to reach" columns of the table
 //! work_precision = true                   # figures/<name>-work-precision.svg
-//! phase_portrait = [{ method = "exact", steps = 1 }]          # figures/<name>-phase-portrait.svg
+//! phase_portrait = [{ method = "exact", steps = 4000 }]       # figures/<name>-phase-portrait.svg
 //! energy_error = [{ method = "verlet", steps = 4000 }]        # figures/<name>-energy-error.svg
 //! # elements = [{ method = "kahan-li8", steps = 8000 }]       # Kepler-type systems
-//! samples = 400                           # points per history
+//! samples = 400                           # points per history: step ends of fixed-step
+//!                                         # methods, uniform times otherwise
 //! ```
 //!
 //! Every mistake is reported on one line as `file: key: what was expected`

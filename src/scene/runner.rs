@@ -4,7 +4,7 @@
 use super::case::{Case, History};
 use super::catalogue::Catalogue;
 use super::spec::{Knob, MethodKind, MethodSpec, RunSpec, SceneError, SceneFile};
-use crate::plot::{Figure, Style};
+use crate::plot::{Curve, Figure, Style};
 use crate::workprecision::{sweep, Comparison, Series, Timing};
 use std::path::{Path, PathBuf};
 
@@ -178,13 +178,20 @@ impl Scene {
             ));
         }
         let title = spec.title.clone().unwrap_or_else(|| case.describe());
-        let table_only = case.table().is_some();
+        let table_only = case.has_table();
         let t1 = if table_only {
             if let Some(_m) = spec.methods.first() {
                 return Err(SceneError::new(
                     file,
                     "method[0]",
                     "this system is a table of its own and runs no methods",
+                ));
+            }
+            if spec.span.is_some() {
+                return Err(SceneError::new(
+                    file,
+                    "span",
+                    "this system is a table of its own and takes no span",
                 ));
             }
             None
@@ -226,6 +233,13 @@ impl Scene {
             } else {
                 v
             };
+            if !t1.is_finite() {
+                return Err(SceneError::new(
+                    file,
+                    key,
+                    format!("the span {v} overflows the time axis"),
+                ));
+            }
             Some(t1)
         };
         for (i, m) in spec.methods.iter().enumerate() {
@@ -394,11 +408,14 @@ impl Scene {
             return Ok(summary);
         }
         let t1 = self.t1.unwrap_or(1.0);
+        let waiting = spinner(opts.progress, format!("{}: reference solution", self.name));
         self.case
             .prepare(t1)
             .map_err(|e| self.err("system", format!("reference solution: {e}")))?;
+        waiting.finish_and_clear();
         let case = &*self.case;
-        md += &format!("Span t = {t1:.6}; {}.\n\n", case.reference_note());
+        md += &format!("Span t = {t1:.6e}; {}.\n\n", case.reference_note());
+        let mut csv = String::new();
         let needs_sweep = o.table || o.work_precision;
         if needs_sweep && !self.spec.methods.is_empty() {
             let mut comparison = Comparison::new(self.title.clone(), case.error_label());
@@ -454,20 +471,7 @@ impl Scene {
                     md += &format!("- {f}\n");
                 }
             }
-            if o.table {
-                self.write(
-                    &opts.out,
-                    &format!("tables/{}.md", self.name),
-                    &md,
-                    &mut summary.files,
-                )?;
-                self.write(
-                    &opts.out,
-                    &format!("tables/{}.csv", self.name),
-                    &comparison.to_csv(),
-                    &mut summary.files,
-                )?;
-            }
+            csv = comparison.to_csv();
             if o.work_precision {
                 let rel = format!("figures/{}-work-precision.svg", self.name);
                 let path = opts.out.join(&rel);
@@ -477,19 +481,6 @@ impl Scene {
                     .map_err(|e| self.err("output.work_precision", e))?;
                 summary.files.push(path);
             }
-        } else if o.table {
-            self.write(
-                &opts.out,
-                &format!("tables/{}.md", self.name),
-                &md,
-                &mut summary.files,
-            )?;
-            self.write(
-                &opts.out,
-                &format!("tables/{}.csv", self.name),
-                "",
-                &mut summary.files,
-            )?;
         }
         let histories =
             |list: &[RunSpec], key: &str| -> Result<Vec<(String, History)>, SceneError> {
@@ -501,10 +492,21 @@ impl Scene {
                         let h = case
                             .history(r.method, knob, o.samples)
                             .map_err(|e| self.err(&k, e))?;
+                        let n = h.t.len();
+                        if n == 0 || h.q.len() != n || h.p.len() != n {
+                            return Err(self.err(&k, "the run returned an empty or ragged history"));
+                        }
                         Ok((short_label(r.method, knob), h))
                     })
                     .collect()
             };
+        let spinner = spinner(
+            opts.progress
+                && !(o.phase_portrait.is_empty()
+                    && o.energy_error.is_empty()
+                    && o.elements.is_empty()),
+            format!("{}: histories", self.name),
+        );
         if !o.phase_portrait.is_empty() {
             let pr = case.portrait();
             let mut fig = Figure::new(
@@ -526,18 +528,22 @@ impl Scene {
             self.figure(&opts.out, "phase-portrait", &fig, &mut summary.files)?;
         }
         if !o.energy_error.is_empty() {
-            let mut fig = Figure::new(
-                format!("{} — energy error", self.title),
-                "t",
-                "|H(t) − H(0)| / |H(0)|",
-            )
-            .log_y();
-            for (label, h) in histories(&o.energy_error, "energy_error")? {
+            let runs = histories(&o.energy_error, "energy_error")?;
+            // Every run starts from the scene's initial state: one H(0) for all. The error is
+            // relative unless H(0) = 0, where it is absolute and the axis says so.
+            let h0 = {
+                let h = &runs[0].1;
+                case.energy(h.t[0], &h.q[0], &h.p[0])
+                    .map_err(|e| self.err("output.energy_error", e))?
+            };
+            let (scale, axis) = if h0 != 0.0 {
+                (h0.abs(), "|H(t) − H(0)| / |H(0)|")
+            } else {
+                (1.0, "|H(t) − H(0)|  (H(0) = 0)")
+            };
+            let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis).log_y();
+            for (label, h) in runs {
                 let mut pts = Vec::with_capacity(h.t.len());
-                let h0 = case
-                    .energy(h.t[0], &h.q[0], &h.p[0])
-                    .map_err(|e| self.err("output.energy_error", e))?;
-                let scale = if h0 != 0.0 { h0.abs() } else { 1.0 };
                 for k in 0..h.t.len() {
                     let e = case
                         .energy(h.t[k], &h.q[k], &h.p[k])
@@ -556,6 +562,7 @@ impl Scene {
                 "|element(t) − element(0)|",
             )
             .log_y();
+            let mut curves: Vec<(Curve, bool)> = Vec::new();
             for (label, h) in histories(&o.elements, "elements")? {
                 let els: Vec<Vec<f64>> =
                     h.q.iter()
@@ -563,6 +570,12 @@ impl Scene {
                         .map(|(q, p)| case.elements(q, p))
                         .collect::<crate::Result<_>>()
                         .map_err(|e| self.err("output.elements", e))?;
+                if els.iter().any(|e| e.len() != names.len()) {
+                    return Err(self.err(
+                        "output.elements",
+                        format!("the element map does not give {} elements", names.len()),
+                    ));
+                }
                 let mut constant = Vec::new();
                 for (j, n) in names.iter().enumerate() {
                     let e0 = els[0][j];
@@ -572,22 +585,51 @@ impl Scene {
                             .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
                             .collect();
                     // An element that a theory holds constant differs from its initial value
-                    // only by the rounding of the element map (a few ulps): not drawn, named.
+                    // only by the rounding of the element map (a few ulps): named, and drawn
+                    // only if nothing else is.
                     let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
-                    if pts.iter().all(|&(_, d)| d <= floor) {
+                    let is_constant = pts.iter().all(|&(_, d)| d <= floor);
+                    if is_constant {
                         constant.push(*n);
-                        continue;
                     }
-                    fig = fig.curve(format!("{n}: {label}"), pts, Style::Line);
+                    let curve = Curve {
+                        label: format!("{n}: {label}"),
+                        points: pts,
+                        style: Style::Line,
+                    };
+                    curves.push((curve, is_constant));
                 }
                 if !constant.is_empty() {
                     md += &format!(
-                        "Elements constant to rounding along {label} (not drawn): {}.\n\n",
+                        "Elements constant to rounding along {label}: {}.\n\n",
                         constant.join(", ")
                     );
                 }
             }
+            let all_constant = curves.iter().all(|c| c.1);
+            fig.curves.extend(
+                curves
+                    .into_iter()
+                    .filter(|c| all_constant || !c.1)
+                    .map(|c| c.0),
+            );
             self.figure(&opts.out, "elements", &fig, &mut summary.files)?;
+        }
+        spinner.finish_and_clear();
+        // The tables last, so that they carry every note of the histories too.
+        if o.table {
+            self.write(
+                &opts.out,
+                &format!("tables/{}.md", self.name),
+                &md,
+                &mut summary.files,
+            )?;
+            self.write(
+                &opts.out,
+                &format!("tables/{}.csv", self.name),
+                &csv,
+                &mut summary.files,
+            )?;
         }
         summary.markdown = md;
         Ok(summary)
@@ -609,7 +651,7 @@ impl Scene {
     }
 }
 
-/// Differences of angles (Ω, ω, ϖ, i) are taken modulo 2π.
+/// Differences of the angles Ω, ω and ϖ are taken modulo 2π.
 fn angle_aware_diff(name: &str, x: f64, x0: f64) -> f64 {
     let d = x - x0;
     if ["Ω", "ω", "ϖ"].contains(&name) {
@@ -639,4 +681,16 @@ fn progress_bar(show: bool, total: u64, name: &str) -> indicatif::ProgressBar {
     }
     bar.set_prefix(name.to_string());
     bar
+}
+
+/// A spinner with a message while a long, unmetered computation runs (hidden when `show` is
+/// false or stderr is not a terminal).
+fn spinner(show: bool, message: String) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let s = indicatif::ProgressBar::new_spinner();
+    s.set_message(message);
+    s.enable_steady_tick(std::time::Duration::from_millis(200));
+    s
 }

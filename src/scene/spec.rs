@@ -346,7 +346,8 @@ pub struct OutputSpec {
     /// Osculating-element histories of these runs (Kepler-type systems).
     #[serde(default)]
     pub elements: Vec<RunSpec>,
-    /// Points per history (uniform in time, from dense output).
+    /// Points per history: every k-th step end of a fixed-step method (never interpolated; at
+    /// most `steps + 1` points), uniform times for adaptive methods (dense output) and theories.
     #[serde(default = "default_samples")]
     pub samples: usize,
 }
