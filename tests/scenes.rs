@@ -221,6 +221,7 @@ steps = [400]
 work_precision = true
 phase_portrait = [{ method = "exact", steps = 1 }]
 energy_error = [{ method = "kahan-li8", steps = 400 }]
+invariants = [{ method = "rk4", steps = 400 }]
 elements = [{ method = "kahan-li8", steps = 400 }]
 samples = 50
 "#;
@@ -265,6 +266,11 @@ samples = 50
     assert!(kl < 1e-6 && kl > 1e-15, "{kl}");
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-energy-error.svg")).unwrap();
     assert!(svg.contains("kahan-li8"), "legend missing");
+    // Every invariant the Kepler problem knows is drawn.
+    let svg = std::fs::read_to_string(out.join("figures/kepler-check-invariants.svg")).unwrap();
+    for name in ["energy", "h_z", "e_x", "e_y"] {
+        assert!(svg.contains(&format!("{name}: rk4")), "{name} missing");
+    }
     std::fs::remove_dir_all(&out).ok();
 }
 
@@ -426,7 +432,7 @@ fn readme_scene_example_is_valid() {
     let s =
         scene::parse("README.md", block, &Catalogue::builtin()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.name(), "pendulum-large");
-    assert_eq!(s.planned_outputs().len(), 5);
+    assert_eq!(s.planned_outputs().len(), 6);
 }
 
 /// Inputs that would otherwise fail late or mean nothing are refused up front, naming the key.

@@ -10,7 +10,7 @@ use crate::integrate::{
     PerturbedKepler, Problem, Report, Rk4, Splitting, State, StepView, WisdomHolman, Work,
 };
 use crate::nalgebra::SVector;
-use crate::systems::ExactFlow;
+use crate::systems::{ExactFlow, Invariant, Invariants};
 use crate::{Hamiltonian, Separable};
 
 /// States sampled uniformly in time along one run.
@@ -115,6 +115,16 @@ pub trait Case {
     /// # Errors
     /// If the Hamiltonian cannot be evaluated there.
     fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64>;
+    /// The conserved quantities at a state, by name (default: the energy alone).
+    ///
+    /// # Errors
+    /// If they cannot be evaluated there.
+    fn invariants(&self, t: f64, q: &[f64], p: &[f64]) -> Result<Vec<Invariant>> {
+        Ok(vec![Invariant {
+            name: "energy",
+            value: self.energy(t, q, p)?,
+        }])
+    }
     /// How states are drawn in a phase portrait.
     fn portrait(&self) -> Portrait;
     /// A caveat about `kind` on this system (e.g. a series used beyond its convergence), shown
@@ -397,7 +407,22 @@ pub struct HamiltonianCase<H: Hamiltonian<N>, const N: usize> {
     error_label: String,
     portrait: Portrait,
     elements: Option<(&'static [&'static str], ElementMap)>,
+    invariants: Option<InvariantMap<H, N>>,
     prepared: Option<(f64, SVector<f64, N>, String)>,
+}
+
+/// The conserved quantities of a system at a state.
+pub type InvariantMap<H, const N: usize> =
+    fn(&H, f64, &SVector<f64, N>, &SVector<f64, N>) -> Result<Vec<Invariant>>;
+
+/// The conserved quantities a catalogue system knows ([`Invariants`]), as an [`InvariantMap`].
+pub fn system_invariants<H: Invariants<N>, const N: usize>(
+    system: &H,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<Vec<Invariant>> {
+    system.invariants(t, q, p)
 }
 
 /// Osculating elements of a state.
@@ -438,6 +463,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
                 project: default_portrait,
             },
             elements: None,
+            invariants: None,
             prepared: None,
         })
     }
@@ -481,6 +507,12 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
     /// How states are drawn.
     pub fn with_portrait(mut self, portrait: Portrait) -> Self {
         self.portrait = portrait;
+        self
+    }
+
+    /// The conserved quantities drawn by the `invariants` output (default: the energy alone).
+    pub fn with_invariants(mut self, map: InvariantMap<H, N>) -> Self {
+        self.invariants = Some(map);
         self
     }
 
@@ -665,6 +697,21 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
         let q = SVector::<f64, N>::from_column_slice(q);
         let p = SVector::<f64, N>::from_column_slice(p);
         self.system.value(t, &q, &p)
+    }
+
+    fn invariants(&self, t: f64, q: &[f64], p: &[f64]) -> Result<Vec<Invariant>> {
+        if q.len() != N || p.len() != N {
+            return Err(Error::invalid("invariants", "state of the wrong dimension"));
+        }
+        let qv = SVector::<f64, N>::from_column_slice(q);
+        let pv = SVector::<f64, N>::from_column_slice(p);
+        match self.invariants {
+            Some(map) => map(&self.system, t, &qv, &pv),
+            None => Ok(vec![Invariant {
+                name: "energy",
+                value: self.system.value(t, &qv, &pv)?,
+            }]),
+        }
     }
 
     fn portrait(&self) -> Portrait {

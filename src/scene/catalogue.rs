@@ -12,8 +12,8 @@
 //! Hamiltonian system.
 
 use super::case::{
-    exact_stepper, kepler_splitting_stepper, separable_stepper, Case, HamiltonianCase, Portrait,
-    Table,
+    exact_stepper, kepler_splitting_stepper, separable_stepper, system_invariants, Case,
+    HamiltonianCase, Portrait, Table,
 };
 use super::spec::{MethodKind, SceneError};
 use crate::error::{Error, Result};
@@ -31,7 +31,7 @@ use crate::perturbation::variation::GeneralSolution;
 use crate::systems::kepler_orbit::kepler_propagate_planar;
 use crate::systems::pendulum_exact::{exact_state, period_from_gap};
 use crate::systems::top_motion::Nutation;
-use crate::systems::{HeavyTop, Kepler2, Pendulum};
+use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 use std::f64::consts::{PI, TAU};
@@ -368,6 +368,7 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_period(period)
         .with_stepper(separable_stepper::<Kepler2, 2>)
         .with_stepper(exact_stepper::<Kepler2, 2>)
+        .with_invariants(system_invariants::<Kepler2, 2>)
         .with_reference(reference)
         .with_portrait(Portrait {
             x_label: "x",
@@ -508,6 +509,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_error_label("final angle error |Δq|")
         .with_stepper(separable_stepper::<Pendulum, 1>)
         .with_stepper(exact_stepper::<Pendulum, 1>)
+        .with_invariants(system_invariants::<Pendulum, 1>)
         .with_reference(reference)
         .with_theory(
             MethodKind::HamiltonJacobi,
@@ -588,6 +590,7 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_period(period)
         .with_stepper(separable_stepper::<PerturbedTwoBody<J2>, 3>)
         .with_stepper(kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>)
+        .with_invariants(axisymmetric_invariants)
         .with_portrait(Portrait {
             x_label: "x",
             y_label: "y",
@@ -621,6 +624,27 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             Box::new(move |_, t| MeanElements::j2(mu, j2v, radius, 0.0, el)?.state(t)),
         );
     Ok(Box::new(case))
+}
+
+/// Energy and the polar angular momentum `h_z = x p_y − y p_x`: the integrals of motion about an
+/// axisymmetric body.
+fn axisymmetric_invariants(
+    sys: &PerturbedTwoBody<J2>,
+    t: f64,
+    q: &SVector<f64, 3>,
+    p: &SVector<f64, 3>,
+) -> Result<Vec<Invariant>> {
+    use crate::Hamiltonian;
+    Ok(vec![
+        Invariant {
+            name: "energy",
+            value: sys.value(t, q, p)?,
+        },
+        Invariant {
+            name: "h_z",
+            value: q[0] * p[1] - q[1] * p[0],
+        },
+    ])
 }
 
 fn theta_ptheta(q: &[f64], p: &[f64]) -> (f64, f64) {
@@ -658,6 +682,7 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_period(period)
         .with_error_label("final angle error ‖Δ(φ, θ, ψ)‖")
         .with_stepper(exact_stepper::<HeavyTop, 3>)
+        .with_invariants(system_invariants::<HeavyTop, 3>)
         .with_portrait(Portrait {
             x_label: "θ",
             y_label: "p_θ",

@@ -34,6 +34,7 @@
 //! work_precision = true                   # figures/<name>-work-precision.svg
 //! phase_portrait = [{ method = "exact", steps = 4000 }]       # figures/<name>-phase-portrait.svg
 //! energy_error = [{ method = "verlet", steps = 4000 }]        # figures/<name>-energy-error.svg
+//! invariants = [{ method = "rk4", steps = 4000 }]             # figures/<name>-invariants.svg
 //! # elements = [{ method = "kahan-li8", steps = 8000 }]       # Kepler-type systems
 //! samples = 400                           # points per history: step ends of fixed-step
 //!                                         # methods, uniform times otherwise

@@ -5,6 +5,7 @@ use super::case::{Case, History};
 use super::catalogue::Catalogue;
 use super::spec::{Knob, MethodKind, MethodSpec, RunSpec, SceneError, SceneFile};
 use crate::plot::{Curve, Figure, Style};
+use crate::systems::Invariant;
 use crate::workprecision::{sweep, Comparison, Series, Timing};
 use std::path::{Path, PathBuf};
 
@@ -285,6 +286,7 @@ impl Scene {
         for (list, key) in [
             (&o.phase_portrait, "phase_portrait"),
             (&o.energy_error, "energy_error"),
+            (&o.invariants, "invariants"),
             (&o.elements, "elements"),
         ] {
             for (j, r) in list.iter().enumerate() {
@@ -350,6 +352,9 @@ impl Scene {
         }
         if !o.energy_error.is_empty() {
             v.push(fig("energy-error"));
+        }
+        if !o.invariants.is_empty() {
+            v.push(fig("invariants"));
         }
         if !o.elements.is_empty() {
             v.push(fig("elements"));
@@ -504,6 +509,7 @@ impl Scene {
             opts.progress
                 && !(o.phase_portrait.is_empty()
                     && o.energy_error.is_empty()
+                    && o.invariants.is_empty()
                     && o.elements.is_empty()),
             format!("{}: histories", self.name),
         );
@@ -553,6 +559,38 @@ impl Scene {
                 fig = fig.curve(label, pts, Style::Line);
             }
             self.figure(&opts.out, "energy-error", &fig, &mut summary.files)?;
+        }
+        if !o.invariants.is_empty() {
+            let mut fig = Figure::new(
+                format!("{} — conserved quantities", self.title),
+                "t",
+                "|I(t) − I(0)| / |I(0)|  (absolute where I(0) = 0)",
+            )
+            .log_y();
+            for (label, h) in histories(&o.invariants, "invariants")? {
+                let values: Vec<Vec<Invariant>> = (0..h.t.len())
+                    .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
+                    .collect::<crate::Result<_>>()
+                    .map_err(|e| self.err("output.invariants", e))?;
+                let first = &values[0];
+                for (j, inv) in first.iter().enumerate() {
+                    let scale = if inv.value != 0.0 {
+                        inv.value.abs()
+                    } else {
+                        1.0
+                    };
+                    let pts: Vec<(f64, f64)> =
+                        h.t.iter()
+                            .zip(&values)
+                            .map(|(&t, v)| {
+                                let x = v.get(j).map_or(f64::NAN, |w| w.value);
+                                (t, (x - inv.value).abs() / scale)
+                            })
+                            .collect();
+                    fig = fig.curve(format!("{}: {label}", inv.name), pts, Style::Line);
+                }
+            }
+            self.figure(&opts.out, "invariants", &fig, &mut summary.files)?;
         }
         if !o.elements.is_empty() {
             let names = case.element_names().unwrap_or(&[]);

@@ -343,6 +343,10 @@ pub struct OutputSpec {
     /// Relative energy error against time (log axis) of these runs.
     #[serde(default)]
     pub energy_error: Vec<RunSpec>,
+    /// Drift of every conserved quantity the system knows (energy, angular momenta,
+    /// Runge–Lenz vector, …) along these runs (log axis).
+    #[serde(default)]
+    pub invariants: Vec<RunSpec>,
     /// Osculating-element histories of these runs (Kepler-type systems).
     #[serde(default)]
     pub elements: Vec<RunSpec>,
@@ -360,6 +364,7 @@ impl Default for OutputSpec {
             work_precision: false,
             phase_portrait: Vec::new(),
             energy_error: Vec::new(),
+            invariants: Vec::new(),
             elements: Vec::new(),
             samples: default_samples(),
         }
