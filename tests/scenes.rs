@@ -399,6 +399,19 @@ fn paper_references_are_reproduced() {
             "paper/{r} is missing (run `hj reproduce --out paper`)"
         );
     }
+    // Every table row in the paper is a row of a table file `hj reproduce` wrote to paper/tables.
+    let tables: String = std::fs::read_dir(root.join("paper/tables"))
+        .unwrap()
+        .map(|f| std::fs::read_to_string(f.unwrap().path()).unwrap())
+        .collect();
+    let rows: Vec<&str> = paper.lines().filter(|l| l.starts_with('|')).collect();
+    assert!(rows.len() > 30, "{} table rows", rows.len());
+    for row in rows {
+        assert!(
+            tables.lines().any(|l| l == row),
+            "paper table row not found in paper/tables: {row}"
+        );
+    }
     let examples: String = std::fs::read_dir(root.join("examples"))
         .unwrap()
         .map(|f| std::fs::read_to_string(f.unwrap().path()).unwrap())
