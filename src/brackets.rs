@@ -21,7 +21,7 @@
 //!
 //! All of these are public so that users' own (property) tests can call them on their own maps.
 
-use crate::ad::{lift, phase_gradient, PhaseDual};
+use crate::ad::{lift, phase_gradient, PhaseDual, PhaseDual64};
 use crate::error::{Error, Result};
 use crate::hamiltonian::{not_finite, Hamiltonian, PhaseFunction};
 use crate::phase::{check_phase, PhaseMatrix};
@@ -221,7 +221,8 @@ pub trait PhaseMap<const N: usize> {
     ) -> (SVector<D, N>, SVector<D, N>);
 }
 
-/// Exact Jacobian `M = ∂(Q, P)/∂(q, p)` of a map by AD (one pass per output component).
+/// Exact Jacobian `M = ∂(Q, P)/∂(q, p)` of a map by AD, in one pass: the map is evaluated once on
+/// phase-space dual numbers, whose `2N`-wide infinitesimal parts carry every row.
 pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
     map: &M,
     t: f64,
@@ -235,19 +236,12 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
         pq: SMatrix::zeros(),
         pp: SMatrix::zeros(),
     };
+    let qd = SVector::<PhaseDual64<N>, N>::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
+    let pd = SVector::<PhaseDual64<N>, N>::from_fn(|i, _| PhaseDual::momentum(p[i], i));
+    let (image_q, image_p) = map.apply(PhaseDual::from_re(t), &qd, &pd);
     for i in 0..2 * N {
-        let (value, dq, dp) = phase_gradient(
-            |qd, pd| {
-                let (qq, pp) = map.apply(PhaseDual::from_re(t), qd, pd);
-                if i < N {
-                    qq[i]
-                } else {
-                    pp[i - N]
-                }
-            },
-            q,
-            p,
-        );
+        let c = if i < N { image_q[i] } else { image_p[i - N] };
+        let (value, dq, dp) = (*c.value(), c.dq().clone_owned(), c.dp().clone_owned());
         if !value.is_finite() {
             return Err(Error::NonFinite {
                 what: format!("map output component {i} at t = {t}, q = {q:?}, p = {p:?}"),
