@@ -338,7 +338,7 @@ fn user_system_registered_from_rust() {
                 HamiltonianCase::new(sys, SVector::from([q0]), SVector::from([0.0]), "oscillator")
                     .map_err(|e| s.library(e))?
                     .with_period(std::f64::consts::TAU / omega)
-                    .with_stepper(separable_stepper::<HarmonicOscillator, 1>)
+                    .with_stepper(separable_stepper::<HarmonicOscillator, 1>())
                     .with_reference(Box::new(move |t: f64| {
                         let (s, c) = (omega * t).sin_cos();
                         Ok((

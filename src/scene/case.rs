@@ -278,16 +278,55 @@ fn steps_of(knob: f64) -> Result<usize> {
     }
 }
 
-/// A method runner of one capability: `None` when `kind` is not one of its methods.
-pub type Stepper<H, const N: usize> = fn(
+/// Runs one method of a capability: `None` when `kind` is not one of its methods.
+pub type StepperRun<H, const N: usize> = fn(
     &Problem<'_, H, N>,
     MethodKind,
     f64,
     Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>>;
 
+/// The methods of one capability (general, separable, perturbed Kepler, exact flow): which kinds
+/// it handles, decided without running anything, and how to run them.
+pub struct Stepper<H, const N: usize> {
+    handles: fn(MethodKind) -> bool,
+    run: StepperRun<H, N>,
+}
+
+impl<H, const N: usize> Clone for Stepper<H, N> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<H, const N: usize> Copy for Stepper<H, N> {}
+
+impl<H, const N: usize> Stepper<H, N> {
+    /// Whether `kind` is one of this capability's methods.
+    pub fn handles(&self, kind: MethodKind) -> bool {
+        (self.handles)(kind)
+    }
+}
+
 /// Runge–Kutta, Gauss–Legendre and DOP853: any Hamiltonian.
-pub fn general_stepper<H: Hamiltonian<N>, const N: usize>(
+pub fn general_stepper<H: Hamiltonian<N>, const N: usize>() -> Stepper<H, N> {
+    Stepper {
+        handles: |k| {
+            matches!(
+                k,
+                MethodKind::Rk4
+                    | MethodKind::ImplicitMidpoint
+                    | MethodKind::Gauss2
+                    | MethodKind::Gauss3
+                    | MethodKind::Gauss4
+                    | MethodKind::Dop853
+            )
+        },
+        run: run_general::<H, N>,
+    }
+}
+
+fn run_general<H: Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
@@ -336,7 +375,14 @@ pub fn splitting_of(kind: MethodKind) -> Option<Splitting> {
 }
 
 /// Explicit splitting methods: separable Hamiltonians.
-pub fn separable_stepper<H: Separable<N>, const N: usize>(
+pub fn separable_stepper<H: Separable<N>, const N: usize>() -> Stepper<H, N> {
+    Stepper {
+        handles: |k| splitting_of(k).is_some(),
+        run: run_separable::<H, N>,
+    }
+}
+
+fn run_separable<H: Separable<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
@@ -350,20 +396,33 @@ pub fn separable_stepper<H: Separable<N>, const N: usize>(
     )
 }
 
-/// Wisdom–Holman and SABA: perturbed Kepler problems.
-pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
-    problem: &Problem<'_, H, N>,
-    kind: MethodKind,
-    knob: f64,
-    sampler: Option<&mut Recording<'_, N>>,
-) -> Option<Result<Report<N>>> {
-    let method = match kind {
+/// The Kepler splitting of a kind, if it is one.
+fn kepler_splitting_of(kind: MethodKind) -> Option<WisdomHolman> {
+    Some(match kind {
         MethodKind::WisdomHolman => WisdomHolman::WH,
         MethodKind::Saba2 => WisdomHolman::SABA2,
         MethodKind::Saba3 => WisdomHolman::SABA3,
         MethodKind::Saba4 => WisdomHolman::SABA4,
         _ => return None,
-    };
+    })
+}
+
+/// Wisdom–Holman and SABA: perturbed Kepler problems.
+pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
+) -> Stepper<H, N> {
+    Stepper {
+        handles: |k| kepler_splitting_of(k).is_some(),
+        run: run_kepler_splitting::<H, N>,
+    }
+}
+
+fn run_kepler_splitting<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
+    problem: &Problem<'_, H, N>,
+    kind: MethodKind,
+    knob: f64,
+    sampler: Option<&mut Recording<'_, N>>,
+) -> Option<Result<Report<N>>> {
+    let method = kepler_splitting_of(kind)?;
     Some(
         steps_of(knob)
             .and_then(|n| Fixed::new(method, n))
@@ -372,7 +431,14 @@ pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N:
 }
 
 /// The exact flow as a method.
-pub fn exact_stepper<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>(
+pub fn exact_stepper<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>() -> Stepper<H, N> {
+    Stepper {
+        handles: |k| k == MethodKind::Exact,
+        run: run_exact::<H, N>,
+    }
+}
+
+fn run_exact<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
     kind: MethodKind,
     knob: f64,
@@ -451,7 +517,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
             p0,
             period: None,
             description: description.into(),
-            steppers: vec![general_stepper::<H, N>],
+            steppers: vec![general_stepper::<H, N>()],
             theories: Vec::new(),
             notes: Vec::new(),
             reference: None,
@@ -541,8 +607,8 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
         let t1 = self.end()?.0;
         let problem = self.problem(t1)?;
         let mut sampler = sampler;
-        for s in &self.steppers {
-            if let Some(r) = s(&problem, kind, knob, sampler.as_deref_mut()) {
+        for s in self.steppers.iter().filter(|s| s.handles(kind)) {
+            if let Some(r) = (s.run)(&problem, kind, knob, sampler.as_deref_mut()) {
                 return r;
             }
         }
@@ -564,25 +630,6 @@ fn unsupported(kind: MethodKind) -> Error {
     )
 }
 
-/// Probe whether a stepper handles `kind`, without running it (a zero-length problem is not
-/// constructible, so the stepper is asked on a one-step run of a throwaway problem).
-fn stepper_handles<H: Hamiltonian<N>, const N: usize>(
-    s: Stepper<H, N>,
-    system: &H,
-    q0: SVector<f64, N>,
-    p0: SVector<f64, N>,
-    kind: MethodKind,
-) -> bool {
-    let Ok(problem) = Problem::new(system, 0.0, q0, p0, 1e-9) else {
-        return false;
-    };
-    let knob = match kind.knob() {
-        super::spec::Knob::Rtol => 1e-3,
-        _ => 1.0,
-    };
-    s(&problem, kind, knob, None).is_some()
-}
-
 impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N> {
     fn describe(&self) -> String {
         self.description.clone()
@@ -593,11 +640,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
     }
 
     fn supports(&self, kind: MethodKind) -> bool {
-        self.theory(kind).is_some()
-            || self
-                .steppers
-                .iter()
-                .any(|&s| stepper_handles(s, &self.system, self.q0, self.p0, kind))
+        self.theory(kind).is_some() || self.steppers.iter().any(|s| s.handles(kind))
     }
 
     fn error_label(&self) -> String {
@@ -737,5 +780,51 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
                 "this system has no osculating elements",
             )),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::perturbation::forces::{PerturbedTwoBody, J2};
+    use crate::systems::Kepler2;
+
+    /// `handles` (decided without running) agrees with what `run` accepts, for every kind.
+    fn agrees<H: Hamiltonian<N>, const N: usize>(
+        stepper: Stepper<H, N>,
+        problem: &Problem<'_, H, N>,
+    ) {
+        for kind in MethodKind::ALL {
+            let knob = if kind.knob() == super::super::spec::Knob::Rtol {
+                1e-6
+            } else {
+                1.0
+            };
+            let ran = (stepper.run)(problem, kind, knob, None);
+            assert_eq!(stepper.handles(kind), ran.is_some(), "{}", kind.name());
+            if let Some(r) = ran {
+                r.unwrap_or_else(|e| panic!("{}: {e}", kind.name()));
+            }
+        }
+    }
+
+    #[test]
+    fn handles_agrees_with_run() {
+        let kepler = Kepler2::new(1.0).unwrap();
+        let (q, p) = (SVector::from([1.0, 0.0]), SVector::from([0.0, 1.0]));
+        let problem = Problem::new(&kepler, 0.0, q, p, 0.1).unwrap();
+        agrees(general_stepper::<Kepler2, 2>(), &problem);
+        agrees(separable_stepper::<Kepler2, 2>(), &problem);
+        agrees(exact_stepper::<Kepler2, 2>(), &problem);
+        let j2 = PerturbedTwoBody::conservative(1.0, J2::new(1.0, 1e-3, 0.5).unwrap()).unwrap();
+        let (q, p) = (
+            SVector::from([1.0, 0.0, 0.1]),
+            SVector::from([0.0, 1.0, 0.0]),
+        );
+        let problem = Problem::new(&j2, 0.0, q, p, 0.1).unwrap();
+        agrees(
+            kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>(),
+            &problem,
+        );
     }
 }

@@ -366,8 +366,8 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let mut case = HamiltonianCase::new(sys, q0, p0, description)
         .map_err(|e| s.library(e))?
         .with_period(period)
-        .with_stepper(separable_stepper::<Kepler2, 2>)
-        .with_stepper(exact_stepper::<Kepler2, 2>)
+        .with_stepper(separable_stepper::<Kepler2, 2>())
+        .with_stepper(exact_stepper::<Kepler2, 2>())
         .with_invariants(system_invariants::<Kepler2, 2>)
         .with_reference(reference)
         .with_portrait(Portrait {
@@ -507,8 +507,8 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .map_err(|e| s.library(e))?
         .with_period(period)
         .with_error_label("final angle error |Δq|")
-        .with_stepper(separable_stepper::<Pendulum, 1>)
-        .with_stepper(exact_stepper::<Pendulum, 1>)
+        .with_stepper(separable_stepper::<Pendulum, 1>())
+        .with_stepper(exact_stepper::<Pendulum, 1>())
         .with_invariants(system_invariants::<Pendulum, 1>)
         .with_reference(reference)
         .with_theory(
@@ -588,8 +588,8 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let case = HamiltonianCase::new(sys, q0, p0, description)
         .map_err(|x| s.library(x))?
         .with_period(period)
-        .with_stepper(separable_stepper::<PerturbedTwoBody<J2>, 3>)
-        .with_stepper(kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>)
+        .with_stepper(separable_stepper::<PerturbedTwoBody<J2>, 3>())
+        .with_stepper(kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>())
         .with_invariants(axisymmetric_invariants)
         .with_portrait(Portrait {
             x_label: "x",
@@ -681,7 +681,7 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .map_err(|x| s.library(x))?
         .with_period(period)
         .with_error_label("final angle error ‖Δ(φ, θ, ψ)‖")
-        .with_stepper(exact_stepper::<HeavyTop, 3>)
+        .with_stepper(exact_stepper::<HeavyTop, 3>())
         .with_invariants(system_invariants::<HeavyTop, 3>)
         .with_portrait(Portrait {
             x_label: "θ",
