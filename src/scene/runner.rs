@@ -108,7 +108,7 @@ fn run_knob(file: &str, key: &str, r: &RunSpec) -> Result<f64, SceneError> {
     ];
     let mut value = None;
     for (k, v) in given {
-        let name = if k == Knob::Orders { "order" } else { k.key() };
+        let name = k.singular();
         match v {
             Some(_) if k != want => {
                 return Err(SceneError::new(
@@ -128,7 +128,7 @@ fn run_knob(file: &str, key: &str, r: &RunSpec) -> Result<f64, SceneError> {
         (Knob::None, _) => Ok(1.0),
         (_, Some(v)) => Ok(v),
         (w, None) => {
-            let name = if w == Knob::Orders { "order" } else { w.key() };
+            let name = w.singular();
             Err(SceneError::new(
                 file,
                 format!("{key}.{name}"),
@@ -435,10 +435,7 @@ impl Scene {
             let bar = progress_bar(opts.progress, total as u64, &self.name);
             for (i, m) in self.spec.methods.iter().enumerate() {
                 let knobs = knob_values(&self.file, i, m)?;
-                let knob_name = match m.kind.knob() {
-                    Knob::Orders => "order",
-                    k => k.key(),
-                };
+                let knob_name = m.kind.knob().singular();
                 let mut series = Series {
                     label: label_of(m),
                     knob: knob_name.to_string(),

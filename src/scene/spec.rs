@@ -121,7 +121,15 @@ pub enum Knob {
 }
 
 impl Knob {
-    /// The scene key of the knob.
+    /// The knob's key for one value (a history run, a table cell): `steps`, `rtol`, `order`.
+    pub fn singular(self) -> &'static str {
+        match self {
+            Knob::Orders => "order",
+            k => k.key(),
+        }
+    }
+
+    /// The scene key of the knob's list in a `[[method]]`.
     pub fn key(self) -> &'static str {
         match self {
             Knob::Steps => "steps",
