@@ -29,7 +29,7 @@ use crate::perturbation::normal_form::{PendulumNormalForm, PENDULUM_WARNING_MU};
 use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
 use crate::systems::kepler_orbit::kepler_propagate_planar;
-use crate::systems::pendulum_exact::{exact_state, period_from_gap};
+use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
 use crate::systems::top_motion::Nutation;
 use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
 use std::cell::RefCell;
@@ -421,10 +421,8 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         ));
     }
     // The gap δ = π − a is what the exact solution, the period and the action–angle variables
-    // need near the separatrix. For a start from rest at the double q₀, δ = (π − fl(π)) + (fl(π) −
-    // q₀): the second difference is exact (Sterbenz), the first is the rounding of π.
-    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
-    let gap_of = |q0: f64| (PI - q0.abs()) + PI_LO;
+    // need near the separatrix; for a start from rest at the double q₀ it is measured from q₀ to
+    // the true π.
     let (q0, p0, delta, amp) = if let Some(a) = amplitude {
         if !(a > 0.0 && a < PI) {
             return Err(s.error(
@@ -432,7 +430,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 format!("expected an amplitude in (0, π), found {a}"),
             ));
         }
-        (a, 0.0, gap_of(a), a)
+        (a, 0.0, separatrix_gap(a), a)
     } else if let Some(d) = gap {
         if !(d > 0.0 && d < PI) {
             return Err(s.error(
@@ -449,7 +447,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 ),
             ));
         }
-        (q0, 0.0, gap_of(q0), q0)
+        (q0, 0.0, separatrix_gap(q0), q0)
     } else {
         let (q, p) = explicit.unwrap_or_default();
         let (q, p) = (q[0], p[0]);
@@ -473,7 +471,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         }
         let a = 2.0 * sin_half.asin();
         let delta = if p == 0.0 {
-            gap_of(q)
+            separatrix_gap(q)
         } else {
             2.0 * sin_half.acos()
         };

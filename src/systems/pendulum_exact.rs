@@ -253,6 +253,13 @@ fn jacobi_unchecked(u: f64, k: f64, kc: f64) -> Result<Jacobi> {
     })
 }
 
+/// The gap `δ = π − |a|` from the double `a` to the true π, `(PI − |a|) + (π − PI)`: the first
+/// difference is exact for `|a| ≥ π/2` (Sterbenz), the second is the rounding of π. This is the
+/// separatrix distance of a state that starts at the double `a`.
+pub fn separatrix_gap(amplitude: f64) -> f64 {
+    (PI - amplitude.abs()) + PI_LO
+}
+
 /// Exact period of the pendulum with amplitude `a` (maximum `|θ|` of the libration).
 ///
 /// `τ = 4 K(k) / n`, `k = sin(a/2)` (DLMF §22.19(i); Byrd & Friedman 1971), evaluated as
@@ -293,7 +300,7 @@ pub fn period(n: f64, amplitude: f64) -> Result<f64> {
              see PendulumMotion",
         ));
     }
-    period_from_gap_unchecked(n, (PI - a) + PI_LO)
+    period_from_gap_unchecked(n, separatrix_gap(a))
 }
 
 /// Exact period from the gap `δ = π − a` to the separatrix.
