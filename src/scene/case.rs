@@ -55,13 +55,7 @@ impl Table {
 
     /// As CSV.
     pub fn to_csv(&self) -> String {
-        let field = |s: &String| {
-            if s.contains([',', '"', '\n']) {
-                format!("\"{}\"", s.replace('"', "\"\""))
-            } else {
-                s.clone()
-            }
-        };
+        let field = |s: &String| crate::workprecision::csv_field(s);
         let mut s = self.header.iter().map(field).collect::<Vec<_>>().join(",") + "\n";
         for r in &self.rows {
             s += &(r.iter().map(field).collect::<Vec<_>>().join(",") + "\n");
