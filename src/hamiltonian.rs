@@ -292,14 +292,81 @@ impl<const N: usize, H: Hamiltonian<N>> PhaseFunction<N> for H {
     }
 }
 
-/// Define a Hamiltonian system in one line: a struct (with optional parameters) and its
-/// [`Hamiltonian`] implementation.
+/// A system whose parameters (masses, `μ`, `J₂`, `ε`, …) can be differentiated: the Hamiltonian
+/// written once with its `M` parameters `k` as arguments of the same dual type as `(t, q, p)`,
 ///
-/// The closure-like part names the system itself (to reach its parameters) and the arguments
-/// `t, q, p`; the body is written with [`DualNum`] operations.
+/// $$ H = H(k;\ t, q, p),\qquad k\in\mathbb R^M , $$
+///
+/// so that `∂/∂k` of anything computed from `H` (the vector field, a final state through an
+/// integrator: [`crate::integrate::ParameterSensitivity`]) comes from the same AD as `∂/∂q`.
+/// The [`hamiltonian!`](crate::hamiltonian!) macro with a parameter list `[k₁, k₂, …]` writes
+/// both this and the [`Hamiltonian`] (or [`Separable`]) implementation from one body; a
+/// hand-written [`Hamiltonian`] implementation calls [`Parametric::hamiltonian_nominal`].
+///
+/// # Example
+/// ```
+/// use hamilton_jacobi::{hamiltonian, Hamiltonian, hamiltonian::Parametric};
+/// use hamilton_jacobi::nalgebra::SVector;
+/// use hamilton_jacobi::num_dual::{first_derivative, Dual64, DualNum};
+///
+/// // H = p²/2 + k x²/2, the stiffness k a parameter.
+/// hamiltonian!(Spring<1> [k] |_t, q, p| p[0] * p[0] * 0.5 + k * q[0] * q[0] * 0.5);
+/// let s = Spring { k: 4.0 };
+/// let (q, p) = (SVector::from([0.5]), SVector::from([0.0]));
+/// assert_eq!(s.value(0.0, &q, &p).unwrap(), 0.5);
+/// // ∂H/∂k = x²/2 at the state, from the same body:
+/// let (_, dk) = first_derivative(
+///     |k: Dual64| s.hamiltonian_with(&SVector::from([k]), Dual64::from(0.0), &q.map(Dual64::from), &p.map(Dual64::from)),
+///     4.0,
+/// );
+/// assert_eq!(dk, 0.125);
+/// assert_eq!(Spring::NAMES, ["k"]);
+/// ```
+pub trait Parametric<const N: usize, const M: usize> {
+    /// The parameters' names, in the order of [`parameters`](Parametric::parameters).
+    const NAMES: [&'static str; M];
+    /// The nominal values of the parameters.
+    fn parameters(&self) -> SVector<f64, M>;
+    /// `H(k; t, q, p)` with the parameters `k` given in the dual type of the arguments.
+    fn hamiltonian_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> D;
+    /// `H` at the nominal parameters: the body of a [`Hamiltonian`] implementation.
+    #[inline]
+    fn hamiltonian_nominal<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> D {
+        self.hamiltonian_with(&self.parameters().map(D::from), t, q, p)
+    }
+}
+
+/// Define a Hamiltonian system in one line: a struct (with optional parameters) and its
+/// [`Hamiltonian`] implementation — or, written as `kinetic = T(p), potential = V(q)`, its
+/// [`Separable`] implementation (so that explicit splitting methods apply as well as every
+/// method for a general `H`).
+///
+/// Four forms:
+///
+/// | form | fields | implements |
+/// |---|---|---|
+/// | `Name<N> \|s, t, q, p\| H` | none (unit struct) | [`Hamiltonian`] |
+/// | `Name<N> { a: f64, … } \|s, t, q, p\| H` | public fields, reached as `s.a` | [`Hamiltonian`] |
+/// | `Name<N> { … }? \|s, t, q, p\| kinetic = T, potential = V` | as above | [`Separable`] (and so [`Hamiltonian`]) |
+/// | `Name<N> [k₁, k₂, …] \|t, q, p\| H` (or `kinetic = T, potential = V`) | `pub kᵢ: f64`, reached as dual numbers `kᵢ` | [`Parametric`] and [`Hamiltonian`] (or [`Separable`]) |
+///
+/// In the separable forms `T` sees only `p` (and `t`) and `V` only `q` (and `t`): a kinetic
+/// energy that depends on `q` does not compile. The closure-like part names the system itself
+/// (to reach its fields) and the arguments; bodies are written with [`DualNum`] operations.
 ///
 /// ```
-/// use hamilton_jacobi::{hamiltonian, Hamiltonian};
+/// use hamilton_jacobi::{hamiltonian, Hamiltonian, Separable};
 /// use hamilton_jacobi::nalgebra::SVector;
 ///
 /// hamiltonian!(
@@ -307,15 +374,72 @@ impl<const N: usize, H: Hamiltonian<N>> PhaseFunction<N> for H {
 ///     pub Pendulum<1> { omega: f64 } |s, _t, q, p| p[0] * p[0] * 0.5 - q[0].cos() * (s.omega * s.omega)
 /// );
 /// hamiltonian!(Free<2> |_s, _t, _q, p| p.dot(p) * 0.5);
+/// // Hénon–Heiles, declared separable once: T(p) + V(q).
+/// hamiltonian!(HenonHeiles<2> |_s, _t, q, p|
+///     kinetic = p.dot(p) * 0.5,
+///     potential = q.dot(q) * 0.5 + q[0] * q[0] * q[1] - q[1] * q[1] * q[1] / 3.0);
 ///
 /// let h = Pendulum { omega: 2.0 };
 /// let (_, pdot) = h.vector_field(0.0, &SVector::from([0.3]), &SVector::from([0.0])).unwrap();
 /// assert!((pdot[0] + 4.0 * 0.3f64.sin()).abs() < 1e-15);
 /// let (qdot, _) = Free.vector_field(0.0, &SVector::from([0.0, 0.0]), &SVector::from([1.0, 2.0])).unwrap();
 /// assert_eq!(qdot, SVector::from([1.0, 2.0]));
+/// let q = SVector::from([0.1, 0.2]);
+/// assert_eq!(HenonHeiles.potential(0.0, &q), 0.025 + 0.002 - 0.008 / 3.0);
 /// ```
 #[macro_export]
 macro_rules! hamiltonian {
+    // Separable, with fields.
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > { $($field:ident : $fty:ty),* $(,)? }
+        |$s:ident, $t:ident, $q:ident, $p:ident| kinetic = $kin:expr, potential = $pot:expr $(,)?) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, PartialEq)]
+        $vis struct $name { $(#[allow(missing_docs)] pub $field: $fty),* }
+        $crate::hamiltonian!(@separable $name $n |$s, $t, $q, $p| $kin, $pot);
+    };
+    // Separable, unit struct.
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal >
+        |$s:ident, $t:ident, $q:ident, $p:ident| kinetic = $kin:expr, potential = $pot:expr $(,)?) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        $vis struct $name;
+        $crate::hamiltonian!(@separable $name $n |$s, $t, $q, $p| $kin, $pot);
+    };
+    // Parametric, separable.
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > [ $($k:ident),+ $(,)? ]
+        |$t:ident, $q:ident, $p:ident| kinetic = $kin:expr, potential = $pot:expr $(,)?) => {
+        $crate::hamiltonian!(@parametric_struct $(#[$meta])* $vis $name $n [$($k),+] |$t, $q, $p| ($kin) + ($pot));
+        impl $crate::Separable<$n> for $name {
+            #[inline]
+            #[allow(unused_variables)]
+            fn kinetic<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $p: &$crate::nalgebra::SVector<D, $n>) -> D {
+                $( let $k = D::from(self.$k); )+
+                $kin
+            }
+            #[inline]
+            #[allow(unused_variables)]
+            fn potential<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $q: &$crate::nalgebra::SVector<D, $n>) -> D {
+                $( let $k = D::from(self.$k); )+
+                $pot
+            }
+        }
+    };
+    // Parametric, general.
+    ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > [ $($k:ident),+ $(,)? ]
+        |$t:ident, $q:ident, $p:ident| $body:expr) => {
+        $crate::hamiltonian!(@parametric_struct $(#[$meta])* $vis $name $n [$($k),+] |$t, $q, $p| $body);
+        impl $crate::Hamiltonian<$n> for $name {
+            #[inline]
+            fn hamiltonian<D: $crate::DualNum<f64> + Copy>(
+                &self,
+                t: D,
+                q: &$crate::nalgebra::SVector<D, $n>,
+                p: &$crate::nalgebra::SVector<D, $n>,
+            ) -> D {
+                $crate::hamiltonian::Parametric::hamiltonian_nominal(self, t, q, p)
+            }
+        }
+    };
     ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > { $($field:ident : $fty:ty),* $(,)? }
         |$s:ident, $t:ident, $q:ident, $p:ident| $body:expr) => {
         $(#[$meta])*
@@ -340,6 +464,47 @@ macro_rules! hamiltonian {
                 $p: &$crate::nalgebra::SVector<D, $n>,
             ) -> D {
                 let $s = self;
+                $body
+            }
+        }
+    };
+    (@separable $name:ident $n:literal |$s:ident, $t:ident, $q:ident, $p:ident| $kin:expr, $pot:expr) => {
+        impl $crate::Separable<$n> for $name {
+            #[inline]
+            #[allow(unused_variables)]
+            fn kinetic<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $p: &$crate::nalgebra::SVector<D, $n>) -> D {
+                let $s = self;
+                $kin
+            }
+            #[inline]
+            #[allow(unused_variables)]
+            fn potential<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $q: &$crate::nalgebra::SVector<D, $n>) -> D {
+                let $s = self;
+                $pot
+            }
+        }
+    };
+    (@parametric_struct $(#[$meta:meta])* $vis:vis $name:ident $n:literal [ $($k:ident),+ ] |$t:ident, $q:ident, $p:ident| $body:expr) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        $vis struct $name { $(#[allow(missing_docs)] pub $k: f64),+ }
+        impl $crate::hamiltonian::Parametric<$n, { [$(stringify!($k)),+].len() }> for $name {
+            const NAMES: [&'static str; { [$(stringify!($k)),+].len() }] = [$(stringify!($k)),+];
+            #[inline]
+            fn parameters(&self) -> $crate::nalgebra::SVector<f64, { [$(stringify!($k)),+].len() }> {
+                $crate::nalgebra::SVector::from([$(self.$k),+])
+            }
+            #[inline]
+            #[allow(unused_variables, unused_assignments)]
+            fn hamiltonian_with<D: $crate::DualNum<f64> + Copy>(
+                &self,
+                k: &$crate::nalgebra::SVector<D, { [$(stringify!($k)),+].len() }>,
+                $t: D,
+                $q: &$crate::nalgebra::SVector<D, $n>,
+                $p: &$crate::nalgebra::SVector<D, $n>,
+            ) -> D {
+                let mut i = 0usize;
+                $( let $k = k[i]; i += 1; )+
                 $body
             }
         }

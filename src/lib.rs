@@ -21,7 +21,7 @@ pub mod transform;
 pub mod workprecision;
 
 pub use error::{Error, Result};
-pub use hamiltonian::{Hamiltonian, PhaseFunction, Separable};
+pub use hamiltonian::{Hamiltonian, Parametric, PhaseFunction, Separable};
 pub use lagrangian::{Lagrangian, Legendre, Natural, NaturalHamiltonian, NaturalSystem};
 pub use nalgebra;
 pub use num_dual;

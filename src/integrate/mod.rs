@@ -24,6 +24,7 @@ pub mod exact;
 pub mod gauss;
 pub mod observers;
 pub mod rk4;
+pub mod sensitivity;
 pub mod splitting;
 pub mod wisdom_holman;
 
@@ -32,6 +33,7 @@ pub use exact::ExactStep;
 pub use gauss::{Gauss, ImplicitMidpoint};
 pub use observers::{EnergyMonitor, Event, Events, Recorder};
 pub use rk4::Rk4;
+pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
 pub use wisdom_holman::{kepler_drift, KeplerJ2, PerturbedKepler, WisdomHolman};
 

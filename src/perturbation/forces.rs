@@ -39,9 +39,9 @@
 //! * C. D. Murray & S. F. Dermott, *Solar System Dynamics*, Cambridge (1999), §6.2, eq. 6.44
 //!   (direct and indirect parts of the disturbing function).
 
-use super::variation::{DisturbingFunction, GradientForce, MomentumForce};
+use super::variation::{DisturbingFunction, GradientForce, MomentumForce, ParametricDisturbance};
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
-use crate::hamiltonian::Separable;
+use crate::hamiltonian::{Parametric, Separable};
 use crate::integrate::PerturbedKepler;
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
@@ -241,11 +241,28 @@ impl J2 {
 
 impl DisturbingFunction<3> for J2 {
     #[inline]
-    fn disturbing_function<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>) -> D {
+    fn disturbing_function<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> D {
+        self.disturbing_function_with(&SVector::from([D::from(self.j2)]), t, q)
+    }
+}
+
+/// `J₂` as the differentiable parameter of the model.
+impl ParametricDisturbance<3, 1> for J2 {
+    const NAMES: [&'static str; 1] = ["J2"];
+    fn parameters(&self) -> SVector<f64, 1> {
+        SVector::from([self.j2])
+    }
+    #[inline]
+    fn disturbing_function_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, 1>,
+        _t: D,
+        q: &SVector<D, 3>,
+    ) -> D {
         let r2 = q.dot(q);
         let r = r2.sqrt();
         let shape = q[2] * q[2] / r2 * 3.0 - 1.0;
-        shape / (r2 * r) * (0.5 * self.mu * self.j2 * self.radius * self.radius)
+        shape / (r2 * r) * k[0] * (0.5 * self.mu * self.radius * self.radius)
     }
 }
 
@@ -568,6 +585,28 @@ impl<U: DisturbingFunction<3>, F: MomentumForce<3>> Separable<3> for PerturbedTw
         p: &SVector<D, 3>,
     ) -> Option<SVector<D, 3>> {
         self.force.as_ref().map(|f| f.force(t, q, p))
+    }
+}
+
+/// The conservative perturbed two-body system is differentiable in the parameters of its
+/// disturbing function: `H(k; q, p) = |p|²/2 − μ/|q| + U(k; t, q)`.
+impl<U: ParametricDisturbance<3, M>, const M: usize> Parametric<3, M>
+    for PerturbedTwoBody<U, NoForce>
+{
+    const NAMES: [&'static str; M] = U::NAMES;
+    fn parameters(&self) -> SVector<f64, M> {
+        self.potential.parameters()
+    }
+    #[inline]
+    fn hamiltonian_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, 3>,
+        p: &SVector<D, 3>,
+    ) -> D {
+        p.dot(p) * 0.5 - q.dot(q).sqrt().recip() * self.mu
+            + self.potential.disturbing_function_with(k, t, q)
     }
 }
 

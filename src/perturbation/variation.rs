@@ -85,6 +85,26 @@ pub trait DisturbingFunction<const N: usize> {
     fn disturbing_function<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
 }
 
+/// A disturbing function whose `M` parameters can be differentiated: `U(k; t, q)` written once
+/// with the parameters in the dual type of the arguments (see [`Parametric`](crate::Parametric)).
+/// The perturbed two-body system built on it
+/// ([`PerturbedTwoBody`](crate::perturbation::forces::PerturbedTwoBody)) is then itself
+/// [`Parametric`](crate::Parametric), so `∂(state)/∂k` follows from
+/// [`ParameterSensitivity`](crate::integrate::ParameterSensitivity).
+pub trait ParametricDisturbance<const N: usize, const M: usize>: DisturbingFunction<N> {
+    /// The parameters' names.
+    const NAMES: [&'static str; M];
+    /// Their nominal values.
+    fn parameters(&self) -> SVector<f64, M>;
+    /// `U(k; t, q)`.
+    fn disturbing_function_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> D;
+}
+
 /// A momentum force as a full-state perturbation `g = (0, R)` (for M58).
 #[derive(Clone, Copy, Debug)]
 pub struct InMomentumEquation<R>(pub R);

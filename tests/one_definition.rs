@@ -1,0 +1,171 @@
+//! A system written once serves every method: the separable and parametric forms of
+//! `hamiltonian!`, and derivatives with respect to parameters through an adaptive integrator.
+
+use hamilton_jacobi::integrate::{
+    integrate, Dop853, Fixed, ParameterSensitivity, Problem, Splitting,
+};
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::num_dual::{first_derivative, Dual64};
+use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
+use hamilton_jacobi::{hamiltonian, Hamiltonian, Parametric, Separable};
+
+hamiltonian!(
+    /// Hénon–Heiles, declared separable once.
+    HenonHeiles<2> |_s, _t, q, p|
+        kinetic = p.dot(p) * 0.5,
+        potential = q.dot(q) * 0.5 + q[0] * q[0] * q[1] - q[1] * q[1] * q[1] / 3.0
+);
+
+hamiltonian!(
+    /// A Duffing oscillator with parameters: H = p²/2 + ω²x²/2 + ε x⁴/4.
+    Duffing<1> [omega, eps] |_t, q, p|
+        kinetic = p[0] * p[0] * 0.5,
+        potential = omega * omega * q[0] * q[0] * 0.5 + eps * q[0].powi(4) * 0.25
+);
+
+hamiltonian!(
+    /// A charged particle in a uniform field (not separable): H = |p − A(q)|²/2, A = b(−y/2, x/2).
+    Landau<2> [b] |_t, q, p| {
+        let ax = -q[1] * b * 0.5;
+        let ay = q[0] * b * 0.5;
+        ((p[0] - ax).powi(2) + (p[1] - ay).powi(2)) * 0.5
+    }
+);
+
+/// The separable form gives T and V separately, the same H as written out by hand, and the
+/// explicit splitting methods accept it.
+#[test]
+fn separable_form_serves_splitting_and_general_methods() {
+    let (q, p) = (SVector::from([0.1, -0.2]), SVector::from([0.3, 0.05]));
+    let by_hand = |q: &SVector<f64, 2>, p: &SVector<f64, 2>| {
+        0.5 * (p[0] * p[0] + p[1] * p[1]) + 0.5 * (q[0] * q[0] + q[1] * q[1]) + q[0] * q[0] * q[1]
+            - q[1].powi(3) / 3.0
+    };
+    let h = HenonHeiles.value(0.0, &q, &p).unwrap();
+    assert!((h - by_hand(&q, &p)).abs() <= 2.0 * f64::EPSILON * h.abs());
+    assert_eq!(HenonHeiles.kinetic(0.0, &p), 0.5 * (0.09 + 0.0025));
+    // Hand-written forces: −∂V/∂x = −x − 2xy, −∂V/∂y = −y − x² + y².
+    let (_, pd) = HenonHeiles.vector_field(0.0, &q, &p).unwrap();
+    assert!((pd[0] - (-q[0] - 2.0 * q[0] * q[1])).abs() < 1e-16);
+    assert!((pd[1] - (-q[1] - q[0] * q[0] + q[1] * q[1])).abs() < 1e-16);
+    // Verlet and DOP853 on the same value: energy errors at their orders' scale over t = 10.
+    let problem = Problem::new(&HenonHeiles, 0.0, q, p, 10.0).unwrap();
+    let verlet = integrate(
+        &problem,
+        &Fixed::new(Splitting::VERLET_KDK, 1000).unwrap(),
+        &mut (),
+    )
+    .unwrap();
+    let dop = integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut ()).unwrap();
+    let e = |s: &hamilton_jacobi::integrate::State<2>| HenonHeiles.value(0.0, &s.q, &s.p).unwrap();
+    // Verlet's energy error is O(h²) = O(1e-4) times the force-curvature scale (≤ 1 here).
+    assert!((e(&verlet.last) - h).abs() < 1e-4);
+    assert!((e(&dop.last) - h).abs() < 1e-12);
+    // The two agree to Verlet's global error O(h² t) = 1e-4 · 10.
+    assert!((verlet.last.q - dop.last.q).norm() < 1e-3);
+}
+
+/// The parametric form: ∂H/∂k from the same body equals the closed form, and the nominal H
+/// equals the separable one.
+#[test]
+fn parametric_form_differentiates_in_the_parameters() {
+    let d = Duffing {
+        omega: 1.5,
+        eps: 0.2,
+    };
+    assert_eq!(Duffing::NAMES, ["omega", "eps"]);
+    assert_eq!(d.parameters(), SVector::from([1.5, 0.2]));
+    let (q, p) = (SVector::from([0.7]), SVector::from([-0.4]));
+    let h = d.value(0.0, &q, &p).unwrap();
+    let hand = 0.08 + 1.125 * 0.49 + 0.05 * 0.7f64.powi(4);
+    assert!((h - hand).abs() < 4.0 * f64::EPSILON * hand);
+    let (qd, pd) = (q.map(Dual64::from), p.map(Dual64::from));
+    let t = Dual64::from(0.0);
+    // ∂H/∂ω = ω x², ∂H/∂ε = x⁴/4.
+    let (_, dw) = first_derivative(
+        |w: Dual64| d.hamiltonian_with(&SVector::from([w, Dual64::from(0.2)]), t, &qd, &pd),
+        1.5,
+    );
+    let (_, de) = first_derivative(
+        |e: Dual64| d.hamiltonian_with(&SVector::from([Dual64::from(1.5), e]), t, &qd, &pd),
+        0.2,
+    );
+    assert!((dw - 1.5 * 0.49).abs() < 1e-15);
+    assert!((de - 0.7f64.powi(4) / 4.0).abs() < 1e-16);
+    // Non-separable parametric: ∂H/∂b at p = 0 is (b/4)(x² + y²).
+    let l = Landau { b: 2.0 };
+    let (q2, p2) = (SVector::from([0.3, 0.4]), SVector::from([0.0, 0.0]));
+    let (_, db) = first_derivative(
+        |b: Dual64| {
+            l.hamiltonian_with(
+                &SVector::from([b]),
+                t,
+                &q2.map(Dual64::from),
+                &p2.map(Dual64::from),
+            )
+        },
+        2.0,
+    );
+    assert!((db - 0.5 * 0.25).abs() < 1e-16);
+}
+
+/// A Kepler + J2 state in three dimensions: a = 2, e = 0.1, i = 0.5, at periapsis.
+fn j2_start() -> (SVector<f64, 3>, SVector<f64, 3>) {
+    let (a, e, inc) = (2.0f64, 0.1f64, 0.5f64);
+    let rp = a * (1.0 - e);
+    let vp = ((1.0 + e) / (a * (1.0 - e))).sqrt();
+    (
+        SVector::from([rp, 0.0, 0.0]),
+        SVector::from([0.0, vp * inc.cos(), vp * inc.sin()]),
+    )
+}
+
+fn final_state(j2: f64, t1: f64, rtol: f64) -> SVector<f64, 6> {
+    let sys = PerturbedTwoBody::conservative(1.0, J2::new(1.0, j2, 1.0).unwrap()).unwrap();
+    let (q0, p0) = j2_start();
+    let problem = Problem::new(&sys, 0.0, q0, p0, t1).unwrap();
+    let r = integrate(&problem, &Dop853::new(rtol, rtol * 1e-2).unwrap(), &mut ()).unwrap();
+    SVector::from_iterator(r.last.q.iter().chain(r.last.p.iter()).copied())
+}
+
+/// ∂(final state)/∂J₂ through a DOP853 run of the sensitivity equations, against central
+/// differences of two DOP853 runs. The tolerance is derived from the difference quotients
+/// themselves: the truncation error of the central difference at step `h` is estimated by
+/// Richardson's `|D(h) − D(h/2)|·4/3`, its rounding error by `2·rtol·|x|/h`.
+#[test]
+fn sensitivity_to_j2_through_dop853_matches_central_differences() {
+    let (j2, t1, rtol) = (1e-3, 10.0 * std::f64::consts::TAU * 2f64.powf(1.5), 1e-13);
+    let sys = PerturbedTwoBody::conservative(1.0, J2::new(1.0, j2, 1.0).unwrap()).unwrap();
+    assert_eq!(<PerturbedTwoBody<J2> as Parametric<3, 1>>::NAMES, ["J2"]);
+    let aug = ParameterSensitivity::<_, 3, 1, 6>::new(&sys).unwrap();
+    let (q0, p0) = j2_start();
+    let (qa, pa) = aug.initial_state(&q0, &p0);
+    let problem = Problem::new(&aug, 0.0, qa, pa, t1).unwrap();
+    let r = integrate(&problem, &Dop853::new(rtol, rtol * 1e-2).unwrap(), &mut ()).unwrap();
+    let (q, p, sq, sp) = aug.split(&r.last.q, &r.last.p);
+    // The state part is the plain run's state.
+    let plain = final_state(j2, t1, rtol);
+    let x = SVector::<f64, 6>::from_iterator(q.iter().chain(p.iter()).copied());
+    assert!((x - plain).norm() < 1e-9, "state {:e}", (x - plain).norm());
+    let s = SVector::<f64, 6>::from_iterator(sq.iter().chain(sp.iter()).copied());
+    let cd = |h: f64| (final_state(j2 + h, t1, rtol) - final_state(j2 - h, t1, rtol)) / (2.0 * h);
+    let h = 1e-5;
+    let (d1, d2) = (cd(h), cd(h / 2.0));
+    let truncation = (d1 - d2).norm() * 4.0 / 3.0;
+    let rounding = 2.0 * 1e-11 * plain.norm() / (h / 2.0);
+    let err = (s - d2).norm();
+    println!(
+        "|∂x/∂J2| = {:.6e}, |S − D(h/2)| = {err:.3e}, truncation ≈ {truncation:.3e}, rounding ≈ {rounding:.3e}",
+        s.norm()
+    );
+    assert!(s.norm() > 1.0, "J₂ moves the orbit over 10 revolutions");
+    assert!(err <= 2.0 * (truncation + rounding), "{err:e}");
+}
+
+/// The sensitivity system refuses an augmented dimension that does not fit.
+#[test]
+fn sensitivity_dimension_is_checked() {
+    let sys = PerturbedTwoBody::conservative(1.0, J2::new(1.0, 1e-3, 1.0).unwrap()).unwrap();
+    assert!(ParameterSensitivity::<_, 3, 1, 5>::new(&sys).is_err());
+    assert!(ParameterSensitivity::<_, 3, 1, 6>::new(&sys).is_ok());
+}
