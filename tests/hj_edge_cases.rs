@@ -4,8 +4,8 @@
 //! error estimate covers the true error.
 
 use hamilton_jacobi::hamilton_jacobi::{
-    central_quadrature, time_of_flight, ActionAngle, InverseDistance, OneDegreeOfFreedom,
-    RadialMotion, SeparatedMotion, SeparatedSystem,
+    central_quadrature, time_of_flight, ActionAngle, InverseDistance, RadialMotion,
+    SeparatedMotion, SeparatedSystem,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::pendulum_exact::period_from_gap;
@@ -44,22 +44,9 @@ fn near_circular_orbits_report_honest_errors() {
     assert!((exact.half_period().value - PI).abs() < 1e-14);
 }
 
-struct Well {
-    centre: f64,
-}
-impl OneDegreeOfFreedom for Well {
-    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-        let x = q - self.centre;
-        x * x * 0.5
-    }
-}
-impl Clone for Well {
-    fn clone(&self) -> Self {
-        Well {
-            centre: self.centre,
-        }
-    }
-}
+hamilton_jacobi::hamiltonian!(Well<1> { centre: f64 } |s, _t, q, p|
+    kinetic = p[0] * p[0] * 0.5,
+    potential = (q[0] - s.centre) * (q[0] - s.centre) * 0.5);
 
 /// Small librations through the generic route: the pendulum at amplitudes 1e−2 and 1e−3 (the
 /// radicand `2(cos q − cos a)` cancels to `a² − q²`) and a harmonic well centred far from the
@@ -172,13 +159,9 @@ fn turning_points_zero_widths_and_huge_times() {
         assert!(m.state_at(1e17).is_err());
     }
     // h = 0: V = q²/2 − 1 at h = 0.
-    #[derive(Clone)]
-    struct Shifted;
-    impl OneDegreeOfFreedom for Shifted {
-        fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-            q * q * 0.5 - 1.0
-        }
-    }
+    hamilton_jacobi::hamiltonian!(Shifted<1> |_s, _t, q, p|
+        kinetic = p[0] * p[0] * 0.5,
+        potential = q[0] * q[0] * 0.5 - 1.0);
     let aa = ActionAngle::new(Shifted, 0.0, 0.0, -5.0, 5.0).unwrap();
     for k in 0..100 {
         let w = 0.0628 * k as f64;

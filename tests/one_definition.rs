@@ -169,3 +169,88 @@ fn sensitivity_dimension_is_checked() {
     assert!(ParameterSensitivity::<_, 3, 1, 5>::new(&sys).is_err());
     assert!(ParameterSensitivity::<_, 3, 1, 6>::new(&sys).is_ok());
 }
+
+hamilton_jacobi::hamiltonian!(
+    /// A mass-m spring written as a general H (not declared separable).
+    Spring<1> { m: f64, k: f64 } |s, _t, q, p| p[0] * p[0] / (2.0 * s.m) + q[0] * q[0] * (0.5 * s.k)
+);
+hamilton_jacobi::hamiltonian!(
+    /// Quartic in p: not of the natural form ½a(q)p² + V(q).
+    QuarticKinetic<1> |_s, _t, q, p| p[0].powi(4) * 0.25 + q[0] * q[0] * 0.5
+);
+
+/// Action–angle variables of any one-degree-of-freedom Hamiltonian in natural form, read off
+/// its H: the spring's period 2π√(m/k) and action E/ω against the closed forms; a Hamiltonian
+/// that is not quadratic in p is refused.
+#[test]
+fn action_angle_of_any_natural_hamiltonian() {
+    use hamilton_jacobi::hamilton_jacobi::ActionAngle;
+    let s = Spring { m: 2.0, k: 8.0 };
+    let omega = (8.0f64 / 2.0).sqrt();
+    let (q, p) = (0.3, 0.4);
+    let e = s
+        .value(0.0, &SVector::from([q]), &SVector::from([p]))
+        .unwrap();
+    let aa = ActionAngle::from_state(s.clone(), q, p, -10.0, 10.0).unwrap();
+    let t = aa.period();
+    let exact = std::f64::consts::TAU / omega;
+    assert!((t.value - exact).abs() <= t.error + 8.0 * f64::EPSILON * exact);
+    let j = aa.action();
+    assert!((j.value - e / omega).abs() <= j.error + 8.0 * f64::EPSILON * e / omega);
+    assert!((aa.frequency() - omega).abs() < 1e-13 * omega);
+    let err = ActionAngle::from_state(QuarticKinetic, 0.3, 0.4, -10.0, 10.0).unwrap_err();
+    assert!(err.to_string().contains("natural form"), "{err}");
+}
+
+/// `V(r) = −μ/r + β/r²`, written once.
+#[derive(Clone)]
+struct KeplerPlusInverseSquare {
+    beta: f64,
+}
+impl hamilton_jacobi::systems::CentralPotential for KeplerPlusInverseSquare {
+    fn potential<D: hamilton_jacobi::DualNum<f64> + Copy>(&self, r: D) -> D {
+        -r.recip() + (r * r).recip() * self.beta
+    }
+}
+
+/// A central potential written once gives the Cartesian system and its radial motion by
+/// quadrature. For `V = −1/r + β/r²` the orbit is a precessing ellipse whose radial period is the
+/// Kepler period of the same energy, `2π/(−2h)^{3/2}`, and whose apsidal angle is
+/// `π k/√(k² + 2β)` (Goldstein §3.6 problem; the `β/r²` term renormalises the angular momentum):
+/// closed forms against the quadratures. The Cartesian integration of the same value returns to
+/// periapsis radius after one radial period.
+#[test]
+fn central_potential_written_once() {
+    use hamilton_jacobi::hamilton_jacobi::RadialMotion;
+    use hamilton_jacobi::systems::Central;
+    let beta = 0.05;
+    let sys = Central::<_, 3>::new(KeplerPlusInverseSquare { beta }).unwrap();
+    let (q, p) = (
+        SVector::from([1.0, 0.0, 0.0]),
+        SVector::from([0.1, 0.9, 0.2]),
+    );
+    let m = RadialMotion::from_state(&sys, &q, &p, 100.0).unwrap();
+    let h = sys.value(0.0, &q, &p).unwrap();
+    let k = sys.angular_momentum(&q, &p);
+    let tr = 2.0 * std::f64::consts::PI / (-2.0 * h).powf(1.5);
+    let half = m.half_period();
+    assert!(
+        (2.0 * half.value - tr).abs() <= 2.0 * half.error + 16.0 * f64::EPSILON * tr,
+        "{} vs {tr}",
+        2.0 * half.value
+    );
+    let apsidal = std::f64::consts::PI * k / (k * k + 2.0 * beta).sqrt();
+    let ha = m.apsidal_angle();
+    assert!((ha.value - apsidal).abs() <= ha.error + 16.0 * f64::EPSILON * apsidal);
+    // The same system under DOP853: the radius after one radial period from a periapsis start.
+    let rp = m.periapsis();
+    let vp = k / rp;
+    let (q0, p0) = (SVector::from([rp, 0.0, 0.0]), SVector::from([0.0, vp, 0.0]));
+    let problem = Problem::new(&sys, 0.0, q0, p0, tr).unwrap();
+    let r = integrate(&problem, &Dop853::new(1e-13, 1e-15).unwrap(), &mut ()).unwrap();
+    assert!(
+        (r.last.q.norm() - rp).abs() < 1e-10,
+        "{}",
+        r.last.q.norm() - rp
+    );
+}

@@ -24,42 +24,91 @@ use super::quadrature::{
     interior_point, Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand,
 };
 use crate::error::{finite, Error, Result};
-use crate::systems::{HarmonicOscillator, Pendulum};
-use num_dual::DualNum;
+use crate::hamiltonian::Hamiltonian;
+use crate::systems::Pendulum;
+use nalgebra::SVector;
+use num_dual::{Dual2, DualNum};
 use std::f64::consts::{PI, TAU};
 
 /// Smallest gap `δ = π − a` accepted by [`ActionAngle::pendulum`].
 pub const MIN_GAP: f64 = 1e-290;
 
-/// A one-degree-of-freedom system `H = ½ a(q) p² + V(q)`, written once for every dual type.
-pub trait OneDegreeOfFreedom {
-    /// Inverse mass `a(q) > 0` (default 1).
-    fn inverse_mass<D: DualNum<f64> + Copy>(&self, _q: D) -> D {
-        D::one()
-    }
-    /// Potential `V(q)`.
-    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D;
-    /// `H(q, p)`.
-    fn energy(&self, q: f64, p: f64) -> f64 {
-        0.5 * self.inverse_mass(q) * p * p + self.potential(q)
-    }
+/// The potential `V(q) = H(0, q, 0)` of a one-degree-of-freedom system in natural form
+/// `H = ½ a(q) p² + V(q)`, read off the Hamiltonian in any dual type.
+#[inline]
+pub fn natural_potential<H: Hamiltonian<1> + ?Sized, D: DualNum<f64> + Copy>(
+    system: &H,
+    q: D,
+) -> D {
+    system.hamiltonian(D::zero(), &SVector::from([q]), &SVector::from([D::zero()]))
 }
 
-impl OneDegreeOfFreedom for Pendulum {
-    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-        // n²(1 − cos q) = 2n² sin²(q/2), without cancellation near q = 0.
-        let s = (q * 0.5).sin();
-        s * s * (2.0 * self.n() * self.n())
-    }
+/// The inverse mass `a(q) = ∂²H/∂p²(0, q, 0)` of a one-degree-of-freedom system in natural
+/// form, by second-order AD in `p` (no cancellation), in any dual type.
+#[inline]
+pub fn natural_inverse_mass<H: Hamiltonian<1> + ?Sized, D: DualNum<f64> + Copy>(
+    system: &H,
+    q: D,
+) -> D {
+    let qd = SVector::from([Dual2::from_re(q)]);
+    let pd = SVector::from([Dual2::new(D::zero(), D::one(), D::zero())]);
+    system.hamiltonian(Dual2::from_re(D::zero()), &qd, &pd).v2
 }
 
-impl OneDegreeOfFreedom for HarmonicOscillator {
-    fn inverse_mass<D: DualNum<f64> + Copy>(&self, _q: D) -> D {
-        D::from(1.0 / self.mass())
+/// Check that a one-degree-of-freedom Hamiltonian has the natural form
+/// `H = ½ a(q) p² + V(q)` with `a > 0` and no explicit time dependence at the sample points
+/// `qs`, with momenta `±p_scale`: action–angle variables by quadrature of
+/// `p = ±√(2(h − V)/a)` need it. The residual `|H − V − ½ap²|` is compared with 64 ulps of the
+/// terms.
+pub fn check_natural_form<H: Hamiltonian<1> + ?Sized>(
+    system: &H,
+    qs: &[f64],
+    p_scale: f64,
+) -> Result<()> {
+    let ps = if p_scale.is_finite() && p_scale > 0.0 {
+        p_scale
+    } else {
+        1.0
+    };
+    for &q in qs {
+        let v = natural_potential(system, q);
+        let a = natural_inverse_mass(system, q);
+        if !(a > 0.0 && a.is_finite() && v.is_finite()) {
+            return Err(Error::invalid(
+                "one-degree-of-freedom system",
+                format!(
+                    "at q = {q:e}: the inverse mass ∂²H/∂p² = {a:e} must be positive and \
+                     V = H(q, 0) = {v:e} finite: action–angle variables by quadrature need an \
+                     autonomous H of the natural form ½a(q)p² + V(q)"
+                ),
+            ));
+        }
+        for p in [ps, -ps] {
+            for t in [0.0, 1.0] {
+                let h = system.hamiltonian(t, &SVector::from([q]), &SVector::from([p]));
+                let model = v + 0.5 * a * p * p;
+                let scale = v.abs() + (0.5 * a * p * p).abs();
+                let bound = 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE);
+                if (h - model).abs() > bound || !h.is_finite() {
+                    return Err(Error::invalid(
+                        "one-degree-of-freedom system",
+                        format!(
+                            "H(t = {t}, q = {q:e}, p = {p:e}) = {h:e} differs from \
+                             ½a(q)p² + V(q) = {model:e}: action–angle variables by quadrature \
+                             need an autonomous H of the natural form ½a(q)p² + V(q)"
+                        ),
+                    ));
+                }
+            }
+        }
     }
-    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-        q * q * (0.5 * self.mass() * self.omega() * self.omega())
-    }
+    Ok(())
+}
+
+/// `H(q, p)` on reals.
+#[inline]
+fn energy<H: Hamiltonian<1> + ?Sized>(system: &H, q: f64, p: f64) -> f64 {
+    system.hamiltonian(0.0, &SVector::from([q]), &SVector::from([p]))
 }
 
 /// The energy radicand `F(q) = p² = 2(h − V(q))/a(q)`.
@@ -69,9 +118,9 @@ pub struct EnergyRadicand<S> {
     h: f64,
 }
 
-impl<S: OneDegreeOfFreedom> Radicand for EnergyRadicand<S> {
+impl<S: Hamiltonian<1>> Radicand for EnergyRadicand<S> {
     fn radicand<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-        (-self.system.potential(q) + self.h) * 2.0 / self.system.inverse_mass(q)
+        (-natural_potential(&self.system, q) + self.h) * 2.0 / natural_inverse_mass(&self.system, q)
     }
 }
 
@@ -108,7 +157,8 @@ impl ReducedRadicand for PendulumReduced {
     }
 }
 
-/// Action–angle variables of a libration of a [`OneDegreeOfFreedom`] system.
+/// Action–angle variables of a libration of a one-degree-of-freedom [`Hamiltonian`] in natural
+/// form `H = ½ a(q) p² + V(q)` (checked: [`check_natural_form`]).
 #[derive(Clone, Debug)]
 pub struct ActionAngle<S, P> {
     system: S,
@@ -118,11 +168,16 @@ pub struct ActionAngle<S, P> {
     half_period: Quadrature,
 }
 
-impl<S: OneDegreeOfFreedom + Clone> ActionAngle<S, Factored<EnergyRadicand<S>>> {
+impl<S: Hamiltonian<1> + Clone> ActionAngle<S, Factored<EnergyRadicand<S>>> {
     /// The libration with energy `h` through `inside` (where `V(inside) < h`); the turning points
     /// are searched in `[lower_bound, upper_bound]`.
     pub fn new(system: S, h: f64, inside: f64, lower_bound: f64, upper_bound: f64) -> Result<Self> {
         let h = finite("energy h", h)?;
+        let inside = finite("interior point", inside)?;
+        let p_inside = (2.0 * (h - natural_potential(&system, inside)).abs()
+            / natural_inverse_mass(&system, inside).abs())
+        .sqrt();
+        check_natural_form(&system, &[inside], p_inside)?;
         let radicand = EnergyRadicand {
             system: system.clone(),
             h,
@@ -140,7 +195,7 @@ impl<S: OneDegreeOfFreedom + Clone> ActionAngle<S, Factored<EnergyRadicand<S>>> 
         upper_bound: f64,
     ) -> Result<Self> {
         let (q, p) = (finite("q", q)?, finite("p", p)?);
-        let h = system.energy(q, p);
+        let h = energy(&system, q, p);
         let radicand = EnergyRadicand {
             system: system.clone(),
             h,
@@ -185,10 +240,16 @@ impl ActionAngle<Pendulum, PendulumReduced> {
     }
 }
 
-impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
+impl<S: Hamiltonian<1>, P: ReducedRadicand> ActionAngle<S, P> {
     /// From a libration interval whose reduced radicand is that of `F = 2(h − V)/a` (e.g. an exact
     /// factorisation).
     pub fn with_libration(system: S, h: f64, libration: Libration<P>) -> Result<Self> {
+        let (q1, q2) = (libration.lower(), libration.upper());
+        let mid = 0.5 * (q1 + q2);
+        let p_mid = (2.0 * (h - natural_potential(&system, mid)).abs()
+            / natural_inverse_mass(&system, mid).abs())
+        .sqrt();
+        check_natural_form(&system, &[q1, mid, q2], p_mid)?;
         let action = libration.sqrt_integral()?.scale(1.0 / PI);
         let half_period = libration.integrate_full(|n| time_density(&system, n))?;
         Ok(Self {
@@ -234,18 +295,15 @@ impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
     /// increasing along the motion). The state must have this energy to within `1e−10` relative.
     pub fn angle(&self, q: f64, p: f64) -> Result<f64> {
         let (q, p) = (finite("q", q)?, finite("p", p)?);
-        let h = self.system.energy(q, p);
+        let h = energy(&self.system, q, p);
         // Relative to the size of the energy's terms (h itself may be 0, and V a difference of
         // terms): |h|, |V|, a p², and |q V′| as a proxy for V's own terms.
-        let dv = self
-            .system
-            .potential(num_dual::Dual64::from_re(q).derivative())
-            .eps;
+        let dv = natural_potential(&self.system, num_dual::Dual64::from_re(q).derivative()).eps;
         let terms = self
             .h
             .abs()
-            .max(self.system.potential(q).abs())
-            .max((self.system.inverse_mass(q) * p * p).abs())
+            .max(natural_potential(&self.system, q).abs())
+            .max((natural_inverse_mass(&self.system, q) * p * p).abs())
             .max((q * dv).abs());
         if (h - self.h).abs() > 1e-10 * terms.max(f64::MIN_POSITIVE) {
             return Err(Error::invalid(
@@ -291,13 +349,13 @@ impl<S: OneDegreeOfFreedom, P: ReducedRadicand> ActionAngle<S, P> {
 }
 
 /// `dt/ds = 1/(a(q) √P)` (from `q̇ = a p`, `dq = √(d₁d₂) ds`, `p = √(d₁d₂P)`).
-fn time_density<S: OneDegreeOfFreedom>(system: &S, n: &Node) -> f64 {
-    1.0 / (system.inverse_mass(n.x) * n.reduced.sqrt())
+fn time_density<S: Hamiltonian<1>>(system: &S, n: &Node) -> f64 {
+    1.0 / (natural_inverse_mass(system, n.x) * n.reduced.sqrt())
 }
 
 /// The period of a libration of energy `h` through `inside`, by quadrature (SPEC M26
 /// `time_of_flight` over a full cycle).
-pub fn libration_period<S: OneDegreeOfFreedom + Clone>(
+pub fn libration_period<S: Hamiltonian<1> + Clone>(
     system: S,
     h: f64,
     inside: f64,
@@ -309,7 +367,7 @@ pub fn libration_period<S: OneDegreeOfFreedom + Clone>(
 
 /// Time of flight `∫_{q₀}^{q₁} dq/q̇` between two points of one leg of the libration of energy `h`
 /// (SPEC M26), either end allowed to be a turning point; negative when `q₁ < q₀`.
-pub fn time_of_flight<S: OneDegreeOfFreedom + Clone>(
+pub fn time_of_flight<S: Hamiltonian<1> + Clone>(
     system: S,
     h: f64,
     q0: f64,

@@ -22,39 +22,12 @@
 
 use super::quadrature::{Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand};
 use crate::error::{finite, positive, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::systems::Central;
+pub use crate::systems::{CentralPotential, InverseDistance};
+use nalgebra::SVector;
 use num_dual::DualNum;
 use std::f64::consts::PI;
-
-/// A central potential `V(r)` per unit mass, written once for every dual type.
-pub trait CentralPotential {
-    /// `V(r)`.
-    fn potential<D: DualNum<f64> + Copy>(&self, r: D) -> D;
-}
-
-/// The Kepler potential `V = −μ/r`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct InverseDistance {
-    mu: f64,
-}
-
-impl InverseDistance {
-    /// `V = −μ/r`, `μ > 0`.
-    pub fn new(mu: f64) -> Result<Self> {
-        Ok(Self {
-            mu: positive("gravitational parameter μ", mu)?,
-        })
-    }
-    /// `μ`.
-    pub fn mu(&self) -> f64 {
-        self.mu
-    }
-}
-
-impl CentralPotential for InverseDistance {
-    fn potential<D: DualNum<f64> + Copy>(&self, r: D) -> D {
-        r.recip() * -self.mu
-    }
-}
 
 /// The radial radicand `F(r) = 2(h − V(r)) − k²/r²`.
 #[derive(Clone, Copy, Debug)]
@@ -108,6 +81,31 @@ impl<V: CentralPotential> RadialMotion<Factored<RadialRadicand<V>>> {
         let floor = r_inside * 1e-12;
         let libration = Libration::from_radicand(radicand, r_inside, floor, r_max)?;
         Self::from_libration(libration, h, k)
+    }
+}
+
+impl<V: CentralPotential + Clone> RadialMotion<Factored<RadialRadicand<V>>> {
+    /// The radial motion through the Cartesian state `(q, p)` of a [`Central`] system: energy
+    /// `h = |p|²/2 + V(|q|)`, angular momentum `k = |q × p|`, the apsides searched in
+    /// `(0, r_max]`. A state at an apsis (`ṙ = 0`) is accepted.
+    pub fn from_state<const N: usize>(
+        system: &Central<V, N>,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        r_max: f64,
+    ) -> Result<Self> {
+        crate::phase::check_phase(0.0, q, p)?;
+        let h = finite("energy h", system.value(0.0, q, p)?)?;
+        let k = nonzero_k(system.angular_momentum(q, p))?;
+        let r = positive("radius |q|", q.norm())?;
+        let r_max = positive("largest radius searched", r_max)?;
+        let radicand = RadialRadicand {
+            potential: system.central_potential().clone(),
+            h,
+            k,
+        };
+        let inside = super::quadrature::interior_point(&radicand, r, r * 1e-12, r_max)?;
+        Self::new(system.central_potential().clone(), h, k, inside, r_max)
     }
 }
 

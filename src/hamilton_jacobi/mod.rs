@@ -16,7 +16,10 @@ pub mod quadrature;
 pub mod reduction;
 pub mod separable;
 
-pub use action_angle::{libration_period, time_of_flight, ActionAngle, OneDegreeOfFreedom};
+pub use action_angle::{
+    check_natural_form, libration_period, natural_inverse_mass, natural_potential, time_of_flight,
+    ActionAngle,
+};
 pub use central::{central_quadrature, CentralPotential, InverseDistance, RadialMotion};
 pub use complete::{completeness, hj_residual, CompleteIntegral, ElementConvention, Elements};
 pub use integrals::{KeplerPolarIntegral, OscillatorIntegral, ProjectileIntegral};

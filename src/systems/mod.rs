@@ -14,6 +14,7 @@ use crate::error::Result;
 use nalgebra::SVector;
 
 mod bead;
+mod central;
 mod harmonic;
 mod kepler;
 pub mod kepler_orbit;
@@ -24,6 +25,7 @@ mod top;
 pub mod top_motion;
 
 pub use bead::BeadOnHoop;
+pub use central::{Central, CentralPotential, InverseDistance};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;

@@ -49,7 +49,9 @@ impl Separable<1> for Pendulum {
     }
     #[inline]
     fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 1>) -> D {
-        (q[0].cos() - 1.0) * -(self.n * self.n)
+        // n²(1 − cos q) written as 2n² sin²(q/2): no cancellation near q = 0.
+        let s = (q[0] * 0.5).sin();
+        s * s * (2.0 * self.n * self.n)
     }
 }
 
