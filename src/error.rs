@@ -14,7 +14,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 #[non_exhaustive]
 pub enum Error {
     /// A number that must be finite is NaN or infinite.
-    #[error("{what} must be finite, got {value}")]
+    #[error("{what} must be finite, got {}", fmt_num(*.value))]
     NonFinite {
         /// Which quantity (e.g. `"q[1]"`, `"eccentricity"`).
         what: String,
@@ -22,7 +22,7 @@ pub enum Error {
         value: f64,
     },
     /// A parameter lies outside the domain where the method or formula is defined.
-    #[error("{what} = {value} is outside the domain {domain}")]
+    #[error("{what} = {} is outside the domain {domain}", fmt_num(*.value))]
     OutOfDomain {
         /// Which quantity.
         what: String,
@@ -87,6 +87,19 @@ impl Error {
             what: what.into(),
             reason: reason.into(),
         }
+    }
+}
+
+/// A number for a message: as written (`{}`) for moderate magnitudes, in exponent notation
+/// (`{:e}`) when `|x| < 10⁻⁴` or `|x| ≥ 10⁶`, so that `1e-300` prints as `1e-300` and not as
+/// three hundred zeros. Both forms are the shortest that read back as `x`; zero, NaN and ±∞ print
+/// as `0`, `NaN` and `±inf`.
+pub fn fmt_num(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e6).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }
 
@@ -161,5 +174,18 @@ mod tests {
             Err(Error::OutOfDomain { .. })
         ));
         assert!(non_negative("e", 0.0).is_ok());
+    }
+
+    #[test]
+    fn messages_print_extreme_magnitudes_in_exponent_notation() {
+        assert_eq!(fmt_num(1e-300), "1e-300");
+        assert_eq!(fmt_num(-1.5e300), "-1.5e300");
+        assert_eq!(fmt_num(5e-324), "5e-324");
+        assert_eq!(fmt_num(0.25), "0.25");
+        assert_eq!(fmt_num(-2.0), "-2");
+        assert_eq!(fmt_num(123456.5), "123456.5");
+        assert_eq!(fmt_num(1e6), "1e6");
+        let e = Error::out_of_domain("x", 1e-300, "[1, 2]");
+        assert_eq!(e.to_string(), "x = 1e-300 is outside the domain [1, 2]");
     }
 }

@@ -123,3 +123,104 @@ fn duplicate_scene_names_and_closed_pipes() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// Write `text` as `<dir>/<file>` and run it; the exit code, stderr and the elapsed time.
+fn run_scene(dir: &std::path::Path, file: &str, text: &str) -> (Option<i32>, String, f64) {
+    let path = dir.join(file);
+    std::fs::write(&path, text).unwrap();
+    let t = std::time::Instant::now();
+    let o = hj(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--quiet",
+        "--min-time-ms",
+        "0",
+    ]);
+    (
+        o.status.code(),
+        String::from_utf8(o.stderr).unwrap(),
+        t.elapsed().as_secs_f64(),
+    )
+}
+
+/// Every refusal is one line on stderr with exit code 2, printed before anything runs.
+fn assert_refused(dir: &std::path::Path, file: &str, text: &str, words: &[&str]) {
+    let (code, err, secs) = run_scene(dir, file, text);
+    assert_eq!(code, Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    for w in words {
+        assert!(err.contains(w), "{err} lacks {w:?}");
+    }
+    // Numbers in exponent notation: no run of zeros from a huge or tiny magnitude.
+    assert!(!err.contains("0000000000"), "{err}");
+    assert!(err.len() < 500, "{} bytes: {err}", err.len());
+    assert!(secs < 10.0, "{secs} s before the refusal");
+    assert!(!dir.join("out").exists(), "a refused scene wrote files");
+}
+
+const KEPLER: &str = "[system]\nname = \"kepler\"\neccentricity = 0.5\n[span]\nperiods = 1\n";
+
+#[test]
+fn hostile_scenes_exit_2_at_once() {
+    let dir = temp_dir("hostile");
+    let dop = format!("{KEPLER}[[method]]\nkind = \"dop853\"\nrtol = [1e-8]\n");
+    // A history of a method the scene does not run.
+    assert_refused(
+        &dir,
+        "portrait.toml",
+        &format!("{dop}[output]\nphase_portrait = [{{ method = \"rk4\", steps = 100 }}]\n"),
+        &["output.phase_portrait[0].method", "rk4", "(dop853)"],
+    );
+    // The reference's phase is lost after 10¹⁵ periods (it reported a 1e31 "error").
+    assert_refused(
+        &dir,
+        "periods.toml",
+        &dop.replace("periods = 1", "periods = 1e15"),
+        &["span.periods", "phase is lost"],
+    );
+    // 10³⁰⁰ time units of DOP853 (it ran 17 s and printed the time with 300 digits).
+    assert_refused(
+        &dir,
+        "time.toml",
+        &dop.replace("periods = 1", "time = 1e300"),
+        &["span.time", "phase is lost"],
+    );
+    // Within the phase bound, beyond DOP853's step limit.
+    assert_refused(
+        &dir,
+        "steps.toml",
+        &dop.replace("periods = 1", "periods = 1e8"),
+        &["span.periods", "DOP853", "step"],
+    );
+    // A 5000-character name (it failed writing the files, exit 1).
+    let long = "n".repeat(5000);
+    assert_refused(
+        &dir,
+        "long.toml",
+        &format!("name = \"{long}\"\n{dop}"),
+        &["name", "too long"],
+    );
+    // No method (it wrote an empty table).
+    assert_refused(&dir, "none.toml", KEPLER, &["method", "runs no method"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn running_a_directory_says_it_is_a_directory() {
+    let dir = temp_dir("directory");
+    let o = hj(&["run", dir.to_str().unwrap(), "--quiet"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(err.contains("is a directory"), "{err}");
+    assert!(!err.contains("no such file"), "{err}");
+    let toml_dir = dir.join("scenes.toml");
+    std::fs::create_dir_all(&toml_dir).unwrap();
+    let o = hj(&["run", toml_dir.to_str().unwrap(), "--quiet"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8(o.stderr)
+        .unwrap()
+        .contains("is a directory"));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -217,6 +217,9 @@ kind = "hamilton-jacobi"
 [[method]]
 kind = "kahan-li8"
 steps = [400]
+[[method]]
+kind = "rk4"
+steps = [400]
 [output]
 work_precision = true
 phase_portrait = [{ method = "exact", steps = 1 }]
@@ -473,7 +476,8 @@ fn readme_scene_example_is_valid() {
 #[test]
 fn inconsistent_or_meaningless_inputs() {
     let kepler_qp =
-        "[system]\nname = \"kepler\"\nq = [1.0, 0.0]\np = [0.0, 1.1]\n[span]\ntime = 3\n";
+        "[system]\nname = \"kepler\"\nq = [1.0, 0.0]\np = [0.0, 1.1]\n[span]\ntime = 3\n\
+                     [[method]]\nkind = \"exact\"\nsteps = [10]\n";
     scene::parse("bad.toml", kepler_qp, &Catalogue::builtin()).unwrap();
     let e = error_of(&kepler_qp.replace("p = [0.0, 1.1]", "p = [0.0, 1.1]\nsemi_major_axis = 2.0"));
     assert_names(&e, "system.semi_major_axis", &["eccentricity"]);
@@ -481,7 +485,8 @@ fn inconsistent_or_meaningless_inputs() {
     assert_names(&e, "system.p", &["angular momentum"]);
     let e = error_of(&kepler_qp.replace("p = [0.0, 1.1]", "p = [0.0, 2.0]"));
     assert_names(&e, "system.q", &["bound"]);
-    let pendulum = "[system]\nname = \"pendulum\"\ngap = 1e-6\n[span]\nperiods = 1\n";
+    let pendulum = "[system]\nname = \"pendulum\"\ngap = 1e-6\n[span]\nperiods = 1\n\
+                    [[method]]\nkind = \"exact\"\nsteps = [10]\n";
     scene::parse("bad.toml", pendulum, &Catalogue::builtin()).unwrap();
     let e = error_of(&pendulum.replace("gap = 1e-6", "gap = 1e-17"));
     assert_names(&e, "system.gap", &["double nearest π"]);
@@ -527,6 +532,8 @@ name = "kepler"
 eccentricity = 0.5
 [span]
 periods = 1.3
+[[method]]
+kind = "hamilton-jacobi"
 [output]
 elements = [{ method = "hamilton-jacobi" }]
 samples = 20
@@ -571,4 +578,149 @@ fn every_builtin_scene_runs_and_writes_its_planned_files() {
         }
     }
     std::fs::remove_dir_all(&out).ok();
+}
+
+/// A history output names a method the scene runs; the refusal lists the methods it does run.
+#[test]
+fn history_of_a_method_the_scene_does_not_run_is_refused() {
+    let e = error_of(&KEPLER.replace(
+        "[output]",
+        "[output]\nphase_portrait = [{ method = \"rk4\", steps = 100 }]",
+    ));
+    assert_names(
+        &e,
+        "output.phase_portrait[0].method",
+        &["`rk4`", "not one of the methods", "(kahan-li8)"],
+    );
+    let e = error_of(&KEPLER.replace(
+        "[output]",
+        "[output]\nenergy_error = [{ method = \"kahan-li8\", steps = 50 }, { method = \"exact\", steps = 5 }]",
+    ));
+    assert_names(
+        &e,
+        "output.energy_error[1].method",
+        &["`exact`", "kahan-li8"],
+    );
+    // A method the scene runs may be drawn at a knob value of its own.
+    scene::parse(
+        "ok.toml",
+        &KEPLER.replace(
+            "[output]",
+            "[output]\nphase_portrait = [{ method = \"kahan-li8\", steps = 50 }]",
+        ),
+        &Catalogue::builtin(),
+    )
+    .unwrap();
+}
+
+/// A scene that runs no method (it would write an empty table) is refused.
+#[test]
+fn scene_without_a_method_is_refused() {
+    let e = error_of(&KEPLER.replace("[[method]]\nkind = \"kahan-li8\"\nsteps = [100, 200]\n", ""));
+    assert_names(&e, "method", &["runs no method", "[[method]]"]);
+    let e = error_of("[system]\nname = \"pendulum\"\namplitude = 1.0\n[span]\nperiods = 1\n");
+    assert_names(&e, "method", &["runs no method"]);
+}
+
+/// After N periods the phase 2πN is known only to ±2πN·ε: beyond 10⁻⁶ (N ≈ 7.2·10⁸) the
+/// reference has lost the phase the table's errors are measured against, and the span is refused
+/// with the bound (10⁸ periods: 1.4·10⁻⁷, kept; 10⁹: 1.4·10⁻⁶, refused).
+#[test]
+fn span_beyond_the_phase_resolution_is_refused() {
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = 1e15"));
+    assert_names(&e, "span.periods", &["phase is lost", "1e15", "at most 7"]);
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = 1e9"));
+    assert_names(&e, "span.periods", &["phase is lost"]);
+    let ok = KEPLER.replace("periods = 2", "periods = 1e8");
+    scene::parse("ok.toml", &ok, &Catalogue::builtin()).unwrap();
+    let e = error_of(&KEPLER.replace("periods = 2", "time = 1e300"));
+    assert_names(&e, "span.time", &["phase is lost", "e299 periods"]);
+    assert!(e.to_string().len() < 400, "{e}");
+}
+
+/// DOP853 takes at least ½·rtol^(−1/8) steps per period: a span that needs more than its
+/// 5·10⁷-step limit is refused before anything runs (10⁷ periods at rtol 10⁻¹²: ≥ 1.6·10⁸ steps),
+/// for a `[[method]]`, a history and an integrated reference (rtol 10⁻¹⁵: ≥ 37 steps per period).
+#[test]
+fn span_beyond_the_dop853_step_limit_is_refused() {
+    let dop = KEPLER.replace(
+        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"dop853\"\nrtol = [1e-6, 1e-12]",
+    );
+    let e = error_of(&dop.replace("periods = 2", "periods = 1e7"));
+    assert_names(
+        &e,
+        "span.periods",
+        &[
+            "DOP853",
+            "method[0].rtol[1]",
+            "1e-12",
+            "5e7",
+            "shorten the span",
+        ],
+    );
+    // 10⁶ periods at 10⁻¹²: at least 1.6·10⁷ steps, within the limit.
+    scene::parse(
+        "ok.toml",
+        &dop.replace("periods = 2", "periods = 1e6"),
+        &Catalogue::builtin(),
+    )
+    .unwrap();
+    let e = error_of(
+        &dop.replace("rtol = [1e-6, 1e-12]", "rtol = [1e-6]")
+            .replace("periods = 2", "periods = 1e7")
+            .replace(
+                "[output]",
+                "[output]\nphase_portrait = [{ method = \"dop853\", rtol = 1e-13 }]",
+            ),
+    );
+    assert_names(&e, "span.periods", &["output.phase_portrait[0]"]);
+    let j2 = "[system]\nname = \"j2-orbit\"\n[span]\nperiods = 1e7\n[[method]]\nkind = \"kahan-li8\"\nsteps = [100]\n";
+    let e = error_of(j2);
+    assert_names(&e, "span.periods", &["the DOP853 reference", "1e-15"]);
+    scene::parse("ok.toml", &j2.replace("1e7", "1e5"), &Catalogue::builtin()).unwrap();
+}
+
+/// A scene name long enough to break the file names it prefixes is refused, without echoing it.
+#[test]
+fn overlong_scene_name_is_refused() {
+    let long = "a".repeat(5000);
+    let e = error_of(&KEPLER.replace("name = \"k\"", &format!("name = \"{long}\"")));
+    assert_names(&e, "name", &["5000 characters", "at most 200"]);
+    assert!(e.to_string().len() < 300, "{e}");
+    let ok = "b".repeat(hamilton_jacobi::scene::runner::MAX_NAME_LEN);
+    scene::parse(
+        "ok.toml",
+        &KEPLER.replace("name = \"k\"", &format!("name = \"{ok}\"")),
+        &Catalogue::builtin(),
+    )
+    .unwrap();
+}
+
+/// Messages print extreme magnitudes in exponent notation: an error built from 10⁻³⁰⁰ or 10³⁰⁰
+/// stays short, in the library's errors and in a scene's.
+#[test]
+fn messages_print_extreme_magnitudes_in_exponent_notation() {
+    use hamilton_jacobi::Error;
+    let e = Error::out_of_domain("x", 1e-300, "[1, 2]").to_string();
+    assert_eq!(e, "x = 1e-300 is outside the domain [1, 2]");
+    let e = Error::out_of_domain("x", -1e300, "[1, 2]").to_string();
+    assert_eq!(e, "x = -1e300 is outside the domain [1, 2]");
+    let e = hamilton_jacobi::error::positive("m", -1e-300)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("-1e-300") && e.len() < 60, "{e}");
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = 1e300"));
+    assert_names(&e, "system.eccentricity", &["found 1e300"]);
+    assert!(e.to_string().len() < 120, "{e}");
+    let e = error_of(&KEPLER.replace("periods = 2", "periods = -1e-300"));
+    assert_names(&e, "span.periods", &["found -1e-300"]);
+    let e = error_of(&KEPLER.replace(
+        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"dop853\"\nrtol = [1e300]",
+    ));
+    assert_names(&e, "method[0].rtol[0]", &["found 1e300"]);
+    // Moderate magnitudes print as written.
+    let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = 1.5"));
+    assert_names(&e, "system.eccentricity", &["found 1.5"]);
 }

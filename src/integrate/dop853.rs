@@ -660,7 +660,8 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
                 return Err(Error::NotConverged {
                     what: format!(
                         "DOP853: max_steps = {} attempted steps reached before t₁ (at t = {})",
-                        self.max_steps, state.t
+                        self.max_steps,
+                        crate::error::fmt_num(state.t)
                     ),
                     iterations: attempts,
                     residual: last_err,

@@ -4,7 +4,7 @@
 //! closures.
 
 use super::spec::MethodKind;
-use crate::error::{Error, Result};
+use crate::error::{fmt_num, Error, Result};
 use crate::integrate::{
     integrate, Dop853, ExactStep, Fixed, Gauss, ImplicitMidpoint, Method, Observer,
     PerturbedKepler, Problem, Report, Rk4, Splitting, State, StepView, WisdomHolman, Work,
@@ -94,6 +94,12 @@ pub trait Case {
     fn prepare(&mut self, t1: f64) -> Result<()>;
     /// A note on the reference (how it was obtained and how accurate it is).
     fn reference_note(&self) -> String;
+    /// The tolerance of the DOP853 integration that gives the reference, if it is integrated
+    /// (`None` for a closed-form or otherwise computed reference). Its cost grows with the span
+    /// like a DOP853 run's, and the scene check bounds it the same way.
+    fn integrated_reference_rtol(&self) -> Option<f64> {
+        None
+    }
     /// One run of `kind` at `knob` to the prepared end time.
     ///
     /// # Errors
@@ -267,10 +273,21 @@ fn steps_of(knob: f64) -> Result<usize> {
     } else {
         Err(Error::invalid(
             "steps",
-            format!("expected a whole number of steps ≥ 1, got {knob}"),
+            format!(
+                "expected a whole number of steps ≥ 1, got {}",
+                fmt_num(knob)
+            ),
         ))
     }
 }
+
+/// The most steps one DOP853 run of a scene may attempt (its runs and an integrated reference):
+/// about 17 s of a Kepler orbit's steps on one core. The scene check refuses a span whose runs
+/// would need more.
+pub const ADAPTIVE_MAX_STEPS: usize = 50_000_000;
+
+/// Tolerance of the DOP853 reference of a case without an exact one.
+const REFERENCE_RTOL: f64 = 1e-15;
 
 /// Runs one method of a capability: `None` when `kind` is not one of its methods.
 pub type StepperRun<H, const N: usize> = fn(
@@ -344,7 +361,7 @@ fn run_general<H: Hamiltonian<N>, const N: usize>(
             .and_then(|n| Fixed::new(Gauss::<4>::new()?, n))
             .and_then(|m| drive(problem, &m, sampler)),
         MethodKind::Dop853 => Dop853::new(knob, knob)
-            .and_then(|m| m.with_max_steps(50_000_000))
+            .and_then(|m| m.with_max_steps(ADAPTIVE_MAX_STEPS))
             .and_then(|m| drive(problem, &m, sampler)),
         _ => return None,
     })
@@ -649,8 +666,9 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
             }
             None => {
                 let problem = self.problem(t1)?;
-                let tight = Dop853::new(1e-15, 1e-17)?.with_max_steps(usize::MAX)?;
-                let check = Dop853::new(1e-14, 1e-16)?.with_max_steps(usize::MAX)?;
+                let tight =
+                    Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
+                let check = Dop853::new(1e-14, 1e-16)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
                 let q = integrate(&problem, &tight, &mut ())?.last.q;
                 let q2 = integrate(&problem, &check, &mut ())?.last.q;
                 (
@@ -664,6 +682,10 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
         };
         self.prepared = Some((t1, q, note));
         Ok(())
+    }
+
+    fn integrated_reference_rtol(&self) -> Option<f64> {
+        self.reference.is_none().then_some(REFERENCE_RTOL)
     }
 
     fn reference_note(&self) -> String {

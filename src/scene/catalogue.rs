@@ -16,7 +16,7 @@ use super::case::{
     HamiltonianCase, Portrait, Table,
 };
 use super::spec::{MethodKind, SceneError};
-use crate::error::{Error, Result};
+use crate::error::{fmt_num, Error, Result};
 use crate::hamilton_jacobi::action_angle::ActionAngle;
 use crate::hamilton_jacobi::central::RadialMotion;
 use crate::integrate::{integrate, Dop853, Problem};
@@ -73,7 +73,10 @@ impl<'a> Params<'a> {
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(self.error(key, format!("expected a finite number, found {x}")))
+            Err(self.error(
+                key,
+                format!("expected a finite number, found {}", fmt_num(x)),
+            ))
         }
     }
 
@@ -103,7 +106,10 @@ impl<'a> Params<'a> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.error(key, format!("expected a positive number, found {x}")))
+            Err(self.error(
+                key,
+                format!("expected a positive number, found {}", fmt_num(x)),
+            ))
         }
     }
 
@@ -316,7 +322,7 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             if !(0.0..1.0).contains(&e) {
                 return Err(s.error(
                     "eccentricity",
-                    format!("expected an eccentricity in [0, 1), found {e}"),
+                    format!("expected an eccentricity in [0, 1), found {}", fmt_num(e)),
                 ));
             }
             let q0 = SVector::from([a * (1.0 - e), 0.0]);
@@ -345,10 +351,19 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let period = TAU * (a_state.powi(3) / mu).sqrt();
     let sys = Kepler2::new(mu).map_err(|e| s.library(e))?;
     let description = match from_elements {
-        Some(e) => format!("planar Kepler problem, μ = {mu}, a = {a}, e = {e}, from periapsis"),
+        Some(e) => format!(
+            "planar Kepler problem, μ = {}, a = {}, e = {}, from periapsis",
+            fmt_num(mu),
+            fmt_num(a),
+            fmt_num(e)
+        ),
         None => format!(
-            "planar Kepler problem, μ = {mu}, q₀ = ({}, {}), p₀ = ({}, {})",
-            q0[0], q0[1], p0[0], p0[1]
+            "planar Kepler problem, μ = {}, q₀ = ({}, {}), p₀ = ({}, {})",
+            fmt_num(mu),
+            fmt_num(q0[0]),
+            fmt_num(q0[1]),
+            fmt_num(p0[0]),
+            fmt_num(p0[1])
         ),
     };
     let reference = Box::new(move |t: f64| {
@@ -427,7 +442,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         if !(a > 0.0 && a < PI) {
             return Err(s.error(
                 "amplitude",
-                format!("expected an amplitude in (0, π), found {a}"),
+                format!("expected an amplitude in (0, π), found {}", fmt_num(a)),
             ));
         }
         (a, 0.0, separatrix_gap(a), a)
@@ -435,7 +450,10 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         if !(d > 0.0 && d < PI) {
             return Err(s.error(
                 "gap",
-                format!("expected a gap π − amplitude in (0, π), found {d}"),
+                format!(
+                    "expected a gap π − amplitude in (0, π), found {}",
+                    fmt_num(d)
+                ),
             ));
         }
         let q0 = PI - d;
@@ -443,7 +461,8 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             return Err(s.error(
                 "gap",
                 format!(
-                    "a gap of {d} does not change the double nearest π: the smallest                      representable gap is about 1.2e−16 + 4.4e−16"
+                    "a gap of {} does not change the double nearest π: the smallest                      representable gap is about 1.2e−16 + 4.4e−16",
+                    fmt_num(d)
                 ),
             ));
         }
@@ -452,7 +471,10 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         let (q, p) = explicit.unwrap_or_default();
         let (q, p) = (q[0], p[0]);
         if q.abs() > PI {
-            return Err(s.error("q", format!("expected an angle in [−π, π], found {q}")));
+            return Err(s.error(
+                "q",
+                format!("expected an angle in [−π, π], found {}", fmt_num(q)),
+            ));
         }
         // sin(a/2)² = sin(q/2)² + p²/(4n²), without the cancellation of cos a = cos q − p²/2n².
         let sin_half = ((q / 2.0).sin().powi(2) + p * p / (4.0 * n * n)).sqrt();
@@ -480,9 +502,19 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let period = period_from_gap(n, delta).map_err(|e| s.library(e))?;
     let sys = Pendulum::new(n).map_err(|e| s.library(e))?;
     let description = if p0 == 0.0 {
-        format!("pendulum, n = {n}, released from rest at amplitude {amp} (gap to the separatrix {delta:.3e})")
+        format!(
+            "pendulum, n = {}, released from rest at amplitude {} (gap to the separatrix {delta:.3e})",
+            fmt_num(n),
+            fmt_num(amp)
+        )
     } else {
-        format!("pendulum, n = {n}, q₀ = {q0}, p₀ = {p0} (amplitude {amp})")
+        format!(
+            "pendulum, n = {}, q₀ = {}, p₀ = {} (amplitude {})",
+            fmt_num(n),
+            fmt_num(q0),
+            fmt_num(p0),
+            fmt_num(amp)
+        )
     };
     let reference = Box::new(move |t: f64| {
         let (q, p) = exact_state(n, q0, p0, t)?;
@@ -497,7 +529,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         } else {
             Err(Error::invalid(
                 "order",
-                format!("expected an order in 1..=64, got {knob}"),
+                format!("expected an order in 1..=64, got {}", fmt_num(knob)),
             ))
         }
     };
@@ -566,13 +598,13 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     if !(0.0..1.0).contains(&e) {
         return Err(s.error(
             "e",
-            format!("expected an eccentricity in [0, 1), found {e}"),
+            format!("expected an eccentricity in [0, 1), found {}", fmt_num(e)),
         ));
     }
     if !(0.0..=PI).contains(&inc) {
         return Err(s.error(
             "i",
-            format!("expected an inclination in [0, π], found {inc}"),
+            format!("expected an inclination in [0, π], found {}", fmt_num(inc)),
         ));
     }
     let el = Classical::new(a, e, inc, raan, argp, m0).map_err(|x| s.library(x))?;
@@ -581,7 +613,13 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let (q0, p0) = el.to_state(mu).map_err(|x| s.library(x))?;
     let period = TAU * (a.powi(3) / mu).sqrt();
     let description = format!(
-        "orbit about an oblate body, μ = {mu}, J₂ = {j2v}, R = {radius}; a = {a}, e = {e}, i = {inc}"
+        "orbit about an oblate body, μ = {}, J₂ = {}, R = {}; a = {}, e = {}, i = {}",
+        fmt_num(mu),
+        fmt_num(j2v),
+        fmt_num(radius),
+        fmt_num(a),
+        fmt_num(e),
+        fmt_num(inc)
     );
     let case = HamiltonianCase::new(sys, q0, p0, description)
         .map_err(|x| s.library(x))?
@@ -659,7 +697,10 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let phi_dot = s.or("phi_dot", 0.0)?;
     let omega_z = s.or("omega_z", 5.0)?;
     if !(theta > 0.0 && theta < PI) {
-        return Err(s.error("theta", format!("expected a tilt in (0, π), found {theta}")));
+        return Err(s.error(
+            "theta",
+            format!("expected a tilt in (0, π), found {}", fmt_num(theta)),
+        ));
     }
     let top = HeavyTop::new(i1, i3, mgl).map_err(|x| s.library(x))?;
     let q0 = SVector::from([0.0, theta, 0.0]);
@@ -669,7 +710,14 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     let nutation = Nutation::from_state(&top, &q0, &p0).map_err(|x| s.library(x))?;
     let period = nutation.period().map_err(|x| s.library(x))?.value;
     let description = format!(
-        "heavy symmetric top, I = {i1}, J = {i3}, mgℓ = {mgl}; θ₀ = {theta}, θ̇₀ = {theta_dot}, φ̇₀ = {phi_dot}, ω_z = {omega_z}"
+        "heavy symmetric top, I = {}, J = {}, mgℓ = {}; θ₀ = {}, θ̇₀ = {}, φ̇₀ = {}, ω_z = {}",
+        fmt_num(i1),
+        fmt_num(i3),
+        fmt_num(mgl),
+        fmt_num(theta),
+        fmt_num(theta_dot),
+        fmt_num(phi_dot),
+        fmt_num(omega_z)
     );
     let hj = move |t: f64| -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
         let top = HeavyTop::new(i1, i3, mgl)?;

@@ -16,7 +16,7 @@
 //! periods = 100                           #   multiples of the system's period
 //! # time = 628.3                          #   or a length of time
 //!
-//! [[method]]                              # any number of these
+//! [[method]]                              # at least one of these
 //! kind = "kahan-li8"                      # `hj list` shows every kind and its knob
 //! steps = [250, 500, 1000, 2000]
 //!
@@ -28,10 +28,23 @@
 //! kind = "normal-form"
 //! orders = [1, 2, 4, 8]
 //!
+//! [[method]]
+//! kind = "exact"
+//! steps = [100]
+//!
+//! [[method]]
+//! kind = "verlet"
+//! steps = [1000, 4000]
+//!
+//! [[method]]
+//! kind = "rk4"
+//! steps = [1000, 4000]
+//!
 //! [output]
 //! table = true                            # tables/<name>.md and .csv (default true)
 //! targets = [1e-6, 1e-9]                  # "time to reach" columns of the table
 //! work_precision = true                   # figures/<name>-work-precision.svg
+//! # Histories name methods the scene runs (a `[[method]]` kind), each with its own knob value.
 //! phase_portrait = [{ method = "exact", steps = 4000 }]       # figures/<name>-phase-portrait.svg
 //! energy_error = [{ method = "verlet", steps = 4000 }]        # figures/<name>-energy-error.svg
 //! invariants = [{ method = "rk4", steps = 4000 }]             # figures/<name>-invariants.svg
@@ -43,7 +56,9 @@
 //! Every mistake is reported on one line as `file: key: what was expected`
 //! ([`SceneError`]): TOML syntax, missing keys, wrong types, unknown keys, systems or method
 //! kinds, non-finite numbers, a method that does not apply to the system, a knob of the wrong
-//! kind, a negative span.
+//! kind, a negative span, a span so long that the reference's phase is lost (beyond about
+//! 7·10⁸ periods) or a DOP853 run would exceed its step limit, a history of a method the scene
+//! does not run, a scene that runs no method, a name unusable as a file name, a directory.
 
 pub mod case;
 pub mod catalogue;
@@ -117,9 +132,17 @@ pub fn builtin_text(name: &str) -> Option<&'static str> {
 /// an existing file, is read from disk; anything else must be a built-in name.
 ///
 /// # Errors
-/// Unreadable file, unknown built-in name, or any [`SceneError`] of the scene.
+/// A directory, an unreadable file, an unknown built-in name, or any [`SceneError`] of the
+/// scene.
 pub fn load(arg: &str, catalogue: &Catalogue) -> Result<Scene, SceneError> {
     let path = std::path::Path::new(arg);
+    if path.is_dir() {
+        return Err(SceneError::new(
+            arg,
+            "",
+            "is a directory, not a scene file: name the `.toml` files in it (e.g. `hj run DIR/*.toml`)",
+        ));
+    }
     if arg.ends_with(".toml") || path.is_file() {
         let text = std::fs::read_to_string(path)
             .map_err(|e| SceneError::new(arg, "", format!("cannot read the scene file: {e}")))?;

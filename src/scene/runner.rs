@@ -1,9 +1,10 @@
 //! Runs a scene: checks it against its system, sweeps the methods it names, and writes only the
 //! outputs it asks for (tables under `<out>/tables/`, figures under `<out>/figures/`).
 
-use super::case::{Case, History};
+use super::case::{Case, History, ADAPTIVE_MAX_STEPS};
 use super::catalogue::Catalogue;
-use super::spec::{Knob, MethodKind, MethodSpec, RunSpec, SceneError, SceneFile};
+use super::spec::{Knob, MethodKind, MethodSpec, OutputSpec, RunSpec, SceneError, SceneFile};
+use crate::error::fmt_num;
 use crate::plot::{Curve, Figure, Style};
 use crate::systems::Invariant;
 use crate::workprecision::{sweep, Comparison, Series, Timing};
@@ -86,14 +87,16 @@ fn knob_values(file: &str, i: usize, m: &MethodSpec) -> Result<Vec<f64>, SceneEr
 
 fn check_knob(knob: Knob, v: f64) -> Result<(), String> {
     match knob {
-        Knob::Steps if !(1.0..=1e9).contains(&v) => {
-            Err(format!("expected a step count in 1..=10⁹, found {v}"))
-        }
-        Knob::Rtol if !(v.is_finite() && v > 0.0 && v < 1.0) => {
-            Err(format!("expected a tolerance in (0, 1), found {v}"))
-        }
+        Knob::Steps if !(1.0..=1e9).contains(&v) => Err(format!(
+            "expected a step count in 1..=10⁹, found {}",
+            fmt_num(v)
+        )),
+        Knob::Rtol if !(v.is_finite() && v > 0.0 && v < 1.0) => Err(format!(
+            "expected a tolerance in (0, 1), found {}",
+            fmt_num(v)
+        )),
         Knob::Orders if !(1.0..=64.0).contains(&v) => {
-            Err(format!("expected an order in 1..=64, found {v}"))
+            Err(format!("expected an order in 1..=64, found {}", fmt_num(v)))
         }
         _ => Ok(()),
     }
@@ -153,9 +156,230 @@ fn short_label(kind: MethodKind, knob: f64) -> String {
     }
 }
 
+/// The longest scene name: it prefixes file names of up to 19 more bytes
+/// (`-phase-portrait.svg`), and file systems allow 255 bytes in one name.
+pub const MAX_NAME_LEN: usize = 200;
+
+/// The phase resolution a scene's reference must keep: after `N` periods the phase `2πN` is
+/// known in double precision only to `±2πN·ε` (the rounding of the end time alone moves the
+/// state along the orbit by that fraction of its size), so errors below it cannot be told from
+/// the reference's own rounding. The tables resolve errors down to their targets
+/// (`10⁻⁶ … 10⁻¹²` by default); a scene whose reference is uncertain by more than `10⁻⁶` of the
+/// orbit (about `7·10⁸` periods) is refused.
+const PHASE_RESOLUTION: f64 = 1e-6;
+
+/// A lower bound on the steps DOP853 attempts over `periods` periods at tolerance `rtol`:
+/// `½ · rtol^(−1/8)` per period. The step of an order-8 method grows like `rtol^(1/8)`
+/// (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4); on the catalogue's smoothest motions (the
+/// circular Kepler orbit, the pendulum at amplitude 0.1, the J2 orbit) DOP853 takes
+/// `0.8 … 1.4 · rtol^(−1/8)` steps per period for `rtol` from 0.9 down to `10⁻¹²`.
+fn dop853_steps_at_least(periods: f64, rtol: f64) -> f64 {
+    0.5 * periods * rtol.powf(-0.125)
+}
+
+/// The scene's name: letters, digits, `-`, `_`, `.`, at most [`MAX_NAME_LEN`] of them.
+fn check_name(file: &str, name: &str) -> Result<(), SceneError> {
+    let n = name.chars().count();
+    if n > MAX_NAME_LEN {
+        return Err(SceneError::new(
+            file,
+            "name",
+            format!(
+                "a name of {n} characters is too long: at most {MAX_NAME_LEN} (it names the \
+                 output files, and file systems allow 255 bytes in a file name)"
+            ),
+        ));
+    }
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+    {
+        return Err(SceneError::new(
+            file,
+            "name",
+            format!(
+                "expected letters, digits, `-`, `_` or `.` (it names the output files), found \
+                 {name:?}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The end time of a scene with a span, and the key that gave it.
+fn end_time(
+    file: &str,
+    spec: &SceneFile,
+    case: &dyn Case,
+) -> Result<(f64, &'static str), SceneError> {
+    let Some(span) = &spec.span else {
+        return Err(SceneError::new(
+            file,
+            "span",
+            "missing: give `[span]` with `periods` or `time`",
+        ));
+    };
+    let (key, v) = match (span.periods, span.time) {
+        (Some(p), None) => ("span.periods", p),
+        (None, Some(t)) => ("span.time", t),
+        _ => {
+            return Err(SceneError::new(
+                file,
+                "span",
+                "expected exactly one of `periods` and `time`",
+            ))
+        }
+    };
+    if !(v.is_finite() && v > 0.0) {
+        return Err(SceneError::new(
+            file,
+            key,
+            format!("expected a positive, finite number, found {}", fmt_num(v)),
+        ));
+    }
+    let t1 = if span.periods.is_some() {
+        let Some(period) = case.period() else {
+            return Err(SceneError::new(
+                file,
+                key,
+                "this system has no period; give `span.time`",
+            ));
+        };
+        v * period
+    } else {
+        v
+    };
+    if !t1.is_finite() {
+        return Err(SceneError::new(
+            file,
+            key,
+            format!("the span {} overflows the time axis", fmt_num(v)),
+        ));
+    }
+    Ok((t1, key))
+}
+
+/// Refuse a span whose reference has lost its phase, or whose DOP853 runs (or integrated
+/// reference) would exceed their step limit: see [`PHASE_RESOLUTION`] and
+/// [`dop853_steps_at_least`].
+fn check_span_work(
+    file: &str,
+    key: &str,
+    periods: f64,
+    spec: &SceneFile,
+    case: &dyn Case,
+) -> Result<(), SceneError> {
+    let dphi = std::f64::consts::TAU * periods * f64::EPSILON;
+    if dphi > PHASE_RESOLUTION {
+        return Err(SceneError::new(
+            file,
+            key,
+            format!(
+                "the phase is lost: after {} periods the phase 2πN is known in double precision \
+                 only to ±2πN·ε = {} rad, more than the {} the tables resolve; give at most {} \
+                 periods",
+                fmt_num(periods),
+                fmt_num(dphi),
+                fmt_num(PHASE_RESOLUTION),
+                fmt_num((PHASE_RESOLUTION / (std::f64::consts::TAU * f64::EPSILON)).floor())
+            ),
+        ));
+    }
+    let limit = ADAPTIVE_MAX_STEPS as f64;
+    let mut adaptive: Vec<(String, f64)> = Vec::new();
+    if let Some(rtol) = case.integrated_reference_rtol() {
+        adaptive.push(("the DOP853 reference".to_string(), rtol));
+    }
+    for (i, m) in spec.methods.iter().enumerate() {
+        if m.kind == MethodKind::Dop853 {
+            for (j, &r) in m.rtol.iter().flatten().enumerate() {
+                adaptive.push((format!("method[{i}].rtol[{j}]"), r));
+            }
+        }
+    }
+    let o = &spec.output;
+    for (list, name) in history_outputs(o) {
+        for (j, r) in list.iter().enumerate() {
+            if let (MethodKind::Dop853, Some(rtol)) = (r.method, r.rtol) {
+                adaptive.push((format!("output.{name}[{j}]"), rtol));
+            }
+        }
+    }
+    for (what, rtol) in adaptive {
+        let steps = dop853_steps_at_least(periods, rtol);
+        if steps > limit {
+            return Err(SceneError::new(
+                file,
+                key,
+                format!(
+                    "too long for DOP853: {what} at rtol {} would take at least {} steps over {} \
+                     periods (½·rtol^(−1/8) per period), more than the {} a run may take; \
+                     shorten the span or loosen the tolerance",
+                    fmt_num(rtol),
+                    fmt_num(steps.round()),
+                    fmt_num(periods),
+                    fmt_num(limit)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The history outputs of a scene with their keys.
+fn history_outputs(o: &OutputSpec) -> [(&[RunSpec], &'static str); 4] {
+    [
+        (&o.phase_portrait, "phase_portrait"),
+        (&o.energy_error, "energy_error"),
+        (&o.invariants, "invariants"),
+        (&o.elements, "elements"),
+    ]
+}
+
+/// What a rendered output holds, written by [`Scene::write`].
+enum Content {
+    /// A text file (Markdown, CSV).
+    Text(String),
+    /// A figure, written as SVG.
+    Figure(Figure),
+    /// The work-precision diagram of a sweep, written as SVG.
+    WorkPrecision(Comparison),
+}
+
+/// One file a scene's output renders: where it goes (relative to the output directory), the
+/// scene key that asked for it (named in errors) and its content.
+struct Artifact {
+    rel: String,
+    key: &'static str,
+    content: Content,
+}
+
+/// The sweep of every `[[method]]` over its knob: the comparison and the runs that failed.
+struct Sweep {
+    comparison: Comparison,
+    failures: Vec<String>,
+}
+
+impl Sweep {
+    /// The table's Markdown: errors and costs, "time to reach" columns, failed runs.
+    fn markdown(&self, targets: &[f64]) -> String {
+        let mut md = self.comparison.to_markdown(targets);
+        if !self.failures.is_empty() {
+            md += "\nFailed runs (not in the table or the figure):\n\n";
+            for f in &self.failures {
+                md += &format!("- {f}\n");
+            }
+        }
+        md
+    }
+}
+
 impl Scene {
-    /// Check a parsed scene against the catalogue: the system and its keys, the span, every
-    /// method (applies to the system, has the right knob with valid values) and every output.
+    /// Check a parsed scene against the catalogue: the system and its keys, the name, the span
+    /// (finite, with a reference that keeps its phase and runs within their step limits), every
+    /// method (applies to the system, has the right knob with valid values) and every output
+    /// (histories name methods the scene runs).
     ///
     /// # Errors
     /// A [`SceneError`] naming the key.
@@ -167,20 +391,9 @@ impl Scene {
             .unwrap_or("scene")
             .to_string();
         let name = spec.name.clone().unwrap_or(stem);
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-        {
-            return Err(SceneError::new(
-                file,
-                "name",
-                format!("expected letters, digits, `-`, `_` or `.` (it names the output files), found {name:?}"),
-            ));
-        }
+        check_name(file, &name)?;
         let title = spec.title.clone().unwrap_or_else(|| case.describe());
-        let table_only = case.has_table();
-        let t1 = if table_only {
+        let t1 = if case.has_table() {
             if let Some(_m) = spec.methods.first() {
                 return Err(SceneError::new(
                     file,
@@ -197,51 +410,7 @@ impl Scene {
             }
             None
         } else {
-            let Some(span) = &spec.span else {
-                return Err(SceneError::new(
-                    file,
-                    "span",
-                    "missing: give `[span]` with `periods` or `time`",
-                ));
-            };
-            let (key, v) = match (span.periods, span.time) {
-                (Some(p), None) => ("span.periods", p),
-                (None, Some(t)) => ("span.time", t),
-                _ => {
-                    return Err(SceneError::new(
-                        file,
-                        "span",
-                        "expected exactly one of `periods` and `time`",
-                    ))
-                }
-            };
-            if !(v.is_finite() && v > 0.0) {
-                return Err(SceneError::new(
-                    file,
-                    key,
-                    format!("expected a positive, finite number, found {v}"),
-                ));
-            }
-            let t1 = if span.periods.is_some() {
-                let Some(period) = case.period() else {
-                    return Err(SceneError::new(
-                        file,
-                        key,
-                        "this system has no period; give `span.time`",
-                    ));
-                };
-                v * period
-            } else {
-                v
-            };
-            if !t1.is_finite() {
-                return Err(SceneError::new(
-                    file,
-                    key,
-                    format!("the span {v} overflows the time axis"),
-                ));
-            }
-            Some(t1)
+            Some(end_time(file, &spec, &*case)?)
         };
         for (i, m) in spec.methods.iter().enumerate() {
             if !case.supports(m.kind) {
@@ -257,6 +426,14 @@ impl Scene {
             }
             knob_values(file, i, m)?;
         }
+        if t1.is_some() && spec.methods.is_empty() {
+            return Err(SceneError::new(
+                file,
+                "method",
+                "missing: the scene runs no method; give at least one `[[method]]` (`hj list` \
+                 shows the kinds)",
+            ));
+        }
         let o = &spec.output;
         if let Some(targets) = &o.targets {
             for (j, &x) in targets.iter().enumerate() {
@@ -264,17 +441,10 @@ impl Scene {
                     return Err(SceneError::new(
                         file,
                         format!("output.targets[{j}]"),
-                        format!("expected a positive, finite error, found {x}"),
+                        format!("expected a positive, finite error, found {}", fmt_num(x)),
                     ));
                 }
             }
-        }
-        if o.work_precision && spec.methods.is_empty() {
-            return Err(SceneError::new(
-                file,
-                "output.work_precision",
-                "needs at least one `[[method]]`",
-            ));
         }
         if !(1..=100_000).contains(&o.samples) {
             return Err(SceneError::new(
@@ -283,12 +453,13 @@ impl Scene {
                 format!("expected 1..=100000 points, found {}", o.samples),
             ));
         }
-        for (list, key) in [
-            (&o.phase_portrait, "phase_portrait"),
-            (&o.energy_error, "energy_error"),
-            (&o.invariants, "invariants"),
-            (&o.elements, "elements"),
-        ] {
+        let mut runs: Vec<&str> = Vec::new();
+        for m in &spec.methods {
+            if !runs.contains(&m.kind.name()) {
+                runs.push(m.kind.name());
+            }
+        }
+        for (list, key) in history_outputs(o) {
             for (j, r) in list.iter().enumerate() {
                 let k = format!("output.{key}[{j}]");
                 if !case.supports(r.method) {
@@ -296,6 +467,19 @@ impl Scene {
                         file,
                         format!("{k}.method"),
                         format!("`{}` does not apply to this system", r.method.name()),
+                    ));
+                }
+                if !runs.contains(&r.method.name()) {
+                    return Err(SceneError::new(
+                        file,
+                        format!("{k}.method"),
+                        format!(
+                            "`{}` is not one of the methods the scene runs ({}); add a \
+                             `[[method]]` of kind \"{}\"",
+                            r.method.name(),
+                            runs.join(", "),
+                            r.method.name()
+                        ),
                     ));
                 }
                 if r.method == MethodKind::Lindstedt {
@@ -315,13 +499,16 @@ impl Scene {
                 "this system has no osculating elements",
             ));
         }
+        if let (Some((t1, key)), Some(period)) = (t1, case.period()) {
+            check_span_work(file, key, t1 / period, &spec, &*case)?;
+        }
         Ok(Self {
             file: file.to_string(),
             name,
             title,
             spec,
             case,
-            t1,
+            t1: t1.map(|t| t.0),
         })
     }
 
@@ -340,349 +527,384 @@ impl Scene {
         let o = &self.spec.output;
         let mut v = Vec::new();
         if o.table {
-            v.push(PathBuf::from(format!("tables/{}.md", self.name)));
-            v.push(PathBuf::from(format!("tables/{}.csv", self.name)));
+            v.push(PathBuf::from(self.table_path("md")));
+            v.push(PathBuf::from(self.table_path("csv")));
         }
-        let fig = |what: &str| PathBuf::from(format!("figures/{}-{what}.svg", self.name));
         if o.work_precision {
-            v.push(fig("work-precision"));
+            v.push(PathBuf::from(self.figure_path("work-precision")));
         }
-        if !o.phase_portrait.is_empty() {
-            v.push(fig("phase-portrait"));
-        }
-        if !o.energy_error.is_empty() {
-            v.push(fig("energy-error"));
-        }
-        if !o.invariants.is_empty() {
-            v.push(fig("invariants"));
-        }
-        if !o.elements.is_empty() {
-            v.push(fig("elements"));
+        for (list, key) in history_outputs(o) {
+            if !list.is_empty() {
+                v.push(PathBuf::from(self.figure_path(&key.replace('_', "-"))));
+            }
         }
         v
+    }
+
+    fn table_path(&self, ext: &str) -> String {
+        format!("tables/{}.{ext}", self.name)
+    }
+
+    fn figure_path(&self, what: &str) -> String {
+        format!("figures/{}-{what}.svg", self.name)
     }
 
     fn err(&self, key: impl Into<String>, e: impl std::fmt::Display) -> SceneError {
         SceneError::new(&self.file, key, e.to_string())
     }
 
-    fn write(
-        &self,
-        out: &Path,
-        rel: &str,
-        text: &str,
-        files: &mut Vec<PathBuf>,
-    ) -> Result<(), SceneError> {
-        let path = out.join(rel);
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| self.err("", format!("{}: {e}", dir.display())))?;
-        }
-        std::fs::write(&path, text)
-            .map_err(|e| self.err("", format!("{}: {e}", path.display())))?;
-        files.push(path);
-        Ok(())
-    }
-
-    /// Run the scene and write its outputs.
+    /// Run the scene and write its outputs: prepare the reference, sweep the methods, render
+    /// each output the scene asks for, write them.
     ///
     /// # Errors
-    /// Failures of a method (naming the `[[method]]` entry) or of writing a file.
+    /// Failures of a method (naming the `[[method]]` entry or the output) or of writing a file.
     pub fn run(mut self, opts: &RunOptions) -> Result<RunSummary, SceneError> {
-        let mut summary = RunSummary::default();
         let o = self.spec.output.clone();
         let mut md = format!("## {}\n\n{}\n\n", self.title, self.case.describe());
         if let Some(table) = self.case.table() {
             let table = table.map_err(|e| self.err("system", e))?;
             md += &table.to_markdown();
-            if o.table {
-                self.write(
-                    &opts.out,
-                    &format!("tables/{}.md", self.name),
-                    &md,
-                    &mut summary.files,
-                )?;
-                self.write(
-                    &opts.out,
-                    &format!("tables/{}.csv", self.name),
-                    &table.to_csv(),
-                    &mut summary.files,
-                )?;
-            }
-            summary.markdown = md;
-            return Ok(summary);
+            let artifacts = if o.table {
+                self.tables(&md, table.to_csv())
+            } else {
+                Vec::new()
+            };
+            return self.write(opts, md, artifacts);
         }
+        let t1 = self.prepare(opts)?;
+        md += &format!("Span t = {t1:.6e}; {}.\n\n", self.case.reference_note());
+        let sweep = self.sweep(opts)?;
+        let mut artifacts = Vec::new();
+        let mut csv = String::new();
+        if let Some(sweep) = sweep {
+            let targets = o.targets.clone().unwrap_or_else(|| vec![1e-6, 1e-9, 1e-12]);
+            md += &sweep.markdown(&targets);
+            csv = sweep.comparison.to_csv();
+            if o.work_precision {
+                artifacts.push(Artifact {
+                    rel: self.figure_path("work-precision"),
+                    key: "output.work_precision",
+                    content: Content::WorkPrecision(sweep.comparison),
+                });
+            }
+        }
+        let spinner = spinner(
+            opts.progress && history_outputs(&o).iter().any(|(l, _)| !l.is_empty()),
+            format!("{}: histories", self.name),
+        );
+        if !o.phase_portrait.is_empty() {
+            artifacts.push(self.phase_portrait(&o.phase_portrait, o.samples)?);
+        }
+        if !o.energy_error.is_empty() {
+            artifacts.push(self.energy_error(&o.energy_error, o.samples)?);
+        }
+        if !o.invariants.is_empty() {
+            artifacts.push(self.invariants(&o.invariants, o.samples)?);
+        }
+        if !o.elements.is_empty() {
+            let (figure, notes) = self.elements(&o.elements, o.samples)?;
+            artifacts.push(figure);
+            md += &notes;
+        }
+        spinner.finish_and_clear();
+        // The tables last, so that they carry every note of the histories too.
+        if o.table {
+            artifacts.extend(self.tables(&md, csv));
+        }
+        self.write(opts, md, artifacts)
+    }
+
+    /// The end time, and the reference state there (once, before any run).
+    fn prepare(&mut self, opts: &RunOptions) -> Result<f64, SceneError> {
         let t1 = self.t1.unwrap_or(1.0);
         let waiting = spinner(opts.progress, format!("{}: reference solution", self.name));
         self.case
             .prepare(t1)
             .map_err(|e| self.err("system", format!("reference solution: {e}")))?;
         waiting.finish_and_clear();
-        let case = &*self.case;
-        md += &format!("Span t = {t1:.6e}; {}.\n\n", case.reference_note());
-        let mut csv = String::new();
-        let needs_sweep = o.table || o.work_precision;
-        if needs_sweep && !self.spec.methods.is_empty() {
-            let mut comparison = Comparison::new(self.title.clone(), case.error_label());
-            let mut failures: Vec<String> = Vec::new();
-            let total: usize = self
-                .spec
-                .methods
-                .iter()
-                .enumerate()
-                .map(|(i, m)| knob_values(&self.file, i, m).map(|v| v.len()).unwrap_or(0))
-                .sum();
-            let bar = progress_bar(opts.progress, total as u64, &self.name);
-            for (i, m) in self.spec.methods.iter().enumerate() {
-                let knobs = knob_values(&self.file, i, m)?;
-                let knob_name = m.kind.knob().singular();
-                let mut series = Series {
-                    label: label_of(m),
-                    knob: knob_name.to_string(),
-                    samples: Vec::new(),
-                };
-                for &k in &knobs {
-                    bar.set_message(short_label(m.kind, k));
-                    // A run that fails (e.g. an implicit method whose step is too large for
-                    // its Newton iteration) is reported, not plotted, and the sweep goes on.
-                    match sweep(&series.label, knob_name, &[k], opts.timing, |k| {
-                        case.run(m.kind, k).map(|r| (r.error, r.work))
-                    }) {
-                        Ok(s) => series.samples.extend(s.samples),
-                        Err(e) => failures.push(format!(
-                            "method[{i}] {} failed: {e}",
-                            short_label(m.kind, k)
-                        )),
-                    }
-                    bar.inc(1);
-                }
-                if let Some(note) = case.note(m.kind) {
-                    series.label += &format!(" ({note})");
-                }
-                if series.samples.is_empty() {
-                    series.label += " (every run failed or was refused)";
-                }
-                comparison.push(series);
-            }
-            bar.finish_and_clear();
-            let targets = o.targets.clone().unwrap_or_else(|| vec![1e-6, 1e-9, 1e-12]);
-            md += &comparison.to_markdown(&targets);
-            if !failures.is_empty() {
-                md += "\nFailed runs (not in the table or the figure):\n\n";
-                for f in &failures {
-                    md += &format!("- {f}\n");
-                }
-            }
-            csv = comparison.to_csv();
-            if o.work_precision {
-                let rel = format!("figures/{}-work-precision.svg", self.name);
-                let path = opts.out.join(&rel);
-                ensure_parent(&path).map_err(|e| self.err("output.work_precision", e))?;
-                comparison
-                    .to_svg(&path)
-                    .map_err(|e| self.err("output.work_precision", e))?;
-                summary.files.push(path);
-            }
-        }
-        let histories =
-            |list: &[RunSpec], key: &str| -> Result<Vec<(String, History)>, SceneError> {
-                list.iter()
-                    .enumerate()
-                    .map(|(j, r)| {
-                        let k = format!("output.{key}[{j}]");
-                        let knob = run_knob(&self.file, &k, r)?;
-                        let h = case
-                            .history(r.method, knob, o.samples)
-                            .map_err(|e| self.err(&k, e))?;
-                        let n = h.t.len();
-                        if n == 0 || h.q.len() != n || h.p.len() != n {
-                            return Err(self.err(&k, "the run returned an empty or ragged history"));
-                        }
-                        Ok((short_label(r.method, knob), h))
-                    })
-                    .collect()
-            };
-        let spinner = spinner(
-            opts.progress
-                && !(o.phase_portrait.is_empty()
-                    && o.energy_error.is_empty()
-                    && o.invariants.is_empty()
-                    && o.elements.is_empty()),
-            format!("{}: histories", self.name),
-        );
-        if !o.phase_portrait.is_empty() {
-            let pr = case.portrait();
-            let mut fig = Figure::new(
-                format!("{} — phase portrait", self.title),
-                pr.x_label,
-                pr.y_label,
-            );
-            if pr.equal_aspect {
-                fig = fig.equal_aspect();
-            }
-            for (label, h) in histories(&o.phase_portrait, "phase_portrait")? {
-                let pts: Vec<(f64, f64)> =
-                    h.q.iter()
-                        .zip(&h.p)
-                        .map(|(q, p)| (pr.project)(q, p))
-                        .collect();
-                fig = fig.curve(label, pts, Style::Line);
-            }
-            self.figure(&opts.out, "phase-portrait", &fig, &mut summary.files)?;
-        }
-        if !o.energy_error.is_empty() {
-            let runs = histories(&o.energy_error, "energy_error")?;
-            // Every run starts from the scene's initial state: one H(0) for all. The error is
-            // relative unless H(0) = 0, where it is absolute and the axis says so.
-            let h0 = {
-                let h = &runs[0].1;
-                case.energy(h.t[0], &h.q[0], &h.p[0])
-                    .map_err(|e| self.err("output.energy_error", e))?
-            };
-            let (scale, axis) = if h0 != 0.0 {
-                (h0.abs(), "|H(t) − H(0)| / |H(0)|")
-            } else {
-                (1.0, "|H(t) − H(0)|  (H(0) = 0)")
-            };
-            let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis).log_y();
-            for (label, h) in runs {
-                let mut pts = Vec::with_capacity(h.t.len());
-                for k in 0..h.t.len() {
-                    let e = case
-                        .energy(h.t[k], &h.q[k], &h.p[k])
-                        .map_err(|e| self.err("output.energy_error", e))?;
-                    pts.push((h.t[k], (e - h0).abs() / scale));
-                }
-                fig = fig.curve(label, pts, Style::Line);
-            }
-            self.figure(&opts.out, "energy-error", &fig, &mut summary.files)?;
-        }
-        if !o.invariants.is_empty() {
-            let mut fig = Figure::new(
-                format!("{} — conserved quantities", self.title),
-                "t",
-                "|I(t) − I(0)| / |I(0)|  (absolute where I(0) = 0)",
-            )
-            .log_y();
-            for (label, h) in histories(&o.invariants, "invariants")? {
-                let values: Vec<Vec<Invariant>> = (0..h.t.len())
-                    .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
-                    .collect::<crate::Result<_>>()
-                    .map_err(|e| self.err("output.invariants", e))?;
-                let first = &values[0];
-                for (j, inv) in first.iter().enumerate() {
-                    let scale = if inv.value != 0.0 {
-                        inv.value.abs()
-                    } else {
-                        1.0
-                    };
-                    let pts: Vec<(f64, f64)> =
-                        h.t.iter()
-                            .zip(&values)
-                            .map(|(&t, v)| {
-                                let x = v.get(j).map_or(f64::NAN, |w| w.value);
-                                (t, (x - inv.value).abs() / scale)
-                            })
-                            .collect();
-                    fig = fig.curve(format!("{}: {label}", inv.name), pts, Style::Line);
-                }
-            }
-            self.figure(&opts.out, "invariants", &fig, &mut summary.files)?;
-        }
-        if !o.elements.is_empty() {
-            let names = case.element_names().unwrap_or(&[]);
-            let mut fig = Figure::new(
-                format!("{} — osculating elements", self.title),
-                "t",
-                "|element(t) − element(0)|",
-            )
-            .log_y();
-            let mut curves: Vec<(Curve, bool)> = Vec::new();
-            for (label, h) in histories(&o.elements, "elements")? {
-                let els: Vec<Vec<f64>> =
-                    h.q.iter()
-                        .zip(&h.p)
-                        .map(|(q, p)| case.elements(q, p))
-                        .collect::<crate::Result<_>>()
-                        .map_err(|e| self.err("output.elements", e))?;
-                if els.iter().any(|e| e.len() != names.len()) {
-                    return Err(self.err(
-                        "output.elements",
-                        format!("the element map does not give {} elements", names.len()),
-                    ));
-                }
-                let mut constant = Vec::new();
-                for (j, n) in names.iter().enumerate() {
-                    let e0 = els[0][j];
-                    let pts: Vec<(f64, f64)> =
-                        h.t.iter()
-                            .zip(&els)
-                            .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
-                            .collect();
-                    // An element that a theory holds constant differs from its initial value
-                    // only by the rounding of the element map (a few ulps): named, and drawn
-                    // only if nothing else is.
-                    let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
-                    let is_constant = pts.iter().all(|&(_, d)| d <= floor);
-                    if is_constant {
-                        constant.push(*n);
-                    }
-                    let curve = Curve {
-                        label: format!("{n}: {label}"),
-                        points: pts,
-                        style: Style::Line,
-                    };
-                    curves.push((curve, is_constant));
-                }
-                if !constant.is_empty() {
-                    md += &format!(
-                        "Elements constant to rounding along {label}: {}.\n\n",
-                        constant.join(", ")
-                    );
-                }
-            }
-            let all_constant = curves.iter().all(|c| c.1);
-            fig.curves.extend(
-                curves
-                    .into_iter()
-                    .filter(|c| all_constant || !c.1)
-                    .map(|c| c.0),
-            );
-            self.figure(&opts.out, "elements", &fig, &mut summary.files)?;
-        }
-        spinner.finish_and_clear();
-        // The tables last, so that they carry every note of the histories too.
-        if o.table {
-            self.write(
-                &opts.out,
-                &format!("tables/{}.md", self.name),
-                &md,
-                &mut summary.files,
-            )?;
-            self.write(
-                &opts.out,
-                &format!("tables/{}.csv", self.name),
-                &csv,
-                &mut summary.files,
-            )?;
-        }
-        summary.markdown = md;
-        Ok(summary)
+        Ok(t1)
     }
 
-    fn figure(
+    /// Every `[[method]]` at every value of its knob, timed, when a table or a work-precision
+    /// diagram asks for it. A run that fails (e.g. an implicit method whose step is too large for
+    /// its Newton iteration) is reported, not plotted, and the sweep goes on.
+    fn sweep(&self, opts: &RunOptions) -> Result<Option<Sweep>, SceneError> {
+        let o = &self.spec.output;
+        if !(o.table || o.work_precision) || self.spec.methods.is_empty() {
+            return Ok(None);
+        }
+        let case = &*self.case;
+        let mut comparison = Comparison::new(self.title.clone(), case.error_label());
+        let mut failures: Vec<String> = Vec::new();
+        let total: usize = self
+            .spec
+            .methods
+            .iter()
+            .enumerate()
+            .map(|(i, m)| knob_values(&self.file, i, m).map(|v| v.len()).unwrap_or(0))
+            .sum();
+        let bar = progress_bar(opts.progress, total as u64, &self.name);
+        for (i, m) in self.spec.methods.iter().enumerate() {
+            let knobs = knob_values(&self.file, i, m)?;
+            let knob_name = m.kind.knob().singular();
+            let mut series = Series {
+                label: label_of(m),
+                knob: knob_name.to_string(),
+                samples: Vec::new(),
+            };
+            for &k in &knobs {
+                bar.set_message(short_label(m.kind, k));
+                match sweep(&series.label, knob_name, &[k], opts.timing, |k| {
+                    case.run(m.kind, k).map(|r| (r.error, r.work))
+                }) {
+                    Ok(s) => series.samples.extend(s.samples),
+                    Err(e) => failures.push(format!(
+                        "method[{i}] {} failed: {e}",
+                        short_label(m.kind, k)
+                    )),
+                }
+                bar.inc(1);
+            }
+            if let Some(note) = case.note(m.kind) {
+                series.label += &format!(" ({note})");
+            }
+            if series.samples.is_empty() {
+                series.label += " (every run failed or was refused)";
+            }
+            comparison.push(series);
+        }
+        bar.finish_and_clear();
+        Ok(Some(Sweep {
+            comparison,
+            failures,
+        }))
+    }
+
+    /// The runs of one history output (`key` names it), each with its legend label.
+    fn histories(
         &self,
-        out: &Path,
-        what: &str,
-        fig: &Figure,
-        files: &mut Vec<PathBuf>,
-    ) -> Result<(), SceneError> {
-        let path = out.join(format!("figures/{}-{what}.svg", self.name));
-        let key = format!("output.{}", what.replace('-', "_"));
-        ensure_parent(&path).map_err(|e| self.err(&key, e))?;
-        fig.to_svg(&path).map_err(|e| self.err(&key, e))?;
-        files.push(path);
-        Ok(())
+        list: &[RunSpec],
+        key: &str,
+        samples: usize,
+    ) -> Result<Vec<(String, History)>, SceneError> {
+        list.iter()
+            .enumerate()
+            .map(|(j, r)| {
+                let k = format!("output.{key}[{j}]");
+                let knob = run_knob(&self.file, &k, r)?;
+                let h = self
+                    .case
+                    .history(r.method, knob, samples)
+                    .map_err(|e| self.err(&k, e))?;
+                let n = h.t.len();
+                if n == 0 || h.q.len() != n || h.p.len() != n {
+                    return Err(self.err(&k, "the run returned an empty or ragged history"));
+                }
+                Ok((short_label(r.method, knob), h))
+            })
+            .collect()
+    }
+
+    fn figure_artifact(&self, what: &str, key: &'static str, fig: Figure) -> Artifact {
+        Artifact {
+            rel: self.figure_path(what),
+            key,
+            content: Content::Figure(fig),
+        }
+    }
+
+    /// `output.phase_portrait`: the runs in the system's projection of phase space.
+    fn phase_portrait(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
+        let pr = self.case.portrait();
+        let mut fig = Figure::new(
+            format!("{} — phase portrait", self.title),
+            pr.x_label,
+            pr.y_label,
+        );
+        if pr.equal_aspect {
+            fig = fig.equal_aspect();
+        }
+        for (label, h) in self.histories(runs, "phase_portrait", samples)? {
+            let pts: Vec<(f64, f64)> =
+                h.q.iter()
+                    .zip(&h.p)
+                    .map(|(q, p)| (pr.project)(q, p))
+                    .collect();
+            fig = fig.curve(label, pts, Style::Line);
+        }
+        Ok(self.figure_artifact("phase-portrait", "output.phase_portrait", fig))
+    }
+
+    /// `output.energy_error`: `|H(t) − H(0)|`, relative unless `H(0) = 0`, along the runs.
+    fn energy_error(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
+        let case = &*self.case;
+        let runs = self.histories(runs, "energy_error", samples)?;
+        // Every run starts from the scene's initial state: one H(0) for all. The error is
+        // relative unless H(0) = 0, where it is absolute and the axis says so.
+        let h0 = {
+            let h = &runs[0].1;
+            case.energy(h.t[0], &h.q[0], &h.p[0])
+                .map_err(|e| self.err("output.energy_error", e))?
+        };
+        let (scale, axis) = if h0 != 0.0 {
+            (h0.abs(), "|H(t) − H(0)| / |H(0)|")
+        } else {
+            (1.0, "|H(t) − H(0)|  (H(0) = 0)")
+        };
+        let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis).log_y();
+        for (label, h) in runs {
+            let mut pts = Vec::with_capacity(h.t.len());
+            for k in 0..h.t.len() {
+                let e = case
+                    .energy(h.t[k], &h.q[k], &h.p[k])
+                    .map_err(|e| self.err("output.energy_error", e))?;
+                pts.push((h.t[k], (e - h0).abs() / scale));
+            }
+            fig = fig.curve(label, pts, Style::Line);
+        }
+        Ok(self.figure_artifact("energy-error", "output.energy_error", fig))
+    }
+
+    /// `output.invariants`: the drift of every conserved quantity the system knows.
+    fn invariants(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
+        let case = &*self.case;
+        let mut fig = Figure::new(
+            format!("{} — conserved quantities", self.title),
+            "t",
+            "|I(t) − I(0)| / |I(0)|  (absolute where I(0) = 0)",
+        )
+        .log_y();
+        for (label, h) in self.histories(runs, "invariants", samples)? {
+            let values: Vec<Vec<Invariant>> = (0..h.t.len())
+                .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
+                .collect::<crate::Result<_>>()
+                .map_err(|e| self.err("output.invariants", e))?;
+            let first = &values[0];
+            for (j, inv) in first.iter().enumerate() {
+                let scale = if inv.value != 0.0 {
+                    inv.value.abs()
+                } else {
+                    1.0
+                };
+                let pts: Vec<(f64, f64)> =
+                    h.t.iter()
+                        .zip(&values)
+                        .map(|(&t, v)| {
+                            let x = v.get(j).map_or(f64::NAN, |w| w.value);
+                            (t, (x - inv.value).abs() / scale)
+                        })
+                        .collect();
+                fig = fig.curve(format!("{}: {label}", inv.name), pts, Style::Line);
+            }
+        }
+        Ok(self.figure_artifact("invariants", "output.invariants", fig))
+    }
+
+    /// `output.elements`: the osculating elements' departure from their initial values, and a
+    /// note for the table naming the elements a run holds constant to rounding.
+    fn elements(&self, runs: &[RunSpec], samples: usize) -> Result<(Artifact, String), SceneError> {
+        let case = &*self.case;
+        let names = case.element_names().unwrap_or(&[]);
+        let mut notes = String::new();
+        let mut fig = Figure::new(
+            format!("{} — osculating elements", self.title),
+            "t",
+            "|element(t) − element(0)|",
+        )
+        .log_y();
+        let mut curves: Vec<(Curve, bool)> = Vec::new();
+        for (label, h) in self.histories(runs, "elements", samples)? {
+            let els: Vec<Vec<f64>> =
+                h.q.iter()
+                    .zip(&h.p)
+                    .map(|(q, p)| case.elements(q, p))
+                    .collect::<crate::Result<_>>()
+                    .map_err(|e| self.err("output.elements", e))?;
+            if els.iter().any(|e| e.len() != names.len()) {
+                return Err(self.err(
+                    "output.elements",
+                    format!("the element map does not give {} elements", names.len()),
+                ));
+            }
+            let mut constant = Vec::new();
+            for (j, n) in names.iter().enumerate() {
+                let e0 = els[0][j];
+                let pts: Vec<(f64, f64)> =
+                    h.t.iter()
+                        .zip(&els)
+                        .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
+                        .collect();
+                // An element that a theory holds constant differs from its initial value
+                // only by the rounding of the element map (a few ulps): named, and drawn
+                // only if nothing else is.
+                let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
+                let is_constant = pts.iter().all(|&(_, d)| d <= floor);
+                if is_constant {
+                    constant.push(*n);
+                }
+                let curve = Curve {
+                    label: format!("{n}: {label}"),
+                    points: pts,
+                    style: Style::Line,
+                };
+                curves.push((curve, is_constant));
+            }
+            if !constant.is_empty() {
+                notes += &format!(
+                    "Elements constant to rounding along {label}: {}.\n\n",
+                    constant.join(", ")
+                );
+            }
+        }
+        let all_constant = curves.iter().all(|c| c.1);
+        fig.curves.extend(
+            curves
+                .into_iter()
+                .filter(|c| all_constant || !c.1)
+                .map(|c| c.0),
+        );
+        Ok((
+            self.figure_artifact("elements", "output.elements", fig),
+            notes,
+        ))
+    }
+
+    /// `output.table`: the report as Markdown and the sweep as CSV.
+    fn tables(&self, md: &str, csv: String) -> Vec<Artifact> {
+        vec![
+            Artifact {
+                rel: self.table_path("md"),
+                key: "",
+                content: Content::Text(md.to_string()),
+            },
+            Artifact {
+                rel: self.table_path("csv"),
+                key: "",
+                content: Content::Text(csv),
+            },
+        ]
+    }
+
+    /// Write the rendered outputs in order under the output directory.
+    fn write(
+        &self,
+        opts: &RunOptions,
+        markdown: String,
+        artifacts: Vec<Artifact>,
+    ) -> Result<RunSummary, SceneError> {
+        let mut files = Vec::with_capacity(artifacts.len());
+        for a in artifacts {
+            let path = opts.out.join(&a.rel);
+            ensure_parent(&path).map_err(|e| self.err(a.key, e))?;
+            match a.content {
+                Content::Text(text) => std::fs::write(&path, text)
+                    .map_err(|e| self.err(a.key, format!("{}: {e}", path.display())))?,
+                Content::Figure(fig) => fig.to_svg(&path).map_err(|e| self.err(a.key, e))?,
+                Content::WorkPrecision(c) => c.to_svg(&path).map_err(|e| self.err(a.key, e))?,
+            }
+            files.push(path);
+        }
+        Ok(RunSummary { markdown, files })
     }
 }
 
