@@ -59,6 +59,19 @@ pub enum Error {
         /// Reciprocal condition estimate (0 for exactly singular).
         rcond: f64,
     },
+    /// A call would start more work than its limit allows (steps of a run, repetitions of a
+    /// timing loop); the limit is a knob the caller can raise.
+    #[error("{what}: limit of {limit} exceeded ({detail}); {hint}")]
+    WorkLimit {
+        /// Which count (e.g. `"DOP853 attempted steps"`).
+        what: String,
+        /// The limit in force.
+        limit: usize,
+        /// What was requested or where the run stood, formatted.
+        detail: String,
+        /// How to raise the limit (or avoid it).
+        hint: String,
+    },
     /// The requested motion lies on, or numerically indistinguishable from, a separatrix.
     #[error("{what}: on the separatrix (distance {distance:e}); {hint}")]
     Separatrix {

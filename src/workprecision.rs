@@ -10,7 +10,7 @@
 //! fastest run is kept — the least noisy estimate on a shared machine. Ratios between methods
 //! should be read from one comparison, measured side by side.
 
-use crate::error::{Error, Result};
+use crate::error::{finite, non_negative, Error, Result};
 use crate::integrate::Work;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -79,12 +79,24 @@ impl Series {
 }
 
 /// Timing policy of a sweep.
+///
+/// A sample is repeated while *both* less than `min_time` has elapsed *and* fewer than `max_runs`
+/// runs were made (and is always run once), so the time spent on one knob value is at most
+/// `min_time` plus one run, whatever `max_runs` is: `max_runs = usize::MAX` means "as many as fit
+/// in `min_time`". `min_time` is the caller's bound on the work of a sweep; it may not exceed
+/// [`Timing::MAX_MIN_TIME`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Timing {
-    /// Repeat each run until at least this much time has elapsed.
+    /// Repeat each run until at least this much time has elapsed (at most
+    /// [`Timing::MAX_MIN_TIME`]).
     pub min_time: Duration,
-    /// At most this many repetitions.
+    /// At most this many repetitions (0 is taken as 1: every sample runs once).
     pub max_runs: usize,
+}
+
+impl Timing {
+    /// Largest `min_time` accepted: one hour per sample.
+    pub const MAX_MIN_TIME: Duration = Duration::from_secs(3600);
 }
 
 impl Default for Timing {
@@ -99,6 +111,12 @@ impl Default for Timing {
 /// Runs `run(knob)` for each knob value: `run` returns `(error, work)`; the wall time is measured
 /// around it (best of the repetitions, see [`Timing`]). A run that fails stops the sweep with its
 /// error, labelled.
+///
+/// # Errors
+/// [`Error::WorkLimit`] for `timing.min_time` above [`Timing::MAX_MIN_TIME`];
+/// [`Error::NonFinite`] for a non-finite knob or a NaN or infinite error returned by `run`, and
+/// [`Error::OutOfDomain`] for a negative one (an error is a distance: finite and `≥ 0`); and the
+/// first error of `run`, as [`Error::InvalidInput`] naming the series and the knob.
 pub fn sweep(
     label: impl Into<String>,
     knob: impl Into<String>,
@@ -107,6 +125,21 @@ pub fn sweep(
     mut run: impl FnMut(f64) -> Result<(f64, Work)>,
 ) -> Result<Series> {
     let label = label.into();
+    if timing.min_time > Timing::MAX_MIN_TIME {
+        return Err(Error::WorkLimit {
+            what: format!("timing of the sweep {label}"),
+            limit: Timing::MAX_MIN_TIME.as_secs() as usize,
+            detail: format!(
+                "min_time = {:e} s per sample, limit in seconds",
+                timing.min_time.as_secs_f64()
+            ),
+            hint: "ask for a shorter min_time (the best of the repetitions within it is kept)"
+                .into(),
+        });
+    }
+    for (i, &k) in knobs.iter().enumerate() {
+        finite(format_args!("knob {i} of the sweep {label}"), k)?;
+    }
     let mut samples = Vec::with_capacity(knobs.len());
     for &k in knobs {
         let mut best = f64::INFINITY;
@@ -121,6 +154,8 @@ pub fn sweep(
             runs += 1;
         }
         let (error, work) = result.expect("at least one run");
+        let what = format!("error of {label} at {k:e}");
+        non_negative(&what, error)?;
         samples.push(Sample {
             knob: k,
             error,

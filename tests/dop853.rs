@@ -89,7 +89,7 @@ fn one_step_orders() {
     let mut step_err = vec![];
     let mut mid_err = vec![];
     for h in [0.2, 0.1, 0.05] {
-        let m = Dop853::new(1.0, 1.0)
+        let m = Dop853::new(0.5, 1.0)
             .unwrap()
             .with_h0(h)
             .unwrap()
@@ -221,7 +221,7 @@ fn pendulum_error_proportional_to_rtol() {
 }
 
 /// 100 periods of Kepler e = 0.5: the position error reaches 1e−9 at the tightest tolerance
-/// (rtol = atol = 1e−15, used as `RTOL_MIN = 2.3e−15`). The error grows quadratically in time
+/// (rtol = `RTOL_MIN = 2.3e−15`, atol = 1e−15). The error grows quadratically in time
 /// (energy error → period error → phase drift), ≈ 3·10⁵·rtol at 100 periods (measured in the
 /// example `dop853_kepler`), so 2.3e−15 gives ≈ 7e−10.
 #[test]
@@ -230,8 +230,8 @@ fn kepler_100_periods_position_error() {
     let (q0, p0) = periapsis(0.5);
     let t1 = 100.0 * TAU;
     let (qe, _) = kepler_exact(&q0, &p0, t1);
-    let m = Dop853::new(1e-15, 1e-15).unwrap();
-    assert_eq!(m.effective_rtol(), 2.3e-15);
+    let m = Dop853::new(Dop853::RTOL_MIN, 1e-15).unwrap();
+    assert_eq!(m.rtol, 2.3e-15);
     let rep = integrate(
         &Problem::new(&kepler, 0.0, q0, p0, t1).unwrap(),
         &m,
@@ -240,7 +240,7 @@ fn kepler_100_periods_position_error() {
     .unwrap();
     let err = (rep.last.q - qe).norm();
     eprintln!(
-        "100 periods, rtol 1e-15: position error {err:.3e}, {} steps, {} rejected, {} evaluations, {:?}",
+        "100 periods, rtol 2.3e-15: position error {err:.3e}, {} steps, {} rejected, {} evaluations, {:?}",
         rep.work.steps, rep.work.rejected, rep.work.gradients, rep.elapsed
     );
     assert!(err <= 1e-9, "{err:e}");
@@ -488,16 +488,20 @@ fn backward_integration() {
 // Tight tolerances, PI control
 // ---------------------------------------------------------------------------------------------
 
-/// rtol below rounding is raised to 2.3e−15 and the run completes (no premature stop, no step
-/// underflow) — also with a tiny atol on components that pass through zero.
+/// rtol at the rounding limit `RTOL_MIN = 2.3e−15` completes (no premature stop, no step
+/// underflow) — also with a tiny atol on components that pass through zero. (Below it rtol is
+/// refused: `rtol_outside_its_range_is_refused`.)
 #[test]
 fn tight_tolerances_complete() {
     let kepler = Kepler2::new(1.0).unwrap();
     let (q0, p0) = periapsis(0.5);
     let (qe, pe) = kepler_exact(&q0, &p0, TAU);
-    for (rtol, atol) in [(1e-15, 1e-15), (1e-16, 1e-16), (1e-30, 1e-300)] {
+    for (rtol, atol) in [
+        (Dop853::RTOL_MIN, 1e-15),
+        (Dop853::RTOL_MIN, 1e-16),
+        (Dop853::RTOL_MIN, 1e-300),
+    ] {
         let m = Dop853::new(rtol, atol).unwrap();
-        assert_eq!(m.effective_rtol(), Dop853::RTOL_MIN);
         let rep = integrate(
             &Problem::new(&kepler, 0.0, q0, p0, TAU).unwrap(),
             &m,
@@ -602,7 +606,12 @@ fn bad_knobs_are_typed_errors() {
             atol: f64::NAN,
             ..m
         },
-        Dop853 { max_steps: 0, ..m },
+        Dop853 {
+            max_steps: Some(0),
+            ..m
+        },
+        Dop853 { rtol: 1e-16, ..m },
+        Dop853 { rtol: 1e300, ..m },
         Dop853 { h0: Some(0.0), ..m },
         Dop853 { fac_max: 0.1, ..m },
     ] {
@@ -622,13 +631,17 @@ fn bad_knobs_are_typed_errors() {
         Err(Error::NonFinite { .. })
     ));
 
-    // Too few steps allowed.
+    // Too few steps allowed: a typed error naming the limit and how to raise it.
     let long = Problem::new(&kepler, 0.0, q0, p0, 100.0 * TAU).unwrap();
     let r = m.with_max_steps(50).unwrap().run(&long, &mut ());
-    assert!(
-        matches!(r, Err(Error::NotConverged { iterations: 50, .. })),
-        "{r:?}"
-    );
+    match r {
+        Err(Error::WorkLimit {
+            limit: 50, hint, ..
+        }) => {
+            assert!(hint.contains("with_max_steps"), "{hint}")
+        }
+        other => panic!("expected a work limit, got {other:?}"),
+    }
 }
 
 /// Radial Kepler orbit (zero angular momentum) from rest at r = 1: collision with the centre at
@@ -661,7 +674,7 @@ fn collision_is_a_typed_error() {
             what, iterations, ..
         }) => {
             assert!(what.contains("step size"), "{what}");
-            assert!(iterations < m.max_steps);
+            assert!(iterations < Dop853::AUTO_STEPS_MIN);
         }
         other => panic!("expected a step-size error, got {other:?}"),
     }

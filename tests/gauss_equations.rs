@@ -406,7 +406,12 @@ fn compare<F: MomentumForce<3> + Copy>(
     let clock = Instant::now();
     let rep = integrate(&problem, &Dop853::new(1e-13, 1e-13).unwrap(), &mut ()).unwrap();
     let dop_ms = clock.elapsed().as_secs_f64() * 1e3;
-    let reference = integrate(&problem, &Dop853::new(1e-15, 1e-15).unwrap(), &mut ()).unwrap();
+    let reference = integrate(
+        &problem,
+        &Dop853::new(Dop853::RTOL_MIN, 1e-15).unwrap(),
+        &mut (),
+    )
+    .unwrap();
     let rn = reference.last.q.norm();
     Comparison {
         gauss_vs_ref: (rg - reference.last.q).norm() / rn,

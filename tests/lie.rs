@@ -661,3 +661,35 @@ fn bad_input_gives_typed_errors() {
     let huge = LieSeries::new(GEN_FIXED, 1e300, 2).unwrap();
     assert!(huge.apply_with_error(0.0, &q, &p).is_err());
 }
+
+/// The ICT is canonical to first order only; `ε` must be infinitesimal at the point:
+/// `|ε| ‖∇²ρ‖_F ≤ 1`. For `h_z = x p_y − y p_x` the Hessian has the four entries
+/// `∂²h_z/∂x∂p_y = 1`, `∂²h_z/∂y∂p_x = −1` (each twice, by symmetry), so `‖∇²h_z‖_F = 2` and the
+/// range is `|ε| ≤ 1/2`: ε = 10³⁰⁰ (before: accepted) and 0.6 are refused, by `transform` and by
+/// `variation`, with the range in the message; 0.5 is accepted. A translation (`ρ = p₁`,
+/// `∇²ρ = 0`) is exactly canonical for every finite ε and is accepted even at 10³⁰⁰.
+#[test]
+fn ict_parameter_must_be_infinitesimal() {
+    let (q, p) = (
+        SVector::from([1.0, 2.0, 3.0]),
+        SVector::from([4.0, 5.0, 6.0]),
+    );
+    for eps in [1e300, -1e300, 0.6, -0.5000001] {
+        let ict = Ict::new(Hz, eps).unwrap();
+        match ict.transform(0.0, &q, &p) {
+            Err(Error::OutOfDomain { domain, .. }) => assert!(domain.contains("5e-1"), "{domain}"),
+            other => panic!("ε = {eps:e}: {other:?}"),
+        }
+        assert!(matches!(
+            variation(&coord::<3>(0), &Hz, eps, 0.0, &q, &p),
+            Err(Error::OutOfDomain { .. })
+        ));
+    }
+    let (big_q, _) = Ict::new(Hz, 0.5).unwrap().transform(0.0, &q, &p).unwrap();
+    assert_eq!(big_q[0], 1.0 - 0.5 * 2.0);
+    let (big_q, big_p) = Ict::new(mom::<3>(0), 1e300)
+        .unwrap()
+        .transform(0.0, &q, &p)
+        .unwrap();
+    assert_eq!((big_q[0], big_p), (1e300, p));
+}

@@ -583,7 +583,8 @@ fn propagator_against_exact_oscillator() {
     )
     .unwrap();
     assert_eq!(f.q[0], *r.q[0].value());
-    // An unreachable tolerance is a typed error.
+    // An unreachable tolerance is refused before any work: below the rounding floor
+    // ε √(2·initial_steps) of the first run's error estimate it can never be met.
     let e = propagate(
         &osc,
         0.0,
@@ -595,7 +596,7 @@ fn propagator_against_exact_oscillator() {
             ..opts
         },
     );
-    assert!(matches!(e, Err(Error::NotConverged { .. })), "{e:?}");
+    assert!(matches!(e, Err(Error::OutOfDomain { .. })), "{e:?}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -724,4 +725,41 @@ fn bad_input_gives_typed_errors() {
         propagate_fixed(&osc, 0.0, 1.0, &one, &one, 0),
         Err(Error::InvalidInput { .. })
     ));
+}
+
+/// A tolerance outside `[ε √(2·initial_steps), 1)` is refused at once with the accepted range
+/// (before: 10⁻³⁰ was accepted and the principal function returned at whatever accuracy the
+/// rounding floor allowed). The floor is the rounding part of the first run's error estimate,
+/// `ε √(2M)` at `M = initial_steps` (16 by default: 1.26e−15).
+#[test]
+fn tolerance_outside_its_range_is_refused() {
+    let osc = HarmonicOscillator::new(1.0, 1.0).unwrap();
+    let one = SVector::from([1.0]);
+    let floor = f64::EPSILON * 32f64.sqrt();
+    let clock = std::time::Instant::now();
+    for tolerance in [1e-30, 1e-300, 1e-15, 0.99 * floor, 1.0, 1e300] {
+        let options = PrincipalOptions {
+            propagation: PropagationOptions {
+                tolerance,
+                ..PropagationOptions::default()
+            },
+            ..PrincipalOptions::default()
+        };
+        match principal_function(&osc, &one, &one, 0.0, 1.0, &options) {
+            Err(Error::OutOfDomain { domain, .. }) => {
+                assert!(domain.contains(&format!("{floor:e}")), "{domain}")
+            }
+            other => panic!("tolerance {tolerance:e}: {other:?}"),
+        }
+    }
+    assert!(clock.elapsed() < std::time::Duration::from_secs(1));
+    // A loose tolerance inside the range is accepted.
+    let options = PrincipalOptions {
+        propagation: PropagationOptions {
+            tolerance: 0.5,
+            ..PropagationOptions::default()
+        },
+        ..PrincipalOptions::default()
+    };
+    assert!(principal_function(&osc, &one, &one, 0.0, 1.0, &options).is_ok());
 }

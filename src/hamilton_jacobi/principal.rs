@@ -99,7 +99,9 @@ impl<const N: usize> StateError<N> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PropagationOptions {
     /// Requested error relative to the largest value of each component along the path
-    /// (default `1e−12`).
+    /// (default `1e−12`), in `[ε √(2·initial_steps), 1)`: the error estimate includes the rounding
+    /// floor `ε √(2M)` of the first run (`M = initial_steps`), so a smaller tolerance can never
+    /// be met, and at 1 no digit is asked for.
     pub tolerance: f64,
     /// Steps `M` of the first coarse run (default 16).
     pub initial_steps: usize,
@@ -119,9 +121,22 @@ impl Default for PropagationOptions {
 
 impl PropagationOptions {
     fn validate(&self) -> Result<()> {
-        positive("tolerance", self.tolerance)?;
+        let tol = positive("tolerance", self.tolerance)?;
         if self.initial_steps == 0 {
             return Err(Error::invalid("initial_steps", "must be at least 1"));
+        }
+        let floor = rounding_floor(self.initial_steps.saturating_mul(2));
+        if !(floor..1.0).contains(&tol) {
+            return Err(Error::out_of_domain(
+                "propagation tolerance",
+                tol,
+                format!(
+                    "[{floor:e}, 1): below ε √(2·initial_steps) = {floor:e}, the rounding floor \
+                     of the first run (initial_steps = {}), the error estimate can never meet \
+                     it; at 1 or above no digit is asked for",
+                    self.initial_steps
+                ),
+            ));
         }
         if self.max_steps < self.initial_steps {
             return Err(Error::invalid(

@@ -31,16 +31,31 @@
 //! A step that produces non-finite stages (a singularity such as a collision) is rejected like a
 //! step with `err = ∞` (shrink ×0.333). The run fails with [`Error::NotConverged`] (its message
 //! names `t` and `h`; `iterations` = attempted steps, `residual` = last error estimate) when a step
-//! other than the final one onto `t₁` would be shorter than `16 ε |t|` (the Fortran test is `0.1|h| ≤ 2.3·10⁻¹⁶|t|`, i.e. `|h| ≲ 10 ε |t|`)
-//! or, at `t = 0`, below the smallest normal number; or when more than `max_steps` steps
-//! (accepted + rejected) were attempted.
+//! other than the final one onto `t₁` would be shorter than `16 ε |t|` (the Fortran test is
+//! `0.1|h| ≤ 2.3·10⁻¹⁶|t|`, i.e. `|h| ≲ 10 ε |t|`) or, at `t = 0`, below the smallest normal
+//! number.
 //!
-//! # Tolerances near rounding
-//! DOP853 refuses `rtol ≤ 10·u` with its unit roundoff `u = 2.3·10⁻¹⁶` (the estimator's own rounding
-//! is then comparable to the tolerance and the controller can chase noise down to underflow). Here
-//! such an `rtol` is not refused but **raised to [`Dop853::RTOL_MIN`] `= 10u = 2.3·10⁻¹⁵`** for the
-//! run (the value actually used is in [`Dop853::effective_rtol`]); `atol` is used as given (it only
-//! adds to `rtol·|y|`).
+//! # Step budget
+//! The number of attempted steps (accepted + rejected) is bounded. By default the budget scales
+//! with the span: with `h_init` the starting step (HNW II.4, which already reflects the tolerance
+//! and the problem's time scale),
+//!
+//! $$ n_{\max} = \operatorname{clamp}\big(10\,\lceil |t_1 - t_0| / |h_{\rm init}| \rceil,\
+//!    10^5,\ 10^7\big), $$
+//!
+//! the lower end being the Fortran default `NMAX = 10⁵` and the upper end bounding the work of one
+//! call (about 20 s for the planar Kepler problem, at 2 µs per step). [`Dop853::with_max_steps`]
+//! sets the budget explicitly. An exhausted budget is [`Error::WorkLimit`], which names the limit,
+//! where the run stood and how many steps the pace so far would need.
+//!
+//! # Tolerances
+//! `rtol` must lie in `[`[`Dop853::RTOL_MIN`]`, 1)`. Below `10·u`, with DOP853's unit roundoff
+//! `u = 2.3·10⁻¹⁶`, the estimator's own rounding is comparable to the tolerance and the
+//! controller can chase noise down to underflow — the Fortran code stops with "tolerances are too
+//! small" there, and so does this one (an [`Error::OutOfDomain`] naming the range; ask for
+//! `RTOL_MIN` itself for the tightest run). At `rtol ≥ 1` an accepted step may carry an error as
+//! large as the state: no digit is asked for. `atol > 0` is used as given (it only adds to
+//! `rtol·|y|`, and its scale is the user's units).
 //!
 //! # Dense output
 //! The continuous extension of order 7 (Fortran `CONTD8`): three extra stages `k₁₄, k₁₅, k₁₆`
@@ -68,7 +83,8 @@
 //!   below at their full 30-digit precision.
 
 use super::{
-    Control, Dense, FirstOrderSystem, Method, Observer, Problem, Report, State, StepView, Work,
+    stop_time, Control, Dense, FirstOrderSystem, Method, Observer, Problem, Report, State,
+    StepView, Work,
 };
 use crate::error::{finite, positive, Error, Result};
 use nalgebra::SVector;
@@ -360,7 +376,7 @@ fn pair_finite<const N: usize>(y: &Pair<N>) -> bool {
 /// panic or an endless loop).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dop853 {
-    /// Relative tolerance (`> 0`; values below [`Dop853::RTOL_MIN`] are raised to it).
+    /// Relative tolerance, in `[`[`Dop853::RTOL_MIN`]`, 1)`.
     pub rtol: f64,
     /// Absolute tolerance (`> 0`).
     pub atol: f64,
@@ -368,8 +384,9 @@ pub struct Dop853 {
     pub h0: Option<f64>,
     /// Largest step size magnitude; `None` for `|t₁ − t₀|`.
     pub h_max: Option<f64>,
-    /// Maximum number of attempted steps (Fortran `NMAX`, default 100 000).
-    pub max_steps: usize,
+    /// Maximum number of attempted steps (Fortran `NMAX`); `None` (the default) for the budget
+    /// that scales with the span (see the [module documentation](self#step-budget)).
+    pub max_steps: Option<usize>,
     /// Safety factor (Fortran `SAFE`, default 0.9), in `(10⁻⁴, 1)`.
     pub safety: f64,
     /// Smallest step ratio `h_new/h` (Fortran `FAC1`, default 0.333), in `(0, 1]`.
@@ -382,21 +399,29 @@ pub struct Dop853 {
 }
 
 impl Dop853 {
-    /// Smallest relative tolerance used: `10 u`, `u = 2.3·10⁻¹⁶` (below it the Fortran code stops
-    /// with "tolerances are too small"; here `rtol` is raised to it).
+    /// Smallest relative tolerance accepted: `10 u`, `u = 2.3·10⁻¹⁶` (below it the Fortran code
+    /// stops with "tolerances are too small", and so does this one).
     pub const RTOL_MIN: f64 = 10.0 * UROUND;
 
-    /// DOP853 with tolerances `rtol, atol > 0` and the Fortran defaults for everything else.
+    /// Lower end of the default step budget (the Fortran `NMAX`).
+    pub const AUTO_STEPS_MIN: usize = 100_000;
+
+    /// Upper end of the default step budget.
+    pub const AUTO_STEPS_MAX: usize = 10_000_000;
+
+    /// DOP853 with tolerances `rtol ∈ [RTOL_MIN, 1)`, `atol > 0`, the step budget that scales
+    /// with the span and the Fortran defaults for everything else.
     ///
     /// # Errors
-    /// [`Error::NonFinite`] / [`Error::OutOfDomain`] for a non-finite or non-positive tolerance.
+    /// [`Error::NonFinite`] / [`Error::OutOfDomain`] for a non-finite tolerance or one outside its
+    /// range.
     pub fn new(rtol: f64, atol: f64) -> Result<Self> {
         let m = Self {
-            rtol: positive("DOP853 relative tolerance rtol", rtol)?,
+            rtol: check_rtol(rtol)?,
             atol: positive("DOP853 absolute tolerance atol", atol)?,
             h0: None,
             h_max: None,
-            max_steps: 100_000,
+            max_steps: None,
             safety: 0.9,
             fac_min: 0.333,
             fac_max: 6.0,
@@ -418,9 +443,10 @@ impl Dop853 {
         Ok(self)
     }
 
-    /// The same with at most `max_steps ≥ 1` attempted steps.
+    /// The same with at most `max_steps ≥ 1` attempted steps (instead of the budget that scales
+    /// with the span; `usize::MAX` for no limit — the caller's choice).
     pub fn with_max_steps(mut self, max_steps: usize) -> Result<Self> {
-        self.max_steps = max_steps;
+        self.max_steps = Some(max_steps);
         self.validate()?;
         Ok(self)
     }
@@ -441,9 +467,18 @@ impl Dop853 {
         Ok(self)
     }
 
-    /// The relative tolerance used in a run: `max(rtol, RTOL_MIN)`.
-    pub fn effective_rtol(&self) -> f64 {
-        self.rtol.max(Self::RTOL_MIN)
+    /// The step budget of a run over `span` whose first step is `h_init`: `max_steps` if set,
+    /// otherwise `clamp(10 ⌈|span|/|h_init|⌉, AUTO_STEPS_MIN, AUTO_STEPS_MAX)`.
+    pub fn step_budget(&self, span: f64, h_init: f64) -> usize {
+        if let Some(n) = self.max_steps {
+            return n;
+        }
+        let estimate = 10.0 * (span / h_init).abs().ceil();
+        if estimate.is_nan() {
+            return Self::AUTO_STEPS_MAX;
+        }
+        // `as` saturates; the clamp bounds it.
+        (estimate as usize).clamp(Self::AUTO_STEPS_MIN, Self::AUTO_STEPS_MAX)
     }
 
     /// Check every knob.
@@ -451,7 +486,7 @@ impl Dop853 {
     /// # Errors
     /// [`Error::NonFinite`] or [`Error::OutOfDomain`] naming the bad knob.
     pub fn validate(&self) -> Result<()> {
-        positive("DOP853 relative tolerance rtol", self.rtol)?;
+        check_rtol(self.rtol)?;
         positive("DOP853 absolute tolerance atol", self.atol)?;
         if let Some(h0) = self.h0 {
             positive("DOP853 initial step h0", h0)?;
@@ -459,7 +494,7 @@ impl Dop853 {
         if let Some(h) = self.h_max {
             positive("DOP853 largest step h_max", h)?;
         }
-        if self.max_steps == 0 {
+        if self.max_steps == Some(0) {
             return Err(Error::out_of_domain("DOP853 max_steps", 0.0, "≥ 1"));
         }
         let s = finite("DOP853 safety factor", self.safety)?;
@@ -479,6 +514,25 @@ impl Dop853 {
             return Err(Error::out_of_domain("DOP853 beta", b, "[0, 0.2]"));
         }
         Ok(())
+    }
+}
+
+/// `rtol ∈ [RTOL_MIN, 1)` (see the [module documentation](self#tolerances)).
+fn check_rtol(rtol: f64) -> Result<f64> {
+    let r = finite("DOP853 relative tolerance rtol", rtol)?;
+    if (Dop853::RTOL_MIN..1.0).contains(&r) {
+        Ok(r)
+    } else {
+        Err(Error::out_of_domain(
+            "DOP853 relative tolerance rtol",
+            r,
+            format!(
+                "[{:e}, 1): below 10u = {:e} the error estimate is rounding noise (use \
+                 Dop853::RTOL_MIN for the tightest run); at 1 or above no digit is asked for",
+                Dop853::RTOL_MIN,
+                Dop853::RTOL_MIN
+            ),
+        ))
     }
 }
 
@@ -614,7 +668,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         let clock = Instant::now();
         let system = problem.system;
         let mut work = Work::default();
-        let (rtol, atol) = (self.effective_rtol(), self.atol);
+        let (rtol, atol) = (self.rtol, self.atol);
         let t1 = finite("final time t₁", problem.t1)?;
         let mut state = State::new(problem.start.t, problem.start.q, problem.start.p)?;
         let span = t1 - state.t;
@@ -649,6 +703,8 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
             Some(h0) => h0.min(h_max) * dir,
             None => initial_step(system, &state, &k[0], dir, h_max, rtol, atol, &mut work)?,
         };
+        let max_steps = self.step_budget(span, h);
+        let t0 = state.t;
         observer.start(&state);
 
         let mut facold: f64 = 1e-4;
@@ -656,15 +712,32 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         let mut attempts = 0usize;
         let mut last_err = f64::NAN;
         loop {
-            if attempts >= self.max_steps {
-                return Err(Error::NotConverged {
-                    what: format!(
-                        "DOP853: max_steps = {} attempted steps reached before t₁ (at t = {})",
-                        self.max_steps,
-                        crate::error::fmt_num(state.t)
+            if attempts >= max_steps {
+                let done = ((state.t - t0) / span).abs();
+                let pace = if done > 0.0 {
+                    format!(
+                        "at the pace so far about {:e} steps would reach t₁",
+                        (attempts as f64 / done).ceil()
+                    )
+                } else {
+                    "no step was accepted".to_string()
+                };
+                return Err(Error::WorkLimit {
+                    what: "DOP853 attempted steps".into(),
+                    limit: max_steps,
+                    detail: format!(
+                        "at t = {:e} of [{t0:e}, {t1:e}], {:.3}% of the span; {pace}",
+                        state.t,
+                        100.0 * done
                     ),
-                    iterations: attempts,
-                    residual: last_err,
+                    hint: format!(
+                        "raise it with Dop853::with_max_steps(n){}, or shorten the span",
+                        if self.max_steps.is_none() {
+                            " (the default budget 10·|t₁ − t₀|/h_init lies between 1e5 and 1e7)"
+                        } else {
+                            ""
+                        }
+                    ),
                 });
             }
             // The final step ends exactly at t₁ whatever its size (a span shorter than 16ε|t| is
@@ -767,6 +840,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
                         dense: &dense,
                     });
                     if let Control::StopAt(ts) = control {
+                        let ts = stop_time(ts, &state, &next)?;
                         stop_state = Some(dense.at(ts));
                     }
                     work.gradients += dense.evaluations.get();
@@ -782,9 +856,10 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
                         });
                     }
                     Control::StopAt(_) => {
+                        let last = stop_state.unwrap_or(next);
                         return Ok(Report {
-                            last: stop_state.unwrap_or(next),
-                            stopped: true,
+                            stopped: last.t != t1,
+                            last,
                             work,
                             elapsed: clock.elapsed(),
                         });

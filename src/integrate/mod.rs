@@ -110,6 +110,11 @@ pub struct Problem<'a, S, const N: usize> {
 
 impl<'a, S, const N: usize> Problem<'a, S, N> {
     /// The motion of `system` from `(q₀, p₀)` at `t₀` to `t₁ ≠ t₀`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite entry; [`Error::InvalidInput`] for `t₁ = t₀`;
+    /// [`Error::OutOfDomain`] when the span `t₁ − t₀` overflows (e.g. `t₀ = −10³⁰⁸`,
+    /// `t₁ = 10³⁰⁸`): no step size could divide it.
     pub fn new(
         system: &'a S,
         t0: f64,
@@ -121,6 +126,14 @@ impl<'a, S, const N: usize> Problem<'a, S, N> {
         let t1 = finite("final time t₁", t1)?;
         if t1 == t0 {
             return Err(Error::invalid("time span", "t₁ = t₀: nothing to integrate"));
+        }
+        let span = t1 - t0;
+        if !span.is_finite() {
+            return Err(Error::out_of_domain(
+                "time span t₁ − t₀",
+                span,
+                format!("finite (|t₁ − t₀| ≤ {:e})", f64::MAX),
+            ));
         }
         Ok(Self { system, start, t1 })
     }
@@ -168,7 +181,9 @@ impl Work {
 /// The outcome of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report<const N: usize> {
-    /// The state where the run ended (`t₁`, or where an observer stopped it).
+    /// The state where the run ended: `last.t` is the time actually reached — `t₁`, or the end of
+    /// the step after which an observer returned [`Control::Stop`], or the time it named in
+    /// [`Control::StopAt`].
     pub last: State<N>,
     /// Whether an observer stopped the run before `t₁`.
     pub stopped: bool,
@@ -186,7 +201,8 @@ pub enum Control {
     /// Stop the run now (at the end of this step).
     Stop,
     /// Stop the run at time `t` inside this step (e.g. a terminal event); the driver ends the run
-    /// with the dense-output state there.
+    /// with the dense-output state there. A `t` outside the step (or NaN) ends the run with
+    /// [`Error::OutOfDomain`].
     StopAt(f64),
 }
 
@@ -253,6 +269,25 @@ impl<A: Observer<N>, B: Observer<N>, const N: usize> Observer<N> for (A, B) {
     }
 }
 
+/// The time of an observer's [`Control::StopAt`], checked to lie in the step `[prev.t, next.t]`
+/// (so that the report's `last.t` is a time the run reached, not an extrapolation).
+pub(crate) fn stop_time<const N: usize>(t: f64, prev: &State<N>, next: &State<N>) -> Result<f64> {
+    let (lo, hi) = if prev.t <= next.t {
+        (prev.t, next.t)
+    } else {
+        (next.t, prev.t)
+    };
+    if lo <= t && t <= hi {
+        Ok(t)
+    } else {
+        Err(Error::out_of_domain(
+            "stop time requested by an observer (Control::StopAt)",
+            t,
+            format!("the step [{lo:e}, {hi:e}] just taken"),
+        ))
+    }
+}
+
 /// An integration method for systems of type `S`.
 pub trait Method<S, const N: usize> {
     /// A short label (with the knob), e.g. `"Verlet h=0.01"`.
@@ -298,28 +333,67 @@ pub trait OneStep<S, const N: usize> {
 }
 
 /// A fixed-step run: `steps` equal steps over the problem's span.
+///
+/// The number of steps a run may start is bounded by `max_steps` (default [`Fixed::MAX_STEPS`]),
+/// so that a mistyped count is a prompt error, not a run of hours; [`Fixed::with_limit`] raises it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fixed<M> {
     /// The one-step method.
     pub method: M,
     /// Number of steps over the span.
     pub steps: usize,
+    /// Largest `steps` a run accepts ([`Method::run`] checks it again).
+    pub max_steps: usize,
     /// Kahan-compensated accumulation of the increments (Hairer, Lubich & Wanner, *Geometric
     /// Numerical Integration*, 2nd ed., VIII.5): rounding then grows like `√n` instead of `n`.
     pub compensated: bool,
 }
 
 impl<M> Fixed<M> {
-    /// `steps ≥ 1` steps of `method`, with compensated summation.
+    /// Default limit on the number of steps of one run: 10⁸ (seconds to minutes of work for a
+    /// small system, depending on the method; five times the longest run of the test suite).
+    pub const MAX_STEPS: usize = 100_000_000;
+
+    /// `1 ≤ steps ≤` [`Fixed::MAX_STEPS`] steps of `method`, with compensated summation.
+    ///
+    /// # Errors
+    /// [`Error::OutOfDomain`] for `steps = 0`; [`Error::WorkLimit`] above the limit (use
+    /// [`Fixed::with_limit`] for longer runs).
     pub fn new(method: M, steps: usize) -> Result<Self> {
-        if steps == 0 {
-            return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
-        }
-        Ok(Self {
+        Self::with_limit(method, steps, Self::MAX_STEPS)
+    }
+
+    /// `1 ≤ steps ≤ max_steps` steps of `method`: the caller raises (or lowers) the limit on the
+    /// work of one run.
+    ///
+    /// # Errors
+    /// As [`Fixed::new`], with `max_steps` as the limit.
+    pub fn with_limit(method: M, steps: usize, max_steps: usize) -> Result<Self> {
+        let m = Self {
             method,
             steps,
+            max_steps,
             compensated: true,
-        })
+        };
+        m.check_steps()?;
+        Ok(m)
+    }
+
+    fn check_steps(&self) -> Result<()> {
+        if self.steps == 0 {
+            return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
+        }
+        if self.steps > self.max_steps {
+            return Err(Error::WorkLimit {
+                what: "fixed-step run".into(),
+                limit: self.max_steps,
+                detail: format!("{:e} steps requested", self.steps as f64),
+                hint: "use fewer steps, or raise the limit with Fixed::with_limit(method, steps, \
+                       max_steps)"
+                    .into(),
+            });
+        }
+        Ok(())
     }
     /// The same with plain summation.
     pub fn uncompensated(mut self) -> Self {
@@ -389,6 +463,7 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
         problem: &Problem<'_, S, N>,
         observer: &mut O,
     ) -> Result<Report<N>> {
+        self.check_steps()?;
         let clock = Instant::now();
         let mut work = Work::default();
         let (t0, span) = (problem.start.t, problem.span());
@@ -457,8 +532,9 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                     break;
                 }
                 Control::StopAt(t) => {
+                    let t = stop_time(t, &state, &next)?;
                     state = dense.at(t);
-                    stopped = true;
+                    stopped = t != problem.t1;
                     break;
                 }
             }

@@ -36,7 +36,7 @@
 //! * A. J. Dragt and J. M. Finn, "Lie series and invariant functions for analytic symplectic maps",
 //!   *J. Math. Phys.* 17, 2215–2227 (1976).
 
-use crate::ad::{phase_gradient, PhaseDual};
+use crate::ad::{phase_gradient, phase_hessian, PhaseDual};
 use crate::brackets::{poisson_bracket, time_derivative, PhaseMap};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::{not_finite, Hamiltonian, PhaseFunction};
@@ -66,6 +66,42 @@ const STACK_LIMIT: usize = 1 << 20;
 
 fn check_eps(eps: f64) -> Result<f64> {
     finite("ICT parameter ε", eps)
+}
+
+/// The ICT is canonical to first order only: its Jacobian is `M = I + εA` with `A = J ∇²ρ` the
+/// Jacobian of `ρ`'s Hamiltonian vector field, and `MᵀJM − J = ε² AᵀJA` (Ardema eq. 18.38 and
+/// the remark after it). `J` is orthogonal, so `‖A‖_F = ‖∇²ρ‖_F`. Past `|ε| ‖∇²ρ‖_F = 1` the
+/// neglected second-order terms are as large as the first-order ones and the defect as large as
+/// `J` itself: the map is no longer a canonical transformation to any accuracy, and is refused.
+/// (For `∇²ρ = 0` — a translation — the map is exactly canonical for every finite `ε`.)
+fn check_first_order<R: PhaseFunction<N> + ?Sized, const N: usize>(
+    what: &str,
+    rho: &R,
+    eps: f64,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<()> {
+    let (_, _, _, h) = phase_hessian(|qd, pd| rho.eval(From::from(t), qd, pd), q, p);
+    let norm =
+        (h.qq.norm_squared() + h.qp.norm_squared() + h.pq.norm_squared() + h.pp.norm_squared())
+            .sqrt();
+    let norm = finite(
+        format_args!("‖∇²ρ‖ of the {what} generator at t = {t:e}, q = {q:?}, p = {p:?}"),
+        norm,
+    )?;
+    if eps.abs() * norm <= 1.0 {
+        return Ok(());
+    }
+    Err(Error::out_of_domain(
+        format!("{what} parameter ε at t = {t:e}, q = {q:?}, p = {p:?}"),
+        eps,
+        format!(
+            "|ε| ≤ 1/‖∇²ρ‖_F = {:e} at this point: beyond it the first-order map's symplectic \
+             defect ε²AᵀJA is as large as J (use a Lie series or the flow of ρ for finite ε)",
+            1.0 / norm
+        ),
+    ))
 }
 
 fn check_order(order: usize) -> Result<usize> {
@@ -156,6 +192,11 @@ impl<R> Ict<R> {
     }
 
     /// `(Q, P)` at a point, with NaN/∞ rejected on input and output [Ardema eq. 18.38].
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ in or out; [`Error::OutOfDomain`] when `ε` is not
+    /// infinitesimal at the point: `|ε| ‖∇²ρ‖_F > 1`, where the map is not canonical even
+    /// approximately (its symplectic defect `ε²AᵀJA`, `‖A‖_F = ‖∇²ρ‖_F`, is as large as `J`).
     pub fn transform<const N: usize>(
         &self,
         t: f64,
@@ -166,6 +207,14 @@ impl<R> Ict<R> {
         R: PhaseFunction<N>,
     {
         check_phase(t, q, p)?;
+        check_first_order(
+            "infinitesimal contact transformation",
+            &self.generator,
+            self.eps,
+            t,
+            q,
+            p,
+        )?;
         let (big_q, big_p) = self.apply(t, q, p);
         check_output(
             "infinitesimal contact transformation",
@@ -238,7 +287,8 @@ where
 /// $$ \delta f = \varepsilon\,(f, \rho), $$
 ///
 /// so that `f(Q, P) = f(q, p) + δf + O(ε²)`. NaN/∞ in `ε` or the point, and a non-finite result,
-/// are errors.
+/// are errors; so is an `ε` that is not infinitesimal at the point, `|ε| ‖∇²ρ‖_F > 1` (as for
+/// [`Ict::transform`]).
 ///
 /// # Reference
 /// Ardema 2005, §18.3, eq. 18.40.
@@ -256,6 +306,7 @@ where
 {
     let eps = check_eps(eps)?;
     let bracket = poisson_bracket(f, rho, t, q, p)?;
+    check_first_order("infinitesimal contact transformation", rho, eps, t, q, p)?;
     finite("variation ε (f, ρ)", eps * bracket)
 }
 
