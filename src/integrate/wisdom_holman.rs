@@ -354,7 +354,7 @@ fn solve_universal(r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> Result<(f64, f
         };
         let step = (next - chi).abs();
         // The bracket holds adjacent floating-point numbers.
-        if !is_newton && !(next > lo && next < hi) {
+        if !(is_newton || (next > lo && next < hi)) {
             return Ok((chi, r));
         }
         chi = next;
