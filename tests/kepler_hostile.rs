@@ -12,7 +12,9 @@ use hamilton_jacobi::num_dual::Dual64;
 use hamilton_jacobi::perturbation::elements::{
     propagate, propagate_classical, solve_barker, solve_kepler_hyperbolic, Classical,
 };
-use hamilton_jacobi::perturbation::kepler_variation::{j2_secular_rates, MeanElements};
+use hamilton_jacobi::perturbation::kepler_variation::{
+    j2_secular_rates, ClassicalSolution, EquinoctialSolution, MeanElements,
+};
 use hamilton_jacobi::systems::kepler_orbit::{self, kepler_propagate, MAX_PHASE_ADVANCE};
 use hamilton_jacobi::systems::{ExactFlow, Kepler2, Kepler3};
 use hamilton_jacobi::{Error, Hamiltonian};
@@ -279,6 +281,12 @@ fn long_phase_advances_are_refused_consistently() {
         assert!(lost(propagate_classical(mu, &el, t).map(|_| ())), "{t:e}");
         assert!(lost(mean.at(t).map(|_| ())), "{t:e}");
         assert!(lost(kepler.exact_flow(0.0, &q, &p, t).map(|_| ())), "{t:e}");
+        let cs = ClassicalSolution::new(mu, 0.0).unwrap();
+        let g = cs.constants(&el, 0.0).unwrap();
+        assert!(lost(cs.elements(t, &g).map(|_| ())), "{t:e}");
+        let es = EquinoctialSolution::new(mu, 0.0).unwrap();
+        let g = es.constants(&el.to_equinoctial().unwrap(), 0.0).unwrap();
+        assert!(lost(es.elements(t, &g).map(|_| ())), "{t:e}");
     }
     // A hyperbola has no phase: a long arc is still propagated.
     let ph = Vector3::new(0.0, 2.0, 0.0);

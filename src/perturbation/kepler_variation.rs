@@ -103,8 +103,10 @@ fn mean_motion_generic<D: DualNum<f64> + Copy>(mu: f64, a: D) -> D {
 }
 
 /// The Kepler general solution in classical elements, `γ₁ = (a, e, i)`, `γ₂ = (Ω, ω, M₀)`,
-/// `M = M₀ + n(a)(t − t₀)` (elliptic orbits; outside the domain of [`Classical`] the state is NaN
-/// and the engines report [`Error::InvalidInput`]).
+/// `M = M₀ + n(a)(t − t₀)` (elliptic orbits; outside the domain of [`Classical`], or for a phase
+/// advance `|n(t − t₀)|` beyond [`kepler_orbit::MAX_PHASE_ADVANCE`], the state is NaN and the
+/// engines report [`Error::InvalidInput`]; [`ClassicalSolution::elements`] reports
+/// [`Error::PhaseLost`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClassicalSolution {
     mu: f64,
@@ -158,7 +160,11 @@ impl GeneralSolution<3> for ClassicalSolution {
         if a.re().is_nan() || a.re() <= 0.0 {
             return nan_state();
         }
-        let m = g2[2] + mean_motion_generic(self.mu, a) * (t - self.epoch);
+        let advance = mean_motion_generic(self.mu, a) * (t - self.epoch);
+        if phase_advance("classical general solution", advance.re()).is_err() {
+            return nan_state();
+        }
+        let m = g2[2] + advance;
         let el = Classical {
             a,
             e: g1[1],
@@ -182,6 +188,7 @@ impl KeplerSolution for ClassicalSolution {
 
 /// The Kepler general solution in equinoctial elements (Broucke & Cefola 1972),
 /// `γ₁ = (a, h, k)`, `γ₂ = (p, q, λ₀)`, `λ = λ₀ + n(a)(t − t₀)`. Regular at `e = 0` and `i = 0`.
+/// The phase advance is limited as for [`ClassicalSolution`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EquinoctialSolution {
     mu: f64,
@@ -228,7 +235,11 @@ impl GeneralSolution<3> for EquinoctialSolution {
         if a.re().is_nan() || a.re() <= 0.0 {
             return nan_state();
         }
-        let lambda = g2[2] + mean_motion_generic(self.mu, a) * (t - self.epoch);
+        let advance = mean_motion_generic(self.mu, a) * (t - self.epoch);
+        if phase_advance("equinoctial general solution", advance.re()).is_err() {
+            return nan_state();
+        }
+        let lambda = g2[2] + advance;
         let el = Equinoctial {
             a,
             h: g1[1],
@@ -624,8 +635,10 @@ impl super::canonical::CanonicalElements<3> for DelaunayElements {
         beta: &SVector<D, 3>,
     ) -> Result<(SVector<D, 3>, SVector<D, 3>)> {
         let n = alpha[0].powi(3).recip() * (self.mu * self.mu);
+        let advance = n * (t - self.epoch);
+        phase_advance("Delaunay general solution", advance.re())?;
         super::elements::Delaunay {
-            l: beta[0] + n * (t - self.epoch),
+            l: beta[0] + advance,
             g: beta[1],
             h: beta[2],
             big_l: alpha[0],
