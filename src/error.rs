@@ -82,6 +82,21 @@ pub enum Error {
         /// What to do instead.
         hint: String,
     },
+    /// The phase of a periodic motion advanced by `n·Δt` is too large for floating point: its
+    /// rounding (about `|phase|·ε`, `ε = 2⁻⁵²`, from the rounding of `n` and of the product) exceeds
+    /// the stated tolerance, so the position along the orbit is not determined by the inputs.
+    #[error(
+        "{what}: the phase advance {phase:e} rad exceeds {limit:e} rad, beyond which its rounding \
+         exceeds 1e-6 rad and the phase is lost"
+    )]
+    PhaseLost {
+        /// Which propagation.
+        what: String,
+        /// The phase advance `n·Δt` (radians).
+        phase: f64,
+        /// The largest accepted `|n·Δt|` (radians).
+        limit: f64,
+    },
 }
 
 impl Error {

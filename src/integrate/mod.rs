@@ -476,6 +476,7 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
             ));
         }
         let mut state = problem.start;
+        check_initial_field(problem)?;
         let (mut cq, mut cp) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
         observer.start(&state);
         let mut stopped = false;
@@ -545,6 +546,26 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
             work,
             elapsed: clock.elapsed(),
         })
+    }
+}
+
+/// Refuse a start where the vector field is not finite (a singularity of the system, e.g. the
+/// Kepler collision `q = 0`): no step from there approximates a solution.
+fn check_initial_field<S: FirstOrderSystem<N>, const N: usize>(
+    problem: &Problem<'_, S, N>,
+) -> Result<()> {
+    let s = &problem.start;
+    let (dq, dp) = problem.system.field(s.t, &s.q, &s.p)?;
+    match dq.iter().chain(dp.iter()).find(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(&value) => Err(Error::NonFinite {
+            what: format!(
+                "vector field at the initial state t = {:e}, q = {:?}, p = {:?} (a singularity \
+                 of the system)",
+                s.t, s.q, s.p
+            ),
+            value,
+        }),
     }
 }
 

@@ -36,6 +36,8 @@ use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::Separable;
+use crate::perturbation::elements::solve_kepler_hyperbolic;
+use crate::systems::kepler_orbit::phase_advance;
 use nalgebra::SVector;
 use num_dual::DualNum;
 use std::f64::consts::PI;
@@ -196,64 +198,147 @@ fn universal<D: DualNum<f64> + Copy>(chi: D, r0: D, sigma0: D, alpha: D, rhs: D)
     (f, r)
 }
 
+/// `F(χ)`, `r(χ)` on reals, and the sum of the magnitudes of the terms of `F` (the scale of its
+/// rounding error).
+fn universal_real(chi: f64, r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> (f64, f64, f64) {
+    let chi2 = chi * chi;
+    let z = alpha * chi2;
+    let (c, s) = stumpff(z);
+    let t1 = sigma0 * chi2 * c;
+    let t2 = (1.0 - alpha * r0) * chi2 * chi * s;
+    let t3 = r0 * chi;
+    let f = t1 + t2 + t3 - rhs;
+    let r = chi2 * c + sigma0 * chi * (1.0 - z * s) + r0 * (1.0 - z * c);
+    (f, r, t1.abs() + t2.abs() + t3.abs() + rhs.abs())
+}
+
+/// Starter for a hyperbolic arc (`α < 0`): the hyperbolic Kepler equation `e sinh H − H = M`
+/// solved by [`solve_kepler_hyperbolic`] and mapped to `χ = (H₁ − H₀)/√(−α)` (Battin 1999 §4.5,
+/// `e cosh H₀ = 1 − αr₀`, `e sinh H₀ = σ₀√(−α)`, `M₁ − M₀ = (−α)^{3/2}√μ Δt`,
+/// `e² = 1 − α h²/μ` with `h²/μ = 2r₀ − αr₀² − σ₀²`). `None` where the conversion is not defined
+/// (nearly parabolic, `e` not above 1 after rounding), leaving the geometric search.
+fn hyperbolic_starter(r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> Option<f64> {
+    let sa = (-alpha).sqrt();
+    let h2_over_mu = (2.0 * r0 - alpha * r0 * r0 - sigma0 * sigma0).max(0.0);
+    let e = (1.0 - alpha * h2_over_mu).sqrt();
+    if !(e > 1.0 && e.is_finite()) {
+        return None;
+    }
+    let es = sigma0 * sa;
+    let h0 = (es / e).asinh();
+    let m0 = es - h0;
+    let m1 = m0 + (-alpha) * sa * rhs;
+    let h1 = solve_kepler_hyperbolic(m1, e).ok()?;
+    let chi = (h1 - h0) / sa;
+    chi.is_finite().then_some(chi)
+}
+
 /// Real root of the universal Kepler equation by Newton safeguarded with bisection.
+///
+/// `F` is increasing with `F(0) = −rhs`, so the root has the sign of `rhs`. Bound orbits
+/// (`α > 0`, reduced to half a period) are bracketed by `|ΔE| ≤ π + 2`; unbound ones by a search
+/// outward from a starter (the hyperbolic Kepler equation for `α < 0`, else `rhs/r₀`) in steps
+/// that grow geometrically from `10⁻⁹` of it. A non-finite `F` (an overflowing Stumpff function)
+/// can only occur beyond the root, on the side of `rhs`, and is treated so.
 fn solve_universal(r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> Result<(f64, f64)> {
-    let f = |chi: f64| universal(chi, r0, sigma0, alpha, rhs);
-    // Bracket [lo, hi] with F(lo) ≤ 0 ≤ F(hi) (F increasing, F(0) = −rhs).
-    let (mut lo, mut hi) = (0.0f64, 0.0f64);
-    let guess = rhs / r0;
+    let f = |chi: f64| universal_real(chi, r0, sigma0, alpha, rhs);
+    let dir = if rhs >= 0.0 { 1.0 } else { -1.0 };
+    // `beyond(x)`: x lies on the far side of the root (F(x)·dir ≥ 0, or F not finite there).
+    let beyond = |x: f64| {
+        let (fx, _, _) = f(x);
+        !fx.is_finite() || fx * dir >= 0.0
+    };
+    // Bracket [near, far] along dir, with F(near)·dir ≤ 0 ≤ F(far)·dir.
+    let (mut lo, mut hi);
+    let mut guess = rhs / r0;
     if alpha > 0.0 {
         // Reduced to |Δt| ≤ P/2: |ΔE| ≤ π + 2e < π + 2, χ = ΔE/√α.
         let bound = (PI + 2.0) / alpha.sqrt() * (1.0 + 1e-12);
-        if rhs >= 0.0 {
-            hi = bound;
+        (lo, hi) = if dir > 0.0 {
+            (0.0, bound)
         } else {
-            lo = -bound;
-        }
+            (-bound, 0.0)
+        };
     } else {
-        // Expand geometrically from the small-step guess until the sign changes.
-        let mut step = guess.abs().max(1e-300);
-        let dir = if rhs >= 0.0 { 1.0 } else { -1.0 };
-        let mut k = 0;
-        loop {
-            let x = dir * step;
-            let (fx, _) = f(x);
-            if (dir > 0.0 && fx >= 0.0) || (dir < 0.0 && fx <= 0.0) {
-                if dir > 0.0 {
-                    hi = x;
-                } else {
-                    lo = x;
+        if alpha < 0.0 {
+            if let Some(chi) = hyperbolic_starter(r0, sigma0, alpha, rhs) {
+                if chi * dir > 0.0 {
+                    guess = chi;
                 }
-                break;
-            }
-            if dir > 0.0 {
-                lo = x;
-            } else {
-                hi = x;
-            }
-            step *= 2.0;
-            k += 1;
-            if k > 2100 || !step.is_finite() {
-                return Err(Error::NotConverged {
-                    what: "universal Kepler equation (bracketing)".into(),
-                    iterations: k,
-                    residual: fx.abs(),
-                });
             }
         }
+        let mut near = 0.0f64;
+        let far;
+        if guess == 0.0 || !guess.is_finite() {
+            guess = dir * f64::MIN_POSITIVE;
+        }
+        if beyond(guess) {
+            far = guess;
+            // Tighten the near end towards the guess.
+            let mut k = 0;
+            let mut step = guess.abs() * 1e-9;
+            loop {
+                let x = guess - dir * step;
+                if x * dir <= 0.0 {
+                    break;
+                }
+                if !beyond(x) {
+                    near = x;
+                    break;
+                }
+                step *= 2.0;
+                k += 1;
+                if k > 64 {
+                    break;
+                }
+            }
+        } else {
+            near = guess;
+            let mut step = (guess.abs() * 1e-9).max(f64::MIN_POSITIVE);
+            let mut k = 0;
+            loop {
+                let x = guess + dir * step;
+                if !x.is_finite() {
+                    return Err(Error::NotConverged {
+                        what: "universal Kepler equation (bracketing)".into(),
+                        iterations: k,
+                        residual: f(near).0.abs(),
+                    });
+                }
+                if beyond(x) {
+                    far = x;
+                    break;
+                }
+                near = x;
+                step *= 2.0;
+                k += 1;
+            }
+        }
+        (lo, hi) = if dir > 0.0 { (near, far) } else { (far, near) };
     }
     let mut chi = guess.clamp(lo, hi);
     for it in 0..200 {
-        let (fx, r) = f(chi);
+        let (fx, r, scale) = f(chi);
         if !(fx.is_finite() && r.is_finite()) {
-            return Err(Error::NotConverged {
-                what: "universal Kepler equation (non-finite residual)".into(),
-                iterations: it,
-                residual: f64::NAN,
-            });
+            // Beyond the root (overflow): shrink towards the origin side and bisect.
+            if dir > 0.0 {
+                hi = chi;
+            } else {
+                lo = chi;
+            }
+            let mid = lo + 0.5 * (hi - lo);
+            if !(mid > lo && mid < hi) {
+                return Err(Error::NotConverged {
+                    what: "universal Kepler equation (non-finite residual)".into(),
+                    iterations: it,
+                    residual: f64::INFINITY,
+                });
+            }
+            chi = mid;
+            continue;
         }
         // Converged when the residual is at the rounding level of the terms of F.
-        if fx.abs() <= 2.0 * f64::EPSILON * (rhs.abs() + r0 * chi.abs()) {
+        if fx.abs() <= 4.0 * f64::EPSILON * scale {
             return Ok((chi, r));
         }
         if fx < 0.0 {
@@ -265,13 +350,17 @@ fn solve_universal(r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> Result<(f64, f
         let (next, is_newton) = if newton >= lo && newton <= hi {
             (newton, true)
         } else {
-            (0.5 * (lo + hi), false)
+            (lo + 0.5 * (hi - lo), false)
         };
         let step = (next - chi).abs();
+        // The bracket holds adjacent floating-point numbers.
+        if !(is_newton || (next > lo && next < hi)) {
+            return Ok((chi, r));
+        }
         chi = next;
         // Or when a Newton step no longer moves the iterate (rounding floor).
         if is_newton && step <= 2.0 * f64::EPSILON * chi.abs() {
-            let (_, r) = f(chi);
+            let (_, r, _) = f(chi);
             return Ok((chi, r));
         }
     }
@@ -289,8 +378,9 @@ fn solve_universal(r0: f64, sigma0: f64, alpha: f64, rhs: f64) -> Result<(f64, f
 ///
 /// # Errors
 /// [`Error::OutOfDomain`] for `μ ≤ 0`; [`Error::NonFinite`] for NaN/∞ in `q`, `p`, `dt`;
-/// [`Error::InvalidInput`] for `q = 0` (the collision singularity); [`Error::NotConverged`] if
-/// the universal Kepler equation cannot be solved.
+/// [`Error::InvalidInput`] for `q = 0` (the collision singularity); [`Error::PhaseLost`] for a
+/// bound orbit when `|n·dt|` exceeds [`MAX_PHASE_ADVANCE`](crate::systems::kepler_orbit::MAX_PHASE_ADVANCE);
+/// [`Error::NotConverged`] if the universal Kepler equation cannot be solved.
 pub fn kepler_drift<D: DualNum<f64> + Copy, const N: usize>(
     mu: f64,
     q: &SVector<D, N>,
@@ -323,6 +413,7 @@ pub fn kepler_drift<D: DualNum<f64> + Copy, const N: usize>(
     let mut dt_red = dt;
     if alpha.re() > 0.0 {
         let period = (alpha * alpha.sqrt() * sqrt_mu).recip() * (2.0 * PI);
+        phase_advance("Kepler drift", 2.0 * PI * (dt.re() / period.re()))?;
         let k = (dt.re() / period.re()).round();
         if k != 0.0 {
             dt_red = dt - period * k;

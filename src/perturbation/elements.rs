@@ -244,6 +244,17 @@ fn solve_hyperbolic_reduced(m: f64, e: f64) -> Result<f64> {
     if e * linear * linear <= f64::EPSILON * em1 {
         return Ok(linear);
     }
+    // Large M: for F ≥ 40, sinh F = e^F/2 to a relative e^{−2F} < 10⁻³⁴, and the equation reads
+    // F = ln(2(M + F)/e), a contraction with factor 1/(M + F) < 10⁻¹⁸, iterated from F = 0 without
+    // evaluating sinh (which overflows for F > 710 although F itself stays below 711 for every
+    // finite M). F ≥ 40 holds when M/e ≥ sinh 40 ≈ 1.2·10¹⁷.
+    if m / e > 1e18 {
+        let mut x = 0.0;
+        for _ in 0..3 {
+            x = ((m + x) / e).ln() + LN_2;
+        }
+        return Ok(x);
+    }
     // Bracket: e sinh F = M + F ≥ M gives F ≥ asinh(M/e); e sinh F − F ≥ (e − 1) sinh F gives
     // F ≤ asinh(M/(e − 1)) (with asinh x ≤ ln x + ln 2 + 1/x² used when M/(e − 1) overflows).
     let mut lo = (m / e).asinh();
@@ -332,17 +343,26 @@ pub fn solve_kepler_hyperbolic(mean_anomaly: f64, e: f64) -> Result<f64> {
 /// [`Error::NonFinite`] for a NaN/∞ real part of `M_p`.
 pub fn solve_barker<D: DualNum<f64> + Copy>(mean_anomaly: D) -> Result<D> {
     let m = finite("parabolic mean anomaly M_p", mean_anomaly.re())?;
-    // B³ + 3B − 3M = 0: Cardano with P = 1, Q = 3|M|/2; s³ = Q + √(Q² + 1) > 0.
+    // B³ + 3B − 3M = 0: Cardano with P = 1, Q = 3|M|/2; s³ = Q + √(Q² + 1) > 0 and
+    // B = 2Q/(s² + 1 + s⁻²).
     let sign = if m < 0.0 { -1.0 } else { 1.0 };
-    let q = mean_anomaly * (1.5 * sign);
-    // √(Q² + 1) as Q·√(1 + Q⁻²) for Q > 1, so that Q² cannot overflow (|M| up to f64::MAX).
-    let s = if q.re() > 1.0 {
-        (q * ((q * q).recip() + 1.0).sqrt() + q).cbrt()
+    let m_abs = mean_anomaly * sign;
+    let b = if 1.5 * m.abs() > 1.0 {
+        // s = Q^{1/3}k with k = ∛(1 + √(1 + Q⁻²)), so B = 2Q^{1/3}/(k²(1 + s⁻² + s⁻⁴)): no power
+        // of Q above 1/3 is formed, and |M| up to f64::MAX gives a finite B ≈ ∛(3M).
+        let q_inv = m_abs.recip() * (1.0 / 1.5);
+        let k = ((q_inv * q_inv + 1.0).sqrt() + 1.0).cbrt();
+        let q13 = m_abs.cbrt() * 1.5f64.cbrt();
+        let s = q13 * k;
+        let s2i = (s * s).recip();
+        q13 * 2.0 / (k * k) / (s2i * (s2i + 1.0) + 1.0)
     } else {
-        (q + (q * q + 1.0).sqrt()).cbrt()
+        let q = m_abs * 1.5;
+        let s = (q + (q * q + 1.0).sqrt()).cbrt();
+        let s2 = s * s;
+        q * 2.0 / (s2 + 1.0 + s2.recip())
     };
-    let s2 = s * s;
-    Ok((q * 2.0 / (s2 + 1.0 + s2.recip())) * sign)
+    Ok(b * sign)
 }
 
 /// Eccentric anomaly `E` of an ellipse from `M = E − e sin E`, in any dual type: the real root
@@ -622,15 +642,15 @@ impl Classical<f64> {
         self.a * ((1.0 - self.e) * (1.0 + self.e))
     }
 
-    /// Mean motion `n = √(μ/|a|³)`.
+    /// Mean motion `n = √(μ/|a|³)` ([`kepler_orbit::mean_motion`] of `|a|`).
     ///
     /// # Errors
-    /// [`Error::OutOfDomain`] for `μ ≤ 0`; as [`Classical::validate`].
+    /// [`Error::OutOfDomain`] for `μ ≤ 0` or an `n` outside the normal range; as
+    /// [`Classical::validate`].
     pub fn mean_motion(&self, mu: f64) -> Result<f64> {
         let mu = check_mu(mu)?;
         self.validate()?;
-        let a = self.a.abs();
-        Ok((mu / a).sqrt() / a)
+        kepler_orbit::mean_motion(mu, self.a.abs())
     }
 
     /// Equinoctial elements (Broucke & Cefola 1972): `h = e sin ϖ`, `k = e cos ϖ`,
@@ -1566,24 +1586,19 @@ pub fn propagate<D: DualNum<f64> + Copy>(
 ///
 /// # Errors
 /// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result;
-/// [`Error::OutOfDomain`] when `|M|` is so large that one ulp exceeds 1e−6 rad (the phase would
-/// be lost). The elliptic `M` is returned in `[0, 2π)`.
+/// [`Error::PhaseLost`] for an ellipse when `|n·dt|` exceeds
+/// [`kepler_orbit::MAX_PHASE_ADVANCE`] (the rounding of the phase would exceed 1e−6 rad). The
+/// elliptic `M` is returned in `[0, 2π)`; the hyperbolic `M` is not periodic and has no such limit.
 pub fn propagate_classical(mu: f64, el: &Classical, dt: f64) -> Result<Classical> {
     let n = el.mean_motion(mu)?;
     let dt = finite("time step dt", dt)?;
     let mut out = *el;
-    let m = finite("propagated mean anomaly", el.mean_anomaly + n * dt)?;
-    // The phase is meaningless once ulp(M) is a sizeable fraction of a radian.
-    if m.abs() * f64::EPSILON > 1e-6 {
-        return Err(Error::out_of_domain(
-            "propagated mean anomaly M",
-            m,
-            format!(
-                "|M| ≤ {:e} (beyond, one ulp of M exceeds 1e−6 rad and the phase is lost)",
-                1e-6 / f64::EPSILON
-            ),
-        ));
-    }
+    let advance = if el.e < 1.0 {
+        kepler_orbit::phase_advance("classical-element propagation", n * dt)?
+    } else {
+        finite("mean-anomaly advance n·dt", n * dt)?
+    };
+    let m = finite("propagated mean anomaly", el.mean_anomaly + advance)?;
     out.mean_anomaly = if el.e < 1.0 { wrap_two_pi(m) } else { m };
     Ok(out)
 }

@@ -73,6 +73,7 @@ use super::elements::{state_to_classical, Classical, Equinoctial, State};
 use super::ode::{ElementOde, Pair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
+use crate::systems::kepler_orbit::{self, phase_advance};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
@@ -86,7 +87,7 @@ pub trait KeplerSolution: GeneralSolution<3> {
     /// Mean motion `n = √(μ/a³)` of the constants (`a = γ₁[0] > 0`).
     fn mean_motion(&self, gamma1: &SVector<f64, 3>) -> Result<f64> {
         let a = positive("semi-major axis a = γ₁[0]", gamma1[0])?;
-        Ok((self.mu() / (a * a * a)).sqrt())
+        kepler_orbit::mean_motion(self.mu(), a)
     }
 }
 
@@ -102,8 +103,10 @@ fn mean_motion_generic<D: DualNum<f64> + Copy>(mu: f64, a: D) -> D {
 }
 
 /// The Kepler general solution in classical elements, `γ₁ = (a, e, i)`, `γ₂ = (Ω, ω, M₀)`,
-/// `M = M₀ + n(a)(t − t₀)` (elliptic orbits; outside the domain of [`Classical`] the state is NaN
-/// and the engines report [`Error::InvalidInput`]).
+/// `M = M₀ + n(a)(t − t₀)` (elliptic orbits; outside the domain of [`Classical`], or for a phase
+/// advance `|n(t − t₀)|` beyond [`kepler_orbit::MAX_PHASE_ADVANCE`], the state is NaN and the
+/// engines report [`Error::InvalidInput`]; [`ClassicalSolution::elements`] reports
+/// [`Error::PhaseLost`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClassicalSolution {
     mu: f64,
@@ -141,14 +144,8 @@ impl ClassicalSolution {
     pub fn elements(&self, t: f64, g: &Pair<3>) -> Result<Classical> {
         finite("time t", t)?;
         let n = self.mean_motion(&g.0)?;
-        Classical::new(
-            g.0[0],
-            g.0[1],
-            g.0[2],
-            g.1[0],
-            g.1[1],
-            g.1[2] + n * (t - self.epoch),
-        )
+        let advance = phase_advance("classical general solution", n * (t - self.epoch))?;
+        Classical::new(g.0[0], g.0[1], g.0[2], g.1[0], g.1[1], g.1[2] + advance)
     }
 }
 
@@ -163,7 +160,11 @@ impl GeneralSolution<3> for ClassicalSolution {
         if a.re().is_nan() || a.re() <= 0.0 {
             return nan_state();
         }
-        let m = g2[2] + mean_motion_generic(self.mu, a) * (t - self.epoch);
+        let advance = mean_motion_generic(self.mu, a) * (t - self.epoch);
+        if phase_advance("classical general solution", advance.re()).is_err() {
+            return nan_state();
+        }
+        let m = g2[2] + advance;
         let el = Classical {
             a,
             e: g1[1],
@@ -187,6 +188,7 @@ impl KeplerSolution for ClassicalSolution {
 
 /// The Kepler general solution in equinoctial elements (Broucke & Cefola 1972),
 /// `γ₁ = (a, h, k)`, `γ₂ = (p, q, λ₀)`, `λ = λ₀ + n(a)(t − t₀)`. Regular at `e = 0` and `i = 0`.
+/// The phase advance is limited as for [`ClassicalSolution`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EquinoctialSolution {
     mu: f64,
@@ -217,14 +219,8 @@ impl EquinoctialSolution {
     pub fn elements(&self, t: f64, g: &Pair<3>) -> Result<Equinoctial> {
         finite("time t", t)?;
         let n = self.mean_motion(&g.0)?;
-        Equinoctial::new(
-            g.0[0],
-            g.0[1],
-            g.0[2],
-            g.1[0],
-            g.1[1],
-            g.1[2] + n * (t - self.epoch),
-        )
+        let advance = phase_advance("equinoctial general solution", n * (t - self.epoch))?;
+        Equinoctial::new(g.0[0], g.0[1], g.0[2], g.1[0], g.1[1], g.1[2] + advance)
     }
 }
 
@@ -239,7 +235,11 @@ impl GeneralSolution<3> for EquinoctialSolution {
         if a.re().is_nan() || a.re() <= 0.0 {
             return nan_state();
         }
-        let lambda = g2[2] + mean_motion_generic(self.mu, a) * (t - self.epoch);
+        let advance = mean_motion_generic(self.mu, a) * (t - self.epoch);
+        if phase_advance("equinoctial general solution", advance.re()).is_err() {
+            return nan_state();
+        }
+        let lambda = g2[2] + advance;
         let el = Equinoctial {
             a,
             h: g1[1],
@@ -325,8 +325,13 @@ pub struct J2SecularRates {
 
 /// The closed-form first-order `J₂` secular rates for `μ, J₂, R` at `(a, e, i)` (elliptic).
 ///
+/// `k = n J₂ (R/p)²` is formed as `n·J₂·R²/(a²(1 − e²)²)` from the binary mantissas and
+/// exponents of its factors, so no intermediate overflows or underflows. A rate that underflows is returned as its correctly rounded value (0 or
+/// subnormal); one that overflows is refused.
+///
 /// # Errors
-/// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`.
+/// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`; the errors of
+/// [`kepler_orbit::mean_motion`]; [`Error::OutOfDomain`] when a rate overflows.
 pub fn j2_secular_rates(
     mu: f64,
     j2: f64,
@@ -347,14 +352,35 @@ pub fn j2_secular_rates(
     if !(0.0..=PI).contains(&i) {
         return Err(Error::out_of_domain("inclination i", i, "[0, π]"));
     }
-    let n = (mu / (a * a * a)).sqrt();
-    let p = a * (1.0 - e) * (1.0 + e);
-    let k = n * j2 * (radius / p).powi(2);
+    let n = kepler_orbit::mean_motion(mu, a)?;
+    let one_m_e2 = (1.0 - e) * (1.0 + e);
     let c = i.cos();
+    if j2 == 0.0 {
+        return Ok(J2SecularRates {
+            raan: 0.0,
+            argp: 0.0,
+            mean_anomaly: 0.0,
+            mean_motion: n,
+        });
+    }
+    let k = kepler_orbit::scaled_product(&[n, j2, radius, radius], &[a, a, one_m_e2, one_m_e2]);
+    let overflow = |rate: f64| -> Result<f64> {
+        if rate.is_finite() {
+            Ok(rate)
+        } else {
+            Err(Error::out_of_domain(
+                format!(
+                    "J₂ secular rate at μ = {mu:e}, J₂ = {j2:e}, R = {radius:e}, a = {a:e}, e = {e:e}"
+                ),
+                rate,
+                "finite rates (|n·J₂·(R/p)²| below 1.2e308)",
+            ))
+        }
+    };
     Ok(J2SecularRates {
-        raan: -1.5 * k * c,
-        argp: 0.75 * k * (5.0 * c * c - 1.0),
-        mean_anomaly: 0.75 * k * ((1.0 - e) * (1.0 + e)).sqrt() * (3.0 * c * c - 1.0),
+        raan: overflow(-1.5 * k * c)?,
+        argp: overflow(0.75 * k * (5.0 * c * c - 1.0))?,
+        mean_anomaly: overflow(0.75 * k * one_m_e2.sqrt() * (3.0 * c * c - 1.0))?,
         mean_motion: n,
     })
 }
@@ -533,13 +559,14 @@ impl MeanElements {
         let el = &self.elements;
         let n = el.mean_motion(self.mu)?;
         let r = &self.rates;
+        let advance = phase_advance("mean-element propagation", (n + r[5]) * dt)?;
         Classical::new(
             el.a + r[0] * dt,
             el.e + r[1] * dt,
             el.i + r[2] * dt,
             el.raan + r[3] * dt,
             el.argp + r[4] * dt,
-            el.mean_anomaly + (n + r[5]) * dt,
+            el.mean_anomaly + advance,
         )
     }
 
@@ -608,8 +635,10 @@ impl super::canonical::CanonicalElements<3> for DelaunayElements {
         beta: &SVector<D, 3>,
     ) -> Result<(SVector<D, 3>, SVector<D, 3>)> {
         let n = alpha[0].powi(3).recip() * (self.mu * self.mu);
+        let advance = n * (t - self.epoch);
+        phase_advance("Delaunay general solution", advance.re())?;
         super::elements::Delaunay {
-            l: beta[0] + n * (t - self.epoch),
+            l: beta[0] + advance,
             g: beta[1],
             h: beta[2],
             big_l: alpha[0],

@@ -73,6 +73,33 @@ const KEPLER_STEP_TOL: f64 = 1e-8;
 /// `2 a · CIRCULAR_TOLERANCE`.
 pub const CIRCULAR_TOLERANCE: f64 = 64.0 * f64::EPSILON;
 
+/// The largest phase advance `|n·Δt|` (radians) that the propagators of bound Kepler motion
+/// accept: `10⁻⁶/ε ≈ 4.5·10⁹` rad (about 7·10⁸ orbits).
+///
+/// The mean motion `n` and the product `n·Δt` are rounded, so the computed phase carries an error
+/// of a few `|n·Δt|·ε` (`ε = 2⁻⁵²`) whatever the method; beyond this limit that error exceeds
+/// `10⁻⁶` rad, and a few decades further (`|n·Δt| ≈ 2⁵³`) the phase is entirely lost. Every
+/// propagator of bound motion ([`kepler_propagate`], [`crate::integrate::kepler_drift`],
+/// [`crate::perturbation::elements::propagate_classical`] and the mean-anomaly propagation of the
+/// element solutions in [`crate::perturbation::kepler_variation`]) refuses a longer advance with
+/// [`Error::PhaseLost`]. Unbound (parabolic, hyperbolic) motion has no phase and no such limit.
+pub const MAX_PHASE_ADVANCE: f64 = 1e-6 / f64::EPSILON;
+
+/// Accept a phase advance `n·Δt` of bound motion (finite, `|n·Δt| ≤ MAX_PHASE_ADVANCE`), else
+/// [`Error::NonFinite`] / [`Error::PhaseLost`] naming `what`.
+pub(crate) fn phase_advance(what: &str, phase: f64) -> Result<f64> {
+    let phase = finite(format_args!("{what}: phase advance n·Δt"), phase)?;
+    if phase.abs() <= MAX_PHASE_ADVANCE {
+        Ok(phase)
+    } else {
+        Err(Error::PhaseLost {
+            what: what.into(),
+            phase,
+            limit: MAX_PHASE_ADVANCE,
+        })
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Validation helpers
 // ---------------------------------------------------------------------------------------------
@@ -309,14 +336,79 @@ pub fn solve_kepler(mean_anomaly: f64, e: f64) -> Result<f64> {
 
 /// Mean motion `n = √(μ/a³)`.
 ///
+/// Evaluated without intermediate overflow or underflow: with `a = a'·2^{2k}`, `a' ∈ [1, 4)`
+/// (exact scaling by a power of two), `n = √(μ/a'³)·2^{−3k}`, so the only rounding-range limit is
+/// that of `n` itself.
+///
 /// Reference: Ardema (2005) §10.3.
 ///
 /// # Errors
-/// [`Error::NonFinite`] / [`Error::OutOfDomain`] unless `μ > 0` and `a > 0` are finite.
+/// [`Error::NonFinite`] / [`Error::OutOfDomain`] unless `μ > 0` and `a > 0` are finite;
+/// [`Error::OutOfDomain`] when `n` overflows or falls below the normal range
+/// (`f64::MIN_POSITIVE ≈ 2.2e−308`, where it would lose relative precision).
 pub fn mean_motion(mu: f64, a: f64) -> Result<f64> {
     let mu = positive("gravitational parameter μ", mu)?;
     let a = positive("semi-major axis a", a)?;
-    Ok((mu / a).sqrt() / a)
+    // a = m·2^e with m ∈ [1, 2) (also for subnormal a); k = ⌊e/2⌋ gives a' = a·2^{−2k} ∈ [1, 4).
+    let e = exponent(a);
+    let k = e.div_euclid(2);
+    let a_scaled = scale2(a, -2 * k);
+    let base = (mu / (a_scaled * a_scaled * a_scaled)).sqrt();
+    let n = scale2(base, -3 * k);
+    if n.is_finite() && n >= f64::MIN_POSITIVE {
+        Ok(n)
+    } else {
+        Err(Error::out_of_domain(
+            format!("mean motion √(μ/a³) (μ = {mu:e}, a = {a:e})"),
+            n,
+            "[2.2e-308, 1.8e308] (representable with full precision)",
+        ))
+    }
+}
+
+/// `∏ num / ∏ den` for finite non-zero factors, formed from their binary mantissas and exponents
+/// so that the only overflow or underflow is that of the result (one final scaling; the relative
+/// error is that of the mantissa products, a few ulps).
+pub(crate) fn scaled_product(num: &[f64], den: &[f64]) -> f64 {
+    let mut m = 1.0f64;
+    let mut e = 0i32;
+    for &x in num {
+        let ex = exponent(x.abs());
+        m *= scale2(x, -ex);
+        e += ex;
+    }
+    for &x in den {
+        let ex = exponent(x.abs());
+        m /= scale2(x, -ex);
+        e -= ex;
+    }
+    scale2(m, e)
+}
+
+/// Binary exponent `e` with `x = m·2^e`, `m ∈ [1, 2)`, for finite `x > 0` (subnormals included).
+fn exponent(x: f64) -> i32 {
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        // Subnormal: x = frac·2^{−1074}.
+        let frac = bits & ((1u64 << 52) - 1);
+        63 - frac.leading_zeros() as i32 - 1074
+    } else {
+        biased - 1023
+    }
+}
+
+/// `x·2^k` for any integer `k`, in steps that cannot overflow the scale factor (exact unless the
+/// result overflows or is subnormal).
+fn scale2(x: f64, k: i32) -> f64 {
+    let mut x = x;
+    let mut k = k;
+    while k != 0 {
+        let step = k.clamp(-1000, 1000);
+        x *= f64::from_bits(((1023 + step) as u64) << 52);
+        k -= step;
+    }
+    x
 }
 
 /// Orbital period `τ = 2π a^{3/2}/√μ` (Kepler's third law).
@@ -786,7 +878,8 @@ pub fn planar_state_to_elements(
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `μ ≤ 0` or an unbound state
-/// (`ε ≥ 0` or `e ≥ 1`); [`Error::InvalidInput`] for `r₀ = 0`.
+/// (`ε ≥ 0` or `e ≥ 1`); [`Error::InvalidInput`] for `r₀ = 0`; [`Error::PhaseLost`] when
+/// `|n·dt|` exceeds [`MAX_PHASE_ADVANCE`].
 pub fn kepler_propagate(
     mu: f64,
     r0: &Vector3<f64>,
@@ -822,7 +915,7 @@ pub fn kepler_propagate(
     }
     let n = sqrt_mu * inv_a * inv_a.sqrt();
     let e0 = es.atan2(ec);
-    let m1 = kepler_lhs(e0, e) + finite("mean-anomaly increment n·dt", n * dt)?;
+    let m1 = kepler_lhs(e0, e) + phase_advance("Kepler propagation", n * dt)?;
     let e1 = solve_kepler(m1, e)?;
     let dea = e1 - e0;
     let s = dea.sin();
