@@ -22,7 +22,7 @@ use hamilton_jacobi::integrate::{integrate, Fixed, Problem, Rk4};
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::pendulum_exact::exact_state;
-use hamilton_jacobi::systems::top_motion::Nutation;
+use hamilton_jacobi::systems::top::motion::Nutation;
 use hamilton_jacobi::systems::{HeavyTop, Kepler2, Pendulum};
 use hamilton_jacobi::Hamiltonian;
 use std::f64::consts::PI;

@@ -5,7 +5,7 @@
 //! Run with `cargo run --release --example hj_top`.
 
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::systems::top_motion::{self, Nutation, TopCubic};
+use hamilton_jacobi::systems::top::motion::{self, Nutation, TopCubic};
 use hamilton_jacobi::systems::HeavyTop;
 use hamilton_jacobi::{Hamiltonian, Result};
 
@@ -59,7 +59,7 @@ fn main() -> Result<()> {
     );
     println!(
         "| u₁ [11.24, X1 form] | 0.191767987533668 | {:.15} | — | — |",
-        top_motion::release_from_rest(&top, u2, 5.0)?
+        motion::release_from_rest(&top, u2, 5.0)?
     );
     let [th_min, th_max] = c.theta_range();
     println!(
@@ -90,7 +90,7 @@ fn main() -> Result<()> {
     );
     println!(
         "| fast-top width [11.25] | 0.24 | {:.4} (exact u₂ − u₁ = {:.4}) | — | — |",
-        top_motion::fast_top_width(&top, u2, 5.0)?,
+        motion::fast_top_width(&top, u2, 5.0)?,
         c.nutation_width()
     );
 
@@ -105,7 +105,7 @@ fn main() -> Result<()> {
             "| {omega} | {} | {:.12e} | {:.6e} | {:.14e} | {:.14e} | {:.14e} |",
             top.gamma(omega),
             nut.cubic().nutation_width(),
-            top_motion::fast_top_width(&top, u2, omega)?,
+            motion::fast_top_width(&top, u2, omega)?,
             nut.period()?.value,
             elliptic_period(nut.cubic()),
             nut.precession_per_period()?.value
@@ -116,7 +116,7 @@ fn main() -> Result<()> {
     println!(
         "\nγ = 1e4: u₁ naive c − √(1 − 2cu₂ + c²) = {:.11}, stable = {:.11}",
         cc - (1.0 - 2.0 * cc * u2 + cc * cc).sqrt(),
-        top_motion::release_from_rest(&top, u2, 2e4)?
+        motion::release_from_rest(&top, u2, 2e4)?
     );
 
     // T14b: steady precession at 30°.

@@ -298,7 +298,7 @@ fn report(c: &Comparison, name: &str) -> Result<()> {
     std::fs::write(format!("out/work_precision_{name}.csv"), c.to_csv()).map_err(io)?;
     std::fs::write(format!("out/work_precision_{name}.md"), &md).map_err(io)?;
     #[cfg(feature = "cli")]
-    c.to_svg(std::path::Path::new(&format!(
+    hamilton_jacobi::plot::work_precision(c).to_svg(std::path::Path::new(&format!(
         "out/work_precision_{name}.svg"
     )))?;
     Ok(())

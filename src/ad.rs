@@ -20,7 +20,7 @@
 //! 2nd ed., SIAM 2008, ch. 3; the arithmetic rules are those of `num-dual` (Rehner & Bauer,
 //! Front. Chem. Eng. 3, 758090, 2021), whose macros implement them here.
 
-use crate::phase::PhaseMatrix;
+use crate::phase::{check_phase, PhaseMatrix};
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, OVector, SMatrix, SVector, U1};
 use num_dual::{
@@ -387,6 +387,64 @@ pub fn lift<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<f64, N>) -> SVec
 #[inline]
 pub fn real_parts<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<D, N>) -> SVector<f64, N> {
     x.map(|v| v.re())
+}
+
+/// A (possibly time-dependent) map of phase space `(q, p) ↦ (Q, P)`, written once generic over the
+/// dual type: a canonical transformation, a flow map, one integrator step, or `(q, p)` as functions
+/// of `2N` parameters.
+pub trait PhaseMap<const N: usize> {
+    /// Apply the map at time `t`.
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>);
+}
+
+/// Exact Jacobian `M = ∂(Q, P)/∂(q, p)` of a map by AD, in one pass: the map is evaluated once on
+/// phase-space dual numbers, whose `2N`-wide infinitesimal parts carry every row.
+pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
+    map: &M,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> crate::error::Result<PhaseMatrix<N>> {
+    check_phase(t, q, p)?;
+    let mut m = PhaseMatrix {
+        qq: SMatrix::zeros(),
+        qp: SMatrix::zeros(),
+        pq: SMatrix::zeros(),
+        pp: SMatrix::zeros(),
+    };
+    let qd = SVector::<PhaseDual64<N>, N>::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
+    let pd = SVector::<PhaseDual64<N>, N>::from_fn(|i, _| PhaseDual::momentum(p[i], i));
+    let (image_q, image_p) = map.apply(PhaseDual::from_re(t), &qd, &pd);
+    for i in 0..2 * N {
+        let c = if i < N { image_q[i] } else { image_p[i - N] };
+        let (value, dq, dp) = (*c.value(), c.dq().clone_owned(), c.dp().clone_owned());
+        if !value.is_finite() {
+            return Err(crate::error::Error::NonFinite {
+                what: format!("map output component {i} at t = {t}, q = {q:?}, p = {p:?}"),
+                value,
+            });
+        }
+        let (a, b): (&mut SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>) = if i < N {
+            (&mut m.qq, &mut m.qp)
+        } else {
+            (&mut m.pq, &mut m.pp)
+        };
+        a.set_row(i % N, &dq.transpose());
+        b.set_row(i % N, &dp.transpose());
+    }
+    if m.is_finite() {
+        Ok(m)
+    } else {
+        Err(crate::error::Error::invalid(
+            "map Jacobian",
+            format!("not finite at t = {t}, q = {q:?}, p = {p:?} (outside the map's domain?)"),
+        ))
+    }
 }
 
 #[cfg(test)]

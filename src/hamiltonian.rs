@@ -152,7 +152,7 @@ pub trait Hamiltonian<const N: usize> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> Result<PhaseMatrix<N>> {
-        crate::brackets::jacobian(&VectorFieldMap(self), t, q, p)
+        crate::ad::jacobian(&VectorFieldMap(self), t, q, p)
     }
 
     /// Explicit time derivative `∂H/∂t` (zero for autonomous systems).
@@ -272,9 +272,7 @@ impl<const N: usize, S: Separable<N>> Hamiltonian<N> for S {
 /// The vector field `(q, p) ↦ (q̇, ṗ)` seen as a map of phase space, for its AD Jacobian.
 struct VectorFieldMap<'a, H: ?Sized>(&'a H);
 
-impl<const N: usize, H: Hamiltonian<N> + ?Sized> crate::brackets::PhaseMap<N>
-    for VectorFieldMap<'_, H>
-{
+impl<const N: usize, H: Hamiltonian<N> + ?Sized> crate::ad::PhaseMap<N> for VectorFieldMap<'_, H> {
     fn apply<D: DualNum<f64> + Copy>(
         &self,
         t: D,

@@ -183,38 +183,6 @@ pub fn solve<S: ImplicitSystem<N> + ?Sized, D: DualNum<f64> + Copy, const N: usi
     Ok((u, root))
 }
 
-/// Residual `∂Φ/∂x_i (t, q, x) − y_i` on the slots with `solve_for[i]`, `x_i − y_i` on the others:
-/// the gradient equation behind the Legendre transform (`Φ = L`, unknown `q̇`) and its inverse.
-pub(crate) struct GradientEquation<'a, F: ?Sized, const N: usize> {
-    pub(crate) phi: &'a F,
-    pub(crate) solve_for: [bool; N],
-}
-
-impl<F: crate::hamiltonian::PhaseFunction<N> + ?Sized, const N: usize> ImplicitSystem<N>
-    for GradientEquation<'_, F, N>
-{
-    fn residual<D: DualNum<f64> + Copy>(
-        &self,
-        t: D,
-        q: &SVector<D, N>,
-        y: &SVector<D, N>,
-        x: &SVector<D, N>,
-    ) -> SVector<D, N> {
-        let (_, _, g) = crate::ad::phase_gradient(
-            |a, b| self.phi.eval(crate::ad::PhaseDual::from_re(t), a, b),
-            q,
-            x,
-        );
-        SVector::from_fn(|i, _| {
-            if self.solve_for[i] {
-                g[i] - y[i]
-            } else {
-                x[i] - y[i]
-            }
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,7 +15,7 @@
 use crate::ad::{lift, phase_gradient, phase_hessian, real_parts, PhaseDual};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::{checked_vector_field, Hamiltonian, PhaseFunction};
-use crate::implicit::{self, GradientEquation};
+use crate::implicit::{self, ImplicitSystem};
 use crate::phase::{check_phase, checked_inverse};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{linalg::LU, Dual64, DualNum};
@@ -622,6 +622,37 @@ impl<L: Lagrangian<N>, const N: usize, const R: usize> Lagrangian<R> for Routhia
                 SVector::from_fn(|k, _| f[self.retained[k]])
             }
             Err(_) => SVector::from_element(nan(v_a)),
+        })
+    }
+}
+/// Residual `∂Φ/∂x_i (t, q, x) − y_i` on the slots with `solve_for[i]`, `x_i − y_i` on the others:
+/// the gradient equation behind the Legendre transform (`Φ = L`, unknown `q̇`) and its inverse.
+struct GradientEquation<'a, F: ?Sized, const N: usize> {
+    phi: &'a F,
+    solve_for: [bool; N],
+}
+
+impl<F: PhaseFunction<N> + ?Sized, const N: usize> ImplicitSystem<N>
+    for GradientEquation<'_, F, N>
+{
+    fn residual<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        y: &SVector<D, N>,
+        x: &SVector<D, N>,
+    ) -> SVector<D, N> {
+        let (_, _, g) = crate::ad::phase_gradient(
+            |a, b| self.phi.eval(crate::ad::PhaseDual::from_re(t), a, b),
+            q,
+            x,
+        );
+        SVector::from_fn(|i, _| {
+            if self.solve_for[i] {
+                g[i] - y[i]
+            } else {
+                x[i] - y[i]
+            }
         })
     }
 }

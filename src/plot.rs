@@ -55,6 +55,7 @@
 //!   range too wide to represent in floating point.
 
 use crate::error::{Error, Result};
+use crate::workprecision::Comparison;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -203,6 +204,24 @@ pub struct Figure {
     pub curves: Vec<Curve>,
     /// One unit (one decade on a logarithmic axis) has the same length on both axes.
     pub equal_aspect: bool,
+}
+
+/// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
+/// one line with markers per series, legend beside the plot. Errors of exactly 0 are drawn at
+/// the plot's zero floor, which the axis title states.
+pub fn work_precision(c: &Comparison) -> Figure {
+    c.series.iter().fold(
+        Figure::new(&c.title, &c.error_label, "wall time [s]")
+            .log_x()
+            .log_y(),
+        |f, s| {
+            f.curve(
+                &s.label,
+                s.samples.iter().map(|x| (x.error, x.seconds)),
+                Style::LineMarkers,
+            )
+        },
+    )
 }
 
 impl Figure {
@@ -1323,6 +1342,45 @@ fn diamond(r: i32) -> Vec<(i32, i32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn wp_series(points: &[(f64, f64)]) -> crate::workprecision::Series {
+        crate::workprecision::Series {
+            label: "m".into(),
+            knob: "steps".into(),
+            samples: points
+                .iter()
+                .enumerate()
+                .map(|(i, &(error, seconds))| crate::workprecision::Sample {
+                    knob: i as f64,
+                    error,
+                    seconds,
+                    work: crate::integrate::Work::default(),
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn svg_draws_every_series_and_states_the_zero_floor() {
+        let mut c = Comparison::new("oscillator", "final error");
+        c.push(wp_series(&[(1e-4, 1e-3), (1e-8, 1e-1)]));
+        let mut exact = wp_series(&[(0.0, 2e-3), (1e-12, 1e-2)]);
+        exact.label = "exact".into();
+        c.push(exact);
+        let svg = work_precision(&c).to_svg_string().unwrap();
+        assert!(svg.contains("final error (0 drawn at 1e\u{2212}13)"));
+        assert!(svg.contains("wall time [s]"));
+        assert!(svg.contains("exact"));
+        let path = std::env::temp_dir().join(format!("hj-wp-{}.svg", std::process::id()));
+        work_precision(&c).to_svg(&path).unwrap();
+        let written = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(written, svg);
+        assert!(work_precision(&Comparison::new("empty", "error"))
+            .to_svg(&path)
+            .is_err());
+        assert!(!path.exists());
+    }
 
     /// The contents of the SVG's text elements.
     fn texts(svg: &str) -> Vec<String> {

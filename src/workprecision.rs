@@ -270,16 +270,6 @@ impl Comparison {
         }
         out
     }
-
-    /// An SVG work-precision diagram: error (x, log) against wall time (y, log), one polyline
-    /// with markers per series, legend beside the plot, titles (drawn with [`crate::plot`]).
-    /// Errors of exactly 0 are drawn at a floor a decade or more below the smallest positive
-    /// error (10⁻¹⁷ if there is none), and the axis title says so. Fails, writing nothing, if no
-    /// sample can be drawn.
-    #[cfg(feature = "cli")]
-    pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
-        svg::work_precision(self, path)
-    }
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a newline (RFC 4180).
@@ -309,35 +299,6 @@ pub fn fmt_time(s: f64) -> String {
         format!("{:.2} ms", s * 1e3)
     } else {
         format!("{s:.2} s")
-    }
-}
-
-#[cfg(feature = "cli")]
-mod svg {
-    use super::Comparison;
-    use crate::error::Result;
-    use crate::plot::{Figure, Style};
-
-    /// The work-precision diagram of `c` as a [`Figure`]: error (x, log) against wall time
-    /// (y, log), one line with markers per series. Errors of exactly 0 are drawn at the plot's
-    /// zero floor, which the axis title states.
-    pub(super) fn figure(c: &Comparison) -> Figure {
-        c.series.iter().fold(
-            Figure::new(&c.title, &c.error_label, "wall time [s]")
-                .log_x()
-                .log_y(),
-            |f, s| {
-                f.curve(
-                    &s.label,
-                    s.samples.iter().map(|x| (x.error, x.seconds)),
-                    Style::LineMarkers,
-                )
-            },
-        )
-    }
-
-    pub(super) fn work_precision(c: &Comparison, path: &std::path::Path) -> Result<()> {
-        figure(c).to_svg(path)
     }
 }
 
@@ -381,27 +342,6 @@ mod tests {
         let md = c.to_markdown(&[1e-6]);
         assert!(md.contains("time to 1e-6"));
         assert!(md.contains("10.00 ms"));
-    }
-
-    #[cfg(feature = "cli")]
-    #[test]
-    fn svg_draws_every_series_and_states_the_zero_floor() {
-        let mut c = Comparison::new("oscillator", "final error");
-        c.push(series(&[(1e-4, 1e-3), (1e-8, 1e-1)]));
-        let mut exact = series(&[(0.0, 2e-3), (1e-12, 1e-2)]);
-        exact.label = "exact".into();
-        c.push(exact);
-        let svg = svg::figure(&c).to_svg_string().unwrap();
-        assert!(svg.contains("final error (0 drawn at 1e\u{2212}13)"));
-        assert!(svg.contains("wall time [s]"));
-        assert!(svg.contains("exact"));
-        let path = std::env::temp_dir().join(format!("hj-wp-{}.svg", std::process::id()));
-        c.to_svg(&path).unwrap();
-        let written = std::fs::read_to_string(&path).unwrap();
-        let _ = std::fs::remove_file(&path);
-        assert_eq!(written, svg);
-        assert!(Comparison::new("empty", "error").to_svg(&path).is_err());
-        assert!(!path.exists());
     }
 
     #[test]

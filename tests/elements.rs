@@ -11,10 +11,13 @@ use hamilton_jacobi::brackets::{certify, jacobian, PhaseMap};
 use hamilton_jacobi::nalgebra::{SVector, Vector3};
 use hamilton_jacobi::num_dual::{first_derivative, Dual64};
 use hamilton_jacobi::perturbation::elements::{
-    eccentric_anomaly, hyperbolic_anomaly, mean_to_true, propagate, propagate_classical,
-    solve_barker, solve_kepler_hyperbolic, state_to_classical, state_to_delaunay,
-    state_to_equinoctial, state_to_modified_equinoctial, true_to_mean, Classical, Conic, Delaunay,
-    DelaunayToCartesian, Equinoctial, ModifiedEquinoctial,
+    propagate, propagate_classical, state_to_classical, state_to_delaunay, state_to_equinoctial,
+    state_to_modified_equinoctial, Classical, Delaunay, DelaunayToCartesian, Equinoctial,
+    ModifiedEquinoctial,
+};
+use hamilton_jacobi::special::kepler_equation::{
+    eccentric_anomaly, hyperbolic_anomaly, mean_to_true, solve_barker, solve_kepler_hyperbolic,
+    true_to_mean, Conic,
 };
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate;
 use hamilton_jacobi::systems::Kepler3;

@@ -9,12 +9,11 @@ use hamilton_jacobi::integrate::{
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
-use hamilton_jacobi::perturbation::elements::{
-    propagate, propagate_classical, solve_barker, solve_kepler_hyperbolic, Classical,
-};
+use hamilton_jacobi::perturbation::elements::{propagate, propagate_classical, Classical};
 use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, ClassicalSolution, EquinoctialSolution, MeanElements,
 };
+use hamilton_jacobi::special::kepler_equation::{solve_barker, solve_kepler_hyperbolic};
 use hamilton_jacobi::systems::kepler_orbit::{self, kepler_propagate, MAX_PHASE_ADVANCE};
 use hamilton_jacobi::systems::{ExactFlow, Kepler2, Kepler3};
 use hamilton_jacobi::{Error, Hamiltonian};

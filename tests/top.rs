@@ -16,7 +16,7 @@ use approx::assert_relative_eq;
 use common::rk4_hamiltonian;
 use hamilton_jacobi::lagrangian::{Legendre, NaturalHamiltonian};
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::systems::top_motion::{self, Nutation, TopCubic};
+use hamilton_jacobi::systems::top::motion::{self, Nutation, TopCubic};
 use hamilton_jacobi::systems::{ExactFlow, HeavyTop, Invariants};
 use hamilton_jacobi::{DualNum, Error, Hamiltonian, Lagrangian};
 use proptest::prelude::*;
@@ -134,7 +134,7 @@ fn t14a_release_from_rest() {
     assert_eq!(c.root_offsets()[1], 0.0);
     assert_relative_eq!(u2, 0.5, epsilon = 2e-16);
     assert_relative_eq!(u1, 0.191767987533668, max_relative = 1e-13);
-    let u1_formula = top_motion::release_from_rest(&top, 0.5, 5.0).unwrap();
+    let u1_formula = motion::release_from_rest(&top, 0.5, 5.0).unwrap();
     assert_relative_eq!(u1, u1_formula, max_relative = 1e-15);
     // f = β(u − u₁)(u₂ − u)(u₃ − u) with u₃ = c + √(…) = 2.93323201246633.
     assert_relative_eq!(u3, 2.933232012466332, max_relative = 1e-14);
@@ -161,7 +161,7 @@ fn t14a_release_from_rest() {
     // Fast-top estimate [Ardema 11.25]: 0.24 against 0.3082 here, 0.0024 against 0.002407686045
     // at γ = 25.
     assert_relative_eq!(
-        top_motion::fast_top_width(&top, 0.5, 5.0).unwrap(),
+        motion::fast_top_width(&top, 0.5, 5.0).unwrap(),
         0.24,
         max_relative = 1e-15
     );
@@ -169,7 +169,7 @@ fn t14a_release_from_rest() {
     let (q25, p25) = at_rest(&top, PI / 3.0, 50.0);
     let fast = TopCubic::from_state(&top, &q25, &p25).unwrap();
     assert_relative_eq!(
-        top_motion::fast_top_width(&top, 0.5, 50.0).unwrap(),
+        motion::fast_top_width(&top, 0.5, 50.0).unwrap(),
         0.0024,
         max_relative = 1e-14
     );
@@ -184,7 +184,7 @@ fn x1_release_formula_cancellation_at_gamma_1e4() {
     let omega = 2e4; // γ = Jω/I = 1e4
     let c = 1e8 / (2.0 * top.beta());
     let naive = c - (1.0 - 2.0 * c * 0.5 + c * c).sqrt();
-    let stable = top_motion::release_from_rest(&top, 0.5, omega).unwrap();
+    let stable = motion::release_from_rest(&top, 0.5, omega).unwrap();
     assert_eq!(format!("{naive:.11}"), "0.49999998510");
     assert_eq!(format!("{stable:.11}"), "0.49999998500");
     // Exact (40-digit arithmetic): u₂ − u₁ = 1.50000003000000150e−8.
@@ -282,7 +282,7 @@ fn t14c_sleeping_top() {
         let (q, p) = at_rest(&top, 1e-3, omega);
         let nut = Nutation::from_state(&top, &q, &p).unwrap();
         let th_max = nut.cubic().theta_range()[1];
-        let u1 = top_motion::release_from_rest(&top, 1e-3f64.cos(), omega).unwrap();
+        let u1 = motion::release_from_rest(&top, 1e-3f64.cos(), omega).unwrap();
         assert_relative_eq!(th_max.cos(), u1, max_relative = 1e-13);
         assert_relative_eq!(th_max.to_degrees(), reference_deg, max_relative = 1e-10);
         let mut seen: f64 = 0.0;
@@ -302,7 +302,7 @@ fn t14c_sleeping_top() {
         let u2 = 1e-3f64.cos();
         let floor = [u2.next_down(), u2.next_up()]
             .map(|u| {
-                let u1 = top_motion::release_from_rest(&top, u, omega).unwrap();
+                let u1 = motion::release_from_rest(&top, u, omega).unwrap();
                 (u1.acos() - th_max).abs()
             })
             .into_iter()
@@ -527,11 +527,11 @@ fn bad_inputs_are_typed_errors() {
         Err(Error::NonFinite { .. })
     ));
     assert!(matches!(
-        top_motion::release_from_rest(&top, 1.5, 5.0),
+        motion::release_from_rest(&top, 1.5, 5.0),
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(
-        top_motion::fast_top_width(&top, 0.5, 0.0),
+        motion::fast_top_width(&top, 0.5, 0.0),
         Err(Error::OutOfDomain { .. })
     ));
     let (q0, p0) = at_rest(&top, PI / 3.0, 5.0);

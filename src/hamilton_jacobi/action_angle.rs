@@ -20,11 +20,11 @@
 //! exact factorisation `F = 4n² sin(d₁/2) sin(d₂/2)` with `sin(d₁/2) = sin(δ + d₂/2)`, so the
 //! period is resolved for every gap down to [`MIN_GAP`] (SPEC X2), never ∞ or NaN.
 
-use super::quadrature::{
-    interior_point, Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand,
-};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::special::turning_points::{
+    interior_point, Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand,
+};
 use crate::systems::Pendulum;
 use nalgebra::SVector;
 use num_dual::{Dual2, DualNum};

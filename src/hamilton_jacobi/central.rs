@@ -20,9 +20,11 @@
 //! circular-orbit limits) and for `e → 1`. Any other potential goes through the generic root
 //! search and derivative-form reduced radicand of [`Libration::from_radicand`].
 
-use super::quadrature::{Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::special::turning_points::{
+    Factored, Libration, Node, Quadrature, Radicand, ReducedRadicand,
+};
 use crate::systems::Central;
 pub use crate::systems::{CentralPotential, InverseDistance};
 use nalgebra::SVector;
@@ -104,7 +106,8 @@ impl<V: CentralPotential + Clone> RadialMotion<Factored<RadialRadicand<V>>> {
             h,
             k,
         };
-        let inside = super::quadrature::interior_point(&radicand, r, r * 1e-12, r_max)?;
+        let inside =
+            crate::special::turning_points::interior_point(&radicand, r, r * 1e-12, r_max)?;
         Self::new(system.central_potential().clone(), h, k, inside, r_max)
     }
 }

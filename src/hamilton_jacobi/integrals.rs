@@ -172,7 +172,7 @@ impl CompleteIntegral<2> for KeplerPolarIntegral {
         if !(0.0..=std::f64::consts::PI).contains(&mean) {
             return None;
         }
-        let big_e = crate::systems::kepler_orbit::solve_kepler(mean, e).ok()?;
+        let big_e = crate::special::kepler_equation::solve_kepler(mean, e).ok()?;
         // Stay strictly inside (r_p, r_a), where S is defined.
         let r = a * (1.0 - e * big_e.cos());
         let (rp, ra) = (a * (1.0 - e), a * (1.0 + e));

@@ -12,10 +12,10 @@ pub mod integrals;
 pub mod liouville;
 pub mod multiplier;
 pub mod principal;
-pub mod quadrature;
 pub mod reduction;
 pub mod separable;
 
+pub use crate::special::turning_points::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
 pub use action_angle::{
     check_natural_form, libration_period, natural_inverse_mass, natural_potential, time_of_flight,
     ActionAngle,
@@ -34,6 +34,5 @@ pub use principal::{
     PrincipalFunction, PrincipalOptions, PrincipalValue, Propagation, PropagationOptions,
     StateError,
 };
-pub use quadrature::{Libration, Node, Quadrature, Radicand, ReducedRadicand};
 pub use reduction::{ReducedHamiltonian, ReducedRates, Whittaker};
 pub use separable::{LiouvilleSeparation, SeparatedMotion, SeparatedSystem};

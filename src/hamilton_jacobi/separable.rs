@@ -26,9 +26,9 @@
 //! coordinates (no turning points, e.g. a pendulum above the separatrix) are not covered.
 
 use super::liouville::LiouvilleSystem;
-use super::quadrature::{interior_point, Factored, Libration, Node, Radicand};
 use crate::ad::gradient;
 use crate::error::{all_finite, Error, Result};
+use crate::special::turning_points::{interior_point, Factored, Libration, Node, Radicand};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{Dual64, DualNum};
 use std::f64::consts::PI;

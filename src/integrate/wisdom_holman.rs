@@ -36,7 +36,7 @@ use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::Separable;
-use crate::perturbation::elements::solve_kepler_hyperbolic;
+use crate::special::kepler_equation::solve_kepler_hyperbolic;
 use crate::systems::kepler_orbit::phase_advance;
 use nalgebra::SVector;
 use num_dual::DualNum;

@@ -76,7 +76,7 @@
 //!   *Celestial Mechanics* 36, 409–419 (1985), doi:10.1007/BF01227493.
 //! * M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3, 18 (SPEC M28).
 
-use std::f64::consts::{LN_2, PI, TAU};
+use std::f64::consts::{PI, TAU};
 
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
@@ -84,24 +84,18 @@ use num_dual::DualNum;
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::integrate::kepler_drift;
+use crate::special::kepler_equation::{
+    eccentric_anomaly, hyperbolic_anomaly, mean_to_true, one_minus_e_cos, true_to_mean, with_re,
+    wrap_two_pi, Conic,
+};
 use crate::systems::kepler_orbit::{self, CIRCULAR_TOLERANCE};
 
 /// A Cartesian state `(q, p)` (position, momentum = velocity per unit mass).
 pub type State<D> = (SVector<D, 3>, SVector<D, 3>);
 
-/// Iteration cap of the hyperbolic Kepler solver (bracketed Halley: each iteration takes a
-/// Halley step or halves the bracket, so reaching it indicates a bug).
-const HYPERBOLIC_MAX_ITER: usize = 200;
-
 // ---------------------------------------------------------------------------------------------
 // Small helpers
 // ---------------------------------------------------------------------------------------------
-
-/// `x` with its real part replaced by `re` (the infinitesimal parts are unchanged).
-#[inline]
-fn with_re<D: DualNum<f64> + Copy>(x: D, re: f64) -> D {
-    x - x.re() + re
-}
 
 fn check_mu(mu: f64) -> Result<f64> {
     positive("gravitational parameter μ", mu)
@@ -134,349 +128,9 @@ fn check_output<D: DualNum<f64> + Copy>(r: &SVector<D, 3>, v: &SVector<D, 3>) ->
     Ok(())
 }
 
-fn wrap_two_pi(x: f64) -> f64 {
-    let r = x.rem_euclid(TAU);
-    if r >= TAU {
-        0.0
-    } else {
-        r
-    }
-}
-
-/// `sinh x − x`, accurate to a few ulps relative (series for `|x| < 1`).
-fn sinh_minus_x(x: f64) -> f64 {
-    if x.abs() < 1.0 {
-        // sinh x − x = x³ Σ_{k≥0} x^{2k}/(2k+3)!; ten terms: the first omitted one, x²³/23!, is
-        // below 2.4·10⁻²² · x³/6 for |x| < 1.
-        let mut c = [0.0f64; 10];
-        let mut f = 6.0;
-        for (k, slot) in c.iter_mut().enumerate() {
-            *slot = 1.0 / f;
-            f *= ((2 * k + 4) * (2 * k + 5)) as f64;
-        }
-        let x2 = x * x;
-        let mut p = c[9];
-        for &ck in c[..9].iter().rev() {
-            p = p.mul_add(x2, ck);
-        }
-        x * x2 * p
-    } else {
-        x.sinh() - x
-    }
-}
-
-/// `e sinh F − F`, as `(e − 1) sinh F + (sinh F − F)` for `|F| < 1` (no cancellation at
-/// `e → 1`, `F → 0`).
-fn hyperbolic_lhs(f: f64, e: f64) -> f64 {
-    if f.abs() < 1.0 {
-        (e - 1.0) * f.sinh() + sinh_minus_x(f)
-    } else {
-        e * f.sinh() - f
-    }
-}
-
-/// `e cosh F − 1 = (e − 1) + 2e sinh²(F/2)`, free of cancellation.
-fn e_cosh_minus_one(f: f64, e: f64) -> f64 {
-    let s = (0.5 * f).sinh();
-    (e - 1.0) + 2.0 * e * s * s
-}
-
-/// `1 − e cos E = (1 − e) + 2e sin²(E/2)`, free of cancellation.
-fn one_minus_e_cos(ea: f64, e: f64) -> f64 {
-    let s = (0.5 * ea).sin();
-    (1.0 - e) + 2.0 * e * s * s
-}
-
-/// Real root of `x³ + 3P x − 2Q = 0` (`P ≥ 0`, `Q ≥ 0`) by Cardano, written without
-/// cancellation: with `s³ = Q + √(Q² + P³)` the root `s − P/s` equals `2Q/(s² + P + P²/s²)`.
-fn cardano(p: f64, q: f64) -> f64 {
-    let s = (q + (q * q + p * p * p).sqrt()).cbrt();
-    if s > 0.0 {
-        2.0 * q / (s * s + p + p * p / (s * s))
-    } else {
-        0.0
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Kepler's equation for every conic
 // ---------------------------------------------------------------------------------------------
-
-/// The type of a Kepler conic, from its eccentricity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Conic {
-    /// `0 ≤ e < 1`.
-    Elliptic,
-    /// `e = 1` exactly.
-    Parabolic,
-    /// `e > 1`.
-    Hyperbolic,
-}
-
-impl Conic {
-    /// The conic type of eccentricity `e` (`e = 1` exactly is parabolic).
-    ///
-    /// # Errors
-    /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e < 0`.
-    pub fn of_eccentricity(e: f64) -> Result<Self> {
-        let e = finite("eccentricity e", e)?;
-        if e < 0.0 {
-            Err(Error::out_of_domain("eccentricity e", e, "[0, ∞)"))
-        } else if e < 1.0 {
-            Ok(Conic::Elliptic)
-        } else if e == 1.0 {
-            Ok(Conic::Parabolic)
-        } else {
-            Ok(Conic::Hyperbolic)
-        }
-    }
-}
-
-/// Solve `e sinh F − F = m` for `m ≥ 0`, `e > 1`.
-fn solve_hyperbolic_reduced(m: f64, e: f64) -> Result<f64> {
-    if m == 0.0 {
-        return Ok(0.0);
-    }
-    let em1 = e - 1.0;
-    // e sinh F − F = (e − 1)F + eF³/6 + O(F⁵): F = M/(e − 1) up to a relative correction
-    // eF²/(6(e − 1)), below ε/6 when eF² ≤ ε(e − 1).
-    let linear = m / em1;
-    if e * linear * linear <= f64::EPSILON * em1 {
-        return Ok(linear);
-    }
-    // Large M: for F ≥ 40, sinh F = e^F/2 to a relative e^{−2F} < 10⁻³⁴, and the equation reads
-    // F = ln(2(M + F)/e), a contraction with factor 1/(M + F) < 10⁻¹⁸, iterated from F = 0 without
-    // evaluating sinh (which overflows for F > 710 although F itself stays below 711 for every
-    // finite M). F ≥ 40 holds when M/e ≥ sinh 40 ≈ 1.2·10¹⁷.
-    if m / e > 1e18 {
-        let mut x = 0.0;
-        for _ in 0..3 {
-            x = ((m + x) / e).ln() + LN_2;
-        }
-        return Ok(x);
-    }
-    // Bracket: e sinh F = M + F ≥ M gives F ≥ asinh(M/e); e sinh F − F ≥ (e − 1) sinh F gives
-    // F ≤ asinh(M/(e − 1)) (with asinh x ≤ ln x + ln 2 + 1/x² used when M/(e − 1) overflows).
-    let mut lo = (m / e).asinh();
-    let ratio = m / em1;
-    let mut hi = if ratio.is_finite() {
-        ratio.asinh()
-    } else {
-        m.ln() - em1.ln() + LN_2 + 1.0
-    };
-    // Starters: the real root of (e − 1)F + F³/6 = M (an upper bound, since
-    // e sinh F − F ≥ (e − 1)F + F³/6) when it is small, otherwise ln(2M/e + 1.8) (Vallado 2013,
-    // algorithm 4).
-    let cubic = cardano(2.0 * em1, 3.0 * m);
-    let mut x = if cubic < 1.0 {
-        cubic
-    } else {
-        (2.0 * m / e + 1.8).ln()
-    };
-    if !(lo..=hi).contains(&x) {
-        x = 0.5 * (lo + hi);
-    }
-    let mut residual = f64::NAN;
-    for _ in 0..HYPERBOLIC_MAX_ITER {
-        residual = hyperbolic_lhs(x, e) - m;
-        if residual == 0.0 {
-            return Ok(x);
-        }
-        if residual < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let fp = e_cosh_minus_one(x, e);
-        let fpp = e * x.sinh();
-        let newton = -residual / fp;
-        let step = newton / (1.0 + 0.5 * newton * fpp / fp);
-        if step.abs() <= 1e-8 * x.abs() {
-            return Ok((x + step).clamp(lo, hi));
-        }
-        let next = x + step;
-        if next > lo && next < hi {
-            x = next;
-        } else {
-            let mid = lo + 0.5 * (hi - lo);
-            if !(mid > lo && mid < hi) {
-                return Ok(x);
-            }
-            x = mid;
-        }
-    }
-    Err(Error::NotConverged {
-        what: "hyperbolic Kepler equation (bracketed Halley)".into(),
-        iterations: HYPERBOLIC_MAX_ITER,
-        residual: residual.abs(),
-    })
-}
-
-/// Hyperbolic anomaly `F` solving the hyperbolic Kepler equation `M = e sinh F − F` (`e > 1`,
-/// any real `M`; odd in `M`).
-///
-/// Bracketed Halley iteration on the increasing function `e sinh F − F − M` in
-/// `[asinh(M/e), asinh(M/(e − 1))]`, started from the real root of the cubic
-/// `(e − 1)F + F³/6 = M` when that is small (near-parabolic corner `e → 1⁺`, `M → 0`) and from
-/// `ln(2M/e + 1.8)` otherwise; the residual is evaluated as `(e − 1) sinh F + (sinh F − F) − M`
-/// with a series for `sinh F − F`, so `F` has full relative precision (Vallado 2013 §2.2;
-/// Battin 1999 §4.6).
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ≤ 1`,
-/// [`Error::NotConverged`] if the iteration fails (not expected).
-pub fn solve_kepler_hyperbolic(mean_anomaly: f64, e: f64) -> Result<f64> {
-    let m = finite("hyperbolic mean anomaly M", mean_anomaly)?;
-    let e = finite("eccentricity e", e)?;
-    if e <= 1.0 {
-        return Err(Error::out_of_domain("eccentricity e", e, "(1, ∞)"));
-    }
-    Ok(solve_hyperbolic_reduced(m.abs(), e)?.copysign(m))
-}
-
-/// `B = tan(ν/2)` solving Barker's equation `B + B³/3 = M_p` for a parabolic orbit, where
-/// `M_p = 2√(μ/p³)(t − t_p)` (Vallado 2013 §2.2, algorithm 3), in closed form (Cardano, written
-/// without cancellation), generic over the dual type (the closed form is smooth, so its
-/// derivatives are exact).
-///
-/// # Errors
-/// [`Error::NonFinite`] for a NaN/∞ real part of `M_p`.
-pub fn solve_barker<D: DualNum<f64> + Copy>(mean_anomaly: D) -> Result<D> {
-    let m = finite("parabolic mean anomaly M_p", mean_anomaly.re())?;
-    // B³ + 3B − 3M = 0: Cardano with P = 1, Q = 3|M|/2; s³ = Q + √(Q² + 1) > 0 and
-    // B = 2Q/(s² + 1 + s⁻²).
-    let sign = if m < 0.0 { -1.0 } else { 1.0 };
-    let m_abs = mean_anomaly * sign;
-    let b = if 1.5 * m.abs() > 1.0 {
-        // s = Q^{1/3}k with k = ∛(1 + √(1 + Q⁻²)), so B = 2Q^{1/3}/(k²(1 + s⁻² + s⁻⁴)): no power
-        // of Q above 1/3 is formed, and |M| up to f64::MAX gives a finite B ≈ ∛(3M).
-        let q_inv = m_abs.recip() * (1.0 / 1.5);
-        let k = ((q_inv * q_inv + 1.0).sqrt() + 1.0).cbrt();
-        let q13 = m_abs.cbrt() * 1.5f64.cbrt();
-        let s = q13 * k;
-        let s2i = (s * s).recip();
-        q13 * 2.0 / (k * k) / (s2i * (s2i + 1.0) + 1.0)
-    } else {
-        let q = m_abs * 1.5;
-        let s = (q + (q * q + 1.0).sqrt()).cbrt();
-        let s2 = s * s;
-        q * 2.0 / (s2 + 1.0 + s2.recip())
-    };
-    Ok(b * sign)
-}
-
-/// Eccentric anomaly `E` of an ellipse from `M = E − e sin E`, in any dual type: the real root
-/// by [`kepler_orbit::solve_kepler`], then `D::NDERIV` frozen-derivative Newton steps in `D`
-/// (exact derivatives with respect to `M` and `e`; see the [module docs](self)).
-///
-/// # Errors
-/// As [`kepler_orbit::solve_kepler`] (on the real parts).
-pub fn eccentric_anomaly<D: DualNum<f64> + Copy>(mean_anomaly: D, e: D) -> Result<D> {
-    let ea_re = kepler_orbit::solve_kepler(mean_anomaly.re(), e.re())?;
-    let mut ea = D::from(ea_re);
-    if D::NDERIV > 0 {
-        let fp = one_minus_e_cos(ea_re, e.re());
-        for _ in 0..D::NDERIV {
-            let res = ea - e * ea.sin() - mean_anomaly;
-            ea -= (res - res.re()) / fp;
-        }
-    }
-    Ok(ea)
-}
-
-/// Hyperbolic anomaly `F` from `M = e sinh F − F`, in any dual type: real root by
-/// [`solve_kepler_hyperbolic`], then frozen-derivative Newton steps in `D` (exact derivatives).
-///
-/// # Errors
-/// As [`solve_kepler_hyperbolic`] (on the real parts).
-pub fn hyperbolic_anomaly<D: DualNum<f64> + Copy>(mean_anomaly: D, e: D) -> Result<D> {
-    let f_re = solve_kepler_hyperbolic(mean_anomaly.re(), e.re())?;
-    let mut f = D::from(f_re);
-    if D::NDERIV > 0 {
-        let fp = e_cosh_minus_one(f_re, e.re());
-        for _ in 0..D::NDERIV {
-            let res = e * f.sinh() - f - mean_anomaly;
-            f -= (res - res.re()) / fp;
-        }
-    }
-    Ok(f)
-}
-
-/// True anomaly `ν` from the mean anomaly of any conic, switching on `e` (see
-/// [`Conic::of_eccentricity`]):
-///
-/// * `e < 1`: [`kepler_orbit::mean_to_true`] (`ν − M` is 2π-periodic);
-/// * `e = 1`: `ν = 2 atan B` with `B` from Barker's equation `B + B³/3 = M_p`
-///   ([`solve_barker`]); `ν ∈ (−π, π)`;
-/// * `e > 1`: `F` from `M = e sinh F − F`, then
-///   `ν = 2 atan2(√(e+1) sinh(F/2), √(e−1) cosh(F/2))`; `|ν| < acos(−1/e)`.
-///
-/// Reference: Vallado (2013) §2.2.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e < 0`; errors of the solvers.
-pub fn mean_to_true(mean_anomaly: f64, e: f64) -> Result<f64> {
-    let m = finite("mean anomaly M", mean_anomaly)?;
-    match Conic::of_eccentricity(e)? {
-        Conic::Elliptic => kepler_orbit::mean_to_true(m, e),
-        Conic::Parabolic => Ok(2.0 * solve_barker(m)?.atan()),
-        Conic::Hyperbolic => {
-            let f = solve_kepler_hyperbolic(m, e)?;
-            let h = 0.5 * f;
-            Ok(2.0 * ((e + 1.0).sqrt() * h.sinh()).atan2((e - 1.0).sqrt() * h.cosh()))
-        }
-    }
-}
-
-/// Mean anomaly from the true anomaly of any conic (inverse of [`mean_to_true`]):
-/// `e < 1`: [`kepler_orbit::true_to_mean`]; `e = 1`: `M_p = B + B³/3`, `B = tan(ν/2)`;
-/// `e > 1`: `F = 2 atanh(√((e−1)/(e+1)) tan(ν/2))`, `M = e sinh F − F` (evaluated without
-/// cancellation near `e → 1`).
-///
-/// Reference: Vallado (2013) §2.2.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `e < 0`, for `|ν| ≥ π` on a
-/// parabola and for `|ν| ≥ acos(−1/e)` (beyond the asymptotes) on a hyperbola.
-pub fn true_to_mean(true_anomaly: f64, e: f64) -> Result<f64> {
-    let nu = finite("true anomaly ν", true_anomaly)?;
-    match Conic::of_eccentricity(e)? {
-        Conic::Elliptic => kepler_orbit::true_to_mean(nu, e),
-        Conic::Parabolic => {
-            if nu.abs() >= PI {
-                return Err(Error::out_of_domain(
-                    "true anomaly ν of a parabola",
-                    nu,
-                    "(−π, π)",
-                ));
-            }
-            let b = (0.5 * nu).tan();
-            Ok(b + b * b * b / 3.0)
-        }
-        Conic::Hyperbolic => {
-            let nu_max = (-1.0 / e).acos();
-            if nu.abs() >= nu_max {
-                return Err(Error::out_of_domain(
-                    "true anomaly ν of a hyperbola",
-                    nu,
-                    format!("(−{nu_max}, {nu_max}) (between the asymptotes)"),
-                ));
-            }
-            // tanh(F/2) = √((e−1)/(e+1)) tan(ν/2) = √(e−1) sin(ν/2) / (√(e+1) cos(ν/2)).
-            let h = 0.5 * nu;
-            let t = ((e - 1.0).sqrt() * h.sin()) / ((e + 1.0).sqrt() * h.cos());
-            if t.abs() >= 1.0 {
-                return Err(Error::out_of_domain(
-                    "true anomaly ν of a hyperbola",
-                    nu,
-                    format!("(−{nu_max}, {nu_max}) (between the asymptotes)"),
-                ));
-            }
-            let f = 2.0 * t.atanh();
-            Ok(hyperbolic_lhs(f, e))
-        }
-    }
-}
 
 // ---------------------------------------------------------------------------------------------
 // Classical elements
@@ -834,7 +488,7 @@ fn eccentric_mean_anomaly(
 ) -> Option<f64> {
     (0.5..1.0).contains(&e).then(|| {
         let ecc_anom = (r.dot(v) / (mu * a).sqrt()).atan2(1.0 - rn / a);
-        crate::systems::kepler_orbit::kepler_lhs(ecc_anom, e)
+        crate::special::kepler_equation::kepler_lhs(ecc_anom, e)
     })
 }
 
@@ -1016,7 +670,7 @@ impl<D: DualNum<f64> + Copy> Equinoctial<D> {
         let (a, h, k) = (self.a, self.h, self.k);
         let e = re.h.hypot(re.k);
         let varpi = if e > 0.0 { re.h.atan2(re.k) } else { 0.0 };
-        let ea = kepler_orbit::solve_kepler(re.lambda - varpi, e)?;
+        let ea = crate::special::kepler_equation::solve_kepler(re.lambda - varpi, e)?;
         let fp = one_minus_e_cos(ea, e);
         let mut f = D::from(ea + varpi);
         for _ in 0..D::NDERIV {
@@ -1606,6 +1260,11 @@ pub fn propagate_classical(mu: f64, el: &Classical, dt: f64) -> Result<Classical
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[allow(unused_imports)]
+    use crate::special::kepler_equation::{
+        eccentric_anomaly, hyperbolic_anomaly, mean_to_true, solve_barker, solve_kepler_hyperbolic,
+        true_to_mean, Conic,
+    };
     use num_dual::Dual64;
 
     /// The smooth equinoctial formulas (the infinitesimal parts of `Equinoctial::to_state`)
@@ -1636,7 +1295,8 @@ mod tests {
             // Direct smooth evaluation on reals.
             let ecc = eq.h.hypot(eq.k);
             let varpi = if ecc > 0.0 { eq.h.atan2(eq.k) } else { 0.0 };
-            let f = kepler_orbit::solve_kepler(eq.lambda - varpi, ecc).unwrap() + varpi;
+            let f = crate::special::kepler_equation::solve_kepler(eq.lambda - varpi, ecc).unwrap()
+                + varpi;
             let (sf, cf) = f.sin_cos();
             let beta = 1.0 / (1.0 + (1.0 - ecc * ecc).sqrt());
             let (h, k, a) = (eq.h, eq.k, eq.a);

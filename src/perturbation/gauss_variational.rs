@@ -78,10 +78,11 @@
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
-use super::elements::{mean_to_true, Classical, ModifiedEquinoctial};
+use super::elements::{Classical, ModifiedEquinoctial};
 use super::ode::{ElementOde, Pair};
 use super::variation::MomentumForce;
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
+use crate::special::kepler_equation::mean_to_true;
 use crate::systems::kepler_orbit::CIRCULAR_TOLERANCE;
 
 /// A 3-vector of any dual type.

@@ -30,7 +30,7 @@ use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
 use crate::systems::kepler_orbit::kepler_propagate_planar;
 use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
-use crate::systems::top_motion::Nutation;
+use crate::systems::top::motion::Nutation;
 use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
 use std::cell::RefCell;
 use std::collections::BTreeSet;

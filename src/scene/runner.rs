@@ -900,7 +900,9 @@ impl Scene {
                 Content::Text(text) => std::fs::write(&path, text)
                     .map_err(|e| self.err(a.key, format!("{}: {e}", path.display())))?,
                 Content::Figure(fig) => fig.to_svg(&path).map_err(|e| self.err(a.key, e))?,
-                Content::WorkPrecision(c) => c.to_svg(&path).map_err(|e| self.err(a.key, e))?,
+                Content::WorkPrecision(c) => crate::plot::work_precision(&c)
+                    .to_svg(&path)
+                    .map_err(|e| self.err(a.key, e))?,
             }
             files.push(path);
         }

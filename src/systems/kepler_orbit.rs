@@ -46,22 +46,9 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{Vector2, Vector3};
 
 use crate::error::{all_finite, finite, positive, Error, Result};
-
-/// Low part of 2π: `TAU + TAU_LO` equals 2π to about 10⁻³³ relative (Cody–Waite reduction).
-const TAU_LO: f64 = 2.449_293_598_294_706_4e-16;
-
-/// Iteration cap for the bracketed Halley solver. Each iteration either takes a Halley step or
-/// halves the bracket, so 100 iterations exceed what bisection alone needs to reach adjacent
-/// floating-point numbers on `[0, π]`; reaching the cap indicates a bug, reported as
-/// [`Error::NotConverged`].
-const KEPLER_MAX_ITER: usize = 100;
-
-/// A Halley step whose size is below this fraction of the iterate is applied and the iteration
-/// stops: the error after a Halley step from an iterate with relative error δ is `O(δ³)` with an
-/// `O(1)` relative constant for `E − e sin E − M` on `[0, π]` (also in the corner `e → 1`,
-/// `E → 0`), so a step of relative size `10⁻⁸` leaves an error far below one ulp, and the final
-/// accuracy is set by the rounding of the residual.
-const KEPLER_STEP_TOL: f64 = 1e-8;
+use crate::special::kepler_equation::{
+    elliptic_eccentricity, kepler_lhs, one_minus_e_cos, solve_kepler, true_to_mean, wrap_two_pi,
+};
 
 /// Eccentricities below this value are reported as exactly `0` by [`state_to_elements`] and
 /// [`planar_state_to_elements`] (circular-orbit convention).
@@ -104,16 +91,6 @@ pub(crate) fn phase_advance(what: &str, phase: f64) -> Result<f64> {
 // Validation helpers
 // ---------------------------------------------------------------------------------------------
 
-/// Require `0 ≤ e < 1` (and finite).
-fn elliptic_eccentricity(e: f64) -> Result<f64> {
-    let e = finite("eccentricity", e)?;
-    if (0.0..1.0).contains(&e) {
-        Ok(e)
-    } else {
-        Err(Error::out_of_domain("eccentricity", e, "[0, 1)"))
-    }
-}
-
 fn finite_vec3(what: &str, x: &Vector3<f64>) -> Result<()> {
     all_finite(what, x.as_slice())
 }
@@ -151,188 +128,6 @@ fn project(x: &Vector3<f64>) -> Vector2<f64> {
 // ---------------------------------------------------------------------------------------------
 // Angle reduction and Kepler's equation
 // ---------------------------------------------------------------------------------------------
-
-/// Reduce `x` to `[−π, π]`; the flag says whether `x` was changed.
-///
-/// Cody–Waite reduction: `x − k·TAU` is exact for the magnitudes where the phase is meaningful,
-/// and the low part of 2π is subtracted separately. For `|x| ≳ 10¹⁵` (where one ulp of `x` is
-/// not small compared with 2π) the phase carries no information; the result is still in range.
-fn reduce_angle(x: f64) -> (f64, bool) {
-    if x.abs() <= PI {
-        return (x, false);
-    }
-    let k = (x / TAU).round();
-    let mut r = (-k).mul_add(TAU, x);
-    r = (-k).mul_add(TAU_LO, r);
-    if r > PI {
-        r -= TAU;
-    } else if r < -PI {
-        r += TAU;
-    }
-    (r.clamp(-PI, PI), true)
-}
-
-/// Reduce an angle to `[0, 2π)`.
-fn wrap_two_pi(x: f64) -> f64 {
-    let r = x.rem_euclid(TAU);
-    if r >= TAU {
-        0.0
-    } else {
-        r
-    }
-}
-
-/// Apply a map `g` with `g(x + 2π) = g(x) + 2π` to any real `x`: evaluate it on the reduced
-/// argument and add back the reduction, so that `g(x) − x` is periodic.
-fn periodic_shift(x: f64, g: impl Fn(f64) -> Result<f64>) -> Result<f64> {
-    let (xr, reduced) = reduce_angle(x);
-    let yr = g(xr)?;
-    Ok(if reduced { x + (yr - xr) } else { yr })
-}
-
-/// `x − sin x`, accurate to a few ulps relative for all `|x| ≤ π` (series for `|x| < 1`).
-fn x_minus_sin(x: f64) -> f64 {
-    if x.abs() < 1.0 {
-        // x − sin x = x³ Σ_{k≥0} (−1)^k x^{2k}/(2k+3)!; ten terms: for |x| < 1 the first
-        // omitted term, x²³/23!, is below 2.4·10⁻²² · x³/6.
-        const C: [f64; 10] = [
-            1.0 / 6.0,
-            -1.0 / 120.0,
-            1.0 / 5_040.0,
-            -1.0 / 362_880.0,
-            1.0 / 39_916_800.0,
-            -1.0 / 6_227_020_800.0,
-            1.0 / 1_307_674_368_000.0,
-            -1.0 / 355_687_428_096_000.0,
-            1.0 / 121_645_100_408_832_000.0,
-            -1.0 / 51_090_942_171_709_440_000.0,
-        ];
-        let x2 = x * x;
-        let mut p = C[9];
-        for &c in C[..9].iter().rev() {
-            p = p.mul_add(x2, c);
-        }
-        x * x2 * p
-    } else {
-        x - x.sin()
-    }
-}
-
-/// `E − e sin E`, evaluated as `(1 − e) sin E + (E − sin E)` for `|E| < 1` to avoid the
-/// cancellation at `e → 1`, `E → 0`.
-pub(crate) fn kepler_lhs(ecc_anom: f64, e: f64) -> f64 {
-    if ecc_anom.abs() < 1.0 {
-        (1.0 - e) * ecc_anom.sin() + x_minus_sin(ecc_anom)
-    } else {
-        ecc_anom - e * ecc_anom.sin()
-    }
-}
-
-/// `1 − e cos E = (1 − e) + 2e sin²(E/2)`, free of cancellation.
-fn one_minus_e_cos(ecc_anom: f64, e: f64) -> f64 {
-    let s = (0.5 * ecc_anom).sin();
-    (1.0 - e) + 2.0 * e * s * s
-}
-
-/// Real root of `(1 − e) x + x³/6 = m` (`m ≥ 0`): a lower bound of the solution of Kepler's
-/// equation (because `sin x ≥ x − x³/6`) that is accurate when `E` is small.
-fn cubic_starter(m: f64, e: f64) -> f64 {
-    // x³ + 3P x − 2Q = 0 with P = 2(1 − e), Q = 3m (Cardano). With s³ = Q + √(Q² + P³) the root
-    // s − P/s is rewritten as 2Q/(s² + P + P²/s²), which does not cancel.
-    let p = 2.0 * (1.0 - e);
-    let q = 3.0 * m;
-    let s = (q + (q * q + p * p * p).sqrt()).cbrt();
-    if s > 0.0 {
-        2.0 * q / (s * s + p + p * p / (s * s))
-    } else {
-        0.0
-    }
-}
-
-/// Solve `E − e sin E = m` for `m ∈ [0, π]`, `e ∈ [0, 1)`; the root lies in `[m, min(π, m + e)]`.
-fn solve_kepler_reduced(m: f64, e: f64) -> Result<f64> {
-    if m == 0.0 || e == 0.0 {
-        return Ok(m);
-    }
-    // Tiny anomalies: E − e sin E = (1 − e)E + e E³/6 + O(E⁵), so E = M/(1 − e) up to a relative
-    // correction e E²/(6(1 − e)) below ε/6 when E² ≤ ε(1 − e). This also covers subnormal M,
-    // where relative stopping tests underflow.
-    let linear = m / (1.0 - e);
-    if linear * linear <= f64::EPSILON * (1.0 - e) {
-        return Ok(linear);
-    }
-    // Bracket: f(m) = −e sin m ≤ 0, f(m + e) = e(1 − sin(m + e)) ≥ 0, f(π) = π − m ≥ 0.
-    let mut lo = m;
-    let mut hi = (m + e).min(PI);
-    let cubic = cubic_starter(m, e);
-    let mut x = if cubic < 1.0 { cubic } else { m + 0.85 * e };
-    if !(lo..=hi).contains(&x) {
-        x = 0.5 * (lo + hi);
-    }
-    let mut residual = f64::NAN;
-    for _ in 0..KEPLER_MAX_ITER {
-        residual = kepler_lhs(x, e) - m;
-        if residual == 0.0 {
-            return Ok(x);
-        }
-        if residual < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let fp = one_minus_e_cos(x, e);
-        let fpp = e * x.sin();
-        let newton = -residual / fp;
-        let step = newton / (1.0 + 0.5 * newton * fpp / fp);
-        if step.abs() <= KEPLER_STEP_TOL * x.abs() {
-            return Ok((x + step).clamp(lo, hi));
-        }
-        let next = x + step;
-        if (lo..=hi).contains(&next) {
-            x = next;
-        } else {
-            let mid = lo + 0.5 * (hi - lo);
-            if !(mid > lo && mid < hi) {
-                // The bracket holds adjacent floating-point numbers.
-                return Ok(x);
-            }
-            x = mid;
-        }
-    }
-    Err(Error::NotConverged {
-        what: "Kepler's equation (bracketed Halley)".into(),
-        iterations: KEPLER_MAX_ITER,
-        residual: residual.abs(),
-    })
-}
-
-/// Eccentric anomaly `E` solving Kepler's equation `M = E − e sin E` for an elliptic orbit.
-///
-/// Any real mean anomaly is accepted. It is reduced to `[−π, π]`, the reduced equation is solved
-/// (odd symmetry `E(−M) = −E(M)`), and the result is returned consistently with the unreduced
-/// `M`: `E(M + 2π) = E(M) + 2π`, i.e. `E − M` is 2π-periodic and `E` is continuous and increasing
-/// in `M`.
-///
-/// The solver is a Halley iteration safeguarded by a bracket (`E − e sin E − M` is increasing in
-/// `E`), started from the real root of the cubic `(1 − e)E + E³/6 = M` when that root is small
-/// (accurate in the nearly parabolic corner `e → 1`, `M → 0`; cf. Mikkola 1987, Markley 1995) and
-/// from Danby's `M + 0.85 e` otherwise. The residual is evaluated as
-/// `(1 − e) sin E + (E − sin E) − M` with a series for `E − sin E`, so that the root is found to
-/// full relative precision even for `e = 1 − 10⁻⁹`, `M = 10⁻⁶` (SPEC X3).
-///
-/// References: Ardema (2005) §10.3; Danby (1988) ch. 6; Battin (1999) ch. 5.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞ input, [`Error::OutOfDomain`] for `e ∉ [0, 1)`,
-/// [`Error::NotConverged`] if the iteration fails (not expected to happen).
-pub fn solve_kepler(mean_anomaly: f64, e: f64) -> Result<f64> {
-    let m = finite("mean anomaly M", mean_anomaly)?;
-    let e = elliptic_eccentricity(e)?;
-    periodic_shift(m, |mr| {
-        let ea = solve_kepler_reduced(mr.abs(), e)?;
-        Ok(ea.copysign(mr))
-    })
-}
 
 /// Mean motion `n = √(μ/a³)`.
 ///
@@ -426,76 +221,6 @@ pub fn period(mu: f64, a: f64) -> Result<f64> {
 // ---------------------------------------------------------------------------------------------
 // Anomalies
 // ---------------------------------------------------------------------------------------------
-
-/// True anomaly `ν` from eccentric anomaly `E`:
-/// `tan(ν/2) = √((1+e)/(1−e)) tan(E/2)`, evaluated as
-/// `ν = 2 atan2(√(1+e) sin(E/2), √(1−e) cos(E/2))` on the reduced angle.
-///
-/// Any real `E` is accepted and `ν − E` is 2π-periodic (`ν` is continuous and increasing in `E`;
-/// `ν = E` at `E = 0, ±π`).
-///
-/// Reference: Ardema (2005) §10.3; Battin (1999) ch. 4.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
-pub fn eccentric_to_true(eccentric_anomaly: f64, e: f64) -> Result<f64> {
-    let ea = finite("eccentric anomaly E", eccentric_anomaly)?;
-    let e = elliptic_eccentricity(e)?;
-    let (sp, sm) = ((1.0 + e).sqrt(), (1.0 - e).sqrt());
-    periodic_shift(ea, |x| {
-        let h = 0.5 * x;
-        Ok(2.0 * (sp * h.sin()).atan2(sm * h.cos()))
-    })
-}
-
-/// Eccentric anomaly `E` from true anomaly `ν`:
-/// `tan(E/2) = √((1−e)/(1+e)) tan(ν/2)` (equivalently `cos E = (e + cos ν)/(1 + e cos ν)`,
-/// `sin E = √(1−e²) sin ν/(1 + e cos ν)`), evaluated as
-/// `E = 2 atan2(√(1−e) sin(ν/2), √(1+e) cos(ν/2))` on the reduced angle.
-///
-/// Any real `ν` is accepted and `E − ν` is 2π-periodic.
-///
-/// Reference: Ardema (2005) §10.3; Battin (1999) ch. 4.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
-pub fn true_to_eccentric(true_anomaly: f64, e: f64) -> Result<f64> {
-    let nu = finite("true anomaly ν", true_anomaly)?;
-    let e = elliptic_eccentricity(e)?;
-    let (sp, sm) = ((1.0 + e).sqrt(), (1.0 - e).sqrt());
-    periodic_shift(nu, |x| {
-        let h = 0.5 * x;
-        Ok(2.0 * (sm * h.sin()).atan2(sp * h.cos()))
-    })
-}
-
-/// True anomaly from mean anomaly: solve `M = E − e sin E` ([`solve_kepler`]) and convert with
-/// [`eccentric_to_true`]. `ν − M` is 2π-periodic.
-///
-/// Reference: Ardema (2005) §10.3; Danby (1988) ch. 6.
-///
-/// # Errors
-/// As [`solve_kepler`].
-pub fn mean_to_true(mean_anomaly: f64, e: f64) -> Result<f64> {
-    let ea = solve_kepler(mean_anomaly, e)?;
-    eccentric_to_true(ea, e)
-}
-
-/// Mean anomaly from true anomaly: `E` from [`true_to_eccentric`], then `M = E − e sin E`
-/// (evaluated without cancellation near `e → 1`, `E → 0`). `M − ν` is 2π-periodic.
-///
-/// Reference: Ardema (2005) §10.3.
-///
-/// # Errors
-/// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
-pub fn true_to_mean(true_anomaly: f64, e: f64) -> Result<f64> {
-    let nu = finite("true anomaly ν", true_anomaly)?;
-    let e = elliptic_eccentricity(e)?;
-    periodic_shift(nu, |x| {
-        let ea = true_to_eccentric(x, e)?;
-        Ok(kepler_lhs(ea, e))
-    })
-}
 
 // ---------------------------------------------------------------------------------------------
 // First integrals
@@ -954,6 +679,11 @@ pub fn kepler_propagate_planar(
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[allow(unused_imports)]
+    use crate::special::kepler_equation::{
+        eccentric_to_true, kepler_lhs, mean_to_true, reduce_angle, solve_kepler, true_to_eccentric,
+        true_to_mean,
+    };
     use proptest::prelude::*;
     use proptest::test_runner::RngSeed;
 

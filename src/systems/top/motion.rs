@@ -44,7 +44,7 @@
 
 use super::HeavyTop;
 use crate::error::{finite, Error, Result};
-use crate::hamilton_jacobi::quadrature::{Libration, Node, Quadrature, ReducedRadicand};
+use crate::special::turning_points::{Libration, Node, Quadrature, ReducedRadicand};
 use nalgebra::SVector;
 use std::f64::consts::PI;
 
@@ -80,7 +80,7 @@ impl TopCubic {
     /// a pole ([`Error::Singular`]).
     pub fn from_state(top: &HeavyTop, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<Self> {
         crate::phase::check_phase(0.0, q, p)?;
-        let s = super::top::check_chart(q[1])?;
+        let s = super::check_chart(q[1])?;
         let i = top.i();
         let (sh, ch) = (0.5 * q[1]).sin_cos();
         let (u0, one_minus, one_plus) = (q[1].cos(), 2.0 * sh * sh, 2.0 * ch * ch);

@@ -1,4 +1,9 @@
-use super::{top_motion, ExactFlow, Invariant, Invariants};
+//! The heavy symmetric top: its Hamiltonian in Euler angles, steady precession and, in
+//! [`motion`], the Hamilton–Jacobi quadratures of its nutation.
+
+pub mod motion;
+
+use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::{checked_vector_field, Hamiltonian};
 use crate::lagrangian::{Natural, NaturalSystem};
@@ -23,7 +28,7 @@ use num_dual::DualNum;
 ///
 /// `φ` and `ψ` are ignorable: `p_ψ = J ω_z` and `p_φ = I φ̇ sin²θ + p_ψ cos θ` are constant
 /// [Ardema eqs. 11.15–11.16] and, with `H`, are the invariants ([`Invariants`]). The motion is
-/// reduced to the cubic of [`top_motion`] and solved there by Hamilton–Jacobi quadratures
+/// reduced to the cubic of [`motion`] and solved there by Hamilton–Jacobi quadratures
 /// (SPEC M57), which also give the exact flow ([`ExactFlow`]).
 ///
 /// # Coordinate singularity (SPEC X9)
@@ -289,9 +294,9 @@ impl Invariants<3> for HeavyTop {
 }
 
 impl ExactFlow<3> for HeavyTop {
-    /// By the Hamilton–Jacobi quadratures of [`top_motion::Nutation`]: `θ(t)` by inverting the
+    /// By the Hamilton–Jacobi quadratures of [`motion::Nutation`]: `θ(t)` by inverting the
     /// time law, `φ(t)`, `ψ(t)` by the partial precession and spin integrals. Errors as
-    /// [`top_motion::Nutation::from_state`] (chart singularity, orbit through the pole).
+    /// [`motion::Nutation::from_state`] (chart singularity, orbit through the pole).
     fn exact_flow(
         &self,
         t0: f64,
@@ -301,6 +306,6 @@ impl ExactFlow<3> for HeavyTop {
     ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
         check_phase(t0, q0, p0)?;
         let dt = finite("t", t)? - t0;
-        top_motion::Nutation::from_state(self, q0, p0)?.propagate(q0, p0, dt)
+        motion::Nutation::from_state(self, q0, p0)?.propagate(q0, p0, dt)
     }
 }
