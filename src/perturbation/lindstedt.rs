@@ -33,7 +33,8 @@ use crate::error::{finite, Error, Result};
 
 /// Highest order accepted by [`lindstedt_odd_force`] (and [`lindstedt_pendulum`]). The coefficients
 /// of the pendulum's series fall like `π^{−2k}`, so beyond order ~150 they underflow to subnormals
-/// long before this cap; the cap only bounds the `O(N⁴)` work (order 64 takes about 0.1 s).
+/// long before this cap; the cap only bounds the `O(N⁴)` work (order 64, with its error bounds,
+/// takes about 0.4 s).
 pub const MAX_LINDSTEDT_ORDER: usize = 64;
 
 /// Phase-rounding limit of [`LindstedtSeries::theta`]: the phase `m s = m ω t` of the highest
