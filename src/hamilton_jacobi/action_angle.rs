@@ -292,12 +292,20 @@ impl<S: Hamiltonian<1>, P: ReducedRadicand> ActionAngle<S, P> {
     }
 
     /// The angle `w ∈ [0, 2π)` of a state on this libration (`w = 0` at the lower turning point,
-    /// increasing along the motion). The state must have this energy to within `1e−10` relative.
+    /// increasing along the motion).
+    ///
+    /// The state must lie on the torus of this action: an energy offset `Δh` moves the action by
+    /// `Δh/ω` (`dJ/dh = 1/ω`), so the state's energy `h′` must satisfy
+    /// `|h′ − h| ≤ ω e_J + 8 ε s`, where `e_J` is the error estimate of the action quadrature
+    /// ([`Self::action`]) and `8 ε s` the rounding of the two energy evaluations (`s` the size of
+    /// the energy's terms: `|h|`, `|V|`, `a p²` and `|q V′|` as a proxy for `V`'s own terms).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for a state off the torus (the
+    /// error names the admissible energy interval) or outside the turning points.
     pub fn angle(&self, q: f64, p: f64) -> Result<f64> {
         let (q, p) = (finite("q", q)?, finite("p", p)?);
-        let h = energy(&self.system, q, p);
-        // Relative to the size of the energy's terms (h itself may be 0, and V a difference of
-        // terms): |h|, |V|, a p², and |q V′| as a proxy for V's own terms.
+        let h = finite("energy of the state", energy(&self.system, q, p))?;
         let dv = natural_potential(&self.system, num_dual::Dual64::from_re(q).derivative()).eps;
         let terms = self
             .h
@@ -305,10 +313,21 @@ impl<S: Hamiltonian<1>, P: ReducedRadicand> ActionAngle<S, P> {
             .max(natural_potential(&self.system, q).abs())
             .max((natural_inverse_mass(&self.system, q) * p * p).abs())
             .max((q * dv).abs());
-        if (h - self.h).abs() > 1e-10 * terms.max(f64::MIN_POSITIVE) {
-            return Err(Error::invalid(
-                "state",
-                format!("energy {h} differs from the libration's {}", self.h),
+        let tolerance = self.frequency() * self.action.error + 8.0 * f64::EPSILON * terms;
+        if (h - self.h).abs() > tolerance {
+            return Err(Error::out_of_domain(
+                "energy h′ of the state (q, p)",
+                h,
+                format!(
+                    "[{:e}, {:e}]: the torus J = {:e} has energy h = {:e}, known to ω·e_J + 8ε·s \
+                     = {tolerance:e} (action-quadrature error e_J = {:e}, energy terms \
+                     s = {terms:e}); the state (q, p) = ({q:e}, {p:e}) is on another torus",
+                    self.h - tolerance,
+                    self.h + tolerance,
+                    self.action.value,
+                    self.h,
+                    self.action.error
+                ),
             ));
         }
         let s = self.libration.phase_with_momentum(q, p)?;

@@ -445,7 +445,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 format!("expected an amplitude in (0, π), found {}", fmt_num(a)),
             ));
         }
-        (a, 0.0, separatrix_gap(a), a)
+        (a, 0.0, separatrix_gap(a).map_err(|e| s.library(e))?, a)
     } else if let Some(d) = gap {
         if !(d > 0.0 && d < PI) {
             return Err(s.error(
@@ -466,7 +466,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                 ),
             ));
         }
-        (q0, 0.0, separatrix_gap(q0), q0)
+        (q0, 0.0, separatrix_gap(q0).map_err(|e| s.library(e))?, q0)
     } else {
         let (q, p) = explicit.unwrap_or_default();
         let (q, p) = (q[0], p[0]);
@@ -493,7 +493,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         }
         let a = 2.0 * sin_half.asin();
         let delta = if p == 0.0 {
-            separatrix_gap(q)
+            separatrix_gap(q).map_err(|e| s.library(e))?
         } else {
             2.0 * sin_half.acos()
         };

@@ -255,9 +255,13 @@ fn jacobi_unchecked(u: f64, k: f64, kc: f64) -> Result<Jacobi> {
 
 /// The gap `δ = π − |a|` from the double `a` to the true π, `(PI − |a|) + (π − PI)`: the first
 /// difference is exact for `|a| ≥ π/2` (Sterbenz), the second is the rounding of π. This is the
-/// separatrix distance of a state that starts at the double `a`.
-pub fn separatrix_gap(amplitude: f64) -> f64 {
-    (PI - amplitude.abs()) + PI_LO
+/// separatrix distance of a state that starts at the double `a` (negative for `|a| > π`).
+///
+/// # Errors
+/// [`Error::NonFinite`] for a NaN or infinite amplitude.
+pub fn separatrix_gap(amplitude: f64) -> Result<f64> {
+    let a = finite("amplitude", amplitude)?;
+    Ok((PI - a.abs()) + PI_LO)
 }
 
 /// Exact period of the pendulum with amplitude `a` (maximum `|θ|` of the libration).
@@ -300,7 +304,7 @@ pub fn period(n: f64, amplitude: f64) -> Result<f64> {
              see PendulumMotion",
         ));
     }
-    period_from_gap_unchecked(n, separatrix_gap(a))
+    period_from_gap_unchecked(n, separatrix_gap(a)?)
 }
 
 /// Exact period from the gap `δ = π − a` to the separatrix.
@@ -328,17 +332,35 @@ pub fn period_from_gap(n: f64, delta: f64) -> Result<f64> {
     period_from_gap_unchecked(n, delta)
 }
 
+/// Below this gap [`period_from_gap`] uses the asymptotic form `τ = (4/n) ln(8/δ)`: the next
+/// term of `K`, `(k'²/4)(ln(4/k') − 1)` with `k' ≈ δ/2` (DLMF 19.12.1), is then below `1e−300`
+/// relative, and `sin(δ/2)` would leave the normal range of doubles (at the smallest subnormal gap
+/// it underflows to 0).
+const ASYMPTOTIC_GAP: f64 = 1e-150;
+
 /// `2π / (n M(1, sin(δ/2)))` for `δ ∈ (0, π]` (up to the `PI_LO` shift).
 fn period_from_gap_unchecked(n: f64, delta: f64) -> Result<f64> {
+    if delta < ASYMPTOTIC_GAP {
+        // ln(8/δ) without forming 8/δ, which overflows for δ < 4.5e−308.
+        let log = std::f64::consts::LN_2.mul_add(3.0, -delta.ln());
+        return finite("period", 4.0 * log / n);
+    }
     let kc = (0.5 * delta).sin().min(1.0);
     finite("period", TAU / (n * agm_unchecked(1.0, kc)?))
 }
 
 /// Energy `H = ½ p² + n² (1 − cos θ)`, evaluated as `½ p² + 2 n² sin²(θ/2)` (no cancellation for
-/// small `θ`). Inputs are not validated: NaN or ∞ propagate to the result.
-pub fn energy(n: f64, theta: f64, p: f64) -> f64 {
+/// small `θ`).
+///
+/// # Errors
+/// [`Error::NonFinite`] for NaN/∞ arguments or an energy that overflows; [`Error::OutOfDomain`]
+/// for `n ≤ 0`.
+pub fn energy(n: f64, theta: f64, p: f64) -> Result<f64> {
+    let n = positive("n", n)?;
+    let theta = finite("theta", theta)?;
+    let p = finite("p", p)?;
     let s = (0.5 * theta).sin();
-    0.5 * p * p + 2.0 * (n * s) * (n * s)
+    finite("energy H", 0.5 * p * p + 2.0 * (n * s) * (n * s))
 }
 
 /// Libration amplitude `a = max |θ|` of the orbit through `(θ, p)`.
@@ -347,13 +369,32 @@ pub fn energy(n: f64, theta: f64, p: f64) -> f64 {
 /// `a = 2 atan2(k, k')` with `k'² = (cos(θ/2) − |p|/2n)(cos(θ/2) + |p|/2n)` so that amplitudes
 /// near π keep their gap to π. `θ` is reduced mod 2π first.
 ///
+/// An amplitude that rounds to the double `PI` is refused like [`period`] refuses it: the gap
+/// `δ = π − a = 2 atan2(k', k)` of such a state (below about 1.7e−16) is not representable as
+/// `PI − a`, and [`PendulumMotion`] (which keeps `k'`) or [`period_from_gap`] handle it.
+///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `n ≤ 0` or for a rotation
-/// (`H > 2n²`); [`Error::Separatrix`] when `H = 2n²` to rounding (no turning point).
+/// (`H > 2n²`); [`Error::Separatrix`] when `H = 2n²` to rounding (no turning point), and when the
+/// amplitude rounds to `PI` (the error's `distance` is then the gap `δ`).
 pub fn amplitude_from_state(n: f64, theta: f64, p: f64) -> Result<f64> {
     let st = ReducedState::new(n, theta, p)?;
     match st.regime() {
-        Regime::Libration => Ok(2.0 * st.k.atan2(st.kc_libration())),
+        Regime::Libration => {
+            let kc = st.kc_libration();
+            let a = 2.0 * st.k.atan2(kc);
+            if a >= PI {
+                return Err(Error::Separatrix {
+                    what: "amplitude_from_state".into(),
+                    distance: 2.0 * kc.atan2(st.k),
+                    hint: "the amplitude rounds to π, which period() treats as the separatrix; \
+                           pass the gap (the distance above) to period_from_gap, or use \
+                           PendulumMotion for the flow"
+                        .into(),
+                });
+            }
+            Ok(a)
+        }
         Regime::Separatrix => Err(st.separatrix_error("amplitude_from_state")),
         Regime::Rotation => Err(Error::out_of_domain(
             "energy ratio H/(2n²)",
@@ -1270,11 +1311,11 @@ mod tests {
         ];
         let mut worst = 0.0_f64;
         for (n, th0, p0) in cases {
-            let e0 = energy(n, th0, p0);
+            let e0 = energy(n, th0, p0).unwrap();
             let m = PendulumMotion::new(n, th0, p0).unwrap();
             for i in -100..=100 {
                 let (th, p) = m.state_at(0.731 * f64::from(i)).unwrap();
-                let err = rel(energy(n, th, p), e0);
+                let err = rel(energy(n, th, p).unwrap(), e0);
                 worst = worst.max(err);
                 assert!(err <= 1e-13, "n={n} θ0={th0} p0={p0}: rel {err:e}");
             }
@@ -1543,12 +1584,12 @@ mod tests {
         ) {
             // p0 in units of the separatrix momentum 2n: |pr| > 1 always rotates.
             let p0 = 2.0 * n * pr;
-            let e0 = energy(n, th0, p0);
+            let e0 = energy(n, th0, p0).unwrap();
             let (th, p) = exact_state(n, th0, p0, t).unwrap();
             // A few ε from the Jacobi identities, plus the rounding of the returned angle itself:
             // ε|θ| moves H by ≤ ε|θ|/(2k²) relative, and a rotation reaches |θ| ≤ 2nk·50 + 10, so
             // that term stays below 6e−14.
-            prop_assert!(rel(energy(n, th, p), e0) <= 1e-13);
+            prop_assert!(rel(energy(n, th, p).unwrap(), e0) <= 1e-13);
         }
 
         #[test]

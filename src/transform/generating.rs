@@ -147,6 +147,22 @@ pub trait GeneratingFunction<const N: usize> {
     ) -> Option<SVector<f64, N>> {
         None
     }
+
+    /// Refuse, before any solve, a point where the map is undefined (default: accept every
+    /// point). `first` and `second` are the given pair, `(q, p)` for the forward map
+    /// (`forward = true`) and `(Q, P)` for the inverse.
+    ///
+    /// # Errors
+    /// A typed error naming the point ([`Error::Singular`] for a coordinate singularity).
+    fn check_point(
+        &self,
+        _t: f64,
+        _first: &SVector<f64, N>,
+        _second: &SVector<f64, N>,
+        _forward: bool,
+    ) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// `(∂F/∂x, ∂F/∂y)` in the number type `D`.
@@ -274,6 +290,7 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         };
         let (k, b) = split(known_is_q, first, second);
         let (fr, sr) = (real_parts(first), real_parts(second));
+        self.generator.check_point(t.re(), &fr, &sr, forward)?;
         let guess = if forward {
             self.generator.forward_guess(t.re(), &fr, &sr)
         } else {

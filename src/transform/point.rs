@@ -11,6 +11,7 @@
 //! [`crate::Error::Singular`].
 
 use super::generating::{CanonicalTransformation, GeneratingFunction, Kind};
+use crate::error::{Error, Result};
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -23,6 +24,15 @@ pub trait PointTransformation<const N: usize> {
     /// Choosing it selects the branch of a multivalued inverse (e.g. the angle's sheet).
     fn inverse_guess(&self, _t: f64, q: &SVector<f64, N>) -> SVector<f64, N> {
         *q
+    }
+
+    /// Refuse old coordinates `q` on a singularity of the chart, where `Q = f⁻¹(t, q)` is not
+    /// defined (default: accept every point).
+    ///
+    /// # Errors
+    /// [`Error::Singular`] naming the point.
+    fn check_coordinates(&self, _t: f64, _q: &SVector<f64, N>) -> Result<()> {
+        Ok(())
     }
 }
 
@@ -49,6 +59,19 @@ impl<F: PointTransformation<N>, const N: usize> GeneratingFunction<N> for PointG
         _p: &SVector<f64, N>,
     ) -> Option<SVector<f64, N>> {
         Some(self.0.inverse_guess(t, q))
+    }
+    fn check_point(
+        &self,
+        t: f64,
+        first: &SVector<f64, N>,
+        _second: &SVector<f64, N>,
+        forward: bool,
+    ) -> Result<()> {
+        if forward {
+            self.0.check_coordinates(t, first)
+        } else {
+            Ok(())
+        }
     }
 }
 
@@ -85,11 +108,28 @@ impl PointTransformation<2> for Polar {
 }
 
 /// Spherical coordinates `Q = (r, θ, φ)`, `θ` the polar angle from the `z` axis:
-/// `x = r sin θ cos φ`, `y = r sin θ sin φ`, `z = r cos θ`. Singular at `r = 0` and on the axis.
+/// `x = r sin θ cos φ`, `y = r sin θ sin φ`, `z = r cos θ`. Singular at `r = 0` and on the `z`
+/// axis (`det ∂q/∂Q = r² sin θ = 0`, `φ` undefined): the forward map refuses `x = y = 0` with
+/// [`Error::Singular`] (induced momenta as in Ardema 16.3, eq. 16.22). Points off the axis, however
+/// close, map to rounding: `θ = atan2(√(x² + y²), z)` carries an absolute error of a few `ε θ`, so
+/// every `P_i` is within a few `ε |P_i| + 2εθ r |p|` (near the negative axis, `θ ≈ π`, the
+/// angular momentum `P_φ` is thus known only to about `ε r |p|`).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Spherical;
 
 impl PointTransformation<3> for Spherical {
+    fn check_coordinates(&self, t: f64, q: &SVector<f64, 3>) -> Result<()> {
+        if q[0] == 0.0 && q[1] == 0.0 {
+            return Err(Error::Singular {
+                what: "spherical chart (r, θ, φ): the z axis, where φ is undefined and \
+                       det ∂q/∂Q = r² sin θ vanishes"
+                    .into(),
+                at: format!("t = {t:e}, q = ({:e}, {:e}, {:e})", q[0], q[1], q[2]),
+                rcond: 0.0,
+            });
+        }
+        Ok(())
+    }
     fn coordinates<D: DualNum<f64> + Copy>(&self, _t: D, big_q: &SVector<D, 3>) -> SVector<D, 3> {
         let (st, ct) = big_q[1].sin_cos();
         let (sp, cp) = big_q[2].sin_cos();

@@ -436,16 +436,25 @@ pub fn release_from_rest(top: &HeavyTop, u2: f64, omega_z: f64) -> Result<f64> {
 }
 
 /// The fast-top estimate of the nutation width after release from rest at `u₂`,
-/// `u₂ − u₁ ≈ β(1 − u₂²)/γ²` [Ardema eq. 11.25]; [`Error::OutOfDomain`] at zero spin.
+/// `u₂ − u₁ ≈ β(1 − u₂²)/γ²` [Ardema eq. 11.25].
+///
+/// # Errors
+/// [`Error::NonFinite`] for NaN/∞ arguments or a width that overflows (spin too slow for the
+/// fast-top estimate to mean anything); [`Error::OutOfDomain`] for `u₂ = cos θ₂ ∉ [−1, 1]` or
+/// zero spin.
 pub fn fast_top_width(top: &HeavyTop, u2: f64, omega_z: f64) -> Result<f64> {
     let u2 = finite("u₂", u2)?;
+    if !(-1.0..=1.0).contains(&u2) {
+        return Err(Error::out_of_domain("u₂ = cos θ₂", u2, "[−1, 1]"));
+    }
     let gamma = top.gamma(finite("spin ω_z", omega_z)?);
     if gamma == 0.0 {
         return Err(Error::out_of_domain("spin ω_z", omega_z, "ω_z ≠ 0"));
     }
+    // Divided by γ twice: γ² alone overflows for |γ| > 1.3e154 where the width is still normal.
     finite(
         "fast-top nutation width",
-        top.beta() * (1.0 - u2) * (1.0 + u2) / (gamma * gamma),
+        top.beta() * (1.0 - u2) * (1.0 + u2) / gamma / gamma,
     )
 }
 
