@@ -97,6 +97,56 @@ pub enum Error {
         /// The largest accepted `|n·Δt|` (radians).
         limit: f64,
     },
+    /// A computation whose estimated condition number exceeds the threshold above which its
+    /// result would carry a relative error of about `condition × ε` (ε = 2⁻⁵²) and is refused.
+    #[error(
+        "{what} is too ill-conditioned at {at}: condition number {condition:e} exceeds the \
+         threshold {threshold:e} (expected relative error ≈ condition × ε = {:e})",
+        condition * f64::EPSILON
+    )]
+    IllConditioned {
+        /// Which computation.
+        what: String,
+        /// The point where it happened, formatted.
+        at: String,
+        /// The estimated condition number (relative error of the result per unit roundoff).
+        condition: f64,
+        /// The largest condition number accepted.
+        threshold: f64,
+    },
+    /// An implicit relation with several roots (a multi-sheeted canonical relation) has no root,
+    /// or more than one, on the requested sheet.
+    #[error(
+        "{what} at {at}: {problem} on the requested sheet ({sheet}); candidate roots found: {}",
+        format_candidates(candidates)
+    )]
+    NoRootOnSheet {
+        /// Which computation.
+        what: String,
+        /// The point where it happened, formatted.
+        at: String,
+        /// The requested sheet, in words.
+        sheet: String,
+        /// `"no root"` or `"more than one root"`.
+        problem: String,
+        /// Every root that was found, each as the full result (e.g. `(Q₁, …, P₁, …)`).
+        candidates: Vec<Vec<f64>>,
+    },
+}
+
+/// The candidate roots of [`Error::NoRootOnSheet`] in exponent notation.
+fn format_candidates(candidates: &[Vec<f64>]) -> String {
+    if candidates.is_empty() {
+        return "none".into();
+    }
+    candidates
+        .iter()
+        .map(|c| {
+            let parts: Vec<String> = c.iter().map(|x| format!("{x:.16e}")).collect();
+            format!("({})", parts.join(", "))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl Error {

@@ -7,6 +7,7 @@ use approx::assert_relative_eq;
 use common::{Prob16_1, Prob16_2, Prob16_3};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::{ExactFlow, HarmonicOscillator};
+use hamilton_jacobi::transform::generating::{RelationPoint, Sheet, DEFAULT_MAX_CONDITION};
 use hamilton_jacobi::transform::{CanonicalTransformation, GeneratingFunction, Kind};
 use hamilton_jacobi::{hamiltonian, DualNum, Error, Hamiltonian};
 use proptest::prelude::*;
@@ -212,28 +213,65 @@ impl GeneratingFunction<1> for Principal {
     }
 }
 
+/// The message of a refusal at a singular or ill-conditioned generator (panics on any other result).
 fn singular_message(e: &Error) -> String {
     match e {
         Error::Singular { what, at, rcond } => format!("{what} | {at} | {rcond:e}"),
-        other => panic!("expected Error::Singular, got {other:?}"),
+        Error::IllConditioned {
+            what,
+            at,
+            condition,
+            threshold,
+        } => {
+            assert!(condition > threshold, "{e}");
+            format!("{what} | {at} | {condition:e} > {threshold:e}")
+        }
+        other => panic!("expected Error::Singular or Error::IllConditioned, got {other:?}"),
     }
 }
 
 #[test]
 fn x4_singular_generators_are_refused() {
-    // Oscillator W1 at Q → π: regular at Q = 1.2, refused as Q → π.
-    let ct = CanonicalTransformation::new(AngleVariables { m: 1.0, omega: 1.0 });
+    let (m, w) = (1.0, 1.0);
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
     assert!(ct
         .inverse(0.0, &SVector::from([1.2]), &SVector::from([0.5]))
         .is_ok());
+    // Oscillator W1 near its caustic Q → π (q → 0): refused in both directions, naming the
+    // measured condition (≈ π/(π − Q): the generator's derivatives at an argument known to ε π
+    // near the pole of cot Q) and the threshold.
+    let (bq, bp) = (PI - 1e-9, 0.5);
     let e = ct
-        .inverse(0.0, &SVector::from([PI - 1e-9]), &SVector::from([0.5]))
+        .inverse(0.0, &SVector::from([bq]), &SVector::from([bp]))
         .unwrap_err();
     let msg = singular_message(&e);
-    assert!(
-        msg.contains("estimated relative error") && msg.contains("3.1415926"),
-        "{msg}"
+    assert!(msg.contains("3.1415926"), "{msg}");
+    let amplitude = (2.0 * bp / (m * w)).sqrt();
+    let (q, p) = (
+        SVector::from([amplitude * bq.sin()]),
+        SVector::from([m * w * amplitude * bq.cos()]),
     );
+    let reference = hamilton_jacobi::transform::generating::RelationPoint {
+        t: 0.0,
+        q: SVector::from([amplitude * (0.75 * PI).sin()]),
+        p: SVector::from([m * w * amplitude * (0.75 * PI).cos()]),
+        big_q: SVector::from([0.75 * PI]),
+        big_p: SVector::from([bp]),
+    };
+    let sheet = Sheet::through(reference).unwrap();
+    let e = ct.forward_on(0.0, &q, &p, &sheet).unwrap_err();
+    singular_message(&e);
+    match e {
+        Error::IllConditioned {
+            condition,
+            threshold,
+            ..
+        } => {
+            assert_eq!(threshold, DEFAULT_MAX_CONDITION);
+            assert!(condition >= 1e9, "{condition:e}");
+        }
+        other => panic!("{other:?}"),
+    }
     // At q = 0 the mixed Hessian B = −mωq/sin²Q vanishes: refused (Singular).
     assert!(ct
         .forward(0.0, &SVector::from([0.0]), &SVector::from([1.0]))
@@ -245,7 +283,7 @@ fn x4_singular_generators_are_refused() {
     assert!(ff.forward(0.3, &q, &p).is_ok());
     for t in [1e-9, 1e-12] {
         let msg = singular_message(&ff.forward(t, &q, &p).unwrap_err());
-        assert!(msg.contains(&format!("t = {t}")), "{msg}");
+        assert!(msg.contains(&format!("t = {t:e}")), "{msg}");
     }
     assert!(ff.forward(0.0, &q, &p).is_err());
     // Oscillator principal function at τ → π (focal point): regular at τ = 1, refused at π − 1e−9.
@@ -262,6 +300,249 @@ fn x4_singular_generators_are_refused() {
     assert!(CanonicalTransformation::new(Principal { tau: PI })
         .forward(0.0, &q0, &p)
         .is_err());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sheets of F1 = ½ m ω q² cot Q and conditioning at its caustic, against the closed form
+// q = √(2P/(mω)) sin Q, p = √(2mωP) cos Q [Goldstein §9.3].
+
+/// The closed form (the oracle).
+fn torus(m: f64, w: f64, big_q: f64, big_p: f64) -> (f64, f64) {
+    let a = (2.0 * big_p / (m * w)).sqrt();
+    (a * big_q.sin(), m * w * a * big_q.cos())
+}
+
+/// The relation point of the closed form at (Q, P).
+fn on_torus(m: f64, w: f64, big_q: f64, big_p: f64) -> RelationPoint<1> {
+    let (q, p) = torus(m, w, big_q, big_p);
+    RelationPoint {
+        t: 0.0,
+        q: SVector::from([q]),
+        p: SVector::from([p]),
+        big_q: SVector::from([big_q]),
+        big_p: SVector::from([big_p]),
+    }
+}
+
+/// The sheet of the closed form for the inverse map: q has the sign of sin Q.
+fn sign_sheet() -> Sheet<1> {
+    Sheet::satisfying("q sin Q > 0", |z: &RelationPoint<1>| {
+        z.q[0] * z.big_q[0].sin() > 0.0
+    })
+}
+
+#[test]
+fn angle_variables_on_every_quadrant_and_window_match_the_closed_form() {
+    // Q on a grid of (−2π, 2π) that visits every (sign q, sign p) quadrant in both 2π-windows
+    // (odd multiples of π/16, never on an axis); two actions. Errors are measured against the
+    // size of each block on the torus (amplitude a of q, mωa of p; |Q| ≤ 2π, P): the closed form
+    // and the solve each carry a few roundings of sin, cos, tan and √ of arguments up to 2π, so
+    // 1e−14 (45 ε) bounds both with margin.
+    let (m, w) = (2.0, 3.0);
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
+    let mut quadrants = std::collections::BTreeSet::new();
+    let mut worst = 0.0f64;
+    for big_p in [0.87, 3.2] {
+        let a = (2.0 * big_p / (m * w)).sqrt();
+        for j in 0..64 {
+            let big_q = -2.0 * PI + (2 * j + 1) as f64 * PI / 16.0;
+            let (qe, pe) = torus(m, w, big_q, big_p);
+            quadrants.insert((qe > 0.0, pe > 0.0, big_q > 0.0));
+            // Inverse on the sheet q sin Q > 0.
+            let inv = ct
+                .inverse_on(
+                    0.0,
+                    &SVector::from([big_q]),
+                    &SVector::from([big_p]),
+                    &sign_sheet(),
+                )
+                .unwrap();
+            let (eq, ep) = (
+                (inv.q[0] - qe).abs() / a,
+                (inv.p[0] - pe).abs() / (m * w * a),
+            );
+            assert!(
+                eq <= 1e-14 && ep <= 1e-14,
+                "inverse at Q = {big_q}: {eq:e} {ep:e}"
+            );
+            assert!(inv.condition < 1e2, "Q = {big_q}: κ = {:e}", inv.condition);
+            // Forward on the sheet through a reference point in the same quadrant and window
+            // (the middle of the quarter turn containing Q), by continuation.
+            let quarter = (big_q / (PI / 2.0)).floor();
+            let reference = on_torus(m, w, (quarter + 0.5) * PI / 2.0, 1.0);
+            let sheet = Sheet::through(reference).unwrap();
+            let fwd = ct
+                .forward_on(0.0, &SVector::from([qe]), &SVector::from([pe]), &sheet)
+                .unwrap();
+            let (eqq, epp) = (
+                (fwd.q[0] - big_q).abs() / (2.0 * PI),
+                (fwd.p[0] - big_p).abs() / big_p,
+            );
+            assert!(
+                eqq <= 1e-14 && epp <= 1e-14,
+                "forward at Q = {big_q}: {eqq:e} {epp:e}"
+            );
+            // Round trip: forward then inverse returns the point.
+            let back = ct.inverse_on(0.0, &fwd.q, &fwd.p, &sign_sheet()).unwrap();
+            let (rq, rp) = (
+                (back.q[0] - qe).abs() / a,
+                (back.p[0] - pe).abs() / (m * w * a),
+            );
+            assert!(
+                rq <= 1e-14 && rp <= 1e-14,
+                "round trip at Q = {big_q}: {rq:e} {rp:e}"
+            );
+            worst = worst.max(eq).max(ep).max(eqq).max(epp).max(rq).max(rp);
+            // Within −π < Q ≤ π the predicate sheet (sign and window) selects the same root.
+            // (Only for |Q| < π/2: elsewhere the root in the window may be out of reach of the
+            // default starts, and is then refused with the candidates found.)
+            if big_q.abs() < PI / 2.0 {
+                let window =
+                    Sheet::satisfying("q sin Q > 0, −π < Q ≤ π", |z: &RelationPoint<1>| {
+                        z.q[0] * z.big_q[0].sin() > 0.0 && z.big_q[0] > -PI && z.big_q[0] <= PI
+                    });
+                let f2 = ct
+                    .forward_on(0.0, &SVector::from([qe]), &SVector::from([pe]), &window)
+                    .unwrap();
+                assert!(
+                    (f2.q[0] - fwd.q[0]).abs() <= 1e-14 * 2.0 * PI,
+                    "Q = {big_q}"
+                );
+            }
+        }
+    }
+    assert_eq!(quadrants.len(), 8, "{quadrants:?}");
+    println!("worst relative error over the quadrants: {worst:e}");
+}
+
+#[test]
+fn a_sheet_without_a_root_is_refused_naming_the_candidates() {
+    let (m, w) = (2.0, 3.0);
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
+    let (big_q, big_p) = (SVector::from([1.0]), SVector::from([0.87]));
+    let (qe, pe) = torus(m, w, 1.0, 0.87);
+    // Both (q, p) and (−q, −p) satisfy the relation at (Q, P): each sign is a sheet.
+    let plus = ct.inverse_on(0.0, &big_q, &big_p, &sign_sheet()).unwrap();
+    let reflected = Sheet::satisfying("q sin Q < 0", |z: &RelationPoint<1>| {
+        z.q[0] * z.big_q[0].sin() < 0.0
+    });
+    let minus = ct.inverse_on(0.0, &big_q, &big_p, &reflected).unwrap();
+    assert!((plus.q[0] - qe).abs() <= 4.0 * EPS * qe.abs());
+    assert!((minus.q[0] + qe).abs() <= 4.0 * EPS * qe.abs());
+    assert!((minus.p[0] + pe).abs() <= 4.0 * EPS * pe.abs());
+    // A sheet on which neither lies is refused, and the error names both roots.
+    let none = Sheet::satisfying("q > 10", |z: &RelationPoint<1>| z.q[0] > 10.0);
+    match ct.inverse_on(0.0, &big_q, &big_p, &none).unwrap_err() {
+        e @ Error::NoRootOnSheet { .. } => {
+            let msg = e.to_string();
+            let Error::NoRootOnSheet {
+                candidates,
+                sheet,
+                problem,
+                ..
+            } = e
+            else {
+                unreachable!()
+            };
+            assert_eq!((sheet.as_str(), problem.as_str()), ("q > 10", "no root"));
+            assert_eq!(candidates.len(), 2, "{msg}");
+            for sign in [1.0, -1.0] {
+                assert!(
+                    candidates
+                        .iter()
+                        .any(|c| (c[0] - sign * qe).abs() <= 4.0 * EPS * qe
+                            && (c[1] - sign * pe).abs() <= 4.0 * EPS * pe),
+                    "{msg}"
+                );
+            }
+            assert!(msg.contains("q > 10") && msg.contains("e-1"), "{msg}");
+        }
+        other => panic!("expected NoRootOnSheet, got {other:?}"),
+    }
+    // A predicate accepting both is not a sheet.
+    let both = Sheet::satisfying("any q", |_: &RelationPoint<1>| true);
+    assert!(matches!(
+        ct.inverse_on(0.0, &big_q, &big_p, &both),
+        Err(Error::NoRootOnSheet { ref problem, .. }) if problem == "more than one root"
+    ));
+    // A reference point off the relation is refused.
+    let mut off = on_torus(m, w, 1.0, 0.87);
+    off.big_p[0] *= 1.01;
+    let sheet = Sheet::through(off).unwrap();
+    assert!(matches!(
+        ct.forward_on(0.0, &SVector::from([qe]), &SVector::from([pe]), &sheet),
+        Err(Error::InvalidInput { .. })
+    ));
+    assert!(matches!(
+        Sheet::through(RelationPoint {
+            t: f64::NAN,
+            ..on_torus(m, w, 1.0, 0.87)
+        }),
+        Err(Error::NonFinite { .. })
+    ));
+}
+
+#[test]
+fn approaching_the_caustic_the_map_stays_within_its_bound_or_is_refused() {
+    // The point of the torus P = 0.87 at Q = π − δ (q → 0⁺, p < 0), mapped forward on the sheet
+    // through Q = 3π/4. Oracle from the given (q, p) themselves, free of the caustic:
+    // Q = atan2(mωq, p), P = (p² + (mωq)²)/(2mω), each within 4 ε. The map's error must stay
+    // within its estimate κ ε (a factor 8 for the few roundings in each evaluated derivative
+    // and in the oracle), whether or not the threshold refuses it; with the default threshold every
+    // point with κ > 10⁶ is refused with IllConditioned, and κ is at least the amplification π/δ
+    // (it is 1.33 π/δ down to δ = 1e−8; below, where the solve itself fails, far larger).
+    let (m, w, big_p) = (2.0, 3.0, 0.87);
+    let sheet = Sheet::through(on_torus(m, w, 0.75 * PI, big_p)).unwrap();
+    let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
+    let unlimited = CanonicalTransformation::new(AngleVariables { m, omega: w })
+        .with_max_condition(f64::MAX)
+        .unwrap();
+    let (mut accepted, mut refused) = (0, 0);
+    for k in 1..=15 {
+        let delta = 10f64.powi(-k);
+        let (q, p) = torus(m, w, PI - delta, big_p);
+        let (qs, ps) = (SVector::from([q]), SVector::from([p]));
+        let q_star = (m * w * q).atan2(p);
+        let p_star = (p * p + (m * w * q) * (m * w * q)) / (2.0 * m * w);
+        let image = unlimited.forward_on(0.0, &qs, &ps, &sheet).unwrap();
+        let (eq, ep) = (
+            (image.q[0] - q_star).abs() / q_star.abs(),
+            (image.p[0] - p_star).abs() / p_star,
+        );
+        let bound = 8.0 * image.condition * EPS;
+        println!(
+            "δ = {delta:e}: κ = {:.2e} (κδ/π = {:.2}), errors Q {eq:.1e}, P {ep:.1e}, bound {bound:.1e}",
+            image.condition,
+            image.condition * delta / PI
+        );
+        assert!(eq <= bound && ep <= bound, "δ = {delta:e}");
+        // κ never understates the amplification π/δ of the rounding of Q.
+        assert!(
+            image.condition * delta / PI >= 0.5,
+            "δ = {delta:e}: κ = {:e}",
+            image.condition
+        );
+        match ct.forward_on(0.0, &qs, &ps, &sheet) {
+            Ok(r) => {
+                accepted += 1;
+                assert_eq!(r, image);
+                assert!(r.condition <= DEFAULT_MAX_CONDITION);
+            }
+            Err(Error::IllConditioned {
+                condition,
+                threshold,
+                ..
+            }) => {
+                refused += 1;
+                assert_eq!(condition, image.condition);
+                assert_eq!(threshold, DEFAULT_MAX_CONDITION);
+                assert!(condition > threshold);
+            }
+            Err(other) => panic!("δ = {delta:e}: {other}"),
+        }
+    }
+    println!("accepted {accepted}, refused {refused}");
+    assert!(accepted >= 5 && refused >= 8, "{accepted} {refused}");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -12,10 +12,12 @@ use crate::error::{Error, Result};
 use crate::integrate::{Gauss, Rk4, Splitting, StepMap};
 use crate::nalgebra::SVector;
 use crate::systems::{HarmonicOscillator, Kepler2, Pendulum};
+use crate::transform::generating::{RelationPoint, Sheet};
 use crate::transform::lie::{lie_flow, Ict};
 use crate::transform::point::{point_transformation, Polar};
 use crate::transform::{CanonicalTransformation, Compose, GeneratingFunction, Inverse, Kind};
 use crate::DualNum;
+use std::f64::consts::PI;
 
 /// Column headers of the gallery.
 const HEADER: [&str; 7] = [
@@ -35,7 +37,9 @@ const NONE: &str = "—";
 // The maps.
 
 /// The oscillator's angle variables, `F₁(q, Q) = ½ m ω q² cot Q` [Goldstein §9.3; Ardema 16.5]:
-/// `p = m ω q cot Q`, `P = m ω q² / (2 sin² Q)`, so `tan Q = m ω q / p` and `P = H/ω`.
+/// `p = m ω q cot Q`, `P = m ω q² / (2 sin² Q)`, so `tan Q = m ω q / p` and `P = H/ω`. The relation
+/// is multi-sheeted (`(−q, −p)` and `Q + kπ` satisfy it too); the sheet of
+/// `q = √(2P/(mω)) sin Q`, `p = √(2mωP) cos Q` with `−π < Q ≤ π` is `q sin Q > 0`.
 struct AngleVariables {
     m: f64,
     omega: f64,
@@ -52,6 +56,11 @@ impl GeneratingFunction<1> for AngleVariables {
         big_q: &SVector<D, 1>,
     ) -> D {
         q[0] * q[0] * (0.5 * self.m * self.omega) / big_q[0].tan()
+    }
+    fn sheet(&self) -> Sheet<1> {
+        Sheet::satisfying("q sin Q > 0, −π < Q ≤ π", |z: &RelationPoint<1>| {
+            z.q[0] * z.big_q[0].sin() > 0.0 && z.big_q[0] > -PI && z.big_q[0] <= PI
+        })
     }
 }
 
@@ -339,8 +348,9 @@ fn point<const N: usize>(t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> St
     }
 }
 
-/// A row from a certificate. A map that refuses the point with [`Error::Singular`] (a singular or
-/// ill-conditioned generator) becomes a refused row; any other error is returned.
+/// A row from a certificate. A map that refuses the point with [`Error::Singular`] or
+/// [`Error::IllConditioned`] (a singular or ill-conditioned generator) becomes a refused row; any
+/// other error is returned.
 fn entry<const N: usize>(
     transformation: &str,
     kind: &'static str,
@@ -354,7 +364,9 @@ fn entry<const N: usize>(
             det_minus_one: c.det_minus_one,
             tolerance: rounding_tolerance(c.jacobian.max_abs()),
         },
-        Err(e @ Error::Singular { .. }) => Outcome::Refused(one_line(&e.to_string())),
+        Err(e @ (Error::Singular { .. } | Error::IllConditioned { .. })) => {
+            Outcome::Refused(one_line(&e.to_string()))
+        }
         Err(e) => return Err(e),
     };
     Ok(Entry {
@@ -424,9 +436,24 @@ fn entries() -> Result<Vec<Entry>> {
     let lie3 = lie_flow(pendulum, 0.02, 3)?;
     let euler_ict = Ict::new(pendulum, h)?;
     let flow = oscillator.flow_map(0.7);
-    let caustic = (
-        SVector::from([std::f64::consts::PI - 1e-9]),
-        SVector::from([0.5]),
+    // The point of the torus P = 0.5 at Q = π − 1e−9, where q → 0 (the caustic of F₁), mapped
+    // forward on the sheet through the point Q = 3π/4 of the same quadrant (q > 0, p < 0).
+    let torus = |big_q: f64, big_p: f64| {
+        (
+            SVector::from([(2.0 * big_p / (m * omega)).sqrt() * big_q.sin()]),
+            SVector::from([(2.0 * m * omega * big_p).sqrt() * big_q.cos()]),
+        )
+    };
+    let caustic = torus(PI - 1e-9, 0.5);
+    let reference = torus(0.75 * PI, 0.5);
+    let angle_caustic = CanonicalTransformation::new(AngleVariables { m, omega }).with_sheet(
+        Sheet::through(RelationPoint {
+            t: 0.0,
+            q: reference.0,
+            p: reference.1,
+            big_q: SVector::from([0.75 * PI]),
+            big_p: SVector::from([0.5]),
+        })?,
     );
     let identity = Compose(Prob16_2, Inverse::new(Prob16_2));
 
@@ -541,15 +568,12 @@ fn entries() -> Result<Vec<Entry>> {
         )?,
         Entry {
             // The inverse map's arguments are the new variables: label them as such.
-            at: format!("(Q, P) = (π − 1e-9, {})", number(caustic.1[0])),
+            at: "(q, p) at (Q, P) = (π − 1e-9, 0.5)".into(),
             ..entry(
-                "oscillator angle variables F₁, inverse map at Q → π (q → 0, the caustic of F₁)",
+                "oscillator angle variables F₁, forward map at Q → π (q → 0, the caustic of F₁)",
                 "F₁ generating function",
                 (0.0, caustic.0, caustic.1),
-                |t, big_q, big_p| {
-                    angle.inverse(t, big_q, big_p)?;
-                    certify(&angle.inverse_map(), t, big_q, big_p)
-                },
+                generated_certificate(&angle_caustic),
             )?
         },
         entry(
@@ -589,7 +613,7 @@ fn entries() -> Result<Vec<Entry>> {
 /// * the verdict: `canonical` if `‖MᵀJM − J‖ ≤ 64 ε max(‖M‖_max, 1)²` — the rounding bound of
 ///   the computed defect of an exactly canonical map (derivation at the tolerance function in the
 ///   source) — `not canonical` otherwise, and `refused: …` with the one-line message of
-///   [`Error::Singular`] where the map cannot be evaluated to the required accuracy (the numeric
+///   [`Error::Singular`] or [`Error::IllConditioned`] where the map cannot be evaluated to the required accuracy (the numeric
 ///   cells are then `—`).
 ///
 /// # The rows
@@ -623,12 +647,16 @@ fn entries() -> Result<Vec<Entry>> {
 ///    infinitesimal contact transformation `Q = q + ε ∂ρ/∂p`, `P = p − ε ∂ρ/∂q` with `ρ = H`
 ///    [Ardema eqs. 18.38–18.39], one explicit Euler step, canonical to first order only
 ///    (`MᵀJM − J = ε² AᵀJA`).
-/// 7. Refusals ([`Error::Singular`]): the inverse map of the angle-variable `F₁` at `Q = π − 10⁻⁹`,
-///    where `q = √(2P/(mω)) sin Q → 0` and the generator's derivatives `∂²F₁/∂q∂Q = −mωq/sin² Q`
-///    and `∂²F₁/∂Q²` blow up with the pole of `cot Q` (the caustic of the type-1 description, which
-///    cannot represent the oscillator's passages through `q = 0`), and the free-fall `F₁` at
-///    `t = 10⁻⁹`, where the map tends to the identity, which has no type-1 generator
-///    (`∂²F₁/∂q∂Q = −1/t`).
+/// 7. Refusals ([`Error::IllConditioned`], naming the measured condition number and the threshold
+///    [`crate::transform::generating::DEFAULT_MAX_CONDITION`]): the forward map of the
+///    angle-variable `F₁` at the point of the torus `P = 0.5`, `Q = π − 10⁻⁹`, where
+///    `q = √(2P/(mω)) sin Q → 0` (the caustic of the type-1 description, which cannot represent the
+///    oscillator's passages through `q = 0`): `Q` is solved to `ε π` but `P = mωq²/(2 sin² Q)` is
+///    then formed from `sin Q`, so its relative error is about `π ε/(π − Q)`; and the free-fall `F₁`
+///    at `t = 10⁻⁹`, where the map tends to the identity, which has no type-1 generator
+///    (`∂²F₁/∂q∂Q = −1/t`). The sheet of the angle variables is `q sin Q > 0`, `−π < Q ≤ π` (the
+///    relation also holds for `(−q, −p)` and for `Q + kπ`); the refused row follows the sheet
+///    through the point `Q = 3π/4` of the same quadrant by continuation.
 ///
 /// # References
 /// * M. D. Ardema, *Analytical Dynamics: Theory and Applications*, Kluwer/Plenum 2005, ch. 16
@@ -641,8 +669,8 @@ fn entries() -> Result<Vec<Entry>> {
 ///   1, 12–30 (1969).
 ///
 /// # Errors
-/// Any error of a row other than the refusal of a singular generator ([`Error::Singular`]), which
-/// is reported in the row itself.
+/// Any error of a row other than the refusal of a singular or ill-conditioned generator
+/// ([`Error::Singular`], [`Error::IllConditioned`]), which is reported in the row itself.
 pub fn transformation_gallery() -> Result<Table> {
     Ok(Table {
         header: HEADER.iter().map(|s| s.to_string()).collect(),
@@ -689,7 +717,7 @@ mod tests {
         ),
         ("ICT generated", Expect::NotCanonical),
         (
-            "oscillator angle variables F₁, inverse map at Q → π",
+            "oscillator angle variables F₁, forward map at Q → π",
             Expect::Refused,
         ),
         ("free fall F₁ as t → 0", Expect::Refused),
@@ -742,7 +770,10 @@ mod tests {
                 }
                 (Outcome::Refused(message), Expect::Refused) => {
                     assert!(verdict.starts_with("refused: "), "{name}: {verdict}");
-                    assert!(message.contains("singular"), "{name}: {message}");
+                    assert!(
+                        message.contains("singular") || message.contains("ill-conditioned"),
+                        "{name}: {message}"
+                    );
                     assert!(!message.contains('\n'), "{name}: {message}");
                 }
                 (outcome, expect) => panic!("{name}: expected {expect:?}, got {outcome:?}"),

@@ -17,33 +17,166 @@
 //! ([`crate::implicit`]); derivatives of the maps (their exact Jacobians) come from the same
 //! solver in dual arithmetic.
 //!
-//! **Singular generators (SPEC X4).** A generator is usable only where `B` is regular and the map
-//! can be computed to the requested accuracy. After every solve the relative rounding error of the
-//! result is estimated from the second derivatives `A = F_kk`, `B = F_ku`, `C = F_uu` (known
-//! argument `k`, solved argument `u`):
+//! **Sheets.** The relation `{(q, p, Q, P)}` a generator defines is a Lagrangian submanifold of
+//! the product space, which may project onto either side more than once [Arnold, *Mathematical
+//! Methods of Classical Mechanics*, §47–48; Goldstein §9.1]: for `F₁ = ½ m ω q² cot Q` both `(q, p)`
+//! and `(−q, −p)` satisfy `p = ∂F₁/∂q`, `P = −∂F₁/∂Q` at the same `(Q, P)`, and every `Q + kπ`
+//! satisfies them at the same `(q, p)`. Which root a map returns is its [`Sheet`]: the first root
+//! Newton reaches ([`Sheet::First`], right for single-sheeted generators), the unique root accepted
+//! by a predicate on `(t, q, p, Q, P)` ([`Sheet::satisfying`]), or the root on the branch through a
+//! reference point of the relation, followed by continuation ([`Sheet::through`]). A predicate
+//! that accepts none of the roots found, or more than one, is refused with
+//! [`Error::NoRootOnSheet`] listing every candidate. The generator may declare its sheet
+//! ([`GeneratingFunction::sheet`]); [`CanonicalTransformation::with_sheet`] replaces it and
+//! [`CanonicalTransformation::forward_on`] / [`CanonicalTransformation::inverse_on`] take one per
+//! call.
 //!
-//! $$ \delta u \approx \varepsilon\, |B^{-1}| (|A||k| + |B||u| + |b|),\qquad
-//!    \delta o \approx \varepsilon (|B^{\mathsf T}||k| + |C||u| + |o|) + |C|\,\delta u $$
+//! **Conditioning (caustics, focal points, blow-ups).** Where the projection of the relation onto
+//! the generator's arguments folds (a caustic: `det B = 0`, e.g. `F₁ = ½mωq² cot Q` at `q = 0`,
+//! `Q = kπ`), or where the generator's second derivatives blow up, the map is formed by amplifying
+//! rounding errors. After every solve the first-order rounding error of the result is estimated
+//! from the second derivatives `A = F_kk`, `B = F_ku`, `C = F_uu` (known argument `k`, target
+//! `b`, solved argument `u`, output `o`), componentwise so that it does not depend on units:
 //!
-//! (componentwise, with absolute values of the matrices and vectors, so that the estimate does not
-//! depend on the units of the individual variables), and a result whose estimate, relative to the
-//! size of the result, exceeds the tolerance (default `1e−8`) is refused with [`Error::Singular`],
-//! carrying the point and `rcond = ε/relative error`. This catches a singular mixed Hessian
-//! (`det B = 0`: `F₁ = ½mωq² cot Q` at `q = 0`) and generators whose second derivatives blow up so
-//! that the result is formed by cancellation (`F₁ = ½mωq² cot Q` at `Q → kπ`; the free-fall `F₁` at
-//! `t → 0`, where the identity map has no type-1 generator; the oscillator's principal function at
-//! the focal point `ωτ → π`, where `B = −ω/sin ωτ`). **What to do there:** switch kind — near the identity use an F2
+//! $$ \delta u = \varepsilon\, |B^{-1}| (|A||k| + |B||u| + |b|) + |B^{-1}||r|,\qquad
+//!    \delta o = \varepsilon (|B^{\mathsf T}||k| + |C||u| + |o|) + |C|\,\delta u $$
+//!
+//! (the inputs and the generator's derivatives each carry a relative rounding `ε`; Newton's
+//! correction propagates them through `B⁻¹`; `r` is the residual left at the root, polished by
+//! Newton steps while they reduce it). Each block is measured against its size at the point,
+//! `S_u = |u| + |B⁻¹A||k| + |B⁻¹||b|` and `S_o = |o| + |Bᵀ − CB⁻¹A||k| + |CB⁻¹||b|` — its value
+//! plus the first-order contributions of the inputs through the exact derivatives of the map, so
+//! that a block crossing zero (the oscillator's `p` at a turning point) is not mistaken for a loss
+//! of accuracy. The **condition number** of the map at the point is
+//!
+//! $$ \kappa = \max\Big(\frac{\|\delta u\|_\infty}{\varepsilon \|S_u\|_\infty},
+//!    \frac{\|\delta o\|_\infty}{\varepsilon \|S_o\|_\infty}, \kappa_2(\hat B)\Big), $$
+//!
+//! with `κ₂(B̂) = σ_max/σ_min` of the Newton Jacobian `B` after two-sided equilibration (by SVD), so
+//! that the error of each block is about `κ ε` times its size (error ≈ condition × rounding;
+//! Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed., §1.6 and §7.2). A result
+//! with `κ` above the threshold (default [`DEFAULT_MAX_CONDITION`] `= 10⁶`: at most six of the
+//! sixteen digits lost, relative error below `2.2·10⁻¹⁰`) is refused with
+//! [`Error::IllConditioned`], naming the threshold and the measured condition; a singular `B` or a
+//! non-finite second derivative is [`Error::Singular`]. The measured `κ` and the error bounds are
+//! returned by [`CanonicalTransformation::forward_on`] / [`CanonicalTransformation::inverse_on`].
+//! Examples: `F₁ = ½mωq² cot Q` mapping `(q, p)` forward near `Q = π` (`κ ≈ π/(π − Q)`: `P` is
+//! formed from `sin Q` of a `Q` known only to `ε π`), the free-fall `F₁` at `t → 0` (the identity
+//! has no type-1 generator), the oscillator's principal function at its focal point `ωτ → π`
+//! (`B = −ω/sin ωτ`). **What to do there:** switch kind — near the identity use an F2
 //! (`F₂ = q·P + …`) or F3 generator, near the exchange map an F1 or F4 one; the Legendre relations
 //! `F₂ = F₁ + Q·P`, `F₃ = F₁ − q·p`, `F₄ = F₁ + Q·P − q·p` translate between them.
 
 use crate::ad::{phase_gradient, phase_hessian, real_parts, PhaseDual};
 use crate::brackets::{certify, Certificate, PhaseMap};
-use crate::error::{positive, Error, Result};
+use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
-use crate::implicit::{self, ImplicitSystem};
+use crate::implicit::{self, ImplicitSystem, Root};
 use crate::phase::{check_phase, checked_inverse};
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 use num_dual::{Dual, DualNum};
+use std::fmt;
+use std::sync::Arc;
+
+/// The default largest condition number of a map accepted by [`CanonicalTransformation`]:
+/// `10⁶`, i.e. a relative error of at most `10⁶ ε ≈ 2.2·10⁻¹⁰` (see the [module docs](self)).
+pub const DEFAULT_MAX_CONDITION: f64 = 1e6;
+
+/// A point `(q, p, Q, P)` at time `t` of the relation a generating function defines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelationPoint<const N: usize> {
+    /// Time.
+    pub t: f64,
+    /// Old coordinates.
+    pub q: SVector<f64, N>,
+    /// Old momenta.
+    pub p: SVector<f64, N>,
+    /// New coordinates.
+    pub big_q: SVector<f64, N>,
+    /// New momenta.
+    pub big_p: SVector<f64, N>,
+}
+
+/// A predicate on the points of a relation selecting one sheet.
+pub type SheetPredicate<const N: usize> = dyn Fn(&RelationPoint<N>) -> bool + Send + Sync;
+
+/// Which root of a multi-sheeted relation a map returns (see the [module docs](self)).
+#[derive(Clone)]
+pub enum Sheet<const N: usize> {
+    /// The first root damped Newton reaches from the default starting points (the generator's
+    /// guess, the variable of the same letter, the other one, zero). Right for single-sheeted
+    /// generators; for multi-sheeted ones it may return any sheet.
+    First,
+    /// The unique root, among those Newton reaches from the default starting points and their
+    /// negatives, whose point of the relation satisfies `predicate`.
+    Satisfying {
+        /// The sheet in words, for error messages (e.g. `"q sin Q > 0, −π < Q ≤ π"`).
+        description: String,
+        /// Accepts the points on the sheet.
+        predicate: Arc<SheetPredicate<N>>,
+    },
+    /// The sheet through a reference point of the relation: the root is continued from the
+    /// reference along the straight segment to the point ([`implicit::continue_root`]).
+    Through(RelationPoint<N>),
+}
+
+impl<const N: usize> Sheet<N> {
+    /// The sheet of points accepted by `predicate`, described in words by `description`.
+    pub fn satisfying(
+        description: impl Into<String>,
+        predicate: impl Fn(&RelationPoint<N>) -> bool + Send + Sync + 'static,
+    ) -> Self {
+        Sheet::Satisfying {
+            description: description.into(),
+            predicate: Arc::new(predicate),
+        }
+    }
+
+    /// The sheet through the reference point `reference` of the relation (all of its entries
+    /// must be finite; that it lies on the relation is checked when the map is evaluated).
+    pub fn through(reference: RelationPoint<N>) -> Result<Self> {
+        check_phase(reference.t, &reference.q, &reference.p)?;
+        check_phase(reference.t, &reference.big_q, &reference.big_p)?;
+        Ok(Sheet::Through(reference))
+    }
+}
+
+impl<const N: usize> fmt::Display for Sheet<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Sheet::First => write!(f, "first root found"),
+            Sheet::Satisfying { description, .. } => write!(f, "{description}"),
+            Sheet::Through(r) => write!(
+                f,
+                "through (q, p, Q, P) = ({:?}, {:?}, {:?}, {:?}) at t = {:e}",
+                r.q.as_slice(),
+                r.p.as_slice(),
+                r.big_q.as_slice(),
+                r.big_p.as_slice(),
+                r.t
+            ),
+        }
+    }
+}
+
+impl<const N: usize> fmt::Debug for Sheet<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Sheet({self})")
+    }
+}
+
+/// The image of a point under a [`CanonicalTransformation`] with the accuracy of the solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Image<const N: usize> {
+    /// Image coordinates (`Q` for the forward map, `q` for the inverse).
+    pub q: SVector<f64, N>,
+    /// Image momenta (`P` for the forward map, `p` for the inverse).
+    pub p: SVector<f64, N>,
+    /// The condition number `κ` of the map at the point (see the [module docs](self)).
+    pub condition: f64,
+    /// Estimated first-order rounding errors (max-norm) of the coordinate and momentum blocks.
+    pub error: [f64; 2],
+}
 
 /// The four classical kinds of generating function (SPEC §0.5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -163,6 +296,19 @@ pub trait GeneratingFunction<const N: usize> {
     ) -> Result<()> {
         Ok(())
     }
+    /// The sheet of the relation the maps follow unless told otherwise
+    /// ([`CanonicalTransformation::with_sheet`]); default [`Sheet::First`].
+    fn sheet(&self) -> Sheet<N> {
+        Sheet::First
+    }
+}
+
+/// Condition number of a solved map and the estimated errors of its coordinate and momentum
+/// blocks.
+#[derive(Clone, Copy, Debug)]
+struct Accuracy {
+    condition: f64,
+    error: [f64; 2],
 }
 
 /// `(∂F/∂x, ∂F/∂y)` in the number type `D`.
@@ -210,7 +356,8 @@ impl<const N: usize, G: GeneratingFunction<N> + ?Sized> ImplicitSystem<N> for Re
 #[derive(Clone, Debug)]
 pub struct CanonicalTransformation<G, const N: usize> {
     generator: G,
-    tolerance: f64,
+    max_condition: f64,
+    sheet: Sheet<N>,
 }
 
 /// Split `(q, p)` into the generator's old argument `x` and the other old variable.
@@ -226,20 +373,81 @@ fn split<T: Copy, const N: usize>(
     }
 }
 
+/// `κ₂ = σ_max/σ_min` of `m` after scaling every column, then every row, to unit max-norm
+/// (invariant under the units of the variables and of the equations); `∞` if singular.
+fn equilibrated_condition<const N: usize>(m: &SMatrix<f64, N, N>) -> f64 {
+    let mut s = *m;
+    for mut c in s.column_iter_mut() {
+        let n = c.amax();
+        if n > 0.0 {
+            c /= n;
+        }
+    }
+    for mut r in s.row_iter_mut() {
+        let n = r.amax();
+        if n > 0.0 {
+            r /= n;
+        }
+    }
+    // A dynamic matrix: nalgebra's SVD of a static matrix needs a type-level dimension bound.
+    let sv = nalgebra::DMatrix::from_fn(N, N, |i, j| s[(i, j)]).singular_values();
+    let (max, min) = (sv.max(), sv.min());
+    if min > 0.0 && max.is_finite() {
+        max / min
+    } else {
+        f64::INFINITY
+    }
+}
+
 impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
-    /// The transformation generated by `generator`, with the default accuracy tolerance `1e−8`
-    /// (relative rounding error above which a result is refused as singular).
+    /// The transformation generated by `generator`, following the generator's sheet
+    /// ([`GeneratingFunction::sheet`]) and refusing results whose condition number exceeds
+    /// [`DEFAULT_MAX_CONDITION`].
     pub fn new(generator: G) -> Self {
+        let sheet = generator.sheet();
         Self {
             generator,
-            tolerance: 1e-8,
+            max_condition: DEFAULT_MAX_CONDITION,
+            sheet,
         }
     }
 
-    /// Change the accuracy tolerance (must be positive and finite).
-    pub fn with_tolerance(mut self, tolerance: f64) -> Result<Self> {
-        self.tolerance = positive("tolerance", tolerance)?;
+    /// Change the accuracy tolerance, the relative error above which a result is refused (must be
+    /// positive and finite): the same as [`Self::with_max_condition`]`(tolerance / ε)`.
+    pub fn with_tolerance(self, tolerance: f64) -> Result<Self> {
+        let tolerance = positive("tolerance", tolerance)?;
+        self.with_max_condition(tolerance / f64::EPSILON)
+    }
+
+    /// Change the largest condition number accepted (finite, at least 1); results with a larger
+    /// condition are refused with [`Error::IllConditioned`].
+    pub fn with_max_condition(mut self, max_condition: f64) -> Result<Self> {
+        let c = finite("largest condition number", max_condition)?;
+        if c < 1.0 {
+            return Err(Error::out_of_domain(
+                "largest condition number",
+                c,
+                "[1, ∞)",
+            ));
+        }
+        self.max_condition = c;
         Ok(self)
+    }
+
+    /// The largest condition number accepted.
+    pub fn max_condition(&self) -> f64 {
+        self.max_condition
+    }
+
+    /// Follow `sheet` instead of the generator's own (see the [module docs](self)).
+    pub fn with_sheet(mut self, sheet: Sheet<N>) -> Self {
+        self.sheet = sheet;
+        self
+    }
+
+    /// The sheet the maps follow.
+    pub fn sheet(&self) -> &Sheet<N> {
+        &self.sheet
     }
 
     /// The generating function.
@@ -252,36 +460,185 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         self.generator.kind()
     }
 
-    /// Forward map `(q, p) ↦ (Q, P)` in any number type (exact derivatives through the solve).
+    /// Forward map `(q, p) ↦ (Q, P)` in any number type (exact derivatives through the solve),
+    /// on the transformation's sheet.
     pub fn forward_generic<D: DualNum<f64> + Copy>(
         &self,
         t: D,
         q: &SVector<D, N>,
         p: &SVector<D, N>,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
-        self.solve_side(t, q, p, true)
+        self.solve_side(t, q, p, true, &self.sheet)
+            .map(|(a, b, _)| (a, b))
     }
 
-    /// Inverse map `(Q, P) ↦ (q, p)` in any number type.
+    /// Inverse map `(Q, P) ↦ (q, p)` in any number type, on the transformation's sheet.
     pub fn inverse_generic<D: DualNum<f64> + Copy>(
         &self,
         t: D,
         big_q: &SVector<D, N>,
         big_p: &SVector<D, N>,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
-        self.solve_side(t, big_q, big_p, false)
+        self.solve_side(t, big_q, big_p, false, &self.sheet)
+            .map(|(a, b, _)| (a, b))
+    }
+
+    /// The real root of the relation on `sheet`, with known argument `k` and target `b`.
+    #[allow(clippy::too_many_arguments)]
+    fn root_on_sheet(
+        &self,
+        relation: &Relation<'_, G>,
+        t: f64,
+        (first, second): (&SVector<f64, N>, &SVector<f64, N>),
+        (k, b): (&SVector<f64, N>, &SVector<f64, N>),
+        forward: bool,
+        sheet: &Sheet<N>,
+        what: &str,
+    ) -> Result<Root<N>> {
+        let kind = self.kind();
+        let (known_is_q, unknown_is_q) = if forward {
+            (kind.old_argument_is_q(), kind.new_argument_is_q())
+        } else {
+            (kind.new_argument_is_q(), kind.old_argument_is_q())
+        };
+        let guess = if forward {
+            self.generator.forward_guess(t, first, second)
+        } else {
+            self.generator.inverse_guess(t, first, second)
+        };
+        let (same, other) = split(unknown_is_q, first, second);
+        // The generator's own guess first (if any), then the new/old variable of the same letter,
+        // the other one, and zero; a fixed array (this runs on every evaluation of K).
+        let zero = SVector::zeros();
+        let (starts, count) = match guess {
+            Some(g) => ([g, same, other, zero], 4),
+            None => ([same, other, zero, zero], 3),
+        };
+        match sheet {
+            Sheet::First => implicit::solve_real(relation, t, k, b, &starts[..count], what),
+            Sheet::Through(r) => {
+                let (rf, rs, ri1, ri2) = if forward {
+                    (&r.q, &r.p, &r.big_q, &r.big_p)
+                } else {
+                    (&r.big_q, &r.big_p, &r.q, &r.p)
+                };
+                let (k0, b0) = split(known_is_q, rf, rs);
+                let (u0, o0) = split(unknown_is_q, ri1, ri2);
+                // The reference must satisfy both halves of the relation (the continuation checks
+                // the one it solves): the other side's conjugate value to √ε of its terms.
+                let (x0, y0) = if forward { (k0, u0) } else { (u0, k0) };
+                let (fx, fy) = partials(&self.generator, r.t, &x0, &y0);
+                let o = if forward {
+                    fy * kind.s_new()
+                } else {
+                    fx * kind.s_old()
+                };
+                let scale = o.amax().max(o0.amax());
+                let on_relation = (o - o0).amax() <= f64::EPSILON.sqrt() * scale;
+                if !on_relation {
+                    return Err(Error::invalid(
+                        format!("reference point of the sheet ({what})"),
+                        format!(
+                            "it does not satisfy the relation: the generator gives {:?} where the \
+                             reference has {:?}",
+                            o.as_slice(),
+                            o0.as_slice()
+                        ),
+                    ));
+                }
+                implicit::continue_root(relation, (r.t, &k0, &b0, &u0), (t, k, b), what)
+            }
+            Sheet::Satisfying {
+                description,
+                predicate,
+            } => {
+                // The default starts and their negatives (a reflected sheet is the common case).
+                let mut all = [zero; 8];
+                let mut n = 0;
+                for s in starts[..count].iter().chain(starts[..count].iter()) {
+                    let s = if n < count { *s } else { -s };
+                    if n >= count && s.amax() == 0.0 {
+                        n += 1;
+                        continue;
+                    }
+                    all[n] = s;
+                    n += 1;
+                }
+                let (roots, first_error) = implicit::roots_real(relation, t, k, b, &all[..n], what);
+                if roots.is_empty() {
+                    return Err(first_error
+                        .unwrap_or_else(|| Error::invalid(what, "no starting point given")));
+                }
+                let point = |root: &Root<N>| {
+                    let (x, y) = if forward { (*k, root.u) } else { (root.u, *k) };
+                    let (fx, fy) = partials(&self.generator, t, &x, &y);
+                    let out = if forward {
+                        fy * kind.s_new()
+                    } else {
+                        fx * kind.s_old()
+                    };
+                    let (iq, ip) = split(unknown_is_q, &root.u, &out);
+                    let (q, p, big_q, big_p) = if forward {
+                        (*first, *second, iq, ip)
+                    } else {
+                        (iq, ip, *first, *second)
+                    };
+                    (
+                        RelationPoint {
+                            t,
+                            q,
+                            p,
+                            big_q,
+                            big_p,
+                        },
+                        iq.iter().chain(ip.iter()).copied().collect::<Vec<f64>>(),
+                    )
+                };
+                let mut on_sheet = Vec::with_capacity(roots.len());
+                let mut candidates = Vec::with_capacity(roots.len());
+                for root in &roots {
+                    let (rp, image) = point(root);
+                    if predicate(&rp) {
+                        on_sheet.push(*root);
+                    }
+                    candidates.push(image);
+                }
+                match on_sheet.as_slice() {
+                    [one] => Ok(*one),
+                    _ => Err(Error::NoRootOnSheet {
+                        what: what.into(),
+                        at: format!(
+                            "t = {t:e}, {} = {:?}, {} = {:?}",
+                            if forward { "q" } else { "Q" },
+                            first.as_slice(),
+                            if forward { "p" } else { "P" },
+                            second.as_slice()
+                        ),
+                        sheet: description.clone(),
+                        problem: if on_sheet.is_empty() {
+                            "no root".into()
+                        } else {
+                            "more than one root".into()
+                        },
+                        candidates,
+                    }),
+                }
+            }
+        }
     }
 
     /// The map from one side to the other: from the given pair take the generator's argument `k`
     /// on this side and the conjugate value `b` it must reproduce, solve the relation for the
-    /// argument `u` on the other side, and evaluate the other side's conjugate value.
+    /// argument `u` on the other side (on `sheet`), evaluate the other side's conjugate value,
+    /// and check the conditioning.
     fn solve_side<D: DualNum<f64> + Copy>(
         &self,
         t: D,
         first: &SVector<D, N>,
         second: &SVector<D, N>,
         forward: bool,
-    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        sheet: &Sheet<N>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>, Accuracy)> {
         let kind = self.kind();
         let (known_is_q, unknown_is_q) = if forward {
             (kind.old_argument_is_q(), kind.new_argument_is_q())
@@ -291,25 +648,23 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         let (k, b) = split(known_is_q, first, second);
         let (fr, sr) = (real_parts(first), real_parts(second));
         self.generator.check_point(t.re(), &fr, &sr, forward)?;
-        let guess = if forward {
-            self.generator.forward_guess(t.re(), &fr, &sr)
-        } else {
-            self.generator.inverse_guess(t.re(), &fr, &sr)
-        };
-        let (same, other) = split(unknown_is_q, &fr, &sr);
-        // The generator's own guess first (if any), then the new/old variable of the same letter,
-        // the other one, and zero; a fixed array (this runs on every evaluation of K).
-        let zero = SVector::zeros();
-        let (starts, count) = match guess {
-            Some(g) => ([g, same, other, zero], 4),
-            None => ([same, other, zero, zero], 3),
-        };
+        let (kr, br) = (real_parts(&k), real_parts(&b));
         let what = kind.map_name(forward);
         let relation = Relation {
             generator: &self.generator,
             forward,
         };
-        let (u, _) = implicit::solve(&relation, t, &k, &b, &starts[..count], what)?;
+        let root = self.root_on_sheet(
+            &relation,
+            t.re(),
+            (&fr, &sr),
+            (&kr, &br),
+            forward,
+            sheet,
+            what,
+        )?;
+        let root = implicit::polish(&relation, t.re(), &kr, &br, root);
+        let u = implicit::refine(&relation, t, &k, &b, &root);
         let (x, y) = if forward { (k, u) } else { (u, k) };
         let (fx, fy) = partials(&self.generator, t, &x, &y);
         let out = if forward {
@@ -317,32 +672,48 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         } else {
             fx * D::from(kind.s_old())
         };
-        self.check_precision(
+        // The residual left at the root (real parts).
+        let residual = if forward {
+            real_parts(&fx) * kind.s_old() - br
+        } else {
+            real_parts(&fy) * kind.s_new() - br
+        };
+        let accuracy = self.check_precision(
             t.re(),
             &real_parts(&x),
             &real_parts(&y),
-            &real_parts(&b),
+            (&br, &residual),
             &real_parts(&out),
             forward,
             what,
         )?;
-        Ok(split(unknown_is_q, &u, &out))
+        let (a, c) = split(unknown_is_q, &u, &out);
+        let accuracy = if unknown_is_q {
+            accuracy
+        } else {
+            Accuracy {
+                condition: accuracy.condition,
+                error: [accuracy.error[1], accuracy.error[0]],
+            }
+        };
+        Ok((a, c, accuracy))
     }
 
-    /// Estimate the relative rounding error of a solved map (see the [module docs](self)) and
-    /// refuse the result if it exceeds the tolerance.
+    /// Estimate the condition number of a solved map (see the [module docs](self)) and refuse the
+    /// result if it exceeds the threshold. Returns the condition and the estimated errors of the
+    /// solved argument and of the output (in that order).
     #[allow(clippy::too_many_arguments)]
     fn check_precision(
         &self,
         t: f64,
         x: &SVector<f64, N>,
         y: &SVector<f64, N>,
-        target: &SVector<f64, N>,
+        (target, residual): (&SVector<f64, N>, &SVector<f64, N>),
         output: &SVector<f64, N>,
         forward: bool,
         what: &str,
-    ) -> Result<()> {
-        let at = || format!("t = {t}, x = {x:?}, y = {y:?}");
+    ) -> Result<Accuracy> {
+        let at = || format!("t = {t:e}, x = {:?}, y = {:?}", x.as_slice(), y.as_slice());
         let (_, _, _, h) =
             phase_hessian(|a, b| self.generator.generator(From::from(t), a, b), x, y);
         if !h.is_finite() {
@@ -361,46 +732,55 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         let binv = checked_inverse(&b, "mixed Hessian ∂²F/∂x∂y of the generator", || {
             format!("{} ({what})", at())
         })?;
-        // Componentwise (Skeel-type) first-order error bounds: invariant under a change of units of
-        // the individual variables, and unbounded where |B⁻¹| or the generator blows up.
+        // Componentwise (Skeel-type) first-order error estimates: invariant under a change of units
+        // of the individual variables, and unbounded where |B⁻¹| or the generator blows up.
         let eps = f64::EPSILON;
         let (ka, ua, ta, oa) = (k.abs(), u.abs(), target.abs(), output.abs());
         let (aa, ba, ca, bia) = (a.abs(), b.abs(), c.abs(), binv.abs());
-        let du = bia * (aa * ka + ba * ua + ta) * eps;
+        // The residual left by Newton adds its own error |B⁻¹||r| (a posteriori).
+        let du = bia * (aa * ka + ba * ua + ta) * eps + bia * residual.abs();
         let dout = (ba.transpose() * ka + ca * ua + oa) * eps + ca * du;
-        // Relative to the size of each result block. A block that came out exactly zero has no
-        // relative accuracy; its error is measured against the overall size of the point instead
-        // (a zero formed by cancelling huge terms — the oscillator's principal function exactly at
-        // its focal point — is then refused, a zero of ordinary size is not).
-        let overall = ka.amax().max(ua.amax()).max(ta.amax()).max(oa.amax());
-        let relative = |d: &SVector<f64, N>, v: &SVector<f64, N>| {
+        // The size of each block: its value plus the first-order contributions of the inputs
+        // through the exact derivatives of the map, du/dk = −B⁻¹A, du/db = ±B⁻¹,
+        // do/dk = ±(Bᵀ − CB⁻¹A), do/db = ±CB⁻¹.
+        let binv_a = binv * a;
+        let size_u = ua + binv_a.abs() * ka + bia * ta;
+        let size_o = oa + (b.transpose() - c * binv_a).abs() * ka + (c * binv).abs() * ta;
+        let relative = |d: &SVector<f64, N>, size: &SVector<f64, N>| {
             let dn = d.amax();
             if dn == 0.0 {
                 0.0
-            } else if v.amax() > 0.0 {
-                dn / v.amax()
             } else {
-                dn / overall
+                dn / (eps * size.amax())
             }
         };
-        let rel = relative(&du, &ua).max(relative(&dout, &oa));
-        if rel.is_finite() && rel <= self.tolerance {
-            Ok(())
+        let condition = relative(&du, &size_u)
+            .max(relative(&dout, &size_o))
+            .max(equilibrated_condition(&b));
+        if condition.is_finite() && condition <= self.max_condition {
+            Ok(Accuracy {
+                condition,
+                error: [du.amax(), dout.amax()],
+            })
         } else {
-            Err(Error::Singular {
+            Err(Error::IllConditioned {
                 what: format!(
-                    "{what} (estimated relative error {rel:.1e} above the tolerance {:.1e}: near a \
-                     caustic, a focal point or a blow-up of the generator; switch to a generator of \
-                     another kind)",
-                    self.tolerance
+                    "{what} (near a caustic, a focal point or a blow-up of the generator; \
+                     switch to a generator of another kind)"
                 ),
-                at: format!("t = {t}, x = {x:?}, y = {y:?}"),
-                rcond: if rel.is_finite() { eps / rel } else { 0.0 },
+                at: at(),
+                condition: if condition.is_nan() {
+                    f64::INFINITY
+                } else {
+                    condition
+                },
+                threshold: self.max_condition,
             })
         }
     }
 
-    /// Forward map `(q, p) ↦ (Q, P)` with input validation and singularity checks.
+    /// Forward map `(q, p) ↦ (Q, P)` on the transformation's sheet, with input validation and
+    /// conditioning checks.
     pub fn forward(
         &self,
         t: f64,
@@ -411,7 +791,8 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         self.forward_generic(t, q, p)
     }
 
-    /// Inverse map `(Q, P) ↦ (q, p)` with input validation and singularity checks.
+    /// Inverse map `(Q, P) ↦ (q, p)` on the transformation's sheet, with input validation and
+    /// conditioning checks.
     pub fn inverse(
         &self,
         t: f64,
@@ -420,6 +801,49 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         check_phase(t, big_q, big_p)?;
         self.inverse_generic(t, big_q, big_p)
+    }
+
+    /// Forward map `(q, p) ↦ (Q, P)` on the given sheet, with the condition number of the result
+    /// and its estimated errors ([`Image`]).
+    ///
+    /// Errors: non-finite input; [`Error::NoRootOnSheet`] (naming every root found) if the sheet
+    /// has no root or, for a predicate, more than one; [`Error::IllConditioned`] if the condition
+    /// exceeds [`Self::max_condition`]; [`Error::Singular`] at a singular mixed Hessian;
+    /// [`Error::NotConverged`] if Newton or the continuation from a reference fails.
+    pub fn forward_on(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        sheet: &Sheet<N>,
+    ) -> Result<Image<N>> {
+        check_phase(t, q, p)?;
+        let (a, b, acc) = self.solve_side(t, q, p, true, sheet)?;
+        Ok(Image {
+            q: a,
+            p: b,
+            condition: acc.condition,
+            error: acc.error,
+        })
+    }
+
+    /// Inverse map `(Q, P) ↦ (q, p)` on the given sheet, with the condition number of the result
+    /// and its estimated errors; errors as [`Self::forward_on`].
+    pub fn inverse_on(
+        &self,
+        t: f64,
+        big_q: &SVector<f64, N>,
+        big_p: &SVector<f64, N>,
+        sheet: &Sheet<N>,
+    ) -> Result<Image<N>> {
+        check_phase(t, big_q, big_p)?;
+        let (a, b, acc) = self.solve_side(t, big_q, big_p, false, sheet)?;
+        Ok(Image {
+            q: a,
+            p: b,
+            condition: acc.condition,
+            error: acc.error,
+        })
     }
 
     /// The forward map as a [`PhaseMap`] (NaN where the map is undefined or refused).
