@@ -10,7 +10,7 @@ use hamilton_jacobi::brackets::{
     Momentum, PhaseMap, PoissonBracket,
 };
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::systems::AngularMomentum;
+use hamilton_jacobi::systems::{AngularMomentum, HarmonicOscillator};
 use hamilton_jacobi::{hamiltonian, DualNum, Hamiltonian, PhaseFunction};
 use proptest::prelude::*;
 
@@ -143,6 +143,35 @@ impl PhaseMap<1> for AngleToOscillator {
     }
 }
 
+/// The angle `Q(q, p) = atan2(mωq, p)` of T5 as a phase function.
+struct Angle;
+impl PhaseFunction<1> for Angle {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 1>, p: &SVector<D, 1>) -> D {
+        OscillatorToAngle.apply(t, q, p).0[0]
+    }
+}
+
+/// `c·P(q, p)` with the action `P = (p² + m²ω²q²)/(2mω)` of T5; `c ≠ 1` is not canonical.
+struct ScaledAction(f64);
+impl PhaseFunction<1> for ScaledAction {
+    fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 1>, p: &SVector<D, 1>) -> D {
+        OscillatorToAngle.apply(t, q, p).1[0] * self.0
+    }
+}
+
+/// `(Q, P) ↦ (q, p)` with `P` rescaled by `1/c` first: `[Q, P] = 1/c`.
+struct ScaledInverse(f64);
+impl PhaseMap<1> for ScaledInverse {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> (SVector<D, 1>, SVector<D, 1>) {
+        AngleToOscillator.apply(t, q, &(p * D::from(1.0 / self.0)))
+    }
+}
+
 #[test]
 fn t5_oscillator_angle_variables() {
     let (q, p) = (SVector::from([0.5]), SVector::from([1.2]));
@@ -150,21 +179,36 @@ fn t5_oscillator_angle_variables() {
     // Published instance: (Q, P) = (1.19028994968253, 0.87), H = ωP = 2.61 (15 digits given).
     assert_relative_eq!(big_q[0], 1.19028994968253, epsilon = 1e-14);
     assert_relative_eq!(big_p[0], 0.87, epsilon = 1e-15);
-    let h = 0.5 * p[0] * p[0] / M5 + 0.5 * M5 * W5 * W5 * q[0] * q[0];
-    assert_relative_eq!(W5 * big_p[0], h, epsilon = 4.0 * EPS);
-    assert_relative_eq!(h, 2.61, epsilon = 4.0 * EPS * 2.61);
-    // p = mωq cot Q and P = mωq²/(2 sin²Q): the F1 relations.
-    assert_relative_eq!(p[0], M5 * W5 * q[0] / big_q[0].tan(), epsilon = 8.0 * EPS);
-    assert_relative_eq!(
-        big_p[0],
-        M5 * W5 * q[0] * q[0] / (2.0 * big_q[0].sin().powi(2)),
-        epsilon = 8.0 * EPS
-    );
-    // (Q, P) = 1 from the forward map; [Q, P] = 1 from the inverse map; reciprocity.
+    // Angle variables of the crate's oscillator: Q advances uniformly, Q̇ = (Q, H) = ω, and P is an
+    // integral, Ṗ = (P, H) = 0 (closed forms; H is the library's `HarmonicOscillator`).
+    let osc = HarmonicOscillator::new(M5, W5).unwrap();
+    for (q, p) in [(0.5, 1.2), (-0.8, 0.3), (0.1, -2.0), (-1.4, -0.6)] {
+        let (q, p) = (SVector::from([q]), SVector::from([p]));
+        let qdot = poisson_bracket(&Angle, &osc, 0.0, &q, &p).unwrap();
+        assert_relative_eq!(qdot, W5, epsilon = 16.0 * EPS * W5);
+        let pdot = time_derivative(&ScaledAction(1.0), &osc, 0.0, &q, &p).unwrap();
+        // The two terms ±ω q p cancel.
+        let scale = W5 * (q[0] * p[0]).abs();
+        assert!(pdot.abs() <= 16.0 * EPS * scale, "Ṗ = {pdot}");
+        // (Q, cP) = c: canonical only for c = 1, so a bracket that always returned 1 (or
+        // dropped a factor) fails here.
+        for c in [1.0, 2.5, -0.5] {
+            let b = poisson_bracket(&Angle, &ScaledAction(c), 0.0, &q, &p).unwrap();
+            assert_relative_eq!(b, c, epsilon = 16.0 * EPS * c.abs());
+        }
+    }
+    // The map's bracket matrix: (Q, Q) = (P, P) = 0, (Q, P) = 1.
     let pb = poisson_bracket_matrix(&OscillatorToAngle, 0.0, &q, &p).unwrap();
     assert_relative_eq!(pb.qp[(0, 0)], 1.0, epsilon = 8.0 * EPS);
+    assert!(pb.qq[(0, 0)].abs() <= 8.0 * EPS && pb.pp[(0, 0)].abs() <= 8.0 * EPS);
+    // [Q, P] = 1 from the inverse map, and 1/c after rescaling P by 1/c.
     let lb = lagrange_bracket(&AngleToOscillator, 0.0, &big_q, &big_p, 0, 1).unwrap();
     assert_relative_eq!(lb, 1.0, epsilon = 8.0 * EPS);
+    for c in [2.0, -3.0] {
+        let cp = big_p * c;
+        let lb = lagrange_bracket(&ScaledInverse(c), 0.0, &big_q, &cp, 0, 1).unwrap();
+        assert_relative_eq!(lb, 1.0 / c, epsilon = 8.0 * EPS);
+    }
     assert!(reciprocity_defect(&AngleToOscillator, 0.0, &big_q, &big_p).unwrap() < 16.0 * EPS);
     // Round trip.
     let (q2, p2) = AngleToOscillator.apply(0.0, &big_q, &big_p);
@@ -284,6 +328,30 @@ impl PhaseFunction<2> for Smooth {
     }
 }
 
+impl Smooth {
+    /// The gradient `(∂F/∂q₀, ∂F/∂q₁, ∂F/∂p₀, ∂F/∂p₁)` differentiated by hand (an oracle independent
+    /// of the crate's AD).
+    fn gradient(&self, q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> [f64; 4] {
+        let c = &self.0;
+        let e = (0.3 * q[1] + 0.2 * p[0]).exp();
+        let s = (p[0] + q[1]).sin();
+        let cqp = (q[0] * p[1]).cos();
+        [
+            c[0] * p[1] * cqp + 2.0 * c[2] * q[0] * p[0] + c[5] * q[1] * p[0] * p[1],
+            0.3 * c[1] * e - c[4] * s + c[5] * q[0] * p[0] * p[1],
+            0.2 * c[1] * e + c[2] * q[0] * q[0] - c[4] * s + c[5] * q[0] * q[1] * p[1],
+            c[0] * q[0] * cqp + 3.0 * c[3] * p[1] * p[1] + c[5] * q[0] * q[1] * p[0],
+        ]
+    }
+}
+
+/// `(f, g) = Σᵢ ∂f/∂qᵢ ∂g/∂pᵢ − ∂f/∂pᵢ ∂g/∂qᵢ` from two gradients, with the sum of the absolute
+/// values of the products (the scale of its rounding).
+fn bracket_from_gradients(f: &[f64; 4], g: &[f64; 4]) -> (f64, f64) {
+    let terms = [f[0] * g[2], f[1] * g[3], -f[2] * g[0], -f[3] * g[1]];
+    (terms.iter().sum(), terms.iter().map(|x| x.abs()).sum())
+}
+
 /// Product of two phase functions.
 struct Product<'a>(&'a Smooth, &'a Smooth);
 impl PhaseFunction<2> for Product<'_> {
@@ -310,8 +378,12 @@ proptest! {
     fn antisymmetry(f in smooth(), g in smooth(), (q, p) in point()) {
         let fg = poisson_bracket(&f, &g, 0.0, &q, &p).unwrap();
         let gf = poisson_bracket(&g, &f, 0.0, &q, &p).unwrap();
-        // Same products summed in the opposite order: equal up to one rounding per term.
-        prop_assert!((fg + gf).abs() <= 8.0 * EPS * (1.0 + fg.abs()));
+        // Both orders against the bracket of the hand-differentiated gradients: (f, g) = B and
+        // (g, f) = −B, each to the rounding of the four products and of the gradients (a few ulps
+        // of each term).
+        let (b, scale) = bracket_from_gradients(&f.gradient(&q, &p), &g.gradient(&q, &p));
+        prop_assert!((fg - b).abs() <= 64.0 * EPS * (1.0 + scale), "(f, g) = {fg} vs {b}");
+        prop_assert!((gf + b).abs() <= 64.0 * EPS * (1.0 + scale), "(g, f) = {gf} vs {}", -b);
     }
 
     #[test]
@@ -350,15 +422,30 @@ proptest! {
     #[test]
     fn bracket_with_h_is_the_vector_field(f in smooth(), (q, p) in point()) {
         hamiltonian!(Anharmonic<2> |_s, _t, q, p| p.dot(p) * 0.5 + q[0] * q[0] * q[1] + q[1].powi(4) * 0.25);
-        // (q_i, H) = q̇_i and (p_i, H) = ṗ_i.
-        let (qd, pd) = Anharmonic.vector_field(0.0, &q, &p).unwrap();
+        // Hamilton's equations of H = |p|²/2 + q₀²q₁ + q₁⁴/4 by hand:
+        // q̇ = p, ṗ₀ = −2q₀q₁, ṗ₁ = −(q₀² + q₁³).
+        let qd = [p[0], p[1]];
+        let pd = [-2.0 * q[0] * q[1], -(q[0] * q[0] + q[1].powi(3))];
+        let tol = |x: f64| 8.0 * EPS * (1.0 + x.abs());
+        // (q_i, H) = q̇_i and (p_i, H) = ṗ_i, and the library's vector field agrees.
+        let (vq, vp) = Anharmonic.vector_field(0.0, &q, &p).unwrap();
         for i in 0..2 {
-            prop_assert_eq!(poisson_bracket(&coord(i), &Anharmonic, 0.0, &q, &p).unwrap(), qd[i]);
-            prop_assert_eq!(poisson_bracket(&mom(i), &Anharmonic, 0.0, &q, &p).unwrap(), pd[i]);
+            let bq = poisson_bracket(&coord(i), &Anharmonic, 0.0, &q, &p).unwrap();
+            let bp = poisson_bracket(&mom(i), &Anharmonic, 0.0, &q, &p).unwrap();
+            prop_assert!((bq - qd[i]).abs() <= tol(qd[i]), "(q{i}, H) = {bq} vs {}", qd[i]);
+            prop_assert!((bp - pd[i]).abs() <= tol(pd[i]), "(p{i}, H) = {bp} vs {}", pd[i]);
+            prop_assert!((vq[i] - qd[i]).abs() <= tol(qd[i]));
+            prop_assert!((vp[i] - pd[i]).abs() <= tol(pd[i]));
         }
-        // dF/dt = (F, H) for autonomous F.
+        // dF/dt = ∇_q F · q̇ + ∇_p F · ṗ (chain rule with the hand gradient) = (F, H).
+        let gf = f.gradient(&q, &p);
+        let terms = [gf[0] * qd[0], gf[1] * qd[1], gf[2] * pd[0], gf[3] * pd[1]];
+        let expected: f64 = terms.iter().sum();
+        let scale: f64 = terms.iter().map(|x| x.abs()).sum();
         let fdot = time_derivative(&f, &Anharmonic, 0.0, &q, &p).unwrap();
-        prop_assert_eq!(fdot, poisson_bracket(&f, &Anharmonic, 0.0, &q, &p).unwrap());
+        prop_assert!((fdot - expected).abs() <= 64.0 * EPS * (1.0 + scale), "{fdot} vs {expected}");
+        let bracket = poisson_bracket(&f, &Anharmonic, 0.0, &q, &p).unwrap();
+        prop_assert!((bracket - expected).abs() <= 64.0 * EPS * (1.0 + scale), "{bracket} vs {expected}");
     }
 }
 

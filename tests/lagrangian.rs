@@ -264,16 +264,41 @@ fn rayleigh_dissipation_convention() {
 
 #[test]
 fn lagrange_residual_vanishes_on_exact_motion() {
-    let bead = BeadOnHoop::new(1.0, 1.0, 0.0, 0.0).unwrap(); // free rotation θ = ωt: θ̈ = 0
-    let r = bead
-        .lagrange_residual(
-            0.0,
-            &SVector::from([0.4]),
-            &SVector::from([2.0]),
-            &SVector::from([0.0]),
-        )
-        .unwrap();
-    assert_eq!(r[0], 0.0);
+    // L = ½ma²(θ̇² + ω² sin²θ) + mga cos θ depends on θ through both T₀ and V, so the residual
+    // E = ma²θ̈ − ma²ω² sin θ cos θ + mga sin θ (written out by hand, not by AD) exercises ∂L/∂q.
+    let (m, a, g, w) = (1.3, 0.7, 9.81, 5.0);
+    let bead = BeadOnHoop::new(m, a, g, w).unwrap();
+    let ma2 = m * a * a;
+    for (th, thd) in [(0.4, 2.0), (-1.1, 0.3), (2.5, -1.7)] {
+        let (s, c) = f64::sin_cos(th);
+        // On the motion θ̈ = sin θ (ω² cos θ − g/a) the residual vanishes up to rounding of the
+        // O(ma²ω²) terms.
+        let thdd = s * (w * w * c - g / a);
+        let scale = ma2 * (w * w + g / a + thdd.abs());
+        let r = bead
+            .lagrange_residual(
+                0.0,
+                &SVector::from([th]),
+                &SVector::from([thd]),
+                &SVector::from([thdd]),
+            )
+            .unwrap();
+        assert!(r[0].abs() <= 16.0 * EPS * scale, "θ = {th}: residual {r}");
+        // Off the motion, the residual is the closed form: here ma²·δ for θ̈ = θ̈* + δ, and at θ̈ = 0
+        // the generalized force −ma²ω² sin θ cos θ + mga sin θ.
+        for thdd in [thdd + 0.25, 0.0] {
+            let expected = ma2 * thdd - ma2 * w * w * s * c + m * g * a * s;
+            let r = bead
+                .lagrange_residual(
+                    0.0,
+                    &SVector::from([th]),
+                    &SVector::from([thd]),
+                    &SVector::from([thdd]),
+                )
+                .unwrap();
+            assert_relative_eq!(r[0], expected, epsilon = 16.0 * EPS * scale);
+        }
+    }
 }
 
 #[test]

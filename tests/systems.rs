@@ -15,6 +15,8 @@ use hamilton_jacobi::{Error, Hamiltonian};
 use proptest::prelude::*;
 use std::f64::consts::{PI, TAU};
 
+const EPS: f64 = f64::EPSILON;
+
 /// Relative difference, component by component, against a reference with magnitude floor `floor`.
 fn rel<const N: usize>(a: &SVector<f64, N>, b: &SVector<f64, N>, floor: f64) -> f64 {
     a.iter()
@@ -80,37 +82,86 @@ proptest! {
 
 #[test]
 fn invariants_are_conserved_by_the_exact_flows() {
-    // Kepler, e = 0.9, generic times over 10 periods.
+    // Kepler, μ = a = 1, e = 0.9, generic times over 10 periods. The invariants along the flow are
+    // compared with their closed forms from the elements (not with themselves at t = 0):
+    // E = −μ/(2a), h = √(μa(1 − e²)) ĥ with ĥ = (sin i sin Ω, −sin i cos Ω, cos i), and the
+    // eccentricity vector e P̂ with P̂ the periapsis direction [Vallado §2.2].
+    let (a, e, inc, raan, argp) = (1.0, 0.9, 0.4, 0.3, 1.2);
     let k = Kepler3::new(1.0).unwrap();
-    let el = kepler_orbit::Elements::new(1.0, 0.9, 0.4, 0.3, 1.2, 0.0).unwrap();
+    let el = kepler_orbit::Elements::new(a, e, inc, raan, argp, 0.0).unwrap();
     let (r, v) = kepler_orbit::elements_to_state(1.0, &el).unwrap();
     let (q0, p0) = (
         SVector::from([r[0], r[1], r[2]]),
         SVector::from([v[0], v[1], v[2]]),
     );
-    let i0 = k.invariants(0.0, &q0, &p0).unwrap();
-    for j in 1..=40 {
+    let hn = (a * (1.0 - e * e)).sqrt();
+    let (si, ci, so, co, sw, cw) = (
+        inc.sin(),
+        inc.cos(),
+        raan.sin(),
+        raan.cos(),
+        argp.sin(),
+        argp.cos(),
+    );
+    let expected = [
+        ("energy", -0.5 / a),
+        ("h_x", hn * si * so),
+        ("h_y", -hn * si * co),
+        ("h_z", hn * ci),
+        ("e_x", e * (co * cw - so * sw * ci)),
+        ("e_y", e * (so * cw + co * sw * ci)),
+        ("e_z", e * sw * si),
+    ];
+    for j in 0..=40 {
         let t = 0.2513 * j as f64 * 2.0 * PI;
         let (q, p) = k.exact_flow(0.0, &q0, &p0, t).unwrap();
-        for (a, b) in k.invariants(t, &q, &p).unwrap().iter().zip(&i0) {
-            // Energy and h are O(1); through Kepler's equation at e = 0.9 the state carries a few
-            // ×10 ulps.
+        let inv = k.invariants(t, &q, &p).unwrap();
+        assert_eq!(inv.len(), expected.len());
+        for (got, (name, value)) in inv.iter().zip(expected) {
+            assert_eq!(got.name, name);
+            // O(1) quantities; through Kepler's equation at e = 0.9 (∂E/∂M ≤ 1/(1 − e) = 10) the
+            // state carries a few ×10 ulps.
             assert!(
-                (a.value - b.value).abs() < 1e-13,
-                "{} drifted: {} vs {}",
-                a.name,
-                a.value,
-                b.value
+                (got.value - value).abs() < 1e-13,
+                "t = {t}: {name} = {} vs closed form {value}",
+                got.value
             );
         }
+        // The state itself against the element route (mean anomaly n·t, n = 1, reduced exactly):
+        // a different formulation (rotation of the perifocal state) from the f and g functions of
+        // the flow. The flow starts at periapsis, where 1/a = 2/r − v²/μ cancels 20 against 19: a
+        // few ulps of the initial v² (4 ε · 19) and the rounding of 20 (16 ε) give δa/a ≈ 96 ε and
+        // δn/n ≈ 144 ε, so the phase is off by δ ≈ 144 ε (1 + t). That moves r by
+        // |v| δ + |r| δa/a (|v| ≤ 4.4, |r| ≤ 1.9) and v by |r̈| δ ≤ 100 δ (periapsis r = 0.1).
+        let el_t = kepler_orbit::Elements::new(a, e, inc, raan, argp, t % TAU).unwrap();
+        let (re, ve) = kepler_orbit::elements_to_state(1.0, &el_t).unwrap();
+        let delta = 144.0 * EPS * (1.0 + t);
+        for i in 0..3 {
+            let (dr, dv) = ((q[i] - re[i]).abs(), (p[i] - ve[i]).abs());
+            assert!(
+                dr < 4.4 * delta + 1.9 * 96.0 * EPS,
+                "t = {t}: r {q} vs {re}"
+            );
+            assert!(dv < 100.0 * delta, "t = {t}: v {p} vs {ve}");
+        }
     }
-    // Pendulum, a = 3, generic times over 10 periods.
+    // Pendulum H = p²/2 + n²(1 − cos q), n = 1, amplitude 3: E = 1 − cos 3 in closed form. The
+    // period 4K(sin²(3/2)) = 16.155539372393374763760276 (mpmath, 26 digits); at the quarter
+    // periods T/4 + jT/2 the pendulum passes the bottom with p = ±2 sin(3/2), alternating in sign.
     let pend = Pendulum::new(1.0).unwrap();
     let (q0, p0) = (SVector::from([3.0]), SVector::from([0.0]));
-    let e0 = pend.value(0.0, &q0, &p0).unwrap();
-    for j in 1..=40 {
-        let (q, p) = pend.exact_flow(0.0, &q0, &p0, 4.0 * j as f64).unwrap();
+    let e0 = 1.0 - 3.0f64.cos();
+    let period = 16.155_539_372_393_374;
+    let pmax = 2.0 * 1.5f64.sin();
+    for j in 0..=40 {
+        let t = 0.25 * period + 0.5 * period * j as f64;
+        let (q, p) = pend.exact_flow(0.0, &q0, &p0, t).unwrap();
         assert_relative_eq!(pend.value(0.0, &q, &p).unwrap(), e0, epsilon = 1e-13);
+        // A time rounding δ ≈ 4 ulp(t) moves q by |p| δ.
+        let delta = 4.0 * EPS * t;
+        assert!(q[0].abs() < pmax * delta + 1e-14, "t = {t}: q = {}", q[0]);
+        let sign = if j % 2 == 0 { -1.0 } else { 1.0 };
+        assert!((p[0] - sign * pmax).abs() < 1e-13, "t = {t}: p = {}", p[0]);
     }
 }
 
