@@ -198,9 +198,10 @@ pub enum Control {
     StopAt(f64),
 }
 
-/// Dense output over one step: the state at any time between its ends.
+/// Dense output over one step: the state at any time between its ends — a partial step of the
+/// method for [`Fixed`] runs, the continuous extension for [`Dop853`] ([`sampling`]).
 pub trait Dense<const N: usize> {
-    /// The interpolated state at `t` (between the step's ends).
+    /// The state at `t` (between the step's ends).
     fn at(&self, t: f64) -> State<N>;
 }
 
@@ -210,7 +211,7 @@ pub struct StepView<'a, const N: usize> {
     pub prev: &'a State<N>,
     /// State at the end of the step.
     pub next: &'a State<N>,
-    /// Interpolation within the step.
+    /// The state at times within the step.
     pub dense: &'a dyn Dense<N>,
 }
 

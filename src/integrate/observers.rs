@@ -211,8 +211,10 @@ impl Crossing {
 /// (see [`sampling`](super::sampling)): for fixed-step methods every iterate is a partial step of
 /// the method itself, so a section point lies on the method's numerical trajectory to its own
 /// order (a Störmer–Verlet section is good to `O(h²)`, a Kahan–Li 8 section to `O(h⁸)`); for
-/// DOP853 on its continuous extension. The stored trajectory is not altered. A non-finite value
-/// of `s` at a step end is not a crossing.
+/// DOP853 on its continuous extension. The stored trajectory is not altered. A crossing is seen
+/// as a change of sign of `s` between the ends of a step (the sense taken in the direction of
+/// the run), so a step must not cross the surface twice; a non-finite value of `s` at a step end
+/// is not a crossing.
 ///
 /// `s` is a closure on reals; a [`PhaseFunction`](crate::PhaseFunction) `f` written once over
 /// dual numbers serves as `move |t, q, p| f.eval(t, q, p)`.
