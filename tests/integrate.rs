@@ -119,10 +119,10 @@ fn driver_counts_work_and_lands_on_t1() {
     assert!(s.stopped && s.work.steps == 3);
 }
 
-/// Periapsis passages of Kepler e = 0.5 as events (`q·p` crossing zero upwards), located on the
-/// Hermite dense output of RK4 with 2000 steps per period. The interpolant is third order, so
-/// the event time is good to about the RK4 error of the state divided by d(q·p)/dt: asserted
-/// against the exact period to 1e−7.
+/// Periapsis passages of Kepler e = 0.5 as events (`q·p` crossing zero upwards), located on
+/// partial RK4 steps (the dense output of fixed-step methods) with 2000 steps per period, so the
+/// event time is good to about the RK4 error of the state divided by d(q·p)/dt: asserted against
+/// the exact period to 1e−7.
 #[test]
 fn events_on_dense_output() {
     let kep = Kepler2::new(1.0).unwrap();

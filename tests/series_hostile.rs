@@ -2,7 +2,7 @@
 //! gives a typed error, or a finite value that agrees with an independent reference (closed form,
 //! a 50-digit mpmath value, the exact flow, or a quadrature).
 
-use hamilton_jacobi::hamilton_jacobi::{ActionAngle, OneDegreeOfFreedom};
+use hamilton_jacobi::hamilton_jacobi::ActionAngle;
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::lindstedt::{
     lindstedt_odd_force, lindstedt_pendulum, MAX_LINDSTEDT_ORDER,
@@ -15,10 +15,10 @@ use hamilton_jacobi::systems::pendulum_exact::{
     amplitude_from_state, energy, exact_state, period, period_from_gap, separatrix_gap,
     PendulumMotion,
 };
-use hamilton_jacobi::systems::top_motion::{fast_top_width, release_from_rest};
+use hamilton_jacobi::systems::top::motion::{fast_top_width, release_from_rest};
 use hamilton_jacobi::systems::{HeavyTop, Pendulum};
 use hamilton_jacobi::transform::point::{point_transformation, Spherical};
-use hamilton_jacobi::{DualNum, Error};
+use hamilton_jacobi::Error;
 use std::f64::consts::{PI, TAU};
 use std::time::Instant;
 
@@ -204,17 +204,12 @@ fn amplitude_and_period_agree_on_what_is_the_separatrix() {
     }
 }
 
-/// Duffing oscillator `H = ½(p² + q²) + ε q⁴/4`.
-#[derive(Clone, Copy)]
-struct Duffing {
-    eps: f64,
-}
-
-impl OneDegreeOfFreedom for Duffing {
-    fn potential<D: DualNum<f64> + Copy>(&self, q: D) -> D {
-        q * q * 0.5 + q.powi(4) * (0.25 * self.eps)
-    }
-}
+hamilton_jacobi::hamiltonian!(
+    /// Duffing oscillator `H = ½(p² + q²) + ε q⁴/4`.
+    Duffing<1> { eps: f64 } |s, _t, q, p|
+        kinetic = p[0] * p[0] * 0.5,
+        potential = q[0] * q[0] * 0.5 + q[0].powi(4) * (0.25 * s.eps)
+);
 
 #[test]
 fn normal_form_refuses_or_warns_where_its_series_has_not_converged() {

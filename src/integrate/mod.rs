@@ -8,30 +8,40 @@
 //! * A method is a small value carrying its coefficients and knobs. Fixed-step one-step methods
 //!   implement [`OneStep`] — one step written once for every dual type, so that the step map can be
 //!   certified symplectic by AD ([`StepMap`]) — and run under [`Fixed`], which adds the step loop,
-//!   optional compensated summation and dense output. A step that cannot be differentiated (an
+//!   optional compensated summation and dense output by partial steps of the method itself
+//!   ([`sampling`]). A step that cannot be differentiated (an
 //!   exact flow through Kepler's equation) refuses dual arguments with an error; adaptive methods
 //!   implement [`Method`] directly.
 //! * Each method states the capability it needs as a trait bound on the system (explicit splitting
 //!   needs [`Separable`](crate::Separable), Gauss–Legendre any [`Hamiltonian`]): applying a method
 //!   to a system without that capability does not compile.
-//! * An [`Observer`] sees every step (with dense output over it) and may stop the run.
+//! * An [`Observer`] sees every step (with dense output over it) and may stop the run: record
+//!   ([`Recorder`]), sample at requested times ([`Samples`]), locate events ([`Events`]) and
+//!   Poincaré sections ([`Section`]).
+//! * A method is also a value: [`AnyMethod`] / [`GeneralMethod`] hold any of the crate's general
+//!   and splitting methods, so a list of methods can be built at run time and swept.
 //! * Every run reports its [`Work`] — steps and evaluations of `H`, its gradient and Hessian — and
 //!   its wall time, so that cost can be compared as counts as well as time.
 
+pub mod any;
 pub mod coefficients;
 pub mod dop853;
 pub mod exact;
 pub mod gauss;
 pub mod observers;
 pub mod rk4;
+pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
 pub mod wisdom_holman;
 
+pub use any::{AnyMethod, GeneralMethod};
 pub use dop853::Dop853;
 pub use exact::ExactStep;
 pub use gauss::{Gauss, ImplicitMidpoint};
-pub use observers::{EnergyMonitor, Event, Events, Recorder};
+pub use observers::{
+    Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
+};
 pub use rk4::Rk4;
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
@@ -206,9 +216,10 @@ pub enum Control {
     StopAt(f64),
 }
 
-/// Dense output over one step: the state at any time between its ends.
+/// Dense output over one step: the state at any time between its ends — a partial step of the
+/// method for [`Fixed`] runs, the continuous extension for [`Dop853`] ([`sampling`]).
 pub trait Dense<const N: usize> {
-    /// The interpolated state at `t` (between the step's ends).
+    /// The state at `t` (between the step's ends).
     fn at(&self, t: f64) -> State<N>;
 }
 
@@ -218,7 +229,7 @@ pub struct StepView<'a, const N: usize> {
     pub prev: &'a State<N>,
     /// State at the end of the step.
     pub next: &'a State<N>,
-    /// Interpolation within the step.
+    /// The state at times within the step.
     pub dense: &'a dyn Dense<N>,
 }
 
@@ -402,42 +413,6 @@ impl<M> Fixed<M> {
     }
 }
 
-/// Cubic Hermite interpolation between two states from their time derivatives (third order; the
-/// dense output of fixed-step methods).
-pub struct Hermite<'a, S, const N: usize> {
-    system: &'a S,
-    prev: State<N>,
-    next: State<N>,
-    /// The end-point derivatives, evaluated once on the first interpolation (an event search
-    /// interpolates many times within one step; steps without observers interested in the
-    /// interior never pay for them).
-    slopes: std::cell::OnceCell<[(SVector<f64, N>, SVector<f64, N>); 2]>,
-}
-
-impl<S: Hamiltonian<N>, const N: usize> Dense<N> for Hermite<'_, S, N> {
-    fn at(&self, t: f64) -> State<N> {
-        let h = self.next.t - self.prev.t;
-        let th = if h == 0.0 { 0.0 } else { (t - self.prev.t) / h };
-        let [(dq0, dp0), (dq1, dp1)] = *self.slopes.get_or_init(|| {
-            [
-                self.system
-                    .vector_field_unchecked(self.prev.t, &self.prev.q, &self.prev.p),
-                self.system
-                    .vector_field_unchecked(self.next.t, &self.next.q, &self.next.p),
-            ]
-        });
-        let h00 = (1.0 + 2.0 * th) * (1.0 - th) * (1.0 - th);
-        let h10 = th * (1.0 - th) * (1.0 - th);
-        let h01 = th * th * (3.0 - 2.0 * th);
-        let h11 = th * th * (th - 1.0);
-        State {
-            t,
-            q: self.prev.q * h00 + dq0 * (h10 * h) + self.next.q * h01 + dq1 * (h11 * h),
-            p: self.prev.p * h00 + dp0 * (h10 * h) + self.next.p * h01 + dp1 * (h11 * h),
-        }
-    }
-}
-
 /// Kahan-compensated `x += dx`.
 #[inline]
 fn compensated_add<const N: usize>(
@@ -490,6 +465,7 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                 &mut work,
             )?;
             let mut next = state;
+            let carry = (cq, cp);
             if self.compensated {
                 compensated_add(&mut next.q, &mut cq, &dq);
                 compensated_add(&mut next.p, &mut cp, &dp);
@@ -514,17 +490,25 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                     value: f64::NAN,
                 });
             }
-            let dense = Hermite {
-                system: problem.system,
-                prev: state,
+            // Points inside the step are partial steps of the method (`sampling`).
+            let dense = sampling::PartialStep::new(
+                problem.system,
+                &self.method,
+                state,
                 next,
-                slopes: std::cell::OnceCell::new(),
-            };
+                carry,
+                self.compensated,
+            );
             let control = observer.step(&StepView {
                 prev: &state,
                 next: &next,
                 dense: &dense,
             });
+            let stop_state = match control {
+                Control::StopAt(t) => Some(dense.at(stop_time(t, &state, &next)?)),
+                _ => None,
+            };
+            work = work.add(&dense.finish()?);
             match control {
                 Control::Continue => state = next,
                 Control::Stop => {
@@ -532,10 +516,9 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                     stopped = k + 1 < self.steps;
                     break;
                 }
-                Control::StopAt(t) => {
-                    let t = stop_time(t, &state, &next)?;
-                    state = dense.at(t);
-                    stopped = t != problem.t1;
+                Control::StopAt(_) => {
+                    state = stop_state.unwrap_or(next);
+                    stopped = state.t != problem.t1;
                     break;
                 }
             }

@@ -1,7 +1,12 @@
-//! Observers: record a trajectory, monitor the energy, locate events on dense output.
+//! Observers: record a trajectory, sample it at requested times, monitor the energy, locate
+//! events and Poincaré sections. Points between step ends come from each step's dense output,
+//! which for fixed-step methods is a partial step of the method itself ([`sampling`](super::sampling)).
 
+use super::sampling::locate;
 use super::{Control, Observer, State, StepView};
+use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use nalgebra::SVector;
 
 /// Records the initial state and every `every`-th step's end state (and always the last one seen).
 #[derive(Clone, Debug, PartialEq)]
@@ -117,8 +122,10 @@ pub struct Event<const N: usize> {
 }
 
 /// Zero crossings of an event function `g(state)`, located on each step's dense output by the
-/// Illinois (modified regula falsi) iteration to a time tolerance of a few ulps; with
-/// `terminal = true` the run stops at the first one.
+/// Illinois (modified regula falsi) iteration until the time is resolved to adjacent
+/// floating-point numbers; with `terminal = true` the run stops at the first one. For fixed-step
+/// methods the located state is a partial step of the method ([`sampling`](super::sampling)); a
+/// [`Section`] does the same for a surface `s(t, q, p)` with a crossing count.
 pub struct Events<G, const N: usize> {
     g: G,
     direction: i8,
@@ -142,53 +149,294 @@ impl<G: FnMut(&State<N>) -> f64, const N: usize> Events<G, N> {
 impl<G: FnMut(&State<N>) -> f64, const N: usize> Observer<N> for Events<G, N> {
     fn step(&mut self, step: &StepView<'_, N>) -> Control {
         let (ga, gb) = ((self.g)(step.prev), (self.g)(step.next));
-        let up = ga < 0.0 && gb >= 0.0;
-        let down = ga > 0.0 && gb <= 0.0;
-        let wanted = match self.direction {
-            1 => up,
-            -1 => down,
-            _ => up || down,
-        };
-        if !wanted {
+        let Some(up) = crossing(ga, gb, self.direction) else {
             return Control::Continue;
-        }
-        let (mut a, mut b) = (step.prev.t, step.next.t);
-        let (mut fa, mut fb) = (ga, gb);
-        let mut side = 0;
-        let mut t = b;
-        for _ in 0..200 {
-            t = (a * fb - b * fa) / (fb - fa);
-            if !t.is_finite() {
-                t = 0.5 * (a + b);
-            }
-            let ft = (self.g)(&step.dense.at(t));
-            if ft == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * t.abs().max(1.0) {
-                break;
-            }
-            if (ft < 0.0) == (fa < 0.0) {
-                a = t;
-                fa = ft;
-                if side == -1 {
-                    fb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = t;
-                fb = ft;
-                if side == 1 {
-                    fa *= 0.5;
-                }
-                side = 1;
-            }
-        }
+        };
+        let Some(state) = locate(step.dense, step.prev, step.next, ga, gb, &mut self.g) else {
+            return Control::Continue;
+        };
         self.found.push(Event {
-            state: step.dense.at(t),
+            state,
             direction: if up { 1 } else { -1 },
         });
         if self.terminal {
-            Control::StopAt(t)
+            Control::StopAt(state.t)
         } else {
             Control::Continue
         }
+    }
+}
+
+/// Whether `g` crosses zero from `ga` to `gb` in the wanted `direction` (`+1` upward, `−1`
+/// downward, `0` both): `Some(true)` for an upward crossing (`ga < 0 ≤ gb`), `Some(false)` for a
+/// downward one (`ga > 0 ≥ gb`), `None` otherwise. A zero at the step's start was counted with the
+/// step before.
+fn crossing(ga: f64, gb: f64, direction: i8) -> Option<bool> {
+    let up = ga < 0.0 && gb >= 0.0;
+    let down = ga > 0.0 && gb <= 0.0;
+    match direction {
+        1 if up => Some(true),
+        -1 if down => Some(false),
+        0 if up || down => Some(up),
+        _ => None,
+    }
+}
+
+/// The sense in which a surface is crossed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Crossing {
+    /// `s` goes from negative to non-negative.
+    Up,
+    /// `s` goes from positive to non-positive.
+    Down,
+    /// Either.
+    Both,
+}
+
+impl Crossing {
+    fn sign(self) -> i8 {
+        match self {
+            Crossing::Up => 1,
+            Crossing::Down => -1,
+            Crossing::Both => 0,
+        }
+    }
+}
+
+/// A Poincaré section: the points `(t, q, p)` where the run crosses the surface `s(t, q, p) = 0`
+/// in the chosen sense (Poincaré, *Les méthodes nouvelles de la mécanique céleste* I (1892)
+/// ch. III; Lichtenberg & Lieberman, *Regular and Chaotic Dynamics*, 2nd ed., §1.2b).
+///
+/// Each crossing is located within its step by the Illinois iteration on the step's dense output
+/// (see [`sampling`](super::sampling)): for fixed-step methods every iterate is a partial step of
+/// the method itself, so a section point lies on the method's numerical trajectory to its own
+/// order (a Störmer–Verlet section is good to `O(h²)`, a Kahan–Li 8 section to `O(h⁸)`); for
+/// DOP853 on its continuous extension. The stored trajectory is not altered. A crossing is seen
+/// as a change of sign of `s` between the ends of a step (the sense taken in the direction of
+/// the run), so a step must not cross the surface twice; a non-finite value of `s` at a step end
+/// is not a crossing.
+///
+/// `s` is a closure on reals; a [`PhaseFunction`](crate::PhaseFunction) `f` written once over
+/// dual numbers serves as `move |t, q, p| f.eval(t, q, p)`.
+///
+/// ```
+/// use hamilton_jacobi::integrate::{integrate, Crossing, Fixed, Problem, Section, Splitting};
+/// use hamilton_jacobi::nalgebra::SVector;
+/// use hamilton_jacobi::systems::Pendulum;
+/// let pendulum = Pendulum::new(1.0).unwrap();
+/// let problem = Problem::new(&pendulum, 0.0, SVector::from([1.0]), SVector::from([0.0]), 30.0).unwrap();
+/// // Upward passages through q = 0 (p > 0 there), stopping after the third.
+/// let mut section = Section::new(|_t, q, _p| q[0], Crossing::Up).stop_after(3);
+/// let run = integrate(&problem, &Fixed::new(Splitting::VERLET_KDK, 3000).unwrap(), &mut section).unwrap();
+/// assert_eq!(section.points.len(), 3);
+/// assert!(run.stopped && section.points.iter().all(|z| z.q[0].abs() < 1e-15 && z.p[0] > 0.0));
+/// ```
+pub struct Section<F, const N: usize> {
+    surface: F,
+    crossing: Crossing,
+    limit: Option<usize>,
+    /// The crossings found so far, in the order of the run.
+    pub points: Vec<State<N>>,
+}
+
+impl<F, const N: usize> Section<F, N>
+where
+    F: FnMut(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64,
+{
+    /// Crossings of `surface(t, q, p) = 0` in the sense `crossing`, for the whole run.
+    pub fn new(surface: F, crossing: Crossing) -> Self {
+        Self {
+            surface,
+            crossing,
+            limit: None,
+            points: Vec::new(),
+        }
+    }
+
+    /// Stop the run at the `count`-th crossing (a terminal event: the run's last state is that
+    /// crossing). `count = 0` records nothing and stops at the first crossing.
+    pub fn stop_after(mut self, count: usize) -> Self {
+        self.limit = Some(count);
+        self
+    }
+
+    fn value(&mut self, z: &State<N>) -> f64 {
+        (self.surface)(z.t, &z.q, &z.p)
+    }
+}
+
+impl<F, const N: usize> Observer<N> for Section<F, N>
+where
+    F: FnMut(f64, &SVector<f64, N>, &SVector<f64, N>) -> f64,
+{
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        let (ga, gb) = (self.value(step.prev), self.value(step.next));
+        if crossing(ga, gb, self.crossing.sign()).is_none() {
+            return Control::Continue;
+        }
+        let surface = &mut self.surface;
+        let Some(point) = locate(step.dense, step.prev, step.next, ga, gb, |z| {
+            surface(z.t, &z.q, &z.p)
+        }) else {
+            return Control::Continue;
+        };
+        match self.limit {
+            Some(n) if self.points.len() >= n => Control::StopAt(point.t),
+            Some(n) => {
+                self.points.push(point);
+                if self.points.len() == n {
+                    Control::StopAt(point.t)
+                } else {
+                    Control::Continue
+                }
+            }
+            None => {
+                self.points.push(point);
+                Control::Continue
+            }
+        }
+    }
+}
+
+/// Largest number of requested times [`Samples`] accepts (`2²⁶`, about 1 GiB of states at
+/// `N = 3`): a bound on the memory a run can be asked to fill.
+pub const MAX_SAMPLES: usize = 1 << 26;
+
+/// The states at requested times: the start, if it is one of them, and every requested time the
+/// run passes, taken from each step's dense output (a partial step of the method for fixed-step
+/// methods, the continuous extension for DOP853: see [`sampling`](super::sampling)). The stored
+/// trajectory is not altered.
+///
+/// ```
+/// use hamilton_jacobi::integrate::{integrate, Fixed, Problem, Rk4, Samples};
+/// use hamilton_jacobi::nalgebra::SVector;
+/// use hamilton_jacobi::systems::Pendulum;
+/// let pendulum = Pendulum::new(1.0).unwrap();
+/// let problem = Problem::new(&pendulum, 0.0, SVector::from([1.0]), SVector::from([0.0]), 1.0).unwrap();
+/// let mut samples = Samples::at([0.0, 0.123, 0.5, 0.777]).unwrap();
+/// integrate(&problem, &Fixed::new(Rk4, 10).unwrap(), &mut samples).unwrap();
+/// let times: Vec<f64> = samples.states.iter().map(|s| s.t).collect();
+/// assert_eq!(times, [0.0, 0.123, 0.5, 0.777]);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Samples<const N: usize> {
+    times: Vec<f64>,
+    next: usize,
+    /// The sampled states, in the order of the requested times.
+    pub states: Vec<State<N>>,
+}
+
+impl<const N: usize> Samples<N> {
+    /// At the given times, which must be finite and strictly monotone in the direction of the
+    /// run; times before the start are skipped, times beyond the end are not reached. Errors: an
+    /// empty list, a non-finite or non-monotone time, more than [`MAX_SAMPLES`] times.
+    pub fn at(times: impl IntoIterator<Item = f64>) -> Result<Self> {
+        let mut list = Vec::new();
+        for t in times {
+            if list.len() >= MAX_SAMPLES {
+                return Err(Error::out_of_domain(
+                    "number of sample times",
+                    (MAX_SAMPLES + 1) as f64,
+                    format!("≤ {MAX_SAMPLES}"),
+                ));
+            }
+            list.push(finite("sample time", t)?);
+        }
+        if list.is_empty() {
+            return Err(Error::invalid("sample times", "no time requested"));
+        }
+        if list.len() > 1 {
+            let rising = list[1] > list[0];
+            if let Some(w) = list
+                .windows(2)
+                .find(|w| if rising { w[1] <= w[0] } else { w[1] >= w[0] })
+            {
+                return Err(Error::invalid(
+                    "sample times",
+                    format!(
+                        "not strictly monotone: {:e} follows {:e} in a {} list",
+                        w[1],
+                        w[0],
+                        if rising { "rising" } else { "falling" }
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            states: Vec::with_capacity(list.len()),
+            times: list,
+            next: 0,
+        })
+    }
+
+    /// `count + 1` times `t₀ + k (t₁ − t₀)/count`, `k = 0 … count` (`1 ≤ count < MAX_SAMPLES`).
+    pub fn uniform(t0: f64, t1: f64, count: usize) -> Result<Self> {
+        finite("first sample time", t0)?;
+        finite("last sample time", t1)?;
+        if count == 0 || count >= MAX_SAMPLES {
+            return Err(Error::out_of_domain(
+                "number of sample intervals",
+                count as f64,
+                format!("1 … {}", MAX_SAMPLES - 1),
+            ));
+        }
+        if t0 == t1 || !(t1 - t0).is_finite() {
+            return Err(Error::invalid(
+                "sample span",
+                format!("t₀ = {t0:e}, t₁ = {t1:e}: need t₁ ≠ t₀ with a finite difference"),
+            ));
+        }
+        let n = count as f64;
+        Self::at((0..=count).map(|k| {
+            if k == count {
+                t1
+            } else {
+                t0 + (t1 - t0) * (k as f64 / n)
+            }
+        }))
+    }
+
+    /// The requested times.
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+}
+
+impl<const N: usize> Observer<N> for Samples<N> {
+    fn start(&mut self, state: &State<N>) {
+        if self.times.get(self.next) == Some(&state.t) {
+            self.states.push(*state);
+            self.next += 1;
+        }
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        let forward = step.next.t >= step.prev.t;
+        let ahead = |t: f64, of: f64| if forward { t > of } else { t < of };
+        // Times behind the step's start cannot be reached any more.
+        while let Some(&t) = self.times.get(self.next) {
+            if ahead(t, step.prev.t) {
+                break;
+            }
+            self.next += 1;
+        }
+        while let Some(&t) = self.times.get(self.next) {
+            if ahead(t, step.next.t) {
+                break;
+            }
+            self.states.push(step.dense.at(t));
+            self.next += 1;
+        }
+        Control::Continue
+    }
+}
+
+/// An observer borrowed for the run, so that observers kept by the caller can be combined:
+/// `integrate(&problem, &method, &mut (&mut recorder, &mut section))`.
+impl<O: Observer<N> + ?Sized, const N: usize> Observer<N> for &mut O {
+    fn start(&mut self, state: &State<N>) {
+        (**self).start(state);
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        (**self).step(step)
     }
 }
