@@ -36,6 +36,11 @@ impl InverseDistance {
     pub fn mu(&self) -> f64 {
         self.mu
     }
+    /// From a `μ` already checked to be positive.
+    pub(super) fn from_mu(mu: f64) -> Self {
+        debug_assert!(mu > 0.0);
+        Self { mu }
+    }
 }
 
 impl CentralPotential for InverseDistance {
@@ -70,7 +75,7 @@ impl<V: CentralPotential + ?Sized> CentralPotential for &V {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Central<V, const N: usize> {
-    potential: V,
+    pub(super) potential: V,
 }
 
 impl<V: CentralPotential, const N: usize> Central<V, N> {

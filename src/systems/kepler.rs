@@ -1,6 +1,7 @@
+use super::central::{Central, InverseDistance};
 use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::{Hamiltonian, PhaseFunction, Separable};
+use crate::hamiltonian::{PhaseFunction, Separable};
 use crate::phase::check_phase;
 use nalgebra::{SVector, Vector2, Vector3};
 use num_dual::DualNum;
@@ -29,6 +30,12 @@ impl<const N: usize> Kepler<N> {
     /// Gravitational parameter.
     pub fn mu(&self) -> f64 {
         self.mu
+    }
+    /// The same problem as a [`Central`] system of the potential `−μ/r`.
+    pub fn central(&self) -> Central<InverseDistance, N> {
+        Central {
+            potential: InverseDistance::from_mu(self.mu),
+        }
     }
     /// Hand-written Hamilton's equations `(q̇, ṗ) = (p, −μ q/|q|³)`: test oracle and baseline for the
     /// AD vector field.
@@ -73,28 +80,10 @@ impl<const N: usize> Invariants<N> for Kepler<N> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> Result<Vec<Invariant>> {
-        let energy = self.value(t, q, p)?;
+        // Energy and angular momentum as for every central force, then the Runge–Lenz vector.
         let (r, v) = (embed(q)?, embed(p)?);
-        let h = r.cross(&v);
         let e = kepler_orbit::eccentricity_vector(self.mu, &r, &v)?;
-        let mut out = vec![Invariant {
-            name: "energy",
-            value: energy,
-        }];
-        if N == 3 {
-            out.push(Invariant {
-                name: "h_x",
-                value: h[0],
-            });
-            out.push(Invariant {
-                name: "h_y",
-                value: h[1],
-            });
-        }
-        out.push(Invariant {
-            name: "h_z",
-            value: h[2],
-        });
+        let mut out = self.central().invariants(t, q, p)?;
         out.push(Invariant {
             name: "e_x",
             value: e[0],
