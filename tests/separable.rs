@@ -184,3 +184,47 @@ fn inconsistent_or_bad_input_is_refused() {
     assert!(SeparatedMotion::new(KeplerPolar, 0.0, &q, &SVector::from([2.0, 1.0])).is_err());
     assert!(LiouvilleSeparation::new(T39, [(1.0, -1.0), (0.0, 1.0)]).is_err());
 }
+
+/// The anisotropic oscillator's actions `J_r = E_r/ω_r` and frequencies `ω_r` from the separated
+/// quadratures, against the closed forms; Kepler in polar coordinates: the radial action
+/// `1/√(−2h) − k` and the frequencies `ω_r = ω_θ = (−2h)^{3/2}` (degenerate, μ = 1).
+#[test]
+fn separated_motion_exposes_actions_and_frequencies() {
+    let (w1, w2) = (1.0, 2f64.sqrt());
+    let (q0, p0) = (SVector::from([0.3, -0.2]), SVector::from([0.5, 0.9]));
+    let motion = SeparatedMotion::new(Anisotropic(w1, w2), 0.0, &q0, &p0).unwrap();
+    let e1 = 0.5 * (p0[0] * p0[0] + w1 * w1 * q0[0] * q0[0]);
+    let e2 = 0.5 * (p0[1] * p0[1] + w2 * w2 * q0[1] * q0[1]);
+    let j = motion.actions().unwrap();
+    for (r, exact) in [(0, e1 / w1), (1, e2 / w2)] {
+        assert!(
+            (j[r].value - exact).abs() <= j[r].error + 8.0 * f64::EPSILON * exact,
+            "J_{r} = {} vs {exact}",
+            j[r].value
+        );
+    }
+    let w = motion.frequencies().unwrap();
+    assert!(
+        (w[0] - w1).abs() < 1e-13 && (w[1] - w2).abs() < 1e-13,
+        "{w:?}"
+    );
+    // Kepler: h = −0.5 + …, k from the state.
+    let (q, p) = (SVector::from([1.2, 0.4]), SVector::from([0.1, 0.95]));
+    let m = SeparatedMotion::new(KeplerPolar, 0.0, &q, &p).unwrap();
+    let c = *m.constants();
+    let (h, k) = (c[0], c[1]);
+    let j = m.actions().unwrap();
+    let jr = 1.0 / (-2.0 * h).sqrt() - k;
+    assert!(
+        (j[0].value - jr).abs() <= j[0].error + 16.0 * f64::EPSILON,
+        "{} vs {jr}",
+        j[0].value
+    );
+    assert_eq!(j[1].value, k);
+    let n = (-2.0 * h).powf(1.5);
+    let w = m.frequencies().unwrap();
+    assert!(
+        (w[0] - n).abs() < 1e-12 * n && (w[1] - n).abs() < 1e-12 * n,
+        "{w:?} vs {n}"
+    );
+}

@@ -211,6 +211,47 @@ impl<S: SeparatedSystem<N>, const N: usize> SeparatedMotion<S, N> {
         }
     }
 
+    /// The actions `J_r`: `(1/π) ∫_{q₁}^{q₂} √F_r dq_r` of a librating coordinate (with the
+    /// quadrature's error estimate), and the constant momentum `p_r` of an ignorable one (the
+    /// action of an angle coordinate of period 2π) [Goldstein, Poole & Safko §10.6; Ardema
+    /// §17.3].
+    pub fn actions(&self) -> Result<SVector<crate::special::turning_points::Quadrature, N>> {
+        let mut out = [crate::special::turning_points::Quadrature {
+            value: 0.0,
+            error: 0.0,
+            evaluations: 0,
+        }; N];
+        for (r, coord) in self.coordinates.iter().enumerate() {
+            out[r] = match coord {
+                Coordinate::Librating { libration, .. } => {
+                    libration.sqrt_integral()?.scale(1.0 / PI)
+                }
+                Coordinate::Ignorable { momentum, .. } => {
+                    crate::special::turning_points::Quadrature {
+                        value: *momentum,
+                        error: 0.0,
+                        evaluations: 0,
+                    }
+                }
+            };
+        }
+        Ok(SVector::from(out))
+    }
+
+    /// The frequencies `ω_r = ∂H/∂J_r` of the torus. With `M_{rj} = ∂J_r/∂c_j` (the passage
+    /// integrals over `π` of a librating coordinate, `∂p_r/∂c_j` of an ignorable one) the
+    /// constants are functions of the actions with `∂c/∂J = M⁻¹`, and the energy is the
+    /// constant [`SeparatedSystem::energy_index`], so `ω_r = (M⁻¹)_{h r}`. An error where `M`
+    /// is singular (e.g. at a separatrix).
+    pub fn frequencies(&self) -> Result<SVector<f64, N>> {
+        let m = self.mean_jacobian().transpose();
+        let inv = crate::phase::checked_inverse(&m, "∂J/∂c of the separated motion", || {
+            format!("constants c = {:?}", self.constants)
+        })?;
+        let e = self.system.energy_index();
+        Ok(SVector::from_fn(|r, _| inv[(e, r)]))
+    }
+
     /// `∂K/∂c` at the unwrapped phases (librating coordinates) and coordinates (ignorable ones).
     fn characteristic_gradient(&self, u: &SVector<f64, N>) -> Result<SVector<f64, N>> {
         let mut k = SVector::<f64, N>::zeros();
