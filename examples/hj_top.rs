@@ -103,7 +103,7 @@ fn main() -> Result<()> {
         let nut = Nutation::from_state(&top, &q0, &p)?;
         println!(
             "| {omega} | {} | {:.12e} | {:.6e} | {:.14e} | {:.14e} | {:.14e} |",
-            top.gamma(omega),
+            top.gamma(omega)?,
             nut.cubic().nutation_width(),
             motion::fast_top_width(&top, u2, omega)?,
             nut.period()?.value,
@@ -148,7 +148,7 @@ fn main() -> Result<()> {
     // T14c: the sleeping top around the critical spin.
     println!(
         "\nT14c  sleeping top from θ = 1e−3 rad, θ̇ = φ̇ = 0; critical spin ω_c = {}",
-        top.critical_spin()
+        top.critical_spin()?
     );
     println!("| ω_z | θ_max quadrature (deg) | θ_max RK4 60 s (deg) | nutation period |");
     println!("|---|---|---|---|");

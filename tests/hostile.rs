@@ -77,8 +77,6 @@ const KNOWN_DEFECTS: &[&str] = &[
     "elements::mean_to_true[hyperbolic](MAX, 2.0)",
     // wrong: value 0 = -1.5707963267948966e0, reference -2.0943951023931957e0
     "elements::mean_to_true[hyperbolic](-MAX, 2.0)",
-    // wrong: value 0 = -7.831301064934779e-1, expected -7.831301064822567e-1
-    "pendulum_exact::jacobi_sn_cn_dn(1000000.0, 0.6, 0.8)",
     // Ok-nonfinite: returned NaN
     "pendulum_exact::separatrix_gap(NaN)",
     // Ok-nonfinite: returned -inf
@@ -111,54 +109,10 @@ const KNOWN_DEFECTS: &[&str] = &[
     "pendulum_exact::energy(1.0, 1.0, MAX)",
     // Ok-nonfinite: returned inf
     "pendulum_exact::energy(1.0, 1.0, -MAX)",
-    // wrong: returned [0.7457350611163424] where no finite answer exists (a typed error is expec
-    "pendulum_exact::amplitude_from_state(1.0, MAX, 0.3)",
-    // wrong: returned [0.7457350611163424] where no finite answer exists (a typed error is expec
-    "pendulum_exact::amplitude_from_state(1.0, -MAX, 0.3)",
-    // wrong: value 0 = 5.369500115823764e-1, reference 1.7976931348623157e308
-    "pendulum_exact::exact_state(1.0, MAX, 0.3, 2.0)",
-    // wrong: value 0 = 5.888025158627542e-2, reference -1.7976931348623157e308
-    "pendulum_exact::exact_state(1.0, -MAX, 0.3, 2.0)",
-    // wrong: value 0 = 5.829961709706952e-1, reference 5.829962682162135e-1
-    "pendulum_exact::exact_state(1.0, 0.5, 0.3, 10000000000.0)",
-    // Ok-nonfinite: returned inf
-    "top::HeavyTop::critical_spin(MAX, 0.5, 2.0)",
-    // Ok-nonfinite: returned inf
-    "top::HeavyTop::critical_spin(1.0, 5e-324, 2.0)",
     // wrong: returned [-0.48] where no finite answer exists (a typed error is expected)
     "motion::fast_top_width(2.0, 10.0)",
     // wrong: returned [-0.2] where no finite answer exists (a typed error is expected)
     "motion::fast_top_width(-1.5, 10.0)",
-    // wrong: returned [0.0] where no finite answer exists (a typed error is expected)
-    "top::HeavyTop::min_spin_for_steady_precession(MAX)",
-    // wrong: returned [0.0] where no finite answer exists (a typed error is expected)
-    "top::HeavyTop::min_spin_for_steady_precession(-MAX)",
-    // wrong: returned [0.0] where no finite answer exists (a typed error is expected)
-    "top::HeavyTop::min_spin_for_steady_precession(4.0)",
-    // wrong: returned [4.1580853511899525] where no finite answer exists (a typed error is expec
-    "top::HeavyTop::min_spin_for_steady_precession(-1.0)",
-    // wrong: returned [0.3722816202745075] where no finite answer exists (a typed error is expec
-    "top::HeavyTop::steady_precession(MAX, 10.0)",
-    // wrong: returned [0.3722816202745075] where no finite answer exists (a typed error is expec
-    "top::HeavyTop::steady_precession(-MAX, 10.0)",
-    // wrong: returned [0.3810211779628646] where no finite answer exists (a typed error is expec
-    "top::HeavyTop::steady_precession(4.0, 10.0)",
-    // Ok-nonfinite: p = inf
-    "HarmonicOscillator::exact_flow(MAX, 1.2, 3.0)",
-    // Ok-nonfinite: p = -inf
-    "HarmonicOscillator::exact_flow(-MAX, 1.2, 3.0)",
-    // wrong: accepted an invalid input
-    "HarmonicOscillator::exact_flow(0.5, 1.2, MAX)",
-    // wrong: accepted an invalid input
-    "HarmonicOscillator::exact_flow(0.5, 1.2, -MAX)",
-    // wrong: accepted an invalid input
-    "HarmonicOscillator::exact_flow(0.5, 1.2, 1e300)",
-    // wrong: accepted an invalid input
-    "HarmonicOscillator::exact_flow(0.5, 1.2, -1e20)",
-    // wrong: energy = 2.6541064687906724e-1, expected 2.04498768942656e0
-    "Pendulum::exact_flow(MAX, 0.3, 2.0)",
-    // wrong: energy = 2.6541064687906724e-1, expected 2.04498768942656e0
-    "Pendulum::exact_flow(-MAX, 0.3, 2.0)",
     // wrong: energy = -3.302133068833406e-1, expected -3.2999999999999985e-1
     "Kepler3::exact_flow(MAX, 0.2)",
     // wrong: energy = -3.798984937467582e-1, expected -3.2999999999999985e-1
@@ -167,32 +121,6 @@ const KNOWN_DEFECTS: &[&str] = &[
     "Kepler3::exact_flow(1e300, 0.2)",
     // wrong: energy = -3.3147434524024477e-1, expected -3.2999999999999985e-1
     "Kepler3::exact_flow(-1e17, 0.2)",
-    // Ok-nonfinite: energy at the bottom = -inf
-    "BeadOnHoop::new(MAX, 0.5, 9.81, 6.0)",
-    // Ok-nonfinite: energy at the bottom = NaN
-    "BeadOnHoop::new(1.0, MAX, 9.81, 6.0)",
-    // Ok-nonfinite: energy = NaN
-    "BeadOnHoop::energy(NaN, 1.0)",
-    // Ok-nonfinite: energy = NaN
-    "BeadOnHoop::energy(inf, 1.0)",
-    // Ok-nonfinite: energy = NaN
-    "BeadOnHoop::energy(-inf, 1.0)",
-    // Ok-nonfinite: energy = NaN
-    "BeadOnHoop::energy(0.3, NaN)",
-    // Ok-nonfinite: energy = inf
-    "BeadOnHoop::energy(0.3, inf)",
-    // Ok-nonfinite: energy = inf
-    "BeadOnHoop::energy(0.3, -inf)",
-    // Ok-nonfinite: energy = inf
-    "BeadOnHoop::energy(0.3, MAX)",
-    // Ok-nonfinite: energy = inf
-    "BeadOnHoop::energy(0.3, -MAX)",
-    // Ok-nonfinite: γ = NaN
-    "HeavyTop::gamma(NaN)",
-    // Ok-nonfinite: γ = inf
-    "HeavyTop::gamma(inf)",
-    // Ok-nonfinite: γ = -inf
-    "HeavyTop::gamma(-inf)",
     // wrong: energy = -3.302133068833406e-1, expected -3.2999999999999985e-1
     "kepler_orbit::kepler_propagate(1.0, 0.2, MAX)",
     // wrong: energy = -3.798984937467582e-1, expected -3.2999999999999985e-1
@@ -213,10 +141,6 @@ const KNOWN_DEFECTS: &[&str] = &[
     "integrate(Fixed::new(Rk4, n), t1 = 1)(18446744073709551615)",
     // hang
     "integrate(Fixed::new(ExactStep, n), t1 = 1)(1000000000)",
-    // wrong: energy = 2.6541064687906724e-1, expected 2.04498768942656e0
-    "PendulumMotion::new+state_at(1.0, MAX, 0.3, 2.0)",
-    // wrong: energy = 2.6541064687906724e-1, expected 2.04498768942656e0
-    "PendulumMotion::new+state_at(1.0, -MAX, 0.3, 2.0)",
     // panic
     "lindstedt_pendulum(18446744073709551615)",
     // wrong: accepted an invalid input
@@ -225,14 +149,8 @@ const KNOWN_DEFECTS: &[&str] = &[
     "LindstedtSeries::period_ratio_at(-MAX)",
     // wrong: accepted an invalid input
     "LindstedtSeries::period_ratio_at(4.0)",
-    // wrong: accepted an invalid input
-    "LindstedtSeries::theta(0, 0.1, 2.0)",
-    // wrong: accepted an invalid input
-    "LindstedtSeries::theta(-0, 0.1, 2.0)",
     // wrong: θ = NaN beyond the amplitude 0.1
     "LindstedtSeries::theta(MAX, 0.1, 2.0)",
-    // wrong: accepted an invalid input
-    "LindstedtSeries::theta(-MAX, 0.1, 2.0)",
     // wrong: accepted an invalid input
     "LindstedtSeries::theta(1.0, MAX, 2.0)",
     // wrong: accepted an invalid input
@@ -396,8 +314,6 @@ fn call_reference(function: &str, a: &[f64]) -> Result<Vec<f64>> {
     let top = || HeavyTop::new(1.0, 0.5, 2.0).unwrap();
     Ok(match function {
         "kepler_orbit::solve_kepler" => vec![kepler_equation::solve_kepler(a[0], a[1])?],
-        "kepler_orbit::mean_to_true" => vec![kepler_equation::mean_to_true(a[0], a[1])?],
-        "kepler_orbit::true_to_mean" => vec![kepler_equation::true_to_mean(a[0], a[1])?],
         "kepler_orbit::eccentric_to_true" => vec![kepler_equation::eccentric_to_true(a[0], a[1])?],
         "kepler_orbit::true_to_eccentric" => vec![kepler_equation::true_to_eccentric(a[0], a[1])?],
         "kepler_orbit::mean_motion" => vec![kepler_orbit::mean_motion(a[0], a[1])?],
@@ -430,7 +346,7 @@ fn call_reference(function: &str, a: &[f64]) -> Result<Vec<f64>> {
             let (th, p) = pendulum_exact::exact_state(a[0], a[1], a[2], a[3])?;
             vec![th, p]
         }
-        "top::HeavyTop::critical_spin" => vec![HeavyTop::new(a[0], a[1], a[2])?.critical_spin()],
+        "top::HeavyTop::critical_spin" => vec![HeavyTop::new(a[0], a[1], a[2])?.critical_spin()?],
         "top_motion::release_from_rest" => {
             vec![motion::release_from_rest(&top(), a[0], a[1])?]
         }
@@ -478,13 +394,35 @@ fn reference_verdict(r: &Reference) -> Verdict {
                 return Good;
             }
         }
-        if r.function == "pendulum_exact::jacobi_sn_cn_dn"
-            || (r.function == "pendulum_exact::exact_state" && k == 1)
-        {
-            return near(&format!("value {k}"), g, want, 64.0 * EPS);
+        if let Some(tol) = argument_conditioning(r, k) {
+            return near(&format!("value {k}"), g, want, tol);
         }
         Wrong(format!("value {k} = {g:e}, reference {want:e}"))
     }))
+}
+
+/// Absolute tolerance for value `k` of a function evaluated at a large argument `x` (the Jacobi
+/// argument `u`, the pendulum's time `t`): `x` itself is known only to a relative rounding ε, and
+/// the reductions of `x` by the period (or the phase `n t`) lose about `|x|·ε` more, so to first
+/// order the value `f(x)` is determined only to `|x|·ε·|∂f/∂x|`. With the same 64-ulp allowance
+/// as the relative check (and an absolute floor for values of scale 1), the tolerance is
+/// `64 ε (1 + |x|·|∂f/∂x|)`, the derivative evaluated from the reference values:
+/// `sn′ = cn dn`, `cn′ = −sn dn`, `dn′ = −k² sn cn` (DLMF 22.13.1–3) and `θ′ = p`,
+/// `p′ = −n² sin θ` (the pendulum's equations of motion).
+fn argument_conditioning(r: &Reference, k: usize) -> Option<f64> {
+    let v = r.values;
+    let (x, derivative) = match r.function {
+        "pendulum_exact::jacobi_sn_cn_dn" => {
+            let (sn, cn, dn, m) = (v[0], v[1], v[2], r.args[1] * r.args[1]);
+            (r.args[0], [cn * dn, -sn * dn, -m * sn * cn][k])
+        }
+        "pendulum_exact::exact_state" => {
+            let n = r.args[0];
+            (r.args[3], [v[1], -n * n * v[0].sin()][k])
+        }
+        _ => return None,
+    };
+    Some(64.0 * EPS * (1.0 + x.abs() * derivative.abs()))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -659,7 +597,7 @@ fn add_systems(c: &mut Vec<Call>) {
                 |b| {
                     near(
                         "energy at the bottom",
-                        b.energy(0.0, 0.0),
+                        b.energy(0.0, 0.0).unwrap_or(f64::NAN),
                         -a[0] * a[1] * a[2],
                         4.0 * EPS * (a[0] * a[1] * a[2]).abs() + 8.0 * 5e-324,
                     )
@@ -669,20 +607,16 @@ fn add_systems(c: &mut Vec<Call>) {
     );
     sweep(c, "BeadOnHoop::energy", &[0.3, 1.0], &[], |a| {
         let b = BeadOnHoop::new(1.0, 0.5, 9.81, 6.0).unwrap();
-        let e = b.energy(a[0], a[1]);
         let want = 0.125 * (a[1] * a[1] + (6.0 * a[0].sin()).powi(2)) - 0.5 * 9.81 * a[0].cos();
-        if !fin(a) || !want.is_finite() {
-            return finite_ok("energy", e).or_wrong("no finite energy exists");
-        }
-        near("energy", e, want, 8.0 * EPS * (1.0 + want.abs()))
+        judge(b.energy(a[0], a[1]), fin(a) && want.is_finite(), |e| {
+            near("energy", e, want, 8.0 * EPS * (1.0 + want.abs()))
+        })
     });
     sweep(c, "HeavyTop::gamma", &[10.0], &[], |a| {
         let t = HeavyTop::new(1.0, 0.5, 2.0).unwrap();
-        let g = t.gamma(a[0]);
-        if !a[0].is_finite() {
-            return finite_ok("γ", g).or_wrong("no finite γ exists");
-        }
-        near("γ", g, 0.5 * a[0], 0.0)
+        judge(t.gamma(a[0]), a[0].is_finite(), |g| {
+            near("γ", g, 0.5 * a[0], 0.0)
+        })
     });
     sweep(
         c,
@@ -735,19 +669,6 @@ fn add_systems(c: &mut Vec<Call>) {
             )
         },
     );
-}
-
-trait OrWrong {
-    fn or_wrong(self, why: &str) -> Verdict;
-}
-impl OrWrong for Verdict {
-    /// A finite value where none exists is wrong; a non-finite one stays non-finite.
-    fn or_wrong(self, why: &str) -> Verdict {
-        match self {
-            Good => Wrong(why.into()),
-            v => v,
-        }
-    }
 }
 
 fn add_orbits(c: &mut Vec<Call>) {

@@ -32,7 +32,7 @@ fn t24_bead_on_hoop_jacobi_integral() {
         let h = bead.jacobi_integral(t, q, v).unwrap();
         hmin = hmin.min(h);
         hmax = hmax.max(h);
-        let e = bead.energy(q[0], v[0]);
+        let e = bead.energy(q[0], v[0]).unwrap();
         emin = emin.min(e);
         emax = emax.max(e);
     });

@@ -29,7 +29,7 @@
 //! * A. H. Nayfeh, *Perturbation Methods*, Wiley 1973, ch. 4 (the Lindstedt–Poincaré method).
 //! * S. Ferraz-Mello, *Canonical Perturbation Theories*, Springer 2007, ch. 2.
 
-use crate::error::{finite, Error, Result};
+use crate::error::{finite, positive, Error, Result};
 
 /// Highest order accepted by [`lindstedt_odd_force`] (and [`lindstedt_pendulum`]). The coefficients
 /// of the pendulum's series fall like `π^{−2k}`, so beyond order ~150 they underflow to subnormals
@@ -104,9 +104,10 @@ impl LindstedtSeries {
     ///
     /// # Errors
     /// [`Error::NonFinite`] for non-finite arguments; [`Error::NotConverged`] as above;
-    /// [`Error::OutOfDomain`] for a lost phase.
+    /// [`Error::OutOfDomain`] for `n ≤ 0` (the small-oscillation frequency is positive) and for
+    /// a lost phase.
     pub fn theta(&self, n: f64, amplitude: f64, t: f64) -> Result<f64> {
-        let n = finite("n", n)?;
+        let n = positive("small-oscillation frequency n", n)?;
         let t = finite("time t", t)?;
         let a = finite("amplitude a", amplitude)?;
         let eps = a * a;

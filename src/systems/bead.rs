@@ -1,3 +1,5 @@
+#[cfg(doc)]
+use crate::error::Error;
 use crate::error::{finite, positive, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::SVector;
@@ -21,20 +23,37 @@ pub struct BeadOnHoop {
 
 impl BeadOnHoop {
     /// Bead of mass `m > 0` on a hoop of radius `a > 0`, gravity `g`, spin `ω`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ parameters, or when a coefficient of `L` (`ma²`, `ma²ω²`,
+    /// `mga`) overflows; [`Error::OutOfDomain`] for `m ≤ 0` or `a ≤ 0`.
     pub fn new(m: f64, a: f64, g: f64, omega: f64) -> Result<Self> {
-        Ok(Self {
+        let bead = Self {
             m: positive("mass m", m)?,
             a: positive("radius a", a)?,
             g: finite("g", g)?,
             omega: finite("ω", omega)?,
-        })
+        };
+        let ma2 = finite("coefficient m a²", bead.m * bead.a * bead.a)?;
+        finite("coefficient m a² ω²", ma2 * bead.omega * bead.omega)?;
+        finite("coefficient m g a", bead.m * bead.g * bead.a)?;
+        Ok(bead)
     }
 
-    /// Energy `T + V` in the rotating description (`T` including the `ω² sin²θ` part); not conserved.
-    pub fn energy(&self, theta: f64, theta_dot: f64) -> f64 {
+    /// Energy `T + V = ½ma²(θ̇² + ω² sin²θ) − mga cos θ` in the rotating description (`T`
+    /// including the `ω² sin²θ` part); not conserved [Ardema 8.2].
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ arguments or an energy that overflows.
+    pub fn energy(&self, theta: f64, theta_dot: f64) -> Result<f64> {
+        let theta = finite("θ", theta)?;
+        let theta_dot = finite("θ̇", theta_dot)?;
         let ma2 = self.m * self.a * self.a;
-        0.5 * ma2 * (theta_dot * theta_dot + (self.omega * theta.sin()).powi(2))
-            - self.m * self.g * self.a * theta.cos()
+        finite(
+            "energy T + V",
+            0.5 * ma2 * (theta_dot * theta_dot + (self.omega * theta.sin()).powi(2))
+                - self.m * self.g * self.a * theta.cos(),
+        )
     }
 
     /// The relative equilibrium `θ* = acos(g/(aω²))` and its small-oscillation frequency

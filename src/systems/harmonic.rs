@@ -1,8 +1,9 @@
 use super::{ExactFlow, Invariant, Invariants};
 use crate::brackets::PhaseMap;
-use crate::error::{positive, Result};
+use crate::error::{finite, positive, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
+use crate::systems::kepler_orbit::phase_advance;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -10,6 +11,11 @@ use num_dual::DualNum;
 ///
 /// Exact flow `q(t) = q₀ cos ωτ + p₀/(mω) sin ωτ`, `p(t) = p₀ cos ωτ − mω q₀ sin ωτ`, `τ = t − t₀`
 /// [Ardema 16.5, T5].
+///
+/// [`ExactFlow::exact_flow`] refuses a phase `|ωτ|` above
+/// [`MAX_PHASE_ADVANCE`](crate::systems::kepler_orbit::MAX_PHASE_ADVANCE) with
+/// [`Error::PhaseLost`](crate::Error::PhaseLost), and a state whose `q(t)` or `p(t)` overflows
+/// (e.g. `mω q₀` beyond `f64::MAX`) with [`Error::NonFinite`](crate::Error::NonFinite).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HarmonicOscillator {
     m: f64,
@@ -95,7 +101,12 @@ impl ExactFlow<1> for HarmonicOscillator {
         t: f64,
     ) -> Result<(SVector<f64, 1>, SVector<f64, 1>)> {
         check_phase(t0, q0, p0)?;
-        let tau = crate::error::finite("t", t)? - t0;
-        Ok(self.flow_map(tau).apply(t, q0, p0))
+        let tau = finite("t", t)? - t0;
+        // The phase ωτ must be known to 1e−6 rad (its rounding is ≈ |ωτ|·ε).
+        phase_advance("harmonic oscillator exact flow", self.omega * tau)?;
+        let (q, p) = self.flow_map(tau).apply(t, q0, p0);
+        finite("q(t)", q[0])?;
+        finite("p(t)", p[0])?;
+        Ok((q, p))
     }
 }

@@ -25,6 +25,7 @@
 //! smallest positive double.
 
 use crate::error::{finite, non_negative, positive, Error, Result};
+use crate::systems::kepler_orbit::MAX_PHASE_ADVANCE;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// `π − PI` rounded to a double: `PI + PI_LO` represents π to about 1e−32.
@@ -376,7 +377,8 @@ pub fn energy(n: f64, theta: f64, p: f64) -> Result<f64> {
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `n ≤ 0` or for a rotation
 /// (`H > 2n²`); [`Error::Separatrix`] when `H = 2n²` to rounding (no turning point), and when the
-/// amplitude rounds to `PI` (the error's `distance` is then the gap `δ`).
+/// amplitude rounds to `PI` (the error's `distance` is then the gap `δ`); [`Error::PhaseLost`]
+/// when `|θ|` exceeds [`MAX_PHASE_ADVANCE`].
 pub fn amplitude_from_state(n: f64, theta: f64, p: f64) -> Result<f64> {
     let st = ReducedState::new(n, theta, p)?;
     match st.regime() {
@@ -434,6 +436,15 @@ impl ReducedState {
     fn new(n: f64, theta0: f64, p0: f64) -> Result<Self> {
         let n = positive("n", n)?;
         let theta0 = finite("theta0", theta0)?;
+        if theta0.abs() > MAX_PHASE_ADVANCE {
+            // The rounding of θ₀ itself (half an ulp, ≈ |θ₀|·ε/2) exceeds 1e−6 rad: its position
+            // on the circle is not determined by the input.
+            return Err(Error::PhaseLost {
+                what: "pendulum initial angle theta0".into(),
+                phase: theta0,
+                limit: MAX_PHASE_ADVANCE,
+            });
+        }
         let p0 = finite("p0", p0)?;
         // θ − 2πm with 2π split as TAU + TAU_LO: the fused multiply-add is exact up to one
         // rounding of the (small) result, so each pass costs ≈ 1e−32 |m| plus one ulp of θ_r. One
@@ -575,7 +586,9 @@ impl PendulumMotion {
     ///
     /// # Errors
     /// [`Error::NonFinite`] for NaN/∞ (including `p₀/2n` overflowing); [`Error::OutOfDomain`] for
-    /// `n ≤ 0`.
+    /// `n ≤ 0`; [`Error::PhaseLost`] when `|θ₀|` exceeds
+    /// [`MAX_PHASE_ADVANCE`] `= 10⁻⁶/ε`, beyond
+    /// which the rounding of `θ₀` itself exceeds 10⁻⁶ rad and its place on the circle is lost.
     pub fn new(n: f64, theta0: f64, p0: f64) -> Result<Self> {
         let state = ReducedState::new(n, theta0, p0)?;
         let regime = state.regime();
@@ -738,7 +751,8 @@ impl PendulumMotion {
 /// (libration: `θ ∈ [−π, π]`; rotation/separatrix: continuous angle through `θ₀`).
 ///
 /// # Errors
-/// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `n ≤ 0`.
+/// [`Error::NonFinite`] for NaN/∞; [`Error::OutOfDomain`] for `n ≤ 0`; [`Error::PhaseLost`] when
+/// `|θ₀|` exceeds [`MAX_PHASE_ADVANCE`].
 pub fn exact_state(n: f64, theta0: f64, p0: f64, t: f64) -> Result<(f64, f64)> {
     PendulumMotion::new(n, theta0, p0)?.state_at(t)
 }
@@ -1422,14 +1436,13 @@ mod tests {
 
     #[test]
     fn large_initial_angles() {
-        // θ0 − 2π·round(θ0/2π) for these exact doubles, from mpmath at 400 digits.
-        let rows: [(f64, f64); 6] = [
+        // θ0 − 2π·round(θ0/2π) for these exact doubles, from mpmath at 400 digits (all within
+        // MAX_PHASE_ADVANCE ≈ 4.5e9).
+        let rows: [(f64, f64); 4] = [
             (1e6, -0.357_564_167_085_735),
-            (1e12, -0.657_624_759_136_786_5),
-            (1e16, 2.247_425_249_162_366_5),
-            (1e20, -0.701_352_157_715_345_4),
-            (-1e20, 0.701_352_157_715_345_4),
-            (3e22, -3.060_532_177_677_261),
+            (1e9, 0.577_395_423_501_385_2),
+            (4e9, 2.309_581_694_005_540_7),
+            (-4e9, -2.309_581_694_005_540_7),
         ];
         let n = 1.0;
         for (big, r) in rows {
@@ -1452,9 +1465,21 @@ mod tests {
                 }
             }
         }
-        // Beyond any meaningful reduction the result is still a finite state.
-        let (th, p) = exact_state(1.0, 1e300, 0.5, 2.0).unwrap();
-        assert!(th.is_finite() && p.is_finite());
+        // Beyond MAX_PHASE_ADVANCE the rounding of θ0 itself (half an ulp) exceeds 1e−6 rad: the
+        // place on the circle is lost and refused, as the phase of the Kepler propagators is.
+        for big in [4.6e9, 1e12, -1e20, 1e300, f64::MAX, f64::MIN] {
+            for r in [
+                exact_state(1.0, big, 0.5, 2.0).map(|_| ()),
+                amplitude_from_state(1.0, big, 0.5).map(|_| ()),
+                PendulumMotion::new(1.0, big, 0.5).map(|_| ()),
+            ] {
+                assert!(
+                    matches!(r, Err(Error::PhaseLost { .. })),
+                    "θ0 = {big:e}: {r:?}"
+                );
+            }
+        }
+        assert!(exact_state(1.0, MAX_PHASE_ADVANCE, 0.5, 2.0).is_ok());
     }
 
     #[test]

@@ -126,13 +126,6 @@ def mean_to_true(M, e):
     return [true_from_E(kepler_E(M, e), e)], True
 
 
-def true_to_mean(nu, e):
-    need_finite(nu)
-    e = elliptic(e)
-    E = E_from_true(mpf(nu), e)
-    return [E - e * sin(E)], True
-
-
 def eccentric_to_true(E, e):
     need_finite(E)
     return [true_from_E(mpf(E), elliptic(e))], True
@@ -374,8 +367,6 @@ def steady_slow(theta0, wz):
 # (name, reference, nominal arguments, extra out-of-domain / edge arguments as (position, value))
 FUNCTIONS = [
     ("kepler_orbit::solve_kepler", solve_kepler, [1.0, 0.5], [(1, 1.0), (1, 1.5), (1, -0.25), (1, 0.999999999)]),
-    ("kepler_orbit::mean_to_true", mean_to_true, [1.0, 0.5], [(1, 1.0), (1, -0.25)]),
-    ("kepler_orbit::true_to_mean", true_to_mean, [1.0, 0.5], [(1, 1.0), (1, -0.25), (0, 3.0)]),
     ("kepler_orbit::eccentric_to_true", eccentric_to_true, [1.0, 0.5], [(1, 1.0), (1, 2.0)]),
     ("kepler_orbit::true_to_eccentric", true_to_eccentric, [1.0, 0.5], [(1, 1.0), (1, 2.0)]),
     ("kepler_orbit::mean_motion", mean_motion, [1.0, 2.0], [(0, -1.0), (1, -2.0), (0, 1e300)]),

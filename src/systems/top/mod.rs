@@ -71,6 +71,17 @@ pub(crate) fn check_chart(theta: f64) -> Result<f64> {
     Ok(s)
 }
 
+/// Require a nutation angle `θ ∈ (0, π)`, the range of the 3-1-3 chart's `θ`
+/// [Goldstein §4.4].
+fn nutation_angle(theta: f64) -> Result<f64> {
+    let theta = finite("nutation angle θ₀", theta)?;
+    if theta > 0.0 && theta < std::f64::consts::PI {
+        Ok(theta)
+    } else {
+        Err(Error::out_of_domain("nutation angle θ₀", theta, "(0, π)"))
+    }
+}
+
 impl HeavyTop {
     /// Top with transverse moment of inertia `I > 0` and axial moment `J > 0` about the fixed
     /// point and `mgℓ > 0` (mass centre above the fixed point on the figure axis).
@@ -98,8 +109,12 @@ impl HeavyTop {
         2.0 * self.mgl / self.i
     }
     /// `γ = p_ψ/I = J ω_z/I` for the spin `ω_z` [Ardema eq. 11.19].
-    pub fn gamma(&self, omega_z: f64) -> f64 {
-        self.j * omega_z / self.i
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a NaN/∞ spin or a `γ` that overflows.
+    pub fn gamma(&self, omega_z: f64) -> Result<f64> {
+        let omega_z = finite("spin ω_z", omega_z)?;
+        finite("γ = J ω_z/I", self.j * omega_z / self.i)
     }
 
     /// The Lagrangian `L = ½ q̇ᵀ a(θ) q̇ − mgℓ cos θ` of M30 as a [`crate::Lagrangian`], for
@@ -162,9 +177,15 @@ impl HeavyTop {
     /// computed without cancellation (the slow root as `β/[γ + √(γ² − 2β cos θ₀)]`). Requires
     /// `γ² ≥ 2β cos θ₀`, i.e. `|ω_z| ≥` [`HeavyTop::min_spin_for_steady_precession`]
     /// [Ardema eq. 11.21]; otherwise [`Error::OutOfDomain`].
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ or a rate that overflows; [`Error::OutOfDomain`] for
+    /// `θ₀ ∉ (0, π)` or a spin below the least one; [`Error::Singular`] for `θ₀` within rounding
+    /// of `0` or `π`.
     pub fn steady_precession(&self, theta0: f64, omega_z: f64) -> Result<SteadyPrecession> {
         check_chart(theta0)?;
-        let (beta, gamma) = (self.beta(), self.gamma(finite("spin ω_z", omega_z)?));
+        nutation_angle(theta0)?;
+        let (beta, gamma) = (self.beta(), self.gamma(omega_z)?);
         let c = theta0.cos();
         let disc = gamma * gamma - 2.0 * beta * c;
         if disc < 0.0 {
@@ -191,21 +212,38 @@ impl HeavyTop {
 
     /// The least spin for which steady precession at `θ₀` exists [Ardema eq. 11.21]:
     /// `ω_min = 2√(I mgℓ cos θ₀)/J` for `cos θ₀ > 0`, zero (every spin) otherwise.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ or an `ω_min` that overflows; [`Error::OutOfDomain`] for
+    /// `θ₀ ∉ (0, π)` (the nutation angle of the 3-1-3 chart); [`Error::Singular`] for `θ₀` within
+    /// rounding of `0` or `π`.
     pub fn min_spin_for_steady_precession(&self, theta0: f64) -> Result<f64> {
         check_chart(theta0)?;
+        nutation_angle(theta0)?;
         let c = theta0.cos();
-        Ok(if c > 0.0 {
-            2.0 * (self.i * self.mgl * c).sqrt() / self.j
+        if c > 0.0 {
+            // √I·√(mgℓ cos θ₀) avoids overflow of the product for large I, mgℓ.
+            finite(
+                "least spin for steady precession",
+                2.0 * (self.i.sqrt() * (self.mgl * c).sqrt()) / self.j,
+            )
         } else {
-            0.0
-        })
+            Ok(0.0)
+        }
     }
 
     /// The critical spin of the sleeping top, `ω_c = 2√(I mgℓ)/J` (SPEC M30, T14c): the vertical
     /// top is stable iff `J² ω_z² > 4 I mgℓ`. At `ω_c` the cubic has a triple root at `u = 1`
     /// (SPEC X1).
-    pub fn critical_spin(&self) -> f64 {
-        2.0 * (self.i * self.mgl).sqrt() / self.j
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] when `ω_c` overflows (e.g. `J` subnormal).
+    pub fn critical_spin(&self) -> Result<f64> {
+        // √I·√(mgℓ) avoids overflow of the product for large I, mgℓ.
+        finite(
+            "critical spin ω_c",
+            2.0 * (self.i.sqrt() * self.mgl.sqrt()) / self.j,
+        )
     }
 }
 

@@ -365,6 +365,7 @@ fn sleeping_separatrix(top: &HeavyTop, p2: f64) -> Error {
             "sleeping top at spin ω_z = {omega} (critical spin {}): f has a double or triple \
              root at u = 1",
             top.critical_spin()
+                .map_or_else(|_| "overflows".into(), crate::error::fmt_num)
         ),
         distance: 0.0,
         hint: "at or below the critical spin the vertical is unstable and the motion with these \
@@ -429,7 +430,7 @@ pub fn release_from_rest(top: &HeavyTop, u2: f64, omega_z: f64) -> Result<f64> {
     if !(-1.0..=1.0).contains(&u2) {
         return Err(Error::out_of_domain("u₂ = cos θ₂", u2, "[−1, 1]"));
     }
-    let gamma = top.gamma(finite("spin ω_z", omega_z)?);
+    let gamma = top.gamma(omega_z)?;
     let c = gamma * gamma / (2.0 * top.beta());
     let root = ((c - u2) * (c - u2) + (1.0 - u2) * (1.0 + u2)).sqrt();
     finite("u₁", (2.0 * c * u2 - 1.0) / (c + root))
@@ -447,7 +448,7 @@ pub fn fast_top_width(top: &HeavyTop, u2: f64, omega_z: f64) -> Result<f64> {
     if !(-1.0..=1.0).contains(&u2) {
         return Err(Error::out_of_domain("u₂ = cos θ₂", u2, "[−1, 1]"));
     }
-    let gamma = top.gamma(finite("spin ω_z", omega_z)?);
+    let gamma = top.gamma(omega_z)?;
     if gamma == 0.0 {
         return Err(Error::out_of_domain("spin ω_z", omega_z, "ω_z ≠ 0"));
     }
