@@ -19,8 +19,8 @@ use hamilton_jacobi::brackets::certify;
 use hamilton_jacobi::hamilton_jacobi::principal::{principal_function, PrincipalOptions};
 use hamilton_jacobi::hamilton_jacobi::ActionAngle;
 use hamilton_jacobi::integrate::{
-    integrate, Crossing, Dop853, ExactStep, Fixed, Gauss, ParameterSensitivity, Problem, Section,
-    Splitting, StepMap, WisdomHolman,
+    integrate, AnyMethod, Crossing, Dop853, ExactStep, Fixed, ParameterSensitivity, Problem,
+    Section, Splitting, StepMap, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::elements::Classical;
@@ -48,47 +48,27 @@ fn henon_heiles() -> Result<()> {
     let span = 7000.0;
     let problem = Problem::new(&HenonHeiles, 0.0, q0, p0, span)?;
     let h0 = HenonHeiles.value(0.0, &q0, &p0)?;
-    let runs: Vec<(&str, Box<dyn Fn(&mut Section<_, 2>) -> Result<_>>)> = vec![
-        (
-            "DOP853, rtol = 1e-13",
-            Box::new(|s| integrate(&problem, &Dop853::new(1e-13, 1e-15)?, s)),
-        ),
+    // The methods as values, swept in one loop.
+    let runs = [
+        ("DOP853, rtol = 1e-13", AnyMethod::dop853(1e-13, 1e-15)?),
         (
             "Störmer–Verlet, h = 0.01",
-            Box::new(|s| {
-                integrate(
-                    &problem,
-                    &Fixed::new(Splitting::VERLET_KDK, (span / 0.01) as usize)?,
-                    s,
-                )
-            }),
+            AnyMethod::verlet((span / 0.01) as usize)?,
         ),
         (
             "Kahan–Li 6 (order 6), h = 0.1",
-            Box::new(|s| {
-                integrate(
-                    &problem,
-                    &Fixed::new(Splitting::KAHAN_LI6, (span / 0.1) as usize)?,
-                    s,
-                )
-            }),
+            AnyMethod::of_splitting(Splitting::KAHAN_LI6, (span / 0.1) as usize)?,
         ),
         (
             "Gauss–Legendre s = 3 (order 6), h = 0.1",
-            Box::new(|s| {
-                integrate(
-                    &problem,
-                    &Fixed::new(Gauss::<3>::new()?, (span / 0.1) as usize)?,
-                    s,
-                )
-            }),
+            AnyMethod::gauss(3, (span / 0.1) as usize)?,
         ),
     ];
     let mut reference = Vec::new();
-    for (label, run) in &runs {
+    for (label, method) in &runs {
         let mut section = Section::new(|_t, q, _p| q[0], Crossing::Up).stop_after(1000);
         let clock = Instant::now();
-        let report = run(&mut section)?;
+        let report = integrate(&problem, method, &mut section)?;
         let elapsed = clock.elapsed();
         let last = &report.last;
         let drift = (HenonHeiles.value(last.t, &last.q, &last.p)? - h0).abs();

@@ -46,7 +46,7 @@
 //! The element → state maps are written once for any `D: DualNum<f64> + Copy`, so the Jacobian
 //! `∂(q, p)/∂(elements)` and the Lagrange brackets come from automatic differentiation. Where
 //! Kepler's equation has to be solved, the root is found on the real parts
-//! ([`crate::systems::kepler_orbit::solve_kepler`] for ellipses, [`solve_kepler_hyperbolic`] for
+//! ([`solve_kepler`](crate::special::kepler_equation::solve_kepler) for ellipses, [`solve_kepler_hyperbolic`](crate::special::kepler_equation::solve_kepler_hyperbolic) for
 //! hyperbolas) and then refined by `D::NDERIV` Newton steps in `D` with the real derivative frozen
 //! and the real part of the residual removed, as in [`crate::implicit`]: every Taylor coefficient
 //! of the root is then exact (implicit function theorem), while its real part keeps the full
@@ -58,7 +58,7 @@
 //! The anomaly functions ([`mean_to_true`], [`true_to_mean`]) take the conic type from `e`:
 //! `e < 1` elliptic (`M = E − e sin E`), `e > 1` hyperbolic (`M = e sinh F − F`), and exactly
 //! `e = 1` parabolic, where the "mean anomaly" is `M_p = B + B³/3` with `B = tan(ν/2)`
-//! (Barker's equation; `M_p = 2√(μ/p³)(t − t_p)`), solved in closed form ([`solve_barker`]).
+//! (Barker's equation; `M_p = 2√(μ/p³)(t − t_p)`), solved in closed form ([`solve_barker`](crate::special::kepler_equation::solve_barker)).
 //! The near-parabolic elliptic and hyperbolic equations are solved to full relative precision
 //! by cubic starters and cancellation-free residuals. Time propagation ([`propagate`]) uses
 //! universal variables ([`crate::integrate::kepler_drift`]), which need no switch.
@@ -647,7 +647,7 @@ impl<D: DualNum<f64> + Copy> Equinoctial<D> {
     /// These are polynomial/trigonometric in `(h, k, p, q)`, hence smooth at `e = 0` and `i = 0`,
     /// and their infinitesimal parts give the derivatives. The real parts are taken from
     /// [`Classical::to_state`] of the same orbit, which is accurate also for `e → 1`; the real
-    /// root `F` comes from [`kepler_orbit::solve_kepler`] and is refined in `D` on the
+    /// root `F` comes from [`solve_kepler`](crate::special::kepler_equation::solve_kepler) and is refined in `D` on the
     /// equinoctial form of Kepler's equation.
     ///
     /// # Errors

@@ -494,11 +494,11 @@ pub fn solve_barker<D: DualNum<f64> + Copy>(mean_anomaly: D) -> Result<D> {
 }
 
 /// Eccentric anomaly `E` of an ellipse from `M = E − e sin E`, in any dual type: the real root
-/// by [`kepler_orbit::solve_kepler`], then `D::NDERIV` frozen-derivative Newton steps in `D`
+/// by [`solve_kepler`], then `D::NDERIV` frozen-derivative Newton steps in `D`
 /// (exact derivatives with respect to `M` and `e`; see the [module docs](self)).
 ///
 /// # Errors
-/// As [`kepler_orbit::solve_kepler`] (on the real parts).
+/// As [`solve_kepler`] (on the real parts).
 pub fn eccentric_anomaly<D: DualNum<f64> + Copy>(mean_anomaly: D, e: D) -> Result<D> {
     let ea_re = solve_kepler(mean_anomaly.re(), e.re())?;
     let mut ea = D::from(ea_re);

@@ -8,7 +8,7 @@
 //! | [`Kepler2`], [`Kepler3`] | 2, 3 | Kepler's equation, elliptic orbits (SPEC M28, X3) |
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral, SPEC T24) |
-//! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`](top::motion), SPEC M30, M57) |
+//! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`], SPEC M30, M57) |
 
 use crate::error::Result;
 use nalgebra::SVector;
