@@ -254,3 +254,114 @@ fn central_potential_written_once() {
         r.last.q.norm() - rp
     );
 }
+
+/// A double pendulum (unit masses and lengths, g = 9.81) written once as a Lagrangian,
+/// `L = θ̇₁² + ½θ̇₂² + θ̇₁θ̇₂ cos(θ₁ − θ₂) + 2g cos θ₁ + g cos θ₂`.
+struct DoublePendulum;
+impl hamilton_jacobi::Lagrangian<2> for DoublePendulum {
+    fn lagrangian<D: hamilton_jacobi::DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+        v: &SVector<D, 2>,
+    ) -> D {
+        let g = 9.81;
+        v[0] * v[0]
+            + v[1] * v[1] * 0.5
+            + v[0] * v[1] * (q[0] - q[1]).cos()
+            + q[0].cos() * (2.0 * g)
+            + q[1].cos() * g
+    }
+}
+
+/// The double pendulum's Hamiltonian written out by hand (the independent oracle):
+/// `H = ½ pᵀM⁻¹p − 2g cos θ₁ − g cos θ₂`, `M = [[2, c], [c, 1]]`, `c = cos(θ₁ − θ₂)`.
+fn double_pendulum_h(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
+    let c = (q[0] - q[1]).cos();
+    let det = 2.0 - c * c;
+    0.5 * (p[0] * p[0] - 2.0 * c * p[0] * p[1] + 2.0 * p[1] * p[1]) / det
+        - 2.0 * 9.81 * q[0].cos()
+        - 9.81 * q[1].cos()
+}
+
+hamilton_jacobi::hamiltonian!(
+    /// The same plane pendulum written directly as a Hamiltonian, for comparison.
+    PlanePendulumH<1> |_s, _t, q, p| kinetic = p[0] * p[0] * 0.5, potential = -q[0].cos()
+);
+
+/// A plane pendulum written once as a Lagrangian, `L = ½θ̇² + cos θ`.
+#[derive(Clone)]
+struct PlanePendulumL;
+impl hamilton_jacobi::Lagrangian<1> for PlanePendulumL {
+    fn lagrangian<D: hamilton_jacobi::DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        v: &SVector<D, 1>,
+    ) -> D {
+        v[0] * v[0] * 0.5 + q[0].cos()
+    }
+}
+
+/// A regular Lagrangian, through the crate's Legendre transform, is accepted wherever a
+/// Hamiltonian is: its H equals the hand-written one; Gauss–Legendre and DOP853 run it and agree
+/// to their accuracies; the Poincaré-section observer and the symplectic certificate of a step
+/// apply; and a one-degree-of-freedom Lagrangian gets action–angle variables whose period is the
+/// pendulum's exact one (AGM).
+#[test]
+fn a_lagrangian_is_accepted_wherever_a_hamiltonian_is() {
+    use hamilton_jacobi::brackets::certify;
+    use hamilton_jacobi::hamilton_jacobi::ActionAngle;
+    use hamilton_jacobi::integrate::{Crossing, Gauss, Section, StepMap};
+    use hamilton_jacobi::systems::pendulum_exact::period;
+    use hamilton_jacobi::Legendre;
+    let h = Legendre(DoublePendulum);
+    let (q0, p0) = (SVector::from([1.0, -0.5]), SVector::from([0.3, 0.8]));
+    let e0 = h.value(0.0, &q0, &p0).unwrap();
+    let hand = double_pendulum_h(&q0, &p0);
+    assert!(
+        (e0 - hand).abs() < 1e-13 * hand.abs().max(1.0),
+        "{e0} vs {hand}"
+    );
+    let problem = Problem::new(&h, 0.0, q0, p0, 5.0).unwrap();
+    let mut section = Section::new(|_t, q: &SVector<f64, 2>, _p| q[0], Crossing::Up);
+    let gl = integrate(
+        &problem,
+        &Fixed::new(Gauss::<3>::new().unwrap(), 2000).unwrap(),
+        &mut section,
+    )
+    .unwrap();
+    let dop = integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut ()).unwrap();
+    // Gauss s = 3 (order 6) at h = 2.5e-3 over t = 5: global error ~ h⁶·t·|f⁽⁷⁾| ≪ 1e-8.
+    assert!(
+        (gl.last.q - dop.last.q).amax() < 1e-8,
+        "{}",
+        (gl.last.q - dop.last.q).amax()
+    );
+    let e1 = double_pendulum_h(&gl.last.q, &gl.last.p);
+    assert!((e1 - hand).abs() < 1e-10 * hand.abs().max(1.0));
+    assert!(!section.points.is_empty());
+    for z in &section.points {
+        // On the surface θ₁ = 0, crossing upwards (θ̇₁ > 0).
+        assert!(z.q[0].abs() < 1e-10, "{}", z.q[0]);
+        assert!(Legendre(DoublePendulum).velocity(z.t, &z.q, &z.p).unwrap()[0] > 0.0);
+    }
+    let step = StepMap {
+        system: &h,
+        method: &Gauss::<3>::new().unwrap(),
+        dt: 0.01,
+    };
+    assert!(certify(&step, 0.0, &q0, &p0).unwrap().symplectic_defect < 1e-12);
+    // One degree of freedom: action–angle variables of the Lagrangian's Hamiltonian.
+    let aa = ActionAngle::from_state(Legendre(PlanePendulumL), 1.0, 0.0, -3.0, 3.0).unwrap();
+    let exact = period(1.0, 1.0).unwrap();
+    let t = aa.period();
+    assert!(
+        (t.value - exact).abs() <= t.error + 16.0 * f64::EPSILON * exact,
+        "{} vs {exact}",
+        t.value
+    );
+    // The same as the Hamiltonian written directly.
+    let direct = ActionAngle::from_state(PlanePendulumH, 1.0, 0.0, -3.0, 3.0).unwrap();
+    assert!((direct.action().value - aa.action().value).abs() < 1e-14);
+}
