@@ -159,16 +159,42 @@ fn solve_kepler_reduced(m: f64, e: f64) -> Result<f64> {
         return Ok(linear);
     }
     // Bracket: f(m) = −e sin m ≤ 0, f(m + e) = e(1 − sin(m + e)) ≥ 0, f(π) = π − m ≥ 0.
-    let mut lo = m;
-    let mut hi = (m + e).min(PI);
+    let lo = m;
+    let hi = (m + e).min(PI);
     let cubic = cubic_starter(m, e);
     let mut x = if cubic < 1.0 { cubic } else { m + 0.85 * e };
     if !(lo..=hi).contains(&x) {
         x = 0.5 * (lo + hi);
     }
+    bracketed_halley(
+        "Kepler's equation (bracketed Halley)",
+        |x| (kepler_lhs(x, e) - m, one_minus_e_cos(x, e), e * x.sin()),
+        (lo, hi),
+        x,
+        KEPLER_MAX_ITER,
+    )
+}
+
+/// Halley's iteration safeguarded by bisection for an increasing `f` with `f(lo) ≤ 0 ≤ f(hi)`,
+/// from `x ∈ [lo, hi]`; `f` returns `(f, f′, f″)` at a point. Each iteration takes the Halley step
+/// `δ = −(f/f′)/(1 + ½(−f/f′)f″/f′)` when it stays inside the shrinking bracket and bisects
+/// otherwise; it stops when the step is below `KEPLER_STEP_TOL` of the iterate (the error after a
+/// Halley step from relative error `δ` is `O(δ³)`, far below one ulp) or when the bracket holds
+/// adjacent floating-point numbers. Reaching `max_iter` is [`Error::NotConverged`].
+///
+/// Reference: Press et al., *Numerical Recipes*, 3rd ed., §9.4 (safeguarded Newton); Danby
+/// (1988) §6.6 (Halley's method for Kepler's equation).
+fn bracketed_halley(
+    what: &str,
+    f: impl Fn(f64) -> (f64, f64, f64),
+    (mut lo, mut hi): (f64, f64),
+    mut x: f64,
+    max_iter: usize,
+) -> Result<f64> {
     let mut residual = f64::NAN;
-    for _ in 0..KEPLER_MAX_ITER {
-        residual = kepler_lhs(x, e) - m;
+    for _ in 0..max_iter {
+        let (r, fp, fpp) = f(x);
+        residual = r;
         if residual == 0.0 {
             return Ok(x);
         }
@@ -177,15 +203,13 @@ fn solve_kepler_reduced(m: f64, e: f64) -> Result<f64> {
         } else {
             hi = x;
         }
-        let fp = one_minus_e_cos(x, e);
-        let fpp = e * x.sin();
         let newton = -residual / fp;
         let step = newton / (1.0 + 0.5 * newton * fpp / fp);
         if step.abs() <= KEPLER_STEP_TOL * x.abs() {
             return Ok((x + step).clamp(lo, hi));
         }
         let next = x + step;
-        if (lo..=hi).contains(&next) {
+        if next > lo && next < hi {
             x = next;
         } else {
             let mid = lo + 0.5 * (hi - lo);
@@ -197,8 +221,8 @@ fn solve_kepler_reduced(m: f64, e: f64) -> Result<f64> {
         }
     }
     Err(Error::NotConverged {
-        what: "Kepler's equation (bracketed Halley)".into(),
-        iterations: KEPLER_MAX_ITER,
+        what: what.into(),
+        iterations: max_iter,
         residual: residual.abs(),
     })
 }
@@ -385,9 +409,9 @@ fn solve_hyperbolic_reduced(m: f64, e: f64) -> Result<f64> {
     }
     // Bracket: e sinh F = M + F ≥ M gives F ≥ asinh(M/e); e sinh F − F ≥ (e − 1) sinh F gives
     // F ≤ asinh(M/(e − 1)) (with asinh x ≤ ln x + ln 2 + 1/x² used when M/(e − 1) overflows).
-    let mut lo = (m / e).asinh();
+    let lo = (m / e).asinh();
     let ratio = m / em1;
-    let mut hi = if ratio.is_finite() {
+    let hi = if ratio.is_finite() {
         ratio.asinh()
     } else {
         m.ln() - em1.ln() + LN_2 + 1.0
@@ -404,40 +428,19 @@ fn solve_hyperbolic_reduced(m: f64, e: f64) -> Result<f64> {
     if !(lo..=hi).contains(&x) {
         x = 0.5 * (lo + hi);
     }
-    let mut residual = f64::NAN;
-    for _ in 0..HYPERBOLIC_MAX_ITER {
-        residual = hyperbolic_lhs(x, e) - m;
-        if residual == 0.0 {
-            return Ok(x);
-        }
-        if residual < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let fp = e_cosh_minus_one(x, e);
-        let fpp = e * x.sinh();
-        let newton = -residual / fp;
-        let step = newton / (1.0 + 0.5 * newton * fpp / fp);
-        if step.abs() <= 1e-8 * x.abs() {
-            return Ok((x + step).clamp(lo, hi));
-        }
-        let next = x + step;
-        if next > lo && next < hi {
-            x = next;
-        } else {
-            let mid = lo + 0.5 * (hi - lo);
-            if !(mid > lo && mid < hi) {
-                return Ok(x);
-            }
-            x = mid;
-        }
-    }
-    Err(Error::NotConverged {
-        what: "hyperbolic Kepler equation (bracketed Halley)".into(),
-        iterations: HYPERBOLIC_MAX_ITER,
-        residual: residual.abs(),
-    })
+    bracketed_halley(
+        "hyperbolic Kepler equation (bracketed Halley)",
+        |x| {
+            (
+                hyperbolic_lhs(x, e) - m,
+                e_cosh_minus_one(x, e),
+                e * x.sinh(),
+            )
+        },
+        (lo, hi),
+        x,
+        HYPERBOLIC_MAX_ITER,
+    )
 }
 
 /// Hyperbolic anomaly `F` solving the hyperbolic Kepler equation `M = e sinh F − F` (`e > 1`,
