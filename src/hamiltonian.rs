@@ -269,6 +269,21 @@ impl<const N: usize, S: Separable<N>> Hamiltonian<N> for S {
     }
 }
 
+/// The shape "Kepler + R" of a system: a Kepler problem plus a perturbation that depends on
+/// position (and time) only, `H = |p|²/2 − μ/|q| + H₁(t, q)`, declared by the system so that
+/// Wisdom–Holman and SABA methods, which split it into the exact Kepler flow and kicks by `H₁`,
+/// apply to it ([`crate::integrate::WisdomHolman`]). Implemented by the plain Kepler problem
+/// (`H₁ = 0`) and by the perturbed two-body problem of any disturbing function.
+///
+/// # Reference
+/// J. Wisdom & M. Holman, Astron. J. 102 (1991) 1528–1538, doi:10.1086/115978.
+pub trait PerturbedKepler<const N: usize> {
+    /// The gravitational parameter `μ > 0` of the Kepler part.
+    fn mu(&self) -> f64;
+    /// The perturbation `H₁(t, q)`, written once for every dual type.
+    fn perturbation<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
+}
+
 /// The vector field `(q, p) ↦ (q̇, ṗ)` seen as a map of phase space, for its AD Jacobian.
 struct VectorFieldMap<'a, H: ?Sized>(&'a H);
 

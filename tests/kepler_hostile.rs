@@ -4,8 +4,7 @@
 //! test asserts "a typed error, or a finite value agreeing with an independent reference".
 
 use hamilton_jacobi::integrate::{
-    integrate, kepler_drift, Dop853, ExactStep, Fixed, Gauss, KeplerJ2, Problem, Rk4, Splitting,
-    WisdomHolman,
+    integrate, kepler_drift, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
@@ -253,7 +252,7 @@ fn wisdom_holman_on_a_strong_hyperbola() {
     let (q0, p0) = hyperbola(mu, abs_a, e, 0.0, u, w);
     let h1 = solve_kepler_hyperbolic((mu / abs_a).sqrt() / abs_a * dt, e).unwrap();
     let (q_ref, p_ref) = hyperbola(mu, abs_a, e, h1, u, w);
-    let sys = KeplerJ2::<3>::new(mu, 0.0).unwrap();
+    let sys = Kepler3::new(mu).unwrap();
     let pr = Problem::new(&sys, 0.0, q0, p0, dt).unwrap();
     let run = integrate(&pr, &Fixed::new(WisdomHolman::WH, 10).unwrap(), &mut ()).unwrap();
     let eq = (run.last.q - q_ref).norm() / q_ref.norm();
@@ -346,7 +345,7 @@ fn integration_from_the_collision_is_refused() {
     let dop = Dop853::new(1e-10, 1e-12).unwrap();
     assert!(nonfinite(integrate(&pr, &dop, &mut ()).map(|_| ())));
     assert!(integrate(&pr, &Fixed::new(ExactStep, 10).unwrap(), &mut ()).is_err());
-    let sys = KeplerJ2::<2>::new(1.0, 0.0).unwrap();
+    let sys = Kepler2::new(1.0).unwrap();
     let pr = Problem::new(&sys, 0.0, q0, p0, 1.0).unwrap();
     assert!(integrate(&pr, &f2(WisdomHolman::WH), &mut ()).is_err());
     // At a regular point nearby the same runs succeed.

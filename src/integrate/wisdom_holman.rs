@@ -42,14 +42,7 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 use std::f64::consts::PI;
 
-/// A Kepler problem plus a perturbation that depends on position (and time) only,
-/// `H = |p|²/2 − μ/|q| + H₁(t, q)`: what Wisdom–Holman methods integrate.
-pub trait PerturbedKepler<const N: usize> {
-    /// The gravitational parameter `μ > 0` of the Kepler part.
-    fn mu(&self) -> f64;
-    /// The perturbation `H₁(t, q)`, written once for every dual type.
-    fn perturbation<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
-}
+pub use crate::hamiltonian::PerturbedKepler;
 
 /// A Wisdom–Holman method (a Laskar–Robutel table with `A` = Kepler, `B` = perturbation).
 ///

@@ -41,8 +41,8 @@
 
 use super::variation::{DisturbingFunction, GradientForce, MomentumForce, ParametricDisturbance};
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
+use crate::hamiltonian::PerturbedKepler;
 use crate::hamiltonian::{Parametric, Separable};
-use crate::integrate::PerturbedKepler;
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 

@@ -1,7 +1,7 @@
 use super::central::{Central, InverseDistance};
 use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::{PhaseFunction, Separable};
+use crate::hamiltonian::{PerturbedKepler, PhaseFunction, Separable};
 use crate::phase::check_phase;
 use nalgebra::{SVector, Vector2, Vector3};
 use num_dual::DualNum;
@@ -59,6 +59,18 @@ impl<const N: usize> Separable<N> for Kepler<N> {
     #[inline]
     fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>) -> D {
         q.dot(q).sqrt().recip() * -self.mu
+    }
+}
+
+/// The plain Kepler problem as "Kepler + R" with `R = 0`: Wisdom–Holman and SABA methods then
+/// compose the exact Kepler flow.
+impl<const N: usize> PerturbedKepler<N> for Kepler<N> {
+    fn mu(&self) -> f64 {
+        self.mu
+    }
+    #[inline]
+    fn perturbation<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, N>) -> D {
+        D::zero()
     }
 }
 
