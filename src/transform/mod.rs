@@ -11,5 +11,5 @@ pub mod point;
 
 pub use compose::{Compose, Inverse};
 pub use generating::{CanonicalTransformation, GeneratingFunction, Kind, Transformed};
-pub use lie::{Ict, LieSeries};
+pub use lie::{lie_flow, Ict, LieSeries};
 pub use point::{point_transformation, PointTransformation};
