@@ -14,22 +14,16 @@
 
 use hamilton_jacobi::integrate::{integrate, AnyMethod, Crossing, Method, Problem, Section, State};
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::{DualNum, Result, Separable};
+use hamilton_jacobi::{hamiltonian, Result};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-/// `H = (p_x² + p_y²)/2 + (x² + y²)/2 + x²y − y³/3`, written once as `T(p) + V(q)`.
-struct HenonHeiles;
-
-impl Separable<2> for HenonHeiles {
-    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 2>) -> D {
-        (p[0] * p[0] + p[1] * p[1]) * 0.5
-    }
-    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> D {
-        let (x, y) = (q[0], q[1]);
-        (x * x + y * y) * 0.5 + x * x * y - y * y * y / 3.0
-    }
-}
+hamiltonian!(
+    /// `H = (p_x² + p_y²)/2 + (x² + y²)/2 + x²y − y³/3`, written once as `T(p) + V(q)`.
+    HenonHeiles<2> |_s, _t, q, p|
+        kinetic = (p[0] * p[0] + p[1] * p[1]) * 0.5,
+        potential = (q[0] * q[0] + q[1] * q[1]) * 0.5 + q[0] * q[0] * q[1] - q[1] * q[1] * q[1] / 3.0
+);
 
 const ENERGY: f64 = 0.125;
 const CROSSINGS: usize = 1000;

@@ -10,19 +10,13 @@ use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::{hamiltonian, DualNum, Error, PhaseFunction, Separable};
 use std::time::Instant;
 
-/// Hénon–Heiles, `H = (p_x² + p_y²)/2 + (x² + y²)/2 + x²y − y³/3` (Hénon & Heiles, Astron. J. 69
-/// (1964) 73, doi:10.1086/109234), declared separable.
-struct HenonHeiles;
-
-impl Separable<2> for HenonHeiles {
-    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 2>) -> D {
-        (p[0] * p[0] + p[1] * p[1]) * 0.5
-    }
-    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> D {
-        let (x, y) = (q[0], q[1]);
-        (x * x + y * y) * 0.5 + x * x * y - y * y * y / 3.0
-    }
-}
+hamiltonian!(
+    /// Hénon–Heiles, `H = (p_x² + p_y²)/2 + (x² + y²)/2 + x²y − y³/3` (Hénon & Heiles, Astron. J. 69
+    /// (1964) 73, doi:10.1086/109234), declared separable.
+    HenonHeiles<2> |_s, _t, q, p|
+        kinetic = (p[0] * p[0] + p[1] * p[1]) * 0.5,
+        potential = (q[0] * q[0] + q[1] * q[1]) * 0.5 + q[0] * q[0] * q[1] - q[1] * q[1] * q[1] / 3.0
+);
 
 /// Energy of the Hénon–Heiles runs.
 const ENERGY: f64 = 0.125;

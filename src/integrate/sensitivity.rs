@@ -126,11 +126,13 @@ impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> FirstO
     ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
         let q = qa.fixed_rows::<N>(0).into_owned();
         let p = pa.fixed_rows::<N>(0).into_owned();
-        let (qd, pd) = parametric_vector_field(self.system, &self.k, t, &q, &p);
         let mut dq = SVector::<f64, K>::zeros();
         let mut dp = SVector::<f64, K>::zeros();
-        dq.fixed_rows_mut::<N>(0).copy_from(&qd);
-        dp.fixed_rows_mut::<N>(0).copy_from(&pd);
+        if M == 0 {
+            let (qd, pd) = parametric_vector_field(self.system, &self.k, t, &q, &p);
+            dq.fixed_rows_mut::<N>(0).copy_from(&qd);
+            dp.fixed_rows_mut::<N>(0).copy_from(&pd);
+        }
         let td = Dual64::from(t);
         for j in 0..M {
             let off = N * (1 + j);
@@ -141,6 +143,11 @@ impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> FirstO
             });
             let (fq, fp) = parametric_vector_field(self.system, &ks, td, &qs, &ps);
             for i in 0..N {
+                // The real parts are the vector field itself (the same for every direction).
+                if j == 0 {
+                    dq[i] = fq[i].re;
+                    dp[i] = fp[i].re;
+                }
                 dq[off + i] = fq[i].eps;
                 dp[off + i] = fp[i].eps;
             }

@@ -1,4 +1,4 @@
-use super::central::{Central, InverseDistance};
+use super::central::{Central, CentralPotential, InverseDistance};
 use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::{PerturbedKepler, PhaseFunction, Separable};
@@ -58,7 +58,8 @@ impl<const N: usize> Separable<N> for Kepler<N> {
     }
     #[inline]
     fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>) -> D {
-        q.dot(q).sqrt().recip() * -self.mu
+        // −μ/r, written once in the central potential.
+        InverseDistance::from_mu(self.mu).potential(q.dot(q).sqrt())
     }
 }
 
