@@ -4,6 +4,8 @@
 //! Tolerances are derived in the comments from the method's orders and the controlled local error
 //! `≤ atol + rtol·|y|` per step; the measured numbers are printed (`--nocapture`).
 
+mod common;
+
 use hamilton_jacobi::integrate::{
     integrate, Control, Dop853, Events, Method, Observer, Problem, State, StepView,
 };
@@ -42,16 +44,6 @@ fn dist<const N: usize>(
     b: (&SVector<f64, N>, &SVector<f64, N>),
 ) -> f64 {
     ((a.0 - b.0).norm_squared() + (a.1 - b.1).norm_squared()).sqrt()
-}
-
-/// Least-squares slope of `log y` against `log x`.
-fn loglog_slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
-    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
-    let num: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let den: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
-    num / den
 }
 
 /// A small deterministic generator (xorshift64*) for sample times.
@@ -116,12 +108,10 @@ fn one_step_orders() {
         mid_err.push(dist((&s.q, &s.p), (&q, &p)));
     }
     eprintln!("one step: errors {step_err:?}, dense midpoint {mid_err:?}");
-    for w in step_err.windows(2) {
-        let order = (w[0] / w[1]).log2();
+    for order in common::halving_orders(&step_err) {
         assert!((8.0..=9.6).contains(&order), "step order {order}");
     }
-    for w in mid_err.windows(2) {
-        let order = (w[0] / w[1]).log2();
+    for order in common::halving_orders(&mid_err) {
         assert!(order >= 7.4, "dense order {order}");
     }
 }
@@ -174,7 +164,7 @@ fn kepler_error_proportional_to_rtol() {
         assert!(err <= c * tol * k, "rtol {tol}: error {err:e}");
         points.push((tol, err));
     }
-    let slope = loglog_slope(&points);
+    let slope = common::loglog_slope(&points);
     eprintln!("  slope {slope:.3}");
     assert!((slope - 1.0).abs() <= 0.2, "slope {slope}");
 }
@@ -215,7 +205,7 @@ fn pendulum_error_proportional_to_rtol() {
         assert!(err <= c * tol * k, "rtol {tol}: error {err:e}");
         points.push((tol, err));
     }
-    let slope = loglog_slope(&points);
+    let slope = common::loglog_slope(&points);
     eprintln!("  slope {slope:.3}");
     assert!((slope - 1.0).abs() <= 0.2, "slope {slope}");
 }

@@ -10,6 +10,8 @@
 //! moving. The tolerance is the brief's ±0.3, not adjusted. Each window also re-checks (i) at run
 //! time, so a change that lifts the floor fails loudly instead of measuring noise.
 
+mod common;
+
 use hamilton_jacobi::brackets::{certify, exactness_defect};
 use hamilton_jacobi::integrate::{
     integrate, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4, State,
@@ -57,15 +59,10 @@ impl Hamiltonian<1> for Damped {
     }
 }
 
-/// Least-squares slope of `−ln err` against `ln n` (the observed order).
+/// Observed order: minus the log–log slope of error against the step count `n`.
 fn observed_order(ns: &[usize], errs: &[f64]) -> f64 {
-    let x: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
-    let y: Vec<f64> = errs.iter().map(|e| -e.ln()).collect();
-    let m = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / m, y.iter().sum::<f64>() / m);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
+    let pts: Vec<(f64, f64)> = ns.iter().zip(errs).map(|(&n, &e)| (n as f64, e)).collect();
+    -common::loglog_slope(&pts)
 }
 
 /// Max-norm error of the end state of `n` steps against `exact`.

@@ -16,27 +16,21 @@ use hamilton_jacobi::systems::{HarmonicOscillator, Kepler2, Pendulum};
 use hamilton_jacobi::Error;
 use std::f64::consts::PI;
 
-/// Least-squares slope of log(error) against log(h), dropping errors on the round-off plateau
-/// (below `floor`) and errors that stopped decreasing.
+/// Observed order: the log–log slope of error against `h`, dropping errors on the round-off
+/// plateau (below `floor`) and errors that stopped decreasing.
 fn observed_order(hs: &[f64], errors: &[f64], floor: f64) -> f64 {
     let mut pts = vec![];
     for (i, (&h, &e)) in hs.iter().zip(errors).enumerate() {
         if e <= floor || (i > 0 && e >= errors[i - 1]) {
             break;
         }
-        pts.push((h.ln(), e.ln()));
+        pts.push((h, e));
     }
     assert!(
         pts.len() >= 3,
         "need ≥ 3 points above the plateau: {errors:?}"
     );
-    let n = pts.len() as f64;
-    let (sx, sy) = pts.iter().fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
-    let (mx, my) = (sx / n, sy / n);
-    let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), p| {
-        (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx) * (p.0 - mx))
-    });
-    num / den
+    common::loglog_slope(&pts)
 }
 
 /// RK4 is fourth order on the pendulum (one period from q₀ = 1) and on Kepler e = 0.5 (one

@@ -32,17 +32,6 @@ fn norm<const N: usize>(z: &Pair<N>) -> f64 {
     (z.0.norm_squared() + z.1.norm_squared()).sqrt()
 }
 
-/// Least-squares slope of `log err` against `log ε`.
-fn loglog_slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let xs: Vec<f64> = points.iter().map(|(e, _)| e.ln()).collect();
-    let ys: Vec<f64> = points.iter().map(|(_, r)| r.ln()).collect();
-    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
-}
-
 /// ε = 2⁰ … 2⁻⁵ for the convergence studies.
 fn eps_grid() -> impl Iterator<Item = f64> {
     (0..=5).map(|j| 2f64.powi(-j))
@@ -346,7 +335,7 @@ fn convergence_study<const N: usize>(
             "{name} n = {n}: only {} points above round-off",
             fit.len()
         );
-        let slope = loglog_slope(&fit);
+        let slope = common::loglog_slope(&fit);
         let (lo, hi) = estimate_ratios
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
@@ -493,7 +482,7 @@ fn certify_defects_decrease_with_the_expected_order() {
         );
         fit.push((eps, c.symplectic_defect));
     }
-    let slope = loglog_slope(&fit);
+    let slope = common::loglog_slope(&fit);
     eprintln!("ICT symplectic defect: slope {slope:.3}");
     assert!((slope - 2.0).abs() <= 0.3);
 
@@ -511,7 +500,7 @@ fn certify_defects_decrease_with_the_expected_order() {
         }
         let fit = &fit[fit.len().saturating_sub(4)..];
         assert!(fit.len() >= 3, "order {n}: {fit:?}");
-        let slope = loglog_slope(fit);
+        let slope = common::loglog_slope(fit);
         eprintln!(
             "Lie series order {n}: symplectic defect slope {slope:.3} (ε = {} … {}: {:.1e} … {:.1e})",
             fit[0].0,

@@ -2,6 +2,8 @@
 //! taken by partial steps of the method itself; methods as run-time values; observers without
 //! type annotations.
 
+mod common;
+
 use hamilton_jacobi::integrate::{
     integrate, AnyMethod, Control, Crossing, Events, Fixed, Gauss, GeneralMethod, Method, OneStep,
     Problem, Recorder, Report, Rk4, Samples, Section, Splitting, State, Work,
@@ -59,11 +61,6 @@ fn on_section(z: &State<2>) -> bool {
 
 fn section_distance(a: &State<2>, b: &State<2>) -> f64 {
     (a.q - b.q).amax().max((a.p - b.p).amax())
-}
-
-/// Orders `log₂(e(h)/e(h/2))` of consecutive halvings.
-fn halving_orders(errors: &[f64]) -> Vec<f64> {
-    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
 
 /// The showcase: the Poincaré section `x = 0`, `p_x > 0` of Hénon–Heiles at `E = 1/8` by
@@ -150,8 +147,8 @@ fn henon_heiles_verlet_section_matches_dop853_to_second_order() {
             state_errors[i], time_errors[i]
         );
     }
-    let state_orders = halving_orders(&state_errors);
-    let time_orders = halving_orders(&time_errors);
+    let state_orders = common::halving_orders(&state_errors);
+    let time_orders = common::halving_orders(&time_errors);
     println!("observed orders: points {state_orders:.3?}, times {time_orders:.3?}");
     for o in state_orders.iter().chain(&time_orders) {
         assert!((o - 2.0).abs() <= 0.35, "{state_orders:?} {time_orders:?}");
@@ -287,7 +284,7 @@ fn off_grid_samples_converge_at_the_method_order() {
     ];
     for (name, order, steps, make) in cases {
         let errors: Vec<f64> = steps.iter().map(|&n| error(&make(n))).collect();
-        let orders = halving_orders(&errors);
+        let orders = common::halving_orders(&errors);
         let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
         println!("{name}: errors {shown:?}, orders {orders:.3?}");
         // Above the rounding floor (≈ 1e−15 · steps).

@@ -4,6 +4,8 @@
 //!
 //! Run with `--nocapture` to see the measured numbers.
 
+mod common;
+
 use hamilton_jacobi::brackets::certify;
 use hamilton_jacobi::integrate::{
     integrate, Fixed, KeplerJ2, OneStep, Problem, Splitting, StepMap, WisdomHolman,
@@ -32,19 +34,6 @@ fn run<S: Hamiltonian<N>, M: OneStep<S, N> + Copy, const N: usize>(
 
 fn err<const N: usize>(a: (V<N>, V<N>), b: (V<N>, V<N>)) -> f64 {
     (a.0 - b.0).amax().max((a.1 - b.1).amax())
-}
-
-/// Least-squares slope of `log e` against `log n` (the observed order is its negative).
-fn slope(points: &[(usize, f64)]) -> f64 {
-    let xs: Vec<f64> = points.iter().map(|(n, _)| (*n as f64).ln()).collect();
-    let ys: Vec<f64> = points.iter().map(|(_, e)| e.ln()).collect();
-    let (mx, my) = (
-        xs.iter().sum::<f64>() / xs.len() as f64,
-        ys.iter().sum::<f64>() / ys.len() as f64,
-    );
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 /// Step counts `n_k = round(2·2^{k/4})` up to 8192: a grid fine enough to leave several points
@@ -85,7 +74,8 @@ fn observed_order(
         }
     }
     let pts: Vec<(usize, f64)> = above[above.len().saturating_sub(keep)..].to_vec();
-    (-slope(&pts), pts)
+    let fit: Vec<(f64, f64)> = pts.iter().map(|&(n, e)| (n as f64, e)).collect();
+    (-common::loglog_slope(&fit), pts)
 }
 
 const KEEP: usize = 5;

@@ -1,5 +1,5 @@
-//! Shared test utilities: seeded proptest configuration and a classical RK4 used as an
-//! independent integrator oracle.
+//! Shared test utilities: seeded proptest configuration, a classical RK4 used as an independent
+//! integrator oracle, and the observed order of convergence.
 #![allow(dead_code)]
 
 use hamilton_jacobi::brackets::PhaseMap;
@@ -168,4 +168,23 @@ impl PhaseMap<1> for Prob16_1 {
             SVector::from([r * (-t).exp() * s]),
         )
     }
+}
+
+/// Least-squares slope of `ln y` against `ln x` over the points `(x, y)`.
+///
+/// With `x` the step size (or a small parameter ε) and `y` the error, this is the observed order
+/// of convergence `p` of `y ≈ C xᵖ`; with `x` a step count it is `−p`.
+pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
+    assert!(points.len() >= 2, "a slope needs two points: {points:?}");
+    let n = points.len() as f64;
+    let (xs, ys): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Orders `log₂(e_k / e_{k+1})` of consecutive halvings of the step.
+pub fn halving_orders(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
