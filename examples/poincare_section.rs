@@ -12,8 +12,9 @@
 //! `cargo run --release --example poincare_section [out.csv]` writes every section point
 //! `(orbit, method, k, t, y, p_y)` to `out.csv` if a path is given.
 
-use hamilton_jacobi::integrate::{integrate, AnyMethod, Crossing, Method, Problem, Section, State};
+use hamilton_jacobi::integrate::{integrate, AnyMethod, Crossing, Method, Problem, Section};
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::{hamiltonian, Result};
 use std::fmt::Write as _;
 use std::time::Instant;

@@ -27,4 +27,4 @@ pub use lagrangian::{Lagrangian, Legendre, Natural, NaturalHamiltonian, NaturalS
 pub use nalgebra;
 pub use num_dual;
 pub use num_dual::DualNum;
-pub use phase::{PhaseMatrix, PhasePoint};
+pub use phase::{CanonicalPair, PhaseMatrix, State};

@@ -10,16 +10,22 @@ use crate::error::{all_finite, finite, Error, Result};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVector, U1};
 
-/// A validated point of extended phase space: time, coordinates and momenta, all finite.
+/// A point of extended phase space `(t, q, p)`.
+///
+/// [`State::new`] rejects NaN or infinite components with the component named; the fields are
+/// public, so a state built by hand is the caller's to keep finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhasePoint<const N: usize> {
-    t: f64,
-    q: SVector<f64, N>,
-    p: SVector<f64, N>,
+pub struct State<const N: usize> {
+    /// Time.
+    pub t: f64,
+    /// Coordinates.
+    pub q: SVector<f64, N>,
+    /// Momenta.
+    pub p: SVector<f64, N>,
 }
 
-impl<const N: usize> PhasePoint<N> {
-    /// A phase point; NaN or infinite components are rejected with the component named.
+impl<const N: usize> State<N> {
+    /// A state; NaN or infinite components are rejected with the component named.
     pub fn new(t: f64, q: SVector<f64, N>, p: SVector<f64, N>) -> Result<Self> {
         finite("t", t)?;
         all_finite("q", q.as_slice())?;
@@ -27,24 +33,21 @@ impl<const N: usize> PhasePoint<N> {
         Ok(Self { t, q, p })
     }
 
-    /// Same as [`PhasePoint::new`] from arrays.
+    /// Same as [`State::new`] from arrays.
     pub fn from_arrays(t: f64, q: [f64; N], p: [f64; N]) -> Result<Self> {
         Self::new(t, SVector::from(q), SVector::from(p))
     }
 
-    /// Time.
-    pub fn t(&self) -> f64 {
-        self.t
-    }
-    /// Coordinates.
-    pub fn q(&self) -> &SVector<f64, N> {
-        &self.q
-    }
-    /// Momenta.
-    pub fn p(&self) -> &SVector<f64, N> {
-        &self.p
+    /// Whether every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.t.is_finite()
+            && self.q.iter().all(|v| v.is_finite())
+            && self.p.iter().all(|v| v.is_finite())
     }
 }
+
+/// The canonical pair `(q, p)` of coordinates and momenta, in any number type `D`.
+pub type CanonicalPair<const N: usize, D = f64> = (SVector<D, N>, SVector<D, N>);
 
 /// A linear map of phase space `ℝ²ᴺ → ℝ²ᴺ` in `N × N` blocks (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -308,9 +311,9 @@ mod tests {
 
     #[test]
     fn phase_point_rejects_nan() {
-        assert!(PhasePoint::from_arrays(0.0, [1.0], [f64::NAN]).is_err());
-        assert!(PhasePoint::from_arrays(f64::INFINITY, [1.0], [0.0]).is_err());
-        let e = PhasePoint::from_arrays(0.0, [1.0, f64::NAN], [0.0, 0.0]).unwrap_err();
+        assert!(State::from_arrays(0.0, [1.0], [f64::NAN]).is_err());
+        assert!(State::from_arrays(f64::INFINITY, [1.0], [0.0]).is_err());
+        let e = State::from_arrays(0.0, [1.0, f64::NAN], [0.0, 0.0]).unwrap_err();
         assert!(e.to_string().contains("q[1]"));
     }
 }

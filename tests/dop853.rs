@@ -7,9 +7,10 @@
 mod common;
 
 use hamilton_jacobi::integrate::{
-    integrate, Control, Dop853, Events, Method, Observer, Problem, State, StepView,
+    integrate, Control, Dop853, Events, Method, Observer, Problem, StepView,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::{pendulum_exact, Kepler2, Pendulum};
 use hamilton_jacobi::Error;

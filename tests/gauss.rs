@@ -14,10 +14,10 @@ mod common;
 
 use hamilton_jacobi::brackets::{certify, exactness_defect};
 use hamilton_jacobi::integrate::{
-    integrate, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4, State,
-    StepMap, Work,
+    integrate, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4, StepMap, Work,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector1, Vector2};
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::systems::{kepler_orbit, pendulum_exact, Kepler2, Pendulum};
 use hamilton_jacobi::{hamiltonian, DualNum, Error, Hamiltonian};
 use std::f64::consts::{PI, TAU};

@@ -101,7 +101,7 @@ fn driver_counts_work_and_lands_on_t1() {
     integrate(&pr, &Fixed::new(Rk4, 7).unwrap(), &mut rec).unwrap();
     assert_eq!(rec.states.len(), 1 + 3);
     let mut count = 0;
-    let mut stop = Each(|_: &hamilton_jacobi::integrate::State<1>| {
+    let mut stop = Each(|_: &hamilton_jacobi::State<1>| {
         count += 1;
         if count == 3 {
             Control::Stop
@@ -122,11 +122,7 @@ fn events_on_dense_output() {
     let kep = Kepler2::new(1.0).unwrap();
     let (q0, p0) = (SVector::from([0.5, 0.0]), SVector::from([0.0, 3f64.sqrt()]));
     let pr = Problem::new(&kep, 0.0, q0, p0, 3.5 * 2.0 * PI).unwrap();
-    let mut ev = Events::new(
-        |s: &hamilton_jacobi::integrate::State<2>| s.q.dot(&s.p),
-        1,
-        false,
-    );
+    let mut ev = Events::new(|s: &hamilton_jacobi::State<2>| s.q.dot(&s.p), 1, false);
     integrate(&pr, &Fixed::new(Rk4, 7_000).unwrap(), &mut ev).unwrap();
     // Upward crossings of q·p = r ṙ at periapsis: t = T, 2T, 3T (t = 0 is the start).
     assert_eq!(ev.found.len(), 3, "{:?}", ev.found);
@@ -140,11 +136,7 @@ fn events_on_dense_output() {
         assert_eq!(e.direction, 1);
     }
     // A terminal event stops the run there.
-    let mut first = Events::new(
-        |s: &hamilton_jacobi::integrate::State<2>| s.q.dot(&s.p),
-        1,
-        true,
-    );
+    let mut first = Events::new(|s: &hamilton_jacobi::State<2>| s.q.dot(&s.p), 1, true);
     let r = integrate(&pr, &Fixed::new(Rk4, 7_000).unwrap(), &mut first).unwrap();
     assert!(r.stopped && (r.last.t - 2.0 * PI).abs() < 1e-7);
 }

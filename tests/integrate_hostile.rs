@@ -5,9 +5,10 @@
 
 use hamilton_jacobi::integrate::{
     integrate, Control, Dop853, Events, ExactStep, Fixed, Gauss, ImplicitMidpoint, Method,
-    Observer, Problem, Rk4, Splitting, State, StepView, WisdomHolman,
+    Observer, Problem, Rk4, Splitting, StepView, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
 use hamilton_jacobi::systems::Kepler2;
 use hamilton_jacobi::workprecision::{sweep, Timing};

@@ -15,20 +15,19 @@ use hamilton_jacobi::systems::{ExactFlow, HarmonicOscillator, Kepler2};
 use hamilton_jacobi::transform::lie::{
     lie_flow, symmetry_defect, variation, Ict, LieSeries, MAX_ORDER,
 };
+use hamilton_jacobi::CanonicalPair;
 use hamilton_jacobi::{hamiltonian, DualNum, Error, Hamiltonian, PhaseFunction};
 use proptest::prelude::*;
 
 const EPS: f64 = f64::EPSILON;
 
-type Pair<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
-
 /// Euclidean distance of two phase points over all `2N` components.
-fn dist<const N: usize>(a: &Pair<N>, b: &Pair<N>) -> f64 {
+fn dist<const N: usize>(a: &CanonicalPair<N>, b: &CanonicalPair<N>) -> f64 {
     ((a.0 - b.0).norm_squared() + (a.1 - b.1).norm_squared()).sqrt()
 }
 
 /// Euclidean norm of a phase point.
-fn norm<const N: usize>(z: &Pair<N>) -> f64 {
+fn norm<const N: usize>(z: &CanonicalPair<N>) -> f64 {
     (z.0.norm_squared() + z.1.norm_squared()).sqrt()
 }
 
@@ -301,8 +300,8 @@ fn rotate(v: &SVector<f64, 3>, a: f64) -> SVector<f64, 3> {
 /// omitted terms: `‖T_{k+1}‖ ≤ r ‖T_k‖` for `k > n` with `r = ratio · ε/(n + 2)`.
 fn convergence_study<const N: usize>(
     name: &str,
-    series: impl Fn(f64, usize) -> (Pair<N>, f64),
-    exact: impl Fn(f64) -> Pair<N>,
+    series: impl Fn(f64, usize) -> (CanonicalPair<N>, f64),
+    exact: impl Fn(f64) -> CanonicalPair<N>,
     scale: f64,
     ratio: f64,
 ) {
@@ -518,7 +517,7 @@ fn certify_defects_decrease_with_the_expected_order() {
 fn generator() -> impl Strategy<Value = Gen> {
     prop::array::uniform6(-1.0..1.0f64).prop_map(Gen)
 }
-fn point() -> impl Strategy<Value = Pair<2>> {
+fn point() -> impl Strategy<Value = CanonicalPair<2>> {
     (
         prop::array::uniform2(-1.0..1.0f64),
         prop::array::uniform2(-1.0..1.0f64),

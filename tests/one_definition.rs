@@ -57,7 +57,7 @@ fn separable_form_serves_splitting_and_general_methods() {
     )
     .unwrap();
     let dop = integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut ()).unwrap();
-    let e = |s: &hamilton_jacobi::integrate::State<2>| HenonHeiles.value(0.0, &s.q, &s.p).unwrap();
+    let e = |s: &hamilton_jacobi::State<2>| HenonHeiles.value(0.0, &s.q, &s.p).unwrap();
     // Verlet's energy error is O(h²) = O(1e-4) times the force-curvature scale (≤ 1 here).
     assert!((e(&verlet.last) - h).abs() < 1e-4);
     assert!((e(&dop.last) - h).abs() < 1e-12);

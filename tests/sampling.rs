@@ -6,9 +6,10 @@ mod common;
 
 use hamilton_jacobi::integrate::{
     integrate, AnyMethod, Control, Crossing, Events, Fixed, Gauss, GeneralMethod, Method, OneStep,
-    Problem, Recorder, Report, Rk4, Samples, Section, Splitting, State, Work,
+    Problem, Recorder, Report, Rk4, Samples, Section, Splitting, Work,
 };
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::{hamiltonian, DualNum, Error, PhaseFunction, Separable};
 use std::time::Instant;
 

@@ -87,12 +87,12 @@ use super::{
     StepView, Work,
 };
 use crate::error::{finite, positive, Error, Result};
+use crate::phase::CanonicalPair;
 use nalgebra::SVector;
 use std::cell::{Cell, OnceCell};
 use std::time::Instant;
 
 /// A phase-space vector `(q, p)` (state or stage derivative).
-type Pair<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
 
 /// Sparse row of a Butcher tableau: `(stage index, coefficient)`, stages counted from 0.
 type Row = &'static [(usize, f64)];
@@ -328,7 +328,7 @@ const UROUND: f64 = 2.3e-16;
 
 /// `Σⱼ coeffs_j k_j` (without the factor `h`).
 #[inline(always)]
-fn combine<const N: usize>(coeffs: &[(usize, f64)], k: &[Pair<N>]) -> Pair<N> {
+fn combine<const N: usize>(coeffs: &[(usize, f64)], k: &[CanonicalPair<N>]) -> CanonicalPair<N> {
     let mut q = SVector::<f64, N>::zeros();
     let mut p = SVector::<f64, N>::zeros();
     for &(j, a) in coeffs {
@@ -340,14 +340,19 @@ fn combine<const N: usize>(coeffs: &[(usize, f64)], k: &[Pair<N>]) -> Pair<N> {
 
 /// `y + h Σⱼ coeffs_j k_j`.
 #[inline(always)]
-fn advance<const N: usize>(y: &Pair<N>, h: f64, coeffs: &[(usize, f64)], k: &[Pair<N>]) -> Pair<N> {
+fn advance<const N: usize>(
+    y: &CanonicalPair<N>,
+    h: f64,
+    coeffs: &[(usize, f64)],
+    k: &[CanonicalPair<N>],
+) -> CanonicalPair<N> {
     let (dq, dp) = combine(coeffs, k);
     (y.0 + dq * h, y.1 + dp * h)
 }
 
 /// The `2N` components of `(q, p)`.
 #[inline(always)]
-fn flat<const N: usize>(v: &Pair<N>) -> impl Iterator<Item = f64> + Clone + '_ {
+fn flat<const N: usize>(v: &CanonicalPair<N>) -> impl Iterator<Item = f64> + Clone + '_ {
     v.0.iter().chain(v.1.iter()).copied()
 }
 
@@ -365,7 +370,7 @@ fn norm2(xs: impl Iterator<Item = f64> + Clone) -> f64 {
     m * xs.map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
-fn pair_finite<const N: usize>(y: &Pair<N>) -> bool {
+fn pair_finite<const N: usize>(y: &CanonicalPair<N>) -> bool {
     y.0.iter().chain(y.1.iter()).all(|v| v.is_finite())
 }
 
@@ -544,13 +549,13 @@ struct Dop853Dense<'a, S, const N: usize> {
     next: &'a State<N>,
     h: f64,
     /// Stages `k₁ … k₁₃` of the step (slots 13–15 are filled lazily in `rcont`).
-    k: &'a [Pair<N>; 16],
-    rcont: OnceCell<[Pair<N>; 8]>,
+    k: &'a [CanonicalPair<N>; 16],
+    rcont: OnceCell<[CanonicalPair<N>; 8]>,
     evaluations: Cell<usize>,
 }
 
 impl<S: FirstOrderSystem<N>, const N: usize> Dop853Dense<'_, S, N> {
-    fn coefficients(&self) -> [Pair<N>; 8] {
+    fn coefficients(&self) -> [CanonicalPair<N>; 8] {
         let (t0, h) = (self.prev.t, self.h);
         let y0 = (self.prev.q, self.prev.p);
         let mut k = *self.k;
@@ -607,7 +612,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Dense<N> for Dop853Dense<'_, S, N> 
 fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
     system: &S,
     y0: &State<N>,
-    f0: &Pair<N>,
+    f0: &CanonicalPair<N>,
     dir: f64,
     h_max: f64,
     rtol: f64,
@@ -687,7 +692,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
 
         // k[0..12] stages of the step, k[12] = f(t + h, y₁); 13..16 for dense output.
         let zero = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-        let mut k: [Pair<N>; 16] = [zero; 16];
+        let mut k: [CanonicalPair<N>; 16] = [zero; 16];
         k[0] = system.field(state.t, &state.q, &state.p)?;
         work.gradients += 1;
         if !pair_finite(&k[0]) {

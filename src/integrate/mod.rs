@@ -48,8 +48,9 @@ pub use splitting::Splitting;
 pub use wisdom_holman::{kepler_drift, KeplerJ2, PerturbedKepler, WisdomHolman};
 
 use crate::brackets::PhaseMap;
-use crate::error::{all_finite, finite, Error, Result};
+use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::phase::State;
 use nalgebra::SVector;
 use num_dual::DualNum;
 use std::time::{Duration, Instant};
@@ -78,32 +79,6 @@ impl<H: Hamiltonian<N>, const N: usize> FirstOrderSystem<N> for H {
         p: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         Ok(self.vector_field_unchecked(t, q, p))
-    }
-}
-
-/// A point of extended phase space `(t, q, p)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct State<const N: usize> {
-    /// Time.
-    pub t: f64,
-    /// Coordinates.
-    pub q: SVector<f64, N>,
-    /// Momenta.
-    pub p: SVector<f64, N>,
-}
-
-impl<const N: usize> State<N> {
-    /// A state; rejects non-finite entries.
-    pub fn new(t: f64, q: SVector<f64, N>, p: SVector<f64, N>) -> Result<Self> {
-        finite("t", t)?;
-        all_finite("q", q.as_slice())?;
-        all_finite("p", p.as_slice())?;
-        Ok(Self { t, q, p })
-    }
-    fn is_finite(&self) -> bool {
-        self.t.is_finite()
-            && self.q.iter().all(|v| v.is_finite())
-            && self.p.iter().all(|v| v.is_finite())
     }
 }
 

@@ -7,9 +7,10 @@ use super::spec::MethodKind;
 use crate::error::{fmt_num, Error, Result};
 use crate::integrate::{
     integrate, Dop853, ExactStep, Fixed, Gauss, ImplicitMidpoint, Method, Observer,
-    PerturbedKepler, Problem, Report, Rk4, Splitting, State, StepView, WisdomHolman, Work,
+    PerturbedKepler, Problem, Report, Rk4, Splitting, StepView, WisdomHolman, Work,
 };
 use crate::nalgebra::SVector;
+use crate::phase::State;
 use crate::systems::{ExactFlow, Invariant, Invariants};
 use crate::{Hamiltonian, Separable};
 

@@ -28,6 +28,7 @@ use crate::perturbation::lindstedt::lindstedt_pendulum;
 use crate::perturbation::normal_form::{PendulumNormalForm, PENDULUM_WARNING_MU};
 use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
+use crate::phase::CanonicalPair;
 use crate::systems::kepler_orbit::kepler_propagate_planar;
 use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
 use crate::systems::top::motion::Nutation;
@@ -35,9 +36,6 @@ use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 use std::f64::consts::{PI, TAU};
-
-/// An initial state `(q, p)`.
-pub type PhaseState<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
 
 /// The `[system]` table of a scene, read key by key: every read is checked (finite number,
 /// positive where required, vector length), and [`Params::finish`] reports keys nobody read.
@@ -151,7 +149,9 @@ impl<'a> Params<'a> {
     ///
     /// # Errors
     /// Only one of them given, or [`Params::vector`] errors.
-    pub fn state<const N: usize>(&self) -> std::result::Result<Option<PhaseState<N>>, SceneError> {
+    pub fn state<const N: usize>(
+        &self,
+    ) -> std::result::Result<Option<CanonicalPair<N>>, SceneError> {
         match (self.vector::<N>("q")?, self.vector::<N>("p")?) {
             (Some(q), Some(p)) => Ok(Some((q, p))),
             (None, None) => Ok(None),

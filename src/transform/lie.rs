@@ -40,7 +40,7 @@ use crate::ad::{phase_gradient, phase_hessian, PhaseDual};
 use crate::brackets::{poisson_bracket, time_derivative, PhaseMap};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::{not_finite, Hamiltonian, PhaseFunction};
-use crate::phase::check_phase;
+use crate::phase::{check_phase, CanonicalPair};
 use nalgebra::SVector;
 use num_dual::{Dual, DualNum};
 use std::marker::PhantomData;
@@ -314,7 +314,6 @@ where
 // Lie series.
 
 /// One Lie term `L_ρ^k z = (L_ρ^k q, L_ρ^k p)` in the number type `D`.
-type Term<D, const N: usize> = (SVector<D, N>, SVector<D, N>);
 
 /// The Hamiltonian vector field of `ρ`, `X = (∂ρ/∂p, −∂ρ/∂q)`, so that `L_ρ f = (f, ρ) = ∇f · X`;
 /// computed by `2N` directional passes with the dual type `Dual<D>` (two components of `D` per
@@ -324,7 +323,7 @@ fn hamiltonian_vector_field<R, D, const N: usize>(
     t: D,
     q: &SVector<D, N>,
     p: &SVector<D, N>,
-) -> Term<D, N>
+) -> CanonicalPair<N, D>
 where
     R: PhaseFunction<N> + ?Sized,
     D: DualNum<f64> + Copy,
@@ -362,7 +361,7 @@ trait Depth {
         t: D,
         q: &SVector<D, N>,
         p: &SVector<D, N>,
-        out: &mut Vec<Term<D, N>>,
+        out: &mut Vec<CanonicalPair<N, D>>,
     ) where
         R: PhaseFunction<N> + ?Sized,
         D: DualNum<f64> + Copy;
@@ -380,7 +379,7 @@ impl Depth for Zero {
         _t: D,
         q: &SVector<D, N>,
         p: &SVector<D, N>,
-        out: &mut Vec<Term<D, N>>,
+        out: &mut Vec<CanonicalPair<N, D>>,
     ) where
         R: PhaseFunction<N> + ?Sized,
         D: DualNum<f64> + Copy,
@@ -395,7 +394,7 @@ impl<P: Depth> Depth for Succ<P> {
         t: D,
         q: &SVector<D, N>,
         p: &SVector<D, N>,
-        out: &mut Vec<Term<D, N>>,
+        out: &mut Vec<CanonicalPair<N, D>>,
     ) where
         R: PhaseFunction<N> + ?Sized,
         D: DualNum<f64> + Copy,
@@ -437,7 +436,7 @@ fn fits_stack<D, const N: usize>(depth: usize) -> bool {
 /// A phase point with every component NaN — value and all derivative parts (`x · NaN` is NaN in
 /// each part, where `D::from(NaN)` would leave zero derivatives that a Jacobian would take at face
 /// value).
-fn nan_point<D: DualNum<f64> + Copy, const N: usize>(q: &SVector<D, N>) -> Term<D, N> {
+fn nan_point<D: DualNum<f64> + Copy, const N: usize>(q: &SVector<D, N>) -> CanonicalPair<N, D> {
     let nan = q.map(|x| x * f64::NAN);
     (nan, nan)
 }
@@ -454,7 +453,7 @@ fn lie_terms<R, D, const N: usize>(
     t: D,
     q: &SVector<D, N>,
     p: &SVector<D, N>,
-) -> Option<Vec<Term<D, N>>>
+) -> Option<Vec<CanonicalPair<N, D>>>
 where
     R: PhaseFunction<N> + ?Sized,
     D: DualNum<f64> + Copy,
@@ -486,7 +485,7 @@ fn lie_terms_real<R, const N: usize>(
     t: f64,
     q: &SVector<f64, N>,
     p: &SVector<f64, N>,
-) -> Option<Vec<Term<f64, N>>>
+) -> Option<Vec<CanonicalPair<N>>>
 where
     R: PhaseFunction<N> + ?Sized,
 {
@@ -502,7 +501,10 @@ where
 }
 
 /// `Σ_{k=0}^{n} ε^k/k! φ_k` by Horner's rule, `n = terms.len() − 1`.
-fn lie_sum<D: DualNum<f64> + Copy, const N: usize>(terms: &[Term<D, N>], eps: f64) -> Term<D, N> {
+fn lie_sum<D: DualNum<f64> + Copy, const N: usize>(
+    terms: &[CanonicalPair<N, D>],
+    eps: f64,
+) -> CanonicalPair<N, D> {
     let mut acc = (SVector::<D, N>::zeros(), SVector::<D, N>::zeros());
     for (k, (a, b)) in terms.iter().enumerate().rev() {
         // acc ← φ_k + acc · ε/(k + 1)
@@ -621,7 +623,7 @@ impl<R> LieSeries<R> {
         t: f64,
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
-    ) -> Result<Vec<Term<f64, N>>>
+    ) -> Result<Vec<CanonicalPair<N>>>
     where
         R: PhaseFunction<N>,
     {
