@@ -9,8 +9,7 @@
 //! Run: `cargo run --release --example work_precision`
 
 use hamilton_jacobi::integrate::{
-    integrate, Dop853, ExactStep, Fixed, Gauss, KeplerJ2, OneStep, Problem, Rk4, Splitting,
-    WisdomHolman,
+    integrate, Dop853, ExactStep, Fixed, Gauss, OneStep, Problem, Rk4, Splitting, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::perturbation::elements::Classical;
@@ -171,10 +170,10 @@ fn main() -> Result<()> {
     )?);
     report(&pen, "pendulum")?;
 
-    // Perturbed Kepler (J2-like, ε = 1e−5, inclined e = 0.5 orbit), 20 periods: Wisdom–Holman
+    // Perturbed Kepler (J₂R² = ε = 1e−5, inclined e = 0.5 orbit), 20 periods: Wisdom–Holman
     // and SABA against the best general methods. Reference: Kahan–Li 8 with 4·10⁵ steps, checked
     // against 2·10⁵ steps.
-    let j2 = KeplerJ2::<3>::new(1.0, 1e-5)?;
+    let j2 = PerturbedTwoBody::conservative(1.0, J2::new(1.0, 1e-5, 1.0)?)?;
     let (e, inc): (f64, f64) = (0.5, 0.6);
     let v = ((1.0 + e) / (1.0 - e)).sqrt();
     let q0 = SVector::from([1.0 - e, 0.0, 0.0]);

@@ -778,9 +778,12 @@ fn bad_input_is_refused_with_typed_errors() {
     ));
     assert!(GaussEquations::new(0.0, LinearDrag::new(1.0).unwrap()).is_err());
     assert!(GaussClassical::new(-2.0, LinearDrag::new(1.0).unwrap()).is_err());
-    assert!(
-        PerturbedTwoBody::with_force(f64::NAN, NoPotential, LinearDrag::new(1.0).unwrap()).is_err()
-    );
+    assert!(PerturbedTwoBody::<_, _, 3>::with_force(
+        f64::NAN,
+        NoPotential,
+        LinearDrag::new(1.0).unwrap()
+    )
+    .is_err());
 
     // Element ODE: out-of-domain elements and a force that is NaN (transverse thrust needs the
     // RTN frame; the Cartesian system reports the NaN through the checked vector field).

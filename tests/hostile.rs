@@ -12,7 +12,6 @@ use hamilton_jacobi::hamilton_jacobi::{
     ActionAngle, InverseDistance, KeplerPolarIntegral, OscillatorIntegral, ProjectileIntegral,
     RadialMotion,
 };
-use hamilton_jacobi::integrate::wisdom_holman::KeplerJ2;
 use hamilton_jacobi::integrate::{
     integrate, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting,
 };
@@ -20,7 +19,7 @@ use hamilton_jacobi::nalgebra::{SVector, Vector3};
 use hamilton_jacobi::perturbation::elements::{
     self, Classical, Delaunay, DelaunayToCartesian, Equinoctial, ModifiedEquinoctial,
 };
-use hamilton_jacobi::perturbation::forces::{LinearDrag, J2};
+use hamilton_jacobi::perturbation::forces::{LinearDrag, NoForce, PerturbedTwoBody, J2};
 use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, ClassicalSolution, DelaunayElements, EquinoctialSolution,
 };
@@ -872,12 +871,31 @@ fn add_orbits(c: &mut Vec<Call>) {
     );
     sweep(
         c,
-        "wisdom_holman::KeplerJ2::new",
+        "forces::PerturbedTwoBody::<J2, NoForce, 2>::conservative",
         &[1.0, 1e-3],
-        &[(0, -1.0)],
+        &[(0, -1.0), (1, -0.5)],
         |a| {
-            judge(KeplerJ2::<3>::new(a[0], a[1]), fin(a) && a[0] > 0.0, |k| {
-                near("ε", k.eps(), a[1], 0.0)
+            let sys = J2::new(a[0], a[1], 1.0)
+                .and_then(|u| PerturbedTwoBody::<_, NoForce, 2>::conservative(a[0], u));
+            judge(sys, fin(a) && a[0] > 0.0, |s| {
+                // At q = (1, 0) in the equatorial plane: ṗ = −μ(1 + 3J₂/2) q (R = 1; Vallado
+                // 2013 eq. 8-30 at z = 0). An overflowing field is a typed refusal.
+                let (q, p) = (SVector::from([1.0, 0.0]), SVector::from([0.0, 1.0]));
+                let want = -a[0] * (1.0 + 1.5 * a[1]);
+                all([
+                    near("μ", s.mu(), a[0], 0.0),
+                    judge(s.vector_field(0.0, &q, &p), true, |(_, pd)| {
+                        all([
+                            near(
+                                "ṗ_x",
+                                pd[0],
+                                want,
+                                8.0 * f64::EPSILON * want.abs() + f64::MIN_POSITIVE,
+                            ),
+                            near("ṗ_y", pd[1], 0.0, 0.0),
+                        ])
+                    }),
+                ])
             })
         },
     );

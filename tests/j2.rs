@@ -1,7 +1,8 @@
 //! Kepler + J₂ by Lagrange's planetary equations (M59) and the general variation of constants
 //! (M58): first-order secular rates against Brouwer's closed forms, osculating-element
 //! integration against Cartesian integration of the same force, the M58 = M59 identity at random
-//! points, singular elements, and a mean-element propagation over 1000 orbits.
+//! points, singular elements, a mean-element propagation over 1000 orbits, and the equatorial
+//! problem as the invariant plane of the spatial one, with its apsidal rate.
 //!
 //! Tolerances are derived in the comments; measured numbers are printed (`--nocapture`).
 
@@ -699,5 +700,114 @@ fn delaunay_canonical_elements_give_the_same_theory() {
         "ġ {} vs ω̇ {}",
         db[1],
         gb[1]
+    );
+}
+
+/// Kepler + J₂ in the equatorial plane (`N = 2`): (a) it is the spatial problem restricted to the
+/// invariant plane `z = p_z = 0` — 2000 SABA₄ steps of both agree to 1e−13 and `z`, `p_z` stay
+/// exactly 0; (b) the line of apsides turns at the first-order secular rate
+/// `ϖ̇ = Ω̇ + ω̇ = 3nJ₂R²/(2p²)` (Brouwer's rates at `i = 0`, [`j2_secular_rates`], and the closed
+/// form), with `n` and `p` of the mean elements (the time averages of the osculating `a` and
+/// `e`). The rate is the least-squares slope of the osculating `ϖ = atan2(e_y, e_x)` sampled 32
+/// times per orbit over 40 orbits (a DOP853 run at rtol 1e−12). At `J₂R² = 1e−4`, `e = 0.3`
+/// what remains is the second-order rate, relative `O(J₂R²/p²) ≈ 1.2e−4` times a coefficient of
+/// a few, and the bias of the slope from the short-period terms of `ϖ` (amplitude
+/// `~J₂R²/(p²e) ≈ 4e−4` against an advance of 0.045 over the run, reduced by the fit over 40
+/// orbits to ≲ 7e−4 relative): asserted within 1e−3.
+#[test]
+fn equatorial_problem_is_the_invariant_plane_and_its_apsides_turn_at_the_secular_rate() {
+    use hamilton_jacobi::integrate::Samples;
+    use hamilton_jacobi::perturbation::forces::NoForce;
+    use hamilton_jacobi::systems::kepler_orbit::eccentricity_vector;
+    let (j2v, a, e) = (1e-4, 1.0f64, 0.3f64);
+    let model = J2::new(1.0, j2v, 1.0).unwrap();
+    let planar = PerturbedTwoBody::<_, NoForce, 2>::conservative(1.0, model).unwrap();
+    let spatial = PerturbedTwoBody::<_, NoForce, 3>::conservative(1.0, model).unwrap();
+    let vp = ((1.0 + e) / (a * (1.0 - e))).sqrt();
+    let (q0, p0) = (
+        SVector::from([a * (1.0 - e), 0.0]),
+        SVector::from([0.0, vp]),
+    );
+    let period = std::f64::consts::TAU * a.powf(1.5);
+    // (a) The invariant plane.
+    let t1 = 10.0 * period;
+    let fixed = Fixed::new(WisdomHolman::SABA4, 2000).unwrap();
+    let r2 = integrate(
+        &Problem::new(&planar, 0.0, q0, p0, t1).unwrap(),
+        &fixed,
+        &mut (),
+    )
+    .unwrap();
+    let (q3, p3) = (V3::new(q0[0], q0[1], 0.0), V3::new(p0[0], p0[1], 0.0));
+    let r3 = integrate(
+        &Problem::new(&spatial, 0.0, q3, p3, t1).unwrap(),
+        &fixed,
+        &mut (),
+    )
+    .unwrap();
+    assert_eq!((r3.last.q[2], r3.last.p[2]), (0.0, 0.0));
+    let d = (r3.last.q.xy() - r2.last.q)
+        .amax()
+        .max((r3.last.p.xy() - r2.last.p).amax());
+    println!("planar vs spatial at z = 0 after 10 orbits: {d:.1e}");
+    assert!(d <= 1e-13, "{d:e}");
+    // (b) The apsidal rate.
+    let orbits = 40;
+    let per_orbit = 32;
+    let times: Vec<f64> = (0..=orbits * per_orbit)
+        .map(|k| k as f64 * period / per_orbit as f64)
+        .collect();
+    let t1 = *times.last().unwrap();
+    let mut samples = Samples::at(times).unwrap();
+    let problem = Problem::new(&planar, 0.0, q0, p0, t1).unwrap();
+    integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut samples).unwrap();
+    let mut varpi = Vec::new();
+    let (mut mean_a, mut mean_e) = (0.0, 0.0);
+    for s in &samples.states {
+        let ev = eccentricity_vector(
+            1.0,
+            &V3::new(s.q[0], s.q[1], 0.0),
+            &V3::new(s.p[0], s.p[1], 0.0),
+        )
+        .unwrap();
+        let mut w = ev[1].atan2(ev[0]);
+        if let Some(&(_, prev)) = varpi.last() {
+            while w - prev > std::f64::consts::PI {
+                w -= std::f64::consts::TAU;
+            }
+            while w - prev < -std::f64::consts::PI {
+                w += std::f64::consts::TAU;
+            }
+        }
+        varpi.push((s.t, w));
+        // Osculating a (vis-viva) and e, averaged below into the mean elements.
+        let energy = 0.5 * s.p.norm_squared() - 1.0 / s.q.norm();
+        mean_a += -0.5 / energy;
+        mean_e += ev.norm();
+    }
+    let m = varpi.len() as f64;
+    let (mean_a, mean_e) = (mean_a / m, mean_e / m);
+    let (st, sw) = varpi
+        .iter()
+        .fold((0.0, 0.0), |(a, b), &(t, w)| (a + t, b + w));
+    let (tm, wm) = (st / m, sw / m);
+    let (num, den) = varpi.iter().fold((0.0, 0.0), |(a, b), &(t, w)| {
+        (a + (t - tm) * (w - wm), b + (t - tm) * (t - tm))
+    });
+    let slope = num / den;
+    let p = mean_a * (1.0 - mean_e * mean_e);
+    let n = mean_a.powf(-1.5);
+    let closed = 1.5 * n * j2v / (p * p);
+    let brouwer = j2_secular_rates(1.0, j2v, 1.0, mean_a, mean_e, 0.0).unwrap();
+    let rate = brouwer.raan + brouwer.argp;
+    println!(
+        "mean a = {mean_a:.6}, e = {mean_e:.6}; apsidal rate: measured {slope:.6e}, \
+         3nJ₂R²/(2p²) = {closed:.6e}, Brouwer Ω̇ + ω̇ = {rate:.6e}"
+    );
+    assert!((rate - closed).abs() <= 1e-14 * closed);
+    assert!(
+        (slope - closed).abs() <= 1e-3 * closed,
+        "relative {:e}",
+        (slope - closed).abs() / closed
     );
 }

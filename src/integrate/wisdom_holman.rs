@@ -35,7 +35,6 @@ use super::splitting::{check_table, compose, SubFlows};
 use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::Separable;
 use crate::special::kepler_equation::solve_kepler_hyperbolic;
 use crate::systems::kepler_orbit::phase_advance;
 use nalgebra::SVector;
@@ -441,76 +440,6 @@ pub fn kepler_drift<D: DualNum<f64> + Copy, const N: usize>(
     Ok((dq, dp))
 }
 
-// ---------------------------------------------------------------------------------------------
-// A shipped perturbed Kepler system
-// ---------------------------------------------------------------------------------------------
-
-/// The Kepler problem with the quadrupole (`J₂`-like) field of an oblate central body of unit
-/// radius, per unit mass:
-///
-/// $$ H = \tfrac12|p|^2 - \frac{\mu}{r} - \varepsilon\,\frac{\mu}{2r^3}\Big(1 - \frac{3z^2}{r^2}\Big),
-///    \qquad r = |q|,\ z = q_3\ (\text{absent for } N = 2), $$
-///
-/// (the `P₂` term of the geopotential with `ε = J₂R²`; Vallado, *Fundamentals of Astrodynamics
-/// and Applications*, 4th ed., 2013, §8.7). The orbit plane of a planar or equatorial orbit is
-/// kept; to first order in `ε` the line of apsides of an equatorial orbit advances at the rate
-/// `3εn/(2p²)` (`n` the mean motion, `p` the semi-latus rectum). A weak, smooth test
-/// perturbation for Wisdom–Holman (which sees `H₁` only through its gradient) and, as a
-/// [`Separable`] system with `V = −μ/r + H₁`, for every general method.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KeplerJ2<const N: usize> {
-    mu: f64,
-    eps: f64,
-}
-
-impl<const N: usize> KeplerJ2<N> {
-    /// The system with `μ > 0` and finite `ε` (any sign); `N` must be 2 or 3.
-    pub fn new(mu: f64, eps: f64) -> Result<Self> {
-        if !(N == 2 || N == 3) {
-            return Err(Error::invalid(
-                "KeplerJ2 dimension",
-                format!("N = {N}; only 2 and 3 are supported"),
-            ));
-        }
-        Ok(Self {
-            mu: positive("gravitational parameter μ", mu)?,
-            eps: finite("perturbation strength ε", eps)?,
-        })
-    }
-    /// The strength `ε = J₂R²`.
-    pub fn eps(&self) -> f64 {
-        self.eps
-    }
-}
-
-impl<const N: usize> PerturbedKepler<N> for KeplerJ2<N> {
-    fn mu(&self) -> f64 {
-        self.mu
-    }
-    #[inline]
-    fn perturbation<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>) -> D {
-        let r2 = q.dot(q);
-        let r = r2.sqrt();
-        let shape = if N == 3 {
-            -(q[2] * q[2] / r2) * 3.0 + 1.0
-        } else {
-            D::from(1.0)
-        };
-        shape / (r2 * r) * (-0.5 * self.eps * self.mu)
-    }
-}
-
-impl<const N: usize> Separable<N> for KeplerJ2<N> {
-    #[inline]
-    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, N>) -> D {
-        p.dot(p) * 0.5
-    }
-    #[inline]
-    fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D {
-        q.dot(q).sqrt().recip() * -self.mu + self.perturbation(t, q)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -574,7 +503,5 @@ mod tests {
             kepler_drift(-1.0, &q, &p, 0.1),
             Err(Error::OutOfDomain { .. })
         ));
-        assert!(KeplerJ2::<2>::new(1.0, f64::INFINITY).is_err());
-        assert!(KeplerJ2::<4>::new(1.0, 0.1).is_err());
     }
 }

@@ -28,9 +28,10 @@
 //!   disturbing function or force implements [`DisturbingFunction`] / [`MomentumForce`] (or is
 //!   written in one line with [`disturbing_function!`](crate::disturbing_function) /
 //!   [`momentum_force!`](crate::momentum_force)).
-//! * [`PerturbedTwoBody`]: the Cartesian system `H = |p|²/2 − μ/|q| + U` with force `f`, a
-//!   [`Separable`] system (so every crate integrator runs it; the explicit splittings refuse it
-//!   when `f` is present) and, without `f`, a [`PerturbedKepler`] system for Wisdom–Holman.
+//! * [`PerturbedTwoBody`]: the Cartesian system `H = |p|²/2 − μ/|q| + U` with force `f`, in
+//!   the plane or in space, a [`Separable`] system (so every crate integrator runs it; the
+//!   explicit splittings refuse it when `f` is present) and, without `f`, a [`PerturbedKepler`]
+//!   system for Wisdom–Holman and a [`Parametric`] one in the parameters of `U`.
 //!
 //! # References
 //! * D. A. Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Microcosm (2013),
@@ -41,8 +42,8 @@
 
 use super::variation::{DisturbingFunction, GradientForce, MomentumForce, ParametricDisturbance};
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
-use crate::hamiltonian::PerturbedKepler;
-use crate::hamiltonian::{Parametric, Separable};
+use crate::hamiltonian::{Parametric, PerturbedKepler, Separable};
+use crate::systems::{CentralPotential, InverseDistance};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
@@ -207,7 +208,19 @@ macro_rules! momentum_force {
 /// `sin φ = z/r`; Kaula 1966 eq. 1.31), so that `−∇U_{J₂}` is the `J₂` acceleration. For
 /// `J₂ > 0` (an oblate body) the force pulls towards the equatorial plane.
 ///
-/// The same model as [`KeplerJ2`](crate::integrate::KeplerJ2) with `ε = J₂R²`.
+/// A disturbing function in space (`N = 3`, `q = (x, y, z)`) and in the equatorial plane
+/// (`N = 2`, `q = (x, y)` embedded as `(x, y, 0)`, where `U_{J₂} = −μJ₂R²/(2r³)`): the plane
+/// `z = 0` is invariant, and to first order in `J₂` the line of apsides of an equatorial orbit
+/// advances at the rate `ϖ̇ = Ω̇ + ω̇ = 3nJ₂R²/(2p²)` (`n` the mean motion, `p` the semi-latus
+/// rectum; Vallado 2013 eqs. 9-41 at `i = 0`). No other dimension:
+///
+/// ```compile_fail
+/// use hamilton_jacobi::perturbation::forces::J2;
+/// use hamilton_jacobi::perturbation::variation::DisturbingFunction;
+/// use hamilton_jacobi::nalgebra::SVector;
+/// let j2 = J2::new(1.0, 1e-3, 1.0).unwrap();
+/// j2.disturbing_function(0.0, &SVector::<f64, 4>::from([1.0, 0.0, 0.0, 0.0]));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct J2 {
     mu: f64,
@@ -237,34 +250,56 @@ impl J2 {
     pub fn radius(&self) -> f64 {
         self.radius
     }
-}
 
-impl DisturbingFunction<3> for J2 {
+    /// `c (3z²/r² − 1)/r³`, the one formula of `U_{J₂} = (μJ₂R²/2) (3z²/r² − 1)/r³` with its
+    /// constant factor `c`; `z = 0` in the plane (`N = 2`).
     #[inline]
-    fn disturbing_function<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> D {
-        self.disturbing_function_with(&SVector::from([D::from(self.j2)]), t, q)
-    }
-}
-
-/// `J₂` as the differentiable parameter of the model.
-impl ParametricDisturbance<3, 1> for J2 {
-    const NAMES: [&'static str; 1] = ["J2"];
-    fn parameters(&self) -> SVector<f64, 1> {
-        SVector::from([self.j2])
-    }
-    #[inline]
-    fn disturbing_function_with<D: DualNum<f64> + Copy>(
-        &self,
-        k: &SVector<D, 1>,
-        _t: D,
-        q: &SVector<D, 3>,
-    ) -> D {
+    fn zonal<D: DualNum<f64> + Copy, const N: usize>(q: &SVector<D, N>, c: f64) -> D {
         let r2 = q.dot(q);
         let r = r2.sqrt();
-        let shape = q[2] * q[2] / r2 * 3.0 - 1.0;
-        shape / (r2 * r) * k[0] * (0.5 * self.mu * self.radius * self.radius)
+        let shape = if N == 3 {
+            q[2] * q[2] / r2 * 3.0 - 1.0
+        } else {
+            D::from(-1.0)
+        };
+        shape / (r2 * r) * c
     }
 }
+
+/// `U_{J₂}` in the plane (`N = 2`) and in space (`N = 3`), with `J₂` as the differentiable
+/// parameter of the model.
+macro_rules! j2_in_dimension {
+    ($($n:literal),*) => {$(
+        impl DisturbingFunction<$n> for J2 {
+            #[inline]
+            fn disturbing_function<D: DualNum<f64> + Copy>(
+                &self,
+                _t: D,
+                q: &SVector<D, $n>,
+            ) -> D {
+                Self::zonal(q, 0.5 * self.mu * self.radius * self.radius * self.j2)
+            }
+        }
+
+        impl ParametricDisturbance<$n, 1> for J2 {
+            const NAMES: [&'static str; 1] = ["J2"];
+            fn parameters(&self) -> SVector<f64, 1> {
+                SVector::from([self.j2])
+            }
+            #[inline]
+            fn disturbing_function_with<D: DualNum<f64> + Copy>(
+                &self,
+                k: &SVector<D, 1>,
+                _t: D,
+                q: &SVector<D, $n>,
+            ) -> D {
+                Self::zonal(q, 0.5 * self.mu * self.radius * self.radius) * k[0]
+            }
+        }
+    )*};
+}
+
+j2_in_dimension!(2, 3);
 
 // ---------------------------------------------------------------------------------------------
 // Third body
@@ -478,43 +513,63 @@ impl MomentumForce<3> for ConstantThrust {
 // The Cartesian system
 // ---------------------------------------------------------------------------------------------
 
-/// The perturbed two-body problem in Cartesian coordinates, per unit mass:
-/// `H = |p|²/2 − μ/|q| + U(t, q)` with the generalized force `f(t, q, p)` (absent when the
-/// system is built by [`PerturbedTwoBody::conservative`]).
+/// The perturbed two-body problem in Cartesian coordinates, per unit mass, in the plane
+/// (`N = 2`) or in space (`N = 3`, the default):
+///
+/// $$ H = \tfrac12|p|^2 - \frac{\mu}{|q|} + U(t, q) $$
+///
+/// with the generalized force `f(t, q, p)` (absent when the system is built by
+/// [`PerturbedTwoBody::conservative`]): the equations of motion `q̈ = −μq/|q|³ − ∇U + f` of
+/// Cowell's formulation (Vallado 2013 ch. 8).
 ///
 /// As a [`Separable`] system (`T = |p|²/2`, `V = −μ/|q| + U`) it runs under every integrator of
 /// [`crate::integrate`] (explicit splittings refuse a system with `f` by a typed error); without
-/// `f` it is also a [`PerturbedKepler`] system for [`WisdomHolman`](crate::integrate::WisdomHolman).
+/// `f` it is also the "Kepler + R" shape [`PerturbedKepler`] (`H₁ = U`) that
+/// [`WisdomHolman`](crate::integrate::WisdomHolman) and the SABA methods split, and
+/// [`Parametric`] in the parameters of a [`ParametricDisturbance`].
+///
+/// ```
+/// use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
+/// use hamilton_jacobi::integrate::{integrate, Fixed, Problem, WisdomHolman};
+/// use hamilton_jacobi::nalgebra::SVector;
+/// // Kepler + J₂ in the equatorial plane, 100 Wisdom–Holman steps over one period.
+/// let sys = PerturbedTwoBody::<_, _, 2>::conservative(1.0, J2::new(1.0, 1e-3, 1.0)?)?;
+/// let (q0, p0) = (SVector::from([1.0, 0.0]), SVector::from([0.0, 1.0]));
+/// let problem = Problem::new(&sys, 0.0, q0, p0, std::f64::consts::TAU)?;
+/// let run = integrate(&problem, &Fixed::new(WisdomHolman::WH, 100)?, &mut ())?;
+/// assert!((run.last.q.norm() - 1.0).abs() < 1e-2);
+/// # Ok::<(), hamilton_jacobi::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PerturbedTwoBody<U, F = NoForce> {
-    mu: f64,
+pub struct PerturbedTwoBody<U, F = NoForce, const N: usize = 3> {
+    kepler: InverseDistance,
     potential: U,
     force: Option<F>,
 }
 
-impl<U: DisturbingFunction<3>> PerturbedTwoBody<U, NoForce> {
+impl<U: DisturbingFunction<N>, const N: usize> PerturbedTwoBody<U, NoForce, N> {
     /// `H = |p|²/2 − μ/|q| + U`, `μ > 0`.
     pub fn conservative(mu: f64, potential: U) -> Result<Self> {
         Ok(Self {
-            mu: positive("gravitational parameter μ", mu)?,
+            kepler: InverseDistance::new(mu)?,
             potential,
             force: None,
         })
     }
 }
 
-impl<U: DisturbingFunction<3>, F: MomentumForce<3>> PerturbedTwoBody<U, F> {
+impl<U: DisturbingFunction<N>, F: MomentumForce<N>, const N: usize> PerturbedTwoBody<U, F, N> {
     /// `H = |p|²/2 − μ/|q| + U` with the non-conservative force `f`, `μ > 0`.
     pub fn with_force(mu: f64, potential: U, force: F) -> Result<Self> {
         Ok(Self {
-            mu: positive("gravitational parameter μ", mu)?,
+            kepler: InverseDistance::new(mu)?,
             potential,
             force: Some(force),
         })
     }
     /// `μ`.
     pub fn mu(&self) -> f64 {
-        self.mu
+        self.kepler.mu()
     }
     /// The disturbing function `U`.
     pub fn potential(&self) -> &U {
@@ -529,9 +584,9 @@ impl<U: DisturbingFunction<3>, F: MomentumForce<3>> PerturbedTwoBody<U, F> {
     pub fn perturbing_acceleration<D: DualNum<f64> + Copy>(
         &self,
         t: D,
-        q: &SVector<D, 3>,
-        p: &SVector<D, 3>,
-    ) -> SVector<D, 3> {
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> SVector<D, N> {
         let g = GradientForce(&self.potential).force(t, q, p);
         match &self.force {
             Some(f) => g + f.force(t, q, p),
@@ -540,13 +595,15 @@ impl<U: DisturbingFunction<3>, F: MomentumForce<3>> PerturbedTwoBody<U, F> {
     }
 }
 
-impl<U: DisturbingFunction<3>, F: MomentumForce<3>> MomentumForce<3> for PerturbedTwoBody<U, F> {
+impl<U: DisturbingFunction<N>, F: MomentumForce<N>, const N: usize> MomentumForce<N>
+    for PerturbedTwoBody<U, F, N>
+{
     fn force<D: DualNum<f64> + Copy>(
         &self,
         t: D,
-        q: &SVector<D, 3>,
-        p: &SVector<D, 3>,
-    ) -> SVector<D, 3> {
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> SVector<D, N> {
         self.perturbing_acceleration(t, q, p)
     }
 }
@@ -568,30 +625,32 @@ impl<F: MomentumForce<N> + ?Sized, const N: usize> MomentumForce<N> for &F {
     }
 }
 
-impl<U: DisturbingFunction<3>, F: MomentumForce<3>> Separable<3> for PerturbedTwoBody<U, F> {
+impl<U: DisturbingFunction<N>, F: MomentumForce<N>, const N: usize> Separable<N>
+    for PerturbedTwoBody<U, F, N>
+{
     #[inline]
-    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, 3>) -> D {
+    fn kinetic<D: DualNum<f64> + Copy>(&self, _t: D, p: &SVector<D, N>) -> D {
         p.dot(p) * 0.5
     }
     #[inline]
-    fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> D {
-        q.dot(q).sqrt().recip() * -self.mu + self.potential.disturbing_function(t, q)
+    fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D {
+        self.kepler.potential(q.dot(q).sqrt()) + self.potential.disturbing_function(t, q)
     }
     #[inline]
     fn generalized_force<D: DualNum<f64> + Copy>(
         &self,
         t: D,
-        q: &SVector<D, 3>,
-        p: &SVector<D, 3>,
-    ) -> Option<SVector<D, 3>> {
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
         self.force.as_ref().map(|f| f.force(t, q, p))
     }
 }
 
 /// The conservative perturbed two-body system is differentiable in the parameters of its
 /// disturbing function: `H(k; q, p) = |p|²/2 − μ/|q| + U(k; t, q)`.
-impl<U: ParametricDisturbance<3, M>, const M: usize> Parametric<3, M>
-    for PerturbedTwoBody<U, NoForce>
+impl<U: ParametricDisturbance<N, M>, const N: usize, const M: usize> Parametric<N, M>
+    for PerturbedTwoBody<U, NoForce, N>
 {
     const NAMES: [&'static str; M] = U::NAMES;
     fn parameters(&self) -> SVector<f64, M> {
@@ -602,20 +661,25 @@ impl<U: ParametricDisturbance<3, M>, const M: usize> Parametric<3, M>
         &self,
         k: &SVector<D, M>,
         t: D,
-        q: &SVector<D, 3>,
-        p: &SVector<D, 3>,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
     ) -> D {
-        p.dot(p) * 0.5 - q.dot(q).sqrt().recip() * self.mu
+        self.kinetic(t, p)
+            + self.kepler.potential(q.dot(q).sqrt())
             + self.potential.disturbing_function_with(k, t, q)
     }
 }
 
-impl<U: DisturbingFunction<3>> PerturbedKepler<3> for PerturbedTwoBody<U, NoForce> {
+/// "Kepler + R" with `H₁ = U`: the Wisdom–Holman splitting into the exact Kepler flow and kicks
+/// by `−∇U`.
+impl<U: DisturbingFunction<N>, const N: usize> PerturbedKepler<N>
+    for PerturbedTwoBody<U, NoForce, N>
+{
     fn mu(&self) -> f64 {
-        self.mu
+        self.kepler.mu()
     }
     #[inline]
-    fn perturbation<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> D {
+    fn perturbation<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D {
         self.potential.disturbing_function(t, q)
     }
 }
@@ -624,38 +688,52 @@ impl<U: DisturbingFunction<3>> PerturbedKepler<3> for PerturbedTwoBody<U, NoForc
 mod tests {
     use super::*;
     use crate::ad::gradient;
-    use crate::integrate::KeplerJ2;
 
     /// `−∇U_{J₂}` against the textbook acceleration (Vallado 2013 eq. 8-30):
-    /// `a = −(3μJ₂R²/(2r⁵)) [x(1 − 5z²/r²), y(1 − 5z²/r²), z(3 − 5z²/r²)]`, and the crate's
-    /// [`KeplerJ2`] with `ε = J₂R²`. Agreement to a few ulps of `|a|` (one AD pass vs. a
-    /// hand formula, each ~10 roundings).
+    /// `a = −(3μJ₂R²/(2r⁵)) [x(1 − 5z²/r²), y(1 − 5z²/r²), z(3 − 5z²/r²)]`, in space and, with
+    /// `z = 0`, in the equatorial plane, where also `U_{J₂} = −μJ₂R²/(2r³)`. Agreement to a few
+    /// ulps of `|a|` (one AD pass vs. a hand formula, each ~10 roundings).
     #[test]
     fn j2_acceleration_matches_vallado() {
         let (mu, j2, rr) = (1.3, 1.08e-3, 0.9);
         let u = J2::new(mu, j2, rr).unwrap();
+        let vallado = |q: Vector3<f64>| {
+            let r = q.norm();
+            let z2 = q[2] * q[2] / (r * r);
+            let c = -1.5 * mu * j2 * rr * rr / r.powi(5);
+            Vector3::new(
+                q[0] * (1.0 - 5.0 * z2),
+                q[1] * (1.0 - 5.0 * z2),
+                q[2] * (3.0 - 5.0 * z2),
+            ) * c
+        };
         let q = SVector::<f64, 3>::new(0.7, -0.4, 0.55);
         let (_, g) = gradient(
             |x| u.disturbing_function(crate::ad::GradDual::from_re(0.0), x),
             &q,
         );
-        let r = q.norm();
-        let z2 = q[2] * q[2] / (r * r);
-        let c = -1.5 * mu * j2 * rr * rr / r.powi(5);
-        let a = Vector3::new(
-            q[0] * (1.0 - 5.0 * z2),
-            q[1] * (1.0 - 5.0 * z2),
-            q[2] * (3.0 - 5.0 * z2),
-        ) * c;
+        let a = vallado(q);
         assert!(
             (-g - a).amax() < 8.0 * f64::EPSILON * a.amax(),
             "{:e}",
             (-g - a).amax()
         );
-        let kj2 = KeplerJ2::<3>::new(mu, j2 * rr * rr).unwrap();
-        let v1 = u.disturbing_function(0.0, &q);
-        let v2 = PerturbedKepler::perturbation(&kj2, 0.0, &q);
-        assert!((v1 - v2).abs() < 4.0 * f64::EPSILON * v1.abs());
+        // The equatorial plane.
+        let q2 = SVector::<f64, 2>::new(0.7, -0.4);
+        let (v2, g2) = gradient(
+            |x| u.disturbing_function(crate::ad::GradDual::from_re(0.0), x),
+            &q2,
+        );
+        let a = vallado(Vector3::new(q2[0], q2[1], 0.0));
+        assert!(a[2] == 0.0);
+        assert!(
+            (-g2 - a.xy()).amax() < 8.0 * f64::EPSILON * a.amax(),
+            "{:e}",
+            (-g2 - a.xy()).amax()
+        );
+        let r = q2.norm();
+        let closed = -0.5 * mu * j2 * rr * rr / (r * r * r);
+        assert!((v2 - closed).abs() < 4.0 * f64::EPSILON * closed.abs());
     }
 
     /// The third-body force `μ₃[(q₃ − q)/|q₃ − q|³ − q₃/|q₃|³]` by AD, and its tidal limit
@@ -709,6 +787,7 @@ mod tests {
     fn bad_parameters_are_rejected() {
         assert!(J2::new(0.0, 1e-3, 1.0).is_err());
         assert!(J2::new(1.0, f64::NAN, 1.0).is_err());
+        assert!(J2::new(1.0, f64::INFINITY, 1.0).is_err());
         assert!(J2::new(1.0, 1e-3, -1.0).is_err());
         assert!(ThirdBody::new(
             -1.0,
@@ -741,6 +820,13 @@ mod tests {
         assert!(
             ConstantThrust::new(Vector3::new(f64::NAN, 0.0, 0.0), ThrustFrame::Inertial).is_err()
         );
-        assert!(PerturbedTwoBody::conservative(-1.0, NoPotential).is_err());
+        assert!(PerturbedTwoBody::<_, NoForce, 3>::conservative(-1.0, NoPotential).is_err());
+        assert!(PerturbedTwoBody::<_, NoForce, 2>::conservative(0.0, NoPotential).is_err());
+        assert!(PerturbedTwoBody::<_, _, 2>::with_force(
+            f64::NAN,
+            NoPotential,
+            LinearDrag::new(0.1).unwrap()
+        )
+        .is_err());
     }
 }
