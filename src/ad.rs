@@ -389,6 +389,16 @@ pub fn real_parts<D: DualNum<f64> + Copy, const N: usize>(x: &SVector<D, N>) -> 
     x.map(|v| v.re())
 }
 
+/// The product `M v` of a real matrix and a vector of dual numbers, `(M v)_i = Σ_j v_j M_ij` (each
+/// term a dual number times a real).
+#[inline]
+pub(crate) fn real_times<D: DualNum<f64> + Copy, const R: usize, const C: usize>(
+    m: &SMatrix<f64, R, C>,
+    v: &SVector<D, C>,
+) -> SVector<D, R> {
+    SVector::from_fn(|i, _| (0..C).fold(D::from(0.0), |s, j| s + v[j] * m[(i, j)]))
+}
+
 /// A (possibly time-dependent) map of phase space `(q, p) ↦ (Q, P)`, written once generic over the
 /// dual type: a canonical transformation, a flow map, one integrator step, or `(q, p)` as functions
 /// of `2N` parameters.

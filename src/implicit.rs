@@ -8,10 +8,18 @@
 //! every Taylor coefficient up to order `NDERIV` is exact (implicit function theorem; Griewank &
 //! Walther 2008, §15.1). This is what makes implicitly defined maps (Legendre transforms, maps from
 //! generating functions, inverses) differentiable — and certifiable — like explicit ones.
+//!
+//! The step from a real root to its Taylor coefficients is [`lift_root`] for any state shape
+//! (a vector, a phase-space pair, the stages of a collocation method; the real Jacobian applied
+//! through its inverse or an LU factorisation) and [`lift_scalar_root`] for one unknown; every
+//! implicit solve of the crate (shooting, reduction, Kepler's equations, collocation stages, map
+//! inversion) goes through them. The real root comes from one Newton iteration (damped from the
+//! given starts, contracting along a continuation, or polishing a converged root).
 
-use crate::ad::{lift, real_parts, GradDual};
-use crate::error::{Error, Result};
+use crate::ad::{lift, real_parts, real_times, GradDual};
+use crate::error::{finite, Error, Result};
 use crate::phase::checked_inverse;
+use crate::vector_space::VectorSpace;
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
@@ -75,67 +83,114 @@ pub(crate) fn newton_converged(
         || (step <= eps.sqrt() * size && step >= 0.5 * previous_step)
 }
 
-/// Solve `r(t, a, b, u) = 0` on reals by damped Newton (backtracking on `‖r‖`) from each start in
-/// turn until one converges; the first failure is reported if all do.
-///
-/// Convergence by the scale-relative stopping rule (residual, step or rounding floor) with the residual's scale `max(‖b‖, ‖r + b‖)`; the final
-/// Newton correction is applied if it does not increase the residual. A singular or
-/// ill-conditioned Jacobian is [`Error::Singular`].
-pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
+/// How one run of [`newton`] steps, when it stops and what it returns on failure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Steps {
+    /// Damped Newton: backtracking on `‖r‖₂` (halving the step until the residual decreases,
+    /// down to a step of `2⁻³⁰`; trial points outside the residual's domain count as worse);
+    /// stops by [`newton_converged`]; at most [`MAX_ITER`] steps.
+    Damped,
+    /// Full steps, abandoned unless each is at most a quarter of the one before (Deuflhard's
+    /// monotonicity test); stops by [`newton_converged`]; at most 8 steps.
+    Contracting,
+    /// Full steps from a converged root while they reduce `‖r‖∞` and are below `ε^{1/4}‖u‖`;
+    /// stops once a step is at rounding level `2ε‖u‖` or after 16 steps, returning the last
+    /// point reached (never an error past the start).
+    Polishing,
+}
+
+impl Steps {
+    fn max_iterations(self) -> usize {
+        match self {
+            Steps::Damped => MAX_ITER,
+            Steps::Contracting => 8,
+            Steps::Polishing => 16,
+        }
+    }
+}
+
+/// Newton's iteration `u ← u − J(u)⁻¹ r(t, a, b, u)` on reals from `start`, with the Jacobian
+/// `J = ∂r/∂u` by AD, stepping and stopping as `steps` says. The scale of the residual in the
+/// stopping rule is `max(‖b‖, ‖r + b‖)`; at convergence the final correction is applied if it
+/// does not increase the residual. A singular or ill-conditioned Jacobian is
+/// [`Error::Singular`]; a non-finite residual, too many steps or a step that does not contract
+/// is [`Error::NotConverged`]. [Deuflhard, *Newton Methods for Nonlinear Problems* (Springer
+/// 2004), §§1.2, 3.1; Dennis & Schnabel, *Numerical Methods for Unconstrained Optimization and
+/// Nonlinear Equations* (SIAM 1996), §6.3.]
+fn newton<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     sys: &S,
     t: f64,
     a: &SVector<f64, N>,
     b: &SVector<f64, N>,
-    starts: &[SVector<f64, N>],
+    start: &SVector<f64, N>,
+    steps: Steps,
     what: &str,
 ) -> Result<Root<N>> {
-    let newton = |mut u: SVector<f64, N>| -> Result<Root<N>> {
-        let (mut r, mut jac) = residual_and_jacobian(sys, t, a, b, &u);
-        let mut iterations = 0;
-        let mut previous_step = f64::INFINITY;
-        loop {
-            if !r.amax().is_finite() {
-                return Err(Error::NotConverged {
-                    what: format!("{what} (residual not finite at u = {u:?})"),
-                    iterations,
-                    residual: r.norm(),
-                });
+    let mut u = *start;
+    let (mut r, mut jac) = residual_and_jacobian(sys, t, a, b, &u);
+    let mut iterations = 0;
+    let mut previous_step = f64::INFINITY;
+    loop {
+        if !r.amax().is_finite() {
+            return Err(Error::NotConverged {
+                what: format!("{what} (residual not finite at u = {u:?})"),
+                iterations,
+                residual: r.norm(),
+            });
+        }
+        let inv = checked_inverse(&jac, what, || {
+            format!("t = {t}, a = {a:?}, b = {b:?}, u = {u:?}")
+        })?;
+        let du = inv * r;
+        let step = du.amax();
+        let root = |u| Root {
+            u,
+            jacobian_inverse: inv,
+            iterations,
+        };
+        if steps == Steps::Polishing {
+            // Only corrections at the level of the error left by the stopping rule (a larger
+            // step near a pole of the residual could land on another root).
+            let small = step <= f64::EPSILON.sqrt().sqrt() * u.amax();
+            let at_rounding = previous_step <= 2.0 * f64::EPSILON * u.amax();
+            if r.amax() == 0.0 || !small || at_rounding || iterations >= steps.max_iterations() {
+                return Ok(root(u));
             }
-            let inv = checked_inverse(&jac, what, || {
-                format!("t = {t}, a = {a:?}, b = {b:?}, u = {u:?}")
-            })?;
-            let du = inv * r;
+        } else {
             let scale = b.amax().max((r + b).amax());
-            if newton_converged(r.amax(), scale, du.amax(), u.amax(), previous_step) {
+            if newton_converged(r.amax(), scale, step, u.amax(), previous_step) {
                 // Apply the final correction unless it makes the residual worse.
                 let un = u - du;
                 let (rn, _) = residual_and_jacobian(sys, t, a, b, &un);
-                return Ok(Root {
-                    u: if rn.amax() <= r.amax() { un } else { u },
-                    jacobian_inverse: inv,
-                    iterations,
-                });
+                return Ok(root(if rn.amax() <= r.amax() { un } else { u }));
             }
-            if iterations >= MAX_ITER {
+            if iterations >= steps.max_iterations() {
                 return Err(Error::NotConverged {
                     what: what.into(),
                     iterations,
                     residual: r.norm(),
                 });
             }
-            previous_step = du.amax();
-            // Backtracking: halve the step until the residual decreases (accept a step of 2⁻³⁰).
-            // Trial points outside the residual's domain (non-finite) are rejected like worse ones.
+            if steps == Steps::Contracting && iterations > 0 && step > 0.25 * previous_step {
+                return Err(Error::NotConverged {
+                    what: format!("{what} (Newton's iteration does not contract)"),
+                    iterations,
+                    residual: r.norm(),
+                });
+            }
+        }
+        previous_step = step;
+        let (un, rn, jn) = if steps == Steps::Damped {
+            // Backtracking: halve the step until the residual decreases (accept a step of
+            // 2⁻³⁰). Trial points outside the residual's domain (non-finite) are rejected like
+            // worse ones.
             let mut lambda = 1.0;
             loop {
                 let un = u - du * lambda;
                 let (rn, jn) = residual_and_jacobian(sys, t, a, b, &un);
                 let finite_trial = rn.amax().is_finite() && jn.iter().all(|x| x.is_finite());
                 if finite_trial && (rn.norm() < r.norm() || lambda < 1e-9) {
-                    u = un;
-                    r = rn;
-                    jac = jn;
-                    break;
+                    break (un, rn, jn);
                 }
                 if lambda < 1e-9 {
                     return Err(Error::NotConverged {
@@ -146,12 +201,37 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
                 }
                 lambda *= 0.5;
             }
-            iterations += 1;
-        }
-    };
+        } else {
+            let un = u - du;
+            let (rn, jn) = residual_and_jacobian(sys, t, a, b, &un);
+            let better = rn.amax() < r.amax() && jn.iter().all(|x| x.is_finite());
+            if steps == Steps::Polishing && !better {
+                return Ok(root(u));
+            }
+            (un, rn, jn)
+        };
+        (u, r, jac) = (un, rn, jn);
+        iterations += 1;
+    }
+}
+
+/// Solve `r(t, a, b, u) = 0` on reals by damped Newton (backtracking on `‖r‖`) from each start in
+/// turn until one converges; the first failure is reported if all do.
+///
+/// Convergence by the scale-relative stopping rule (residual, step or rounding floor) with the
+/// residual's scale `max(‖b‖, ‖r + b‖)`; the final Newton correction is applied if it does not
+/// increase the residual. A singular or ill-conditioned Jacobian is [`Error::Singular`].
+pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
+    sys: &S,
+    t: f64,
+    a: &SVector<f64, N>,
+    b: &SVector<f64, N>,
+    starts: &[SVector<f64, N>],
+    what: &str,
+) -> Result<Root<N>> {
     let mut first_error = None;
     for start in starts {
-        match newton(*start) {
+        match newton(sys, t, a, b, start, Steps::Damped, what) {
             Ok(root) => return Ok(root),
             Err(e) => {
                 first_error.get_or_insert(e);
@@ -162,7 +242,7 @@ pub fn solve_real<S: ImplicitSystem<N> + ?Sized, const N: usize>(
 }
 
 /// Solve `r(t, a, b, u) = 0` in the dual type `D`: the real root by [`solve_real`] (on the real
-/// parts), then `D::NDERIV` frozen-Jacobian Newton steps in `D` (see the [module docs](self)).
+/// parts), then its exact derivatives by [`lift_root`] (see the [module docs](self)).
 pub fn solve<S: ImplicitSystem<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     sys: &S,
     t: D,
@@ -172,37 +252,107 @@ pub fn solve<S: ImplicitSystem<N> + ?Sized, D: DualNum<f64> + Copy, const N: usi
     what: &str,
 ) -> Result<(SVector<D, N>, Root<N>)> {
     let root = solve_real(sys, t.re(), &real_parts(a), &real_parts(b), starts, what)?;
-    Ok((refine(sys, t, a, b, &root), root))
+    Ok((refine(sys, t, a, b, &root)?, root))
 }
 
-/// The derivatives of a real root `root` of `r(t, a, b, u) = 0` with respect to `(t, a, b)`:
-/// `D::NDERIV` frozen-Jacobian Newton steps in the dual type `D` (see the [module docs](self)).
-/// `root` must have been found at the real parts of `(t, a, b)` (by [`solve_real`],
-/// [`roots_real`] or [`continue_root`]).
+/// The root of an implicit equation `r(u) = 0` whose data carry infinitesimal parts, with every
+/// Taylor coefficient up to order `D::NDERIV` exact (implicit function theorem): from the real
+/// root `u₀` (given as `root`, with zero infinitesimal parts) and `solve`, which applies the
+/// inverse of the real Jacobian `J₀ = ∂r/∂u(u₀)` (an inverse matrix, an LU factorisation, a
+/// derivative), `D::NDERIV` frozen-Jacobian Newton steps in `D`,
+///
+/// $$ u_{k+1} = u_k - J_0^{-1}\,\big(r(u_k) - \operatorname{re} r(u_k)\big). $$
+///
+/// With `m` the ideal of infinitesimal parts the error obeys `e₊ = (I − J₀⁻¹ J(u*)) e + O(e²)`
+/// with `J(u*) − J₀ ∈ m`, so after `k` steps it lies in `m^{k+1}` [Griewank & Walther,
+/// *Evaluating Derivatives*, 2nd ed., SIAM 2008, §15.1]. Only the infinitesimal part of the
+/// residual enters, so the real part of the result is `u₀` itself: a real root left at rounding
+/// level (`re r(u₀) = ρ ≠ 0`) keeps its value, and the derivatives are those of the root of
+/// `r − ρ`, within `O(ρ)` of the exact ones. For `D = f64` no step is taken.
+///
+/// # Errors
+/// The first error of `residual`; [`Error::NonFinite`] if the real root is not finite, or if a
+/// residual or a correction is not finite at the root (its real parts; the infinitesimal parts
+/// are not inspected).
+pub fn lift_root<X: VectorSpace>(
+    root: X,
+    mut residual: impl FnMut(&X) -> Result<X>,
+    solve: impl Fn(&X) -> X,
+) -> Result<X> {
+    let not_finite = |what: &str| Error::NonFinite {
+        what: format!("{what} (lift of a root of an implicit equation to its derivatives)"),
+        value: f64::NAN,
+    };
+    if !root.is_finite() {
+        return Err(not_finite("real root"));
+    }
+    let mut u = root;
+    for _ in 0..<X::Scalar as DualNum<f64>>::NDERIV {
+        let r = residual(&u)?;
+        u = u.sub(&solve(&r.infinitesimal()));
+    }
+    if !u.is_finite() {
+        return Err(not_finite("residual or its linear solve at the root"));
+    }
+    Ok(u)
+}
+
+/// [`lift_root`] for one unknown: the root `u(x)` of `r(u) = 0` in the dual type `D`, from the
+/// real root `u₀` and the real derivative `r′(u₀)`,
+/// `u_{k+1} = u_k − (r(u_k) − re r(u_k)) / r′(u₀)`, `D::NDERIV` times.
+///
+/// # Errors
+/// [`Error::NonFinite`] for a non-finite `u₀` or `r′(u₀)`, or a residual not finite at the root;
+/// [`Error::Singular`] where `r′(u₀)` is zero or its reciprocal overflows (the implicit function
+/// theorem does not apply).
+pub fn lift_scalar_root<D: DualNum<f64> + Copy>(
+    root: f64,
+    derivative: f64,
+    mut residual: impl FnMut(D) -> D,
+) -> Result<D> {
+    let derivative = finite("derivative r′(u₀) of an implicit equation", derivative)?;
+    if !derivative.recip().is_finite() {
+        return Err(Error::Singular {
+            what: "derivative r′(u₀) of an implicit equation".into(),
+            at: format!("u₀ = {root}, r′(u₀) = {derivative:e}"),
+            rcond: 0.0,
+        });
+    }
+    let u = lift_root(
+        SVector::<D, 1>::from([D::from(root)]),
+        |u| Ok(SVector::from([residual(u[0])])),
+        |r| r.map(|x| x / derivative),
+    )?;
+    Ok(u[0])
+}
+
+/// The derivatives of a real root `root` of `r(t, a, b, u) = 0` with respect to `(t, a, b)`, by
+/// [`lift_root`] with the frozen `(∂r/∂u)⁻¹` of `root` (see the [module docs](self)). `root` must
+/// have been found at the real parts of `(t, a, b)` (by [`solve_real`], [`roots_real`] or
+/// [`continue_root`]).
+///
+/// # Errors
+/// As [`lift_root`].
 pub fn refine<S: ImplicitSystem<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     sys: &S,
     t: D,
     a: &SVector<D, N>,
     b: &SVector<D, N>,
     root: &Root<N>,
-) -> SVector<D, N> {
-    let inv = root.jacobian_inverse;
-    let mut u: SVector<D, N> = lift(&root.u);
-    for _ in 0..D::NDERIV {
-        let r = sys.residual(t, a, b, &u);
-        u -= SVector::<D, N>::from_fn(|i, _| {
-            (0..N).fold(D::from(0.0), |s, j| s + r[j] * inv[(i, j)])
-        });
-    }
-    u
+) -> Result<SVector<D, N>> {
+    lift_root(
+        lift(&root.u),
+        |u| Ok(sys.residual(t, a, b, u)),
+        |r| real_times(&root.jacobian_inverse, r),
+    )
 }
 
 /// Continue Newton's iteration from a converged root while it still reduces the residual with
 /// steps below `ε^{1/4}‖u‖` (at most 16 plain steps, stopping once the step is at rounding level
-/// `2ε‖u‖`). The stopping rule of
-/// [`solve_real`] accepts a root at its "rounding floor" once steps stop shrinking quadratically,
-/// which near a pole of the residual (a caustic of a generating function) can leave an error of
-/// order `√ε`; polishing removes it wherever the residual can still be reduced.
+/// `2ε‖u‖`). The stopping rule of [`solve_real`] accepts a root at its "rounding floor" once
+/// steps stop shrinking quadratically, which near a pole of the residual (a caustic of a
+/// generating function) can leave an error of order `√ε`; polishing removes it wherever the
+/// residual can still be reduced.
 pub fn polish<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     sys: &S,
     t: f64,
@@ -210,42 +360,13 @@ pub fn polish<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     b: &SVector<f64, N>,
     root: Root<N>,
 ) -> Root<N> {
-    let mut best = root;
-    let (mut r, mut jac) = residual_and_jacobian(sys, t, a, b, &best.u);
-    for _ in 0..16 {
-        if r.amax() == 0.0 {
-            break;
-        }
-        let Some(inv) = jac.try_inverse() else {
-            break;
-        };
-        let du = inv * r;
-        // Only corrections at the level of the error left by the stopping rule (a larger step
-        // near a pole of the residual could land on another root).
-        let small = du.amax() <= f64::EPSILON.sqrt().sqrt() * best.u.amax();
-        if !small {
-            break;
-        }
-        let un = best.u - du;
-        let (rn, jn) = residual_and_jacobian(sys, t, a, b, &un);
-        let better = rn.amax() < r.amax();
-        if !better || !jn.iter().all(|x| x.is_finite()) {
-            break;
-        }
-        let Some(inv_n) = jn.try_inverse() else {
-            break;
-        };
-        best = Root {
-            u: un,
-            jacobian_inverse: inv_n,
-            iterations: best.iterations + 1,
-        };
-        (r, jac) = (rn, jn);
-        if du.amax() <= 2.0 * f64::EPSILON * un.amax() {
-            break;
-        }
+    match newton(sys, t, a, b, &root.u, Steps::Polishing, "polishing a root") {
+        Ok(polished) => Root {
+            iterations: root.iterations + polished.iterations,
+            ..polished
+        },
+        Err(_) => root,
     }
-    best
 }
 
 /// Two roots are the same root if they agree to `√ε` relative to their size (Newton from
@@ -325,33 +446,11 @@ pub fn continue_root<S: ImplicitSystem<N> + ?Sized, const N: usize>(
     }
     let polished = solve_real(sys, t0, a0, b0, std::slice::from_ref(u0), what)?;
     // Plain Newton corrector with the contraction test; `None` if the step is to be rejected.
-    let correct = |s: f64, mut u: SVector<f64, N>| -> Option<SVector<f64, N>> {
+    let correct = |s: f64, u: SVector<f64, N>| -> Option<SVector<f64, N>> {
         let (t, a, b) = at(s);
-        let mut previous = f64::INFINITY;
-        for iteration in 0..8 {
-            let (r, jac) = residual_and_jacobian(sys, t, &a, &b, &u);
-            if !r.amax().is_finite() {
-                return None;
-            }
-            let inv = checked_inverse(&jac, what, String::new).ok()?;
-            let du = inv * r;
-            let step = du.amax();
-            if !step.is_finite() || (iteration > 0 && step > 0.25 * previous) {
-                // Not contracting: unless the iteration is already at its rounding floor.
-                let scale = b.amax().max((r + b).amax());
-                if newton_converged(r.amax(), scale, step, u.amax(), previous) {
-                    return Some(u);
-                }
-                return None;
-            }
-            u -= du;
-            let scale = b.amax().max((r + b).amax());
-            if newton_converged(r.amax(), scale, step, u.amax(), previous) {
-                return Some(u);
-            }
-            previous = step;
-        }
-        None
+        newton(sys, t, &a, &b, &u, Steps::Contracting, what)
+            .ok()
+            .map(|root| root.u)
     };
     let (mut s, mut u) = (0.0, polished.u);
     let mut last: Option<(f64, SVector<f64, N>)> = None;
@@ -411,7 +510,129 @@ pub fn continue_root<S: ImplicitSystem<N> + ?Sized, const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use num_dual::{first_derivative, Dual64};
+    use num_dual::{
+        first_derivative, second_derivative, second_partial_derivative, third_derivative, Dual2,
+        Dual64, HyperDual,
+    };
+
+    /// `y(x)` defined by `y³ + y = x`: at `x = 2`, `y = 1`; differentiating the relation,
+    /// `y′ = 1/(3y² + 1) = 1/4`, `y″ = −6y y′³ = −3/32`, `y‴ = −(6y′³ + 18y y′y″)/(3y² + 1) = 21/256`.
+    fn cubic_root<D: DualNum<f64> + Copy>(x: D) -> D {
+        lift_scalar_root(1.0, 4.0, |y: D| y * y * y + y - x).unwrap()
+    }
+
+    #[test]
+    fn scalar_lift_gives_the_taylor_coefficients_of_the_implicit_function() {
+        let (y, dy) = first_derivative(cubic_root::<Dual64>, 2.0);
+        assert_eq!(y, 1.0);
+        assert!((dy - 0.25).abs() <= f64::EPSILON);
+        let (y, dy, d2y) = second_derivative(cubic_root::<Dual2<f64, f64>>, 2.0);
+        assert_eq!(y, 1.0);
+        assert!((dy - 0.25).abs() <= f64::EPSILON);
+        assert!((d2y + 3.0 / 32.0).abs() <= 2.0 * f64::EPSILON);
+        let (_, _, _, d3y) = third_derivative(cubic_root, 2.0);
+        assert!((d3y - 21.0 / 256.0).abs() <= 4.0 * f64::EPSILON);
+        // On reals no step is taken: the real root comes back unchanged.
+        assert_eq!(cubic_root(2.0), 1.0);
+    }
+
+    /// `u² + v² = a`, `u − v = b`, solved in closed form: `u = (b + w)/2`, `v = (w − b)/2` with
+    /// `w = √(2a − b²)`; at `(a, b) = (5, 1)`, `(u, v) = (2, 1)`.
+    fn circle_line<D: DualNum<f64> + Copy>(a: D, b: D) -> SVector<D, 2> {
+        let jacobian = SMatrix::<f64, 2, 2>::new(4.0, 2.0, 1.0, -1.0);
+        let inverse = jacobian.try_inverse().unwrap();
+        lift_root(
+            lift(&SVector::from([2.0, 1.0])),
+            |u: &SVector<D, 2>| {
+                Ok(SVector::from([
+                    u[0] * u[0] + u[1] * u[1] - a,
+                    u[0] - u[1] - b,
+                ]))
+            },
+            |r| real_times(&inverse, r),
+        )
+        .unwrap()
+    }
+
+    fn circle_line_closed_form<D: DualNum<f64> + Copy>(a: D, b: D) -> SVector<D, 2> {
+        let w = (a * 2.0 - b * b).sqrt();
+        SVector::from([(b + w) * 0.5, (w - b) * 0.5])
+    }
+
+    #[test]
+    fn vector_lift_matches_the_closed_form_root() {
+        let close = |x: f64, y: f64| (x - y).abs() <= 4.0 * f64::EPSILON * y.abs().max(1.0);
+        for i in 0..2 {
+            // First and second derivatives in a (Dual64, Dual2), the mixed one in (a, b) (HyperDual).
+            let (u, du) = first_derivative(|a: Dual64| circle_line(a, Dual64::from(1.0))[i], 5.0);
+            let (v, dv) = first_derivative(
+                |a: Dual64| circle_line_closed_form(a, Dual64::from(1.0))[i],
+                5.0,
+            );
+            assert!(close(u, v) && close(du, dv), "{i}: {u} {du} vs {v} {dv}");
+            let lifted = second_derivative(
+                |a: Dual2<f64, f64>| circle_line(a, Dual2::from(1.0))[i],
+                5.0,
+            );
+            let exact = second_derivative(
+                |a: Dual2<f64, f64>| circle_line_closed_form(a, Dual2::from(1.0))[i],
+                5.0,
+            );
+            assert!(close(lifted.2, exact.2), "{i}: {lifted:?} vs {exact:?}");
+            let lifted = second_partial_derivative(
+                |(a, b): (HyperDual<f64, f64>, _)| circle_line(a, b)[i],
+                (5.0, 1.0),
+            );
+            let exact = second_partial_derivative(
+                |(a, b): (HyperDual<f64, f64>, _)| circle_line_closed_form(a, b)[i],
+                (5.0, 1.0),
+            );
+            assert!(
+                close(lifted.1, exact.1) && close(lifted.2, exact.2) && close(lifted.3, exact.3),
+                "{i}: {lifted:?} vs {exact:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn lifts_refuse_non_finite_and_singular_data() {
+        let residual = |y: Dual64| y * y * y + y - Dual64::new(2.0, 1.0);
+        for (root, derivative) in [(f64::NAN, 4.0), (1.0, f64::INFINITY), (f64::MAX, 4.0)] {
+            let r = lift_scalar_root(root, derivative, residual);
+            assert!(
+                matches!(r, Err(Error::NonFinite { .. })),
+                "{root}, {derivative}: {r:?}"
+            );
+        }
+        for derivative in [0.0, -0.0, 5e-324] {
+            let r = lift_scalar_root(1.0, derivative, residual);
+            assert!(
+                matches!(r, Err(Error::Singular { .. })),
+                "{derivative}: {r:?}"
+            );
+        }
+        let r = lift_scalar_root(1.0, 4.0, |y: Dual64| y - Dual64::new(f64::NAN, 1.0));
+        assert!(matches!(r, Err(Error::NonFinite { .. })));
+    }
+
+    /// Newton's iteration in its three uses: damped from far, contracting from near,
+    /// polishing at a root.
+    #[test]
+    fn newton_steps_damped_contracting_polishing() {
+        let (a, b) = (SVector::from([2.0]), SVector::from([3.0]));
+        let from = |u0: f64, steps| newton(&Cubic, 0.0, &a, &b, &SVector::from([u0]), steps, "");
+        assert!((from(40.0, Steps::Damped).unwrap().u[0] - 1.0).abs() <= f64::EPSILON);
+        assert!((from(1.1, Steps::Contracting).unwrap().u[0] - 1.0).abs() <= f64::EPSILON);
+        // From u = 1000 full steps shrink only by ⅔ (u ← ≈ 2u/3): not contracting.
+        assert!(matches!(
+            from(1e3, Steps::Contracting),
+            Err(Error::NotConverged { .. })
+        ));
+        let root = solve_real(&Cubic, 0.0, &a, &b, &[SVector::from([1.0])], "cubic").unwrap();
+        let polished = polish(&Cubic, 0.0, &a, &b, root);
+        assert_eq!(polished.u[0], 1.0);
+        assert!((polished.jacobian_inverse[(0, 0)] - 0.2).abs() <= f64::EPSILON);
+    }
 
     /// u³ + a u − b = 0.
     struct Cubic;

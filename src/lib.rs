@@ -19,6 +19,7 @@ pub mod scene;
 pub mod special;
 pub mod systems;
 pub mod transform;
+pub mod vector_space;
 pub mod workprecision;
 
 pub use error::{Error, Result};

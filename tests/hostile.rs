@@ -12,10 +12,12 @@ use hamilton_jacobi::hamilton_jacobi::{
     ActionAngle, InverseDistance, KeplerPolarIntegral, OscillatorIntegral, ProjectileIntegral,
     RadialMotion,
 };
+use hamilton_jacobi::implicit::{lift_root, lift_scalar_root};
 use hamilton_jacobi::integrate::{
-    integrate, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting,
+    integrate, rk4_increment, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting,
 };
-use hamilton_jacobi::nalgebra::{SVector, Vector3};
+use hamilton_jacobi::nalgebra::{SMatrix, SVector, Vector3};
+use hamilton_jacobi::num_dual::Dual64;
 use hamilton_jacobi::perturbation::elements::{
     self, Classical, Delaunay, DelaunayToCartesian, Equinoctial, ModifiedEquinoctial,
 };
@@ -26,7 +28,7 @@ use hamilton_jacobi::perturbation::kepler_variation::{
 use hamilton_jacobi::perturbation::lindstedt::{lindstedt_odd_force, lindstedt_pendulum};
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::phase::State;
-
+use hamilton_jacobi::special::elliptic;
 use hamilton_jacobi::special::kepler_equation::{self, Conic};
 use hamilton_jacobi::systems::pendulum_exact::{self, PendulumMotion};
 use hamilton_jacobi::systems::top::motion;
@@ -221,12 +223,12 @@ fn call_reference(function: &str, a: &[f64]) -> Result<Vec<f64>> {
         "elements::mean_to_true" | "elements::mean_to_true[hyperbolic]" => {
             vec![kepler_equation::mean_to_true(a[0], a[1])?]
         }
-        "pendulum_exact::agm" => vec![pendulum_exact::agm(a[0], a[1])?],
-        "pendulum_exact::complete_k_from_complementary" => {
-            vec![pendulum_exact::complete_k_from_complementary(a[0])?]
+        "elliptic::agm" => vec![elliptic::agm(a[0], a[1])?],
+        "elliptic::complete_k_from_complementary" => {
+            vec![elliptic::complete_k_from_complementary(a[0])?]
         }
-        "pendulum_exact::jacobi_sn_cn_dn" => {
-            let (s, c, d) = pendulum_exact::jacobi_sn_cn_dn(a[0], a[1], a[2])?;
+        "elliptic::jacobi_sn_cn_dn" => {
+            let (s, c, d) = elliptic::jacobi_sn_cn_dn(a[0], a[1], a[2])?;
             vec![s, c, d]
         }
         "pendulum_exact::separatrix_gap" => vec![pendulum_exact::separatrix_gap(a[0])?],
@@ -306,7 +308,7 @@ fn reference_verdict(r: &Reference) -> Verdict {
 fn argument_conditioning(r: &Reference, k: usize) -> Option<f64> {
     let v = r.values;
     let (x, derivative) = match r.function {
-        "pendulum_exact::jacobi_sn_cn_dn" => {
+        "elliptic::jacobi_sn_cn_dn" => {
             let (sn, cn, dn, m) = (v[0], v[1], v[2], r.args[1] * r.args[1]);
             (r.args[0], [cn * dn, -sn * dn, -m * sn * cn][k])
         }
@@ -1125,6 +1127,84 @@ fn add_methods(c: &mut Vec<Call>) {
     );
 }
 
+fn add_lifts_and_steps(c: &mut Vec<Call>) {
+    // One classical RK4 step of q̇ = p, ṗ = −q is y ↦ R(hA) y with the stability polynomial
+    // R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 of the classical tableau (Hairer, Nørsett & Wanner I,
+    // II.1): Δq = c q + s p, Δp = c p − s q, c = −h²/2 + h⁴/24, s = h − h³/6. The system is
+    // autonomous, so any t gives the same (finite) increment.
+    sweep(
+        c,
+        "integrate::rk4_increment",
+        &[0.0, 0.5, 1.2, 0.1],
+        &[(3, -0.1), (3, 0.0)],
+        |a| {
+            let (q, p, h) = (a[1], a[2], a[3]);
+            let r = rk4_increment(
+                |_t, (q, p): &(SVector<f64, 1>, SVector<f64, 1>)| Ok((*p, -*q)),
+                a[0],
+                &(SVector::from([q]), SVector::from([p])),
+                h,
+            );
+            let (cc, s) = (-h * h / 2.0 + h.powi(4) / 24.0, h - h.powi(3) / 6.0);
+            judge(r, fin(&a[1..]), |(dq, dp)| {
+                let tol = 16.0 * EPS * (q.abs() + p.abs()) * (1.0 + h.abs()).powi(4);
+                all([
+                    near("Δq", dq[0], cc * q + s * p, tol),
+                    near("Δp", dp[0], cc * p - s * q, tol),
+                ])
+            })
+        },
+    );
+    // The lift of a root y₀ of y³ + y = x given with the derivative r′ carries y₀ as its real part
+    // and dy/dx = −(∂r/∂x)/r′ = 1/r′ (implicit function theorem); at (y₀, r′, x) = (1, 4, 2) that
+    // is the root itself with y′ = 1/4.
+    sweep(
+        c,
+        "implicit::lift_scalar_root",
+        &[1.0, 4.0, 2.0],
+        &[(1, 0.0), (1, -4.0)],
+        |a| {
+            let r = lift_scalar_root(a[0], a[1], |y: Dual64| {
+                y * y * y + y - Dual64::new(a[2], 1.0)
+            });
+            judge(r, fin(a) && a[1] != 0.0, |y| {
+                let slope = 1.0 / a[1];
+                all([
+                    near("y", y.re, a[0], 0.0),
+                    near("dy/dx", y.eps, slope, 4.0 * EPS * slope.abs()),
+                ])
+            })
+        },
+    );
+    // u² + v² = a, u − v = b with (∂r/∂u)⁻¹ frozen at the root (2, 1) of (a, b) = (5, 1):
+    // ∂(u, v)/∂a = J⁻¹(1, 0) = (1/6, 1/6), the derivative of the closed-form root
+    // u = (b + √(2a − b²))/2, v = (√(2a − b²) − b)/2 at (5, 1), for any given real root.
+    sweep(c, "implicit::lift_root", &[2.0, 1.0, 5.0, 1.0], &[], |a| {
+        let inverse = SMatrix::<f64, 2, 2>::new(4.0, 2.0, 1.0, -1.0)
+            .try_inverse()
+            .unwrap();
+        let (da, b) = (Dual64::new(a[2], 1.0), Dual64::from(a[3]));
+        let r = lift_root(
+            SVector::from([Dual64::from(a[0]), Dual64::from(a[1])]),
+            |u: &SVector<Dual64, 2>| {
+                Ok(SVector::from([
+                    u[0] * u[0] + u[1] * u[1] - da,
+                    u[0] - u[1] - b,
+                ]))
+            },
+            |r| inverse.map(Dual64::from) * r,
+        );
+        judge(r, fin(a), |u| {
+            all([
+                near("u", u[0].re, a[0], 0.0),
+                near("v", u[1].re, a[1], 0.0),
+                near("du/da", u[0].eps, 1.0 / 6.0, 4.0 * EPS),
+                near("dv/da", u[1].eps, 1.0 / 6.0, 4.0 * EPS),
+            ])
+        })
+    });
+}
+
 fn add_theories(c: &mut Vec<Call>) {
     sweep(
         c,
@@ -1439,6 +1519,7 @@ fn every_entry_point_survives_hostile_input() {
     add_systems(&mut calls);
     add_orbits(&mut calls);
     add_methods(&mut calls);
+    add_lifts_and_steps(&mut calls);
     add_theories(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()

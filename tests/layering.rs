@@ -2,7 +2,7 @@
 //! layers below it, and the modules of one layer import each other without cycles.
 //!
 //! ```text
-//! core        error, phase, ad, implicit, special
+//! core        error, phase, ad, vector_space, implicit, special
 //! mechanics   hamiltonian, lagrangian, brackets
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation
@@ -19,7 +19,17 @@ use std::path::{Path, PathBuf};
 
 /// The layers, lowest first.
 const LAYERS: &[(&str, &[&str])] = &[
-    ("core", &["error", "phase", "ad", "implicit", "special"]),
+    (
+        "core",
+        &[
+            "error",
+            "phase",
+            "ad",
+            "vector_space",
+            "implicit",
+            "special",
+        ],
+    ),
     ("mechanics", &["hamiltonian", "lagrangian", "brackets"]),
     ("models", &["systems"]),
     (

@@ -49,7 +49,7 @@
 //! with an error estimate growing like `1/rcond` (for the unit oscillator `1/sin τ`).
 //!
 //! **Derivatives.** [`principal_function_generic`] repeats the last propagation in any dual type
-//! `D` after `D::NDERIV` Newton steps with the frozen real Jacobian (as [`crate::implicit::solve`]),
+//! `D` after `D::NDERIV` Newton steps with the frozen real Jacobian ([`lift_root`]),
 //! at the same step count, so that `S`, `p⁰`, `p¹`, `H₀`, `H₁` come out with exact derivatives of
 //! the discrete map with respect to `(q⁰, q¹, t₀, t₁)` — independent of the returned momenta and
 //! energies, which the identities above then check.
@@ -59,10 +59,11 @@
 //! map has no type-1 generator, X4). Systems with non-conservative forces have no principal
 //! function and are refused.
 
-use crate::ad::{lift, real_parts, GradDual};
+use crate::ad::{lift, real_parts, real_times, GradDual};
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
-use crate::integrate::Work;
+use crate::implicit::lift_root;
+use crate::integrate::{rk4_increment, Work};
 use crate::phase::checked_inverse;
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::DualNum;
@@ -208,7 +209,8 @@ fn field<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     (hp, -hq, p.dot(&hp) - hv)
 }
 
-/// `M` classical RK4 steps from `t₀` to `t₁`; `None` if the state leaves the finite numbers.
+/// `M` classical RK4 steps ([`rk4_increment`]) from `t₀` to `t₁` on `(q, p, s)`, the action `s`
+/// carried along; `None` if the state leaves the finite numbers.
 fn rk4_run<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     h: &H,
     t0: D,
@@ -218,22 +220,27 @@ fn rk4_run<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     steps: usize,
 ) -> Option<Run<D, N>> {
     let dt = (t1 - t0) / steps as f64;
-    let half = dt * 0.5;
-    let sixth = dt / 6.0;
-    let two = D::from(2.0);
     let (mut q, mut p, mut s) = (*q0, *p0, D::from(0.0));
     let mut qmax = q.map(|x| x.re().abs());
     let mut pmax = p.map(|x| x.re().abs());
+    // Largest |s| along the path, and largest Lagrangian |ṡ| at any stage.
     let (mut smax, mut lmax) = (0.0f64, 0.0f64);
     for k in 0..steps {
         let t = t0 + dt * k as f64;
-        let (k1q, k1p, k1s) = field(h, t, &q, &p);
-        let (k2q, k2p, k2s) = field(h, t + half, &(q + k1q * half), &(p + k1p * half));
-        let (k3q, k3p, k3s) = field(h, t + half, &(q + k2q * half), &(p + k2p * half));
-        let (k4q, k4p, k4s) = field(h, t + dt, &(q + k3q * dt), &(p + k3p * dt));
-        q += (k1q + (k2q + k3q) * two + k4q) * sixth;
-        p += (k1p + (k2p + k3p) * two + k4p) * sixth;
-        s += (k1s + (k2s + k3s) * two + k4s) * sixth;
+        let (dq, dp, ds) = rk4_increment(
+            |t, (q, p, _)| {
+                let k = field(h, t, q, p);
+                lmax = lmax.max(k.2.re().abs());
+                Ok(k)
+            },
+            t,
+            &(q, p, s),
+            dt,
+        )
+        .ok()?;
+        q += dq;
+        p += dp;
+        s += ds;
         for i in 0..N {
             let (a, b) = (q[i].re().abs(), p[i].re().abs());
             if !(a.is_finite() && b.is_finite()) {
@@ -246,7 +253,6 @@ fn rk4_run<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
             return None;
         }
         smax = smax.max(s.re().abs());
-        lmax = lmax.max(k1s.re().abs()).max(k4s.re().abs());
     }
     Some(Run {
         q,
@@ -1022,11 +1028,12 @@ pub struct PrincipalValue<D, const N: usize> {
     pub h1: D,
 }
 
-/// [`principal_function`] in any dual type `D`: the real solve on the real parts, then `D::NDERIV`
-/// Newton steps in `D` with the real shooting Jacobian frozen and the final step count kept, and
-/// one more propagation in `D`. The dual parts are exact derivatives of the discrete map, so
-/// `∂S/∂q¹`, `∂S/∂q⁰`, `∂S/∂t₁`, `∂S/∂t₀` (and higher derivatives with a higher-order `D`) come out
-/// of `S` itself, independently of the returned `p⁰`, `p¹`, `H₀`, `H₁` (SPEC M52, M53).
+/// [`principal_function`] in any dual type `D`: the real solve on the real parts, then the exact
+/// derivatives of the initial momentum by [`lift_root`] (`D::NDERIV` Newton steps in `D` with the
+/// real shooting Jacobian frozen, at the final step count), and one more propagation in `D`. The
+/// dual parts are exact derivatives of the discrete map, so `∂S/∂q¹`, `∂S/∂q⁰`, `∂S/∂t₁`,
+/// `∂S/∂t₀` (and higher derivatives with a higher-order `D`) come out of `S` itself,
+/// independently of the returned `p⁰`, `p¹`, `H₀`, `H₁` (SPEC M52, M53).
 ///
 /// Returns the dual values and the real report (error estimates, conditioning, work of the real
 /// solve; the `D::NDERIV + 1` dual propagations at `M` and `2M` steps come on top); errors as
@@ -1082,13 +1089,11 @@ where
             .map(|pair| pair.extrapolated)
             .ok_or_else(|| non_finite_path(t0.re(), t1.re()))
     };
-    let mut p0: SVector<D, N> = lift(&real.p0);
-    for _ in 0..D::NDERIV {
-        let r = run(&p0)?.q - q1;
-        p0 -= SVector::<D, N>::from_fn(|i, _| {
-            (0..N).fold(D::from(0.0), |s, j| s + r[j] * inv[(i, j)])
-        });
-    }
+    let p0 = lift_root(
+        lift(&real.p0),
+        |p0| Ok(run(p0)?.q - q1),
+        |r| real_times(&inv, r),
+    )?;
     let end = run(&p0)?;
     let value = PrincipalValue {
         s: end.s,

@@ -29,7 +29,7 @@
 use crate::ad::lift;
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
-use crate::implicit::newton_converged;
+use crate::implicit::{lift_scalar_root, newton_converged};
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::{first_derivative, second_derivative, Dual, Dual2, DualNum};
@@ -370,14 +370,13 @@ impl<H: Hamiltonian<N>, const N: usize> Hamiltonian<N> for ReducedHamiltonian<'_
         let Ok((u0, hu)) = w.solve(&qr, &pr) else {
             return nan();
         };
-        // Frozen-derivative Newton steps in D: each exact to one more order (implicit AD).
-        let mut qd = *q;
-        qd[i] = D::from(u0);
-        for _ in 0..D::NDERIV {
-            let r = w.hamiltonian.hamiltonian(D::from(0.0), &qd, &pt) - w.energy;
-            qd[i] -= r * hu.recip();
-        }
-        // Only the derivative parts matter for slot i: drop the dependence on the inert q_i.
-        qd[i]
+        // The root's derivatives by the implicit function theorem; only its derivative parts
+        // matter for slot i (the dependence on the inert q_i is dropped).
+        lift_scalar_root(u0, hu, |u| {
+            let mut qd = *q;
+            qd[i] = u;
+            w.hamiltonian.hamiltonian(D::from(0.0), &qd, &pt) - w.energy
+        })
+        .unwrap_or_else(|_| nan())
     }
 }

@@ -65,8 +65,8 @@
 //! # Exact derivatives of the step
 //! `increment` is generic over the dual type `D`. The stages are solved on the real parts; then,
 //! with the **exact** Newton matrix `M* = I − h (A ⊗ I) diag(J_f(Y_j))` at the converged stages
-//! factorised on reals, `D::NDERIV` Newton steps are taken in `D` arithmetic. With `m` the ideal of
-//! infinitesimal parts, the error obeys `e₊ = (I − M*⁻¹ M(Z)) e + O(e²)` with `M(Z*) − M* ∈ m` (real
+//! factorised on reals, `D::NDERIV` Newton steps are taken in `D` arithmetic ([`lift_root`]).
+//! With `m` the ideal of infinitesimal parts, the error obeys `e₊ = (I − M*⁻¹ M(Z)) e + O(e²)` with `M(Z*) − M* ∈ m` (real
 //! parts agree), so after `k` steps it lies in `m^{k+1}`: every Taylor coefficient up to order
 //! `NDERIV` of the stages — and of the increment — is exact (the pattern of [`crate::implicit`];
 //! Griewank & Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, §15.1). [`StepMap`] with
@@ -90,7 +90,9 @@ use super::{OneStep, Work};
 use crate::ad::{lift, real_parts};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::implicit::lift_root;
 use crate::phase::{check_phase, PhaseMatrix};
+use crate::vector_space::VectorSpace;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -423,6 +425,22 @@ impl<D: DualNum<f64> + Copy, const N: usize, const S: usize> Stages<D, N, S> {
             }
         }
     }
+    /// The stages from the flat layout `[stage][q | p][component]`.
+    fn from_flat(x: &[D]) -> Self {
+        Self {
+            q: std::array::from_fn(|i| SVector::from_fn(|k, _| x[2 * N * i + k])),
+            p: std::array::from_fn(|i| SVector::from_fn(|k, _| x[2 * N * i + N + k])),
+        }
+    }
+    /// The stages into the flat layout `[stage][q | p][component]`.
+    fn write_flat(&self, x: &mut [D]) {
+        for i in 0..S {
+            for k in 0..N {
+                x[2 * N * i + k] = self.q[i][k];
+                x[2 * N * i + N + k] = self.p[i][k];
+            }
+        }
+    }
     fn is_finite(&self) -> bool {
         self.q
             .iter()
@@ -438,6 +456,25 @@ impl<D: DualNum<f64> + Copy, const N: usize, const S: usize> Stages<D, N, S> {
             sp += vp * D::from(wj);
         }
         (sq, sp)
+    }
+}
+
+impl<D: DualNum<f64> + Copy, const N: usize, const S: usize> VectorSpace for Stages<D, N, S> {
+    type Scalar = D;
+    fn all(&self, f: impl Fn(D) -> bool) -> bool {
+        self.q.iter().chain(&self.p).all(|v| v.all(&f))
+    }
+    fn map(&self, f: impl Fn(D) -> D) -> Self {
+        Self {
+            q: self.q.map(|v| v.map(&f)),
+            p: self.p.map(|v| v.map(&f)),
+        }
+    }
+    fn zip_map(&self, v: &Self, f: impl Fn(D, D) -> D) -> Self {
+        Self {
+            q: std::array::from_fn(|i| self.q[i].zip_map(&v.q[i], &f)),
+            p: std::array::from_fn(|i| self.p[i].zip_map(&v.p[i], &f)),
+        }
     }
 }
 
@@ -672,13 +709,21 @@ impl<H: Hamiltonian<N>, const N: usize, const S: usize> OneStep<H, N> for Gauss<
             }
             let mut xs = [[[D::from(0.0); N]; 2]; S];
             let x = xs.as_flattened_mut().as_flattened_mut();
-            let mut zd = lift_stages::<D, N, S>(&z);
-            for _ in 0..D::NDERIV {
-                let fd = self.fields(system, t, dt, q, p, &zd, work);
-                self.residual(dt, &zd, &fd, x);
-                lu_solve(m, piv, n, x);
-                zd.sub_flat(x);
-            }
+            let zd = lift_root(
+                lift_stages::<D, N, S>(&z),
+                |zd| {
+                    let fd = self.fields(system, t, dt, q, p, zd, work);
+                    self.residual(dt, zd, &fd, x);
+                    Ok(Stages::from_flat(x))
+                },
+                |r| {
+                    let mut ys = [[[D::from(0.0); N]; 2]; S];
+                    let y = ys.as_flattened_mut().as_flattened_mut();
+                    r.write_flat(y);
+                    lu_solve(m, piv, n, y);
+                    Stages::from_flat(y)
+                },
+            )?;
             let fd = self.fields(system, t, dt, q, p, &zd, work);
             let (sq, sp) = fd.weighted_sum(&self.b);
             Ok((sq * dt, sp * dt))

@@ -42,7 +42,7 @@ pub use gauss::{Gauss, ImplicitMidpoint};
 pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
 };
-pub use rk4::Rk4;
+pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
 pub use wisdom_holman::{kepler_drift, PerturbedKepler, WisdomHolman};

@@ -1,18 +1,54 @@
-//! The classical fourth-order Runge–Kutta method (non-symplectic reference).
+//! The classical fourth-order Runge–Kutta method: one step for states of any shape, and the
+//! (non-symplectic) reference integrator [`Rk4`] of Hamilton's equations built on it.
 //!
-//! $$ k_1 = f(y),\ k_2 = f(y + \tfrac h2 k_1),\ k_3 = f(y + \tfrac h2 k_2),\ k_4 = f(y + h k_3),\quad
-//!    \Delta y = \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4) $$
+//! $$ k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
+//!    k_4 = f(t + h, y + h k_3),\qquad \Delta y = \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4) $$
 //!
-//! [Hairer, Nørsett & Wanner, *Solving ODEs I*, II.1]. Requirements on the system: any
-//! [`Hamiltonian`]; four AD gradients per step. Not symplectic: its energy error drifts linearly.
+//! [Hairer, Nørsett & Wanner, *Solving ODEs I*, 2nd ed., Springer 1993, II.1 (the classical
+//! tableau, order 4)]. [`rk4_increment`] takes the state as any [`VectorSpace`] — a phase-space
+//! pair `(q, p)`, a triple `(q, p, s)` with the action carried along, element pairs — over any
+//! dual type, and returns the increment `Δy`, so that the caller adds it as it needs (plainly, or
+//! with compensated summation). Requirements of [`Rk4`] on the system: any [`Hamiltonian`]; four
+//! AD gradients per step. Not symplectic: its energy error drifts linearly.
 
 use super::{OneStep, Work};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::hamiltonian::Hamiltonian;
+use crate::vector_space::VectorSpace;
 use nalgebra::SVector;
-use num_dual::DualNum;
+use num_dual::{DualNum, DualStruct};
 
-/// Classical RK4.
+/// One classical RK4 step of size `h` from `y` at `t` for `ẏ = f(t, y)`: the increment
+/// `Δy = (h/6)(k₁ + 2k₂ + 2k₃ + k₄)` (see the [module docs](self)), with `f` evaluated four times
+/// in the order `k₁ … k₄`.
+///
+/// # Errors
+/// The first error of `f`; [`Error::NonFinite`] if the increment is not finite (its real parts:
+/// a non-finite state or step, or an overflow).
+#[inline]
+pub fn rk4_increment<Y: VectorSpace>(
+    mut f: impl FnMut(Y::Scalar, &Y) -> Result<Y>,
+    t: Y::Scalar,
+    y: &Y,
+    h: Y::Scalar,
+) -> Result<Y> {
+    let half = h * 0.5;
+    let k1 = f(t, y)?;
+    let k2 = f(t + half, &y.add(&k1.scale(half)))?;
+    let k3 = f(t + half, &y.add(&k2.scale(half)))?;
+    let k4 = f(t + h, &y.add(&k3.scale(h)))?;
+    let two = Y::Scalar::from(2.0);
+    let increment = k1.add(&k2.add(&k3).scale(two)).add(&k4).scale(h / 6.0);
+    if !increment.is_finite() {
+        return Err(Error::NonFinite {
+            what: format!("RK4 increment at t = {}, h = {}", t.re(), h.re()),
+            value: f64::NAN,
+        });
+    }
+    Ok(increment)
+}
+
+/// Classical RK4 for Hamilton's equations.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Rk4;
 
@@ -33,17 +69,12 @@ impl<S: Hamiltonian<N>, const N: usize> OneStep<S, N> for Rk4 {
         dt: D,
         work: &mut Work,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
-        let f = |t: D, q: &SVector<D, N>, p: &SVector<D, N>| system.vector_field_generic(t, q, p);
-        let half = dt * 0.5;
-        let (k1q, k1p) = f(t, q, p);
-        let (k2q, k2p) = f(t + half, &(q + k1q * half), &(p + k1p * half));
-        let (k3q, k3p) = f(t + half, &(q + k2q * half), &(p + k2p * half));
-        let (k4q, k4p) = f(t + dt, &(q + k3q * dt), &(p + k3p * dt));
         work.gradients += 4;
-        let sixth = dt / 6.0;
-        Ok((
-            (k1q + (k2q + k3q) * D::from(2.0) + k4q) * sixth,
-            (k1p + (k2p + k3p) * D::from(2.0) + k4p) * sixth,
-        ))
+        rk4_increment(
+            |t, (q, p)| Ok(system.vector_field_generic(t, q, p)),
+            t,
+            &(*q, *p),
+            dt,
+        )
     }
 }

@@ -413,12 +413,10 @@ pub fn kepler_drift<D: DualNum<f64> + Copy, const N: usize>(
     }
     let rhs = dt_red * sqrt_mu;
     let (chi_re, r_re) = solve_universal(r0.re(), sigma0.re(), alpha.re(), rhs.re())?;
-    // Frozen-derivative Newton in D: each step gains one order of infinitesimals.
-    let mut chi = D::from(chi_re);
-    for _ in 0..D::NDERIV {
-        let (fx, _) = universal(chi, r0, sigma0, alpha, rhs);
-        chi -= fx / r_re;
-    }
+    // Exact derivatives of the root (implicit function theorem), dr/dχ = r at the root.
+    let chi = crate::implicit::lift_scalar_root(chi_re, r_re, |chi| {
+        universal(chi, r0, sigma0, alpha, rhs).0
+    })?;
     let chi2 = chi * chi;
     let z = alpha * chi2;
     let (c, s) = stumpff(z);

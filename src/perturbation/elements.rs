@@ -83,6 +83,7 @@ use num_dual::DualNum;
 
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, positive, Error, Result};
+use crate::implicit::lift_scalar_root;
 use crate::integrate::kepler_drift;
 use crate::special::kepler_equation::{
     eccentric_anomaly, hyperbolic_anomaly, mean_to_true, one_minus_e_cos, true_to_mean, with_re,
@@ -672,11 +673,9 @@ impl<D: DualNum<f64> + Copy> Equinoctial<D> {
         let varpi = if e > 0.0 { re.h.atan2(re.k) } else { 0.0 };
         let ea = crate::special::kepler_equation::solve_kepler(re.lambda - varpi, e)?;
         let fp = one_minus_e_cos(ea, e);
-        let mut f = D::from(ea + varpi);
-        for _ in 0..D::NDERIV {
-            let res = f + h * f.cos() - k * f.sin() - self.lambda;
-            f -= (res - res.re()) / fp;
-        }
+        let f = lift_scalar_root(ea + varpi, fp, |f: D| {
+            f + h * f.cos() - k * f.sin() - self.lambda
+        })?;
         let (sf, cf) = f.sin_cos();
         let beta = ((-h * h - k * k + 1.0).sqrt() + 1.0).recip();
         let hkb = h * k * beta;

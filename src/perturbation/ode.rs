@@ -11,7 +11,8 @@
 //! with a blanket impl for Hamiltonians; that change is not made here).
 //!
 //! # Method
-//! One step of size `h` [Hairer, Nørsett & Wanner, *Solving ODEs I*, II.1]:
+//! One step of size `h` is the classical RK4 step [`rk4_increment`] [Hairer, Nørsett & Wanner,
+//! *Solving ODEs I*, II.1]:
 //!
 //! $$ k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
 //!    k_4 = f(t + h, y + h k_3),\qquad y_1 = y + \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4). $$
@@ -30,6 +31,7 @@
 //! the estimate, which is an estimate for `y_{h/2}`.
 
 use crate::error::{all_finite, finite, Error, Result};
+use crate::integrate::rk4_increment;
 use nalgebra::SVector;
 
 /// A pair of `N`-vectors: the `2N` elements (or their rates) as two blocks.
@@ -135,20 +137,13 @@ fn rk4_counted<O: ElementOde<N> + ?Sized, const N: usize>(
     let mut evaluations = 0;
     for k in 0..steps {
         let t = t0 + h * k as f64;
-        let half = 0.5 * h;
-        let mut f = |t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>| -> Result<Pair<N>> {
+        let f = |t: f64, (a, b): &Pair<N>| -> Result<Pair<N>> {
             evaluations += 1;
             let r = ode.rhs(t, a, b)?;
             check_rate(t, &r)?;
             Ok(r)
         };
-        let k1 = f(t, &a, &b)?;
-        let k2 = f(t + half, &(a + k1.0 * half), &(b + k1.1 * half))?;
-        let k3 = f(t + half, &(a + k2.0 * half), &(b + k2.1 * half))?;
-        let k4 = f(t + h, &(a + k3.0 * h), &(b + k3.1 * h))?;
-        let sixth = h / 6.0;
-        let da = (k1.0 + (k2.0 + k3.0) * 2.0 + k4.0) * sixth;
-        let db = (k1.1 + (k2.1 + k3.1) * 2.0 + k4.1) * sixth;
+        let (da, db) = rk4_increment(f, t, &(a, b), h)?;
         compensated_add(&mut a, &mut ca, &da);
         compensated_add(&mut b, &mut cb, &db);
     }

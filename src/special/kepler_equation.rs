@@ -22,6 +22,7 @@ use std::f64::consts::{LN_2, PI, TAU};
 use num_dual::DualNum;
 
 use crate::error::{finite, Error, Result};
+use crate::implicit::lift_scalar_root;
 
 /// Low part of 2π: `TAU + TAU_LO` equals 2π to about 10⁻³³ relative (Cody–Waite reduction).
 pub(crate) const TAU_LO: f64 = 2.449_293_598_294_706_4e-16;
@@ -497,40 +498,28 @@ pub fn solve_barker<D: DualNum<f64> + Copy>(mean_anomaly: D) -> Result<D> {
 }
 
 /// Eccentric anomaly `E` of an ellipse from `M = E − e sin E`, in any dual type: the real root
-/// by [`solve_kepler`], then `D::NDERIV` frozen-derivative Newton steps in `D`
-/// (exact derivatives with respect to `M` and `e`; see the [module docs](self)).
+/// by [`solve_kepler`], then its exact derivatives with respect to `M` and `e` by
+/// [`lift_scalar_root`] (see the [module docs](self)).
 ///
 /// # Errors
-/// As [`solve_kepler`] (on the real parts).
+/// As [`solve_kepler`] (on the real parts) and [`lift_scalar_root`].
 pub fn eccentric_anomaly<D: DualNum<f64> + Copy>(mean_anomaly: D, e: D) -> Result<D> {
-    let ea_re = solve_kepler(mean_anomaly.re(), e.re())?;
-    let mut ea = D::from(ea_re);
-    if D::NDERIV > 0 {
-        let fp = one_minus_e_cos(ea_re, e.re());
-        for _ in 0..D::NDERIV {
-            let res = ea - e * ea.sin() - mean_anomaly;
-            ea -= (res - res.re()) / fp;
-        }
-    }
-    Ok(ea)
+    let ea = solve_kepler(mean_anomaly.re(), e.re())?;
+    lift_scalar_root(ea, one_minus_e_cos(ea, e.re()), |ea: D| {
+        ea - e * ea.sin() - mean_anomaly
+    })
 }
 
 /// Hyperbolic anomaly `F` from `M = e sinh F − F`, in any dual type: real root by
-/// [`solve_kepler_hyperbolic`], then frozen-derivative Newton steps in `D` (exact derivatives).
+/// [`solve_kepler_hyperbolic`], then its exact derivatives by [`lift_scalar_root`].
 ///
 /// # Errors
-/// As [`solve_kepler_hyperbolic`] (on the real parts).
+/// As [`solve_kepler_hyperbolic`] (on the real parts) and [`lift_scalar_root`].
 pub fn hyperbolic_anomaly<D: DualNum<f64> + Copy>(mean_anomaly: D, e: D) -> Result<D> {
-    let f_re = solve_kepler_hyperbolic(mean_anomaly.re(), e.re())?;
-    let mut f = D::from(f_re);
-    if D::NDERIV > 0 {
-        let fp = e_cosh_minus_one(f_re, e.re());
-        for _ in 0..D::NDERIV {
-            let res = e * f.sinh() - f - mean_anomaly;
-            f -= (res - res.re()) / fp;
-        }
-    }
-    Ok(f)
+    let f = solve_kepler_hyperbolic(mean_anomaly.re(), e.re())?;
+    lift_scalar_root(f, e_cosh_minus_one(f, e.re()), |f: D| {
+        e * f.sinh() - f - mean_anomaly
+    })
 }
 
 /// True anomaly `ν` from the mean anomaly of any conic, switching on `e` (see

@@ -4,10 +4,10 @@
 //! canonical (`(MN)ᵀJ(MN) = Nᵀ(MᵀJM)N = J`). [`Compose`] and [`Inverse`] are again [`PhaseMap`]s,
 //! written generically, so their Jacobians — and so their certificates — come from AD.
 
-use crate::ad::{lift, real_parts};
+use crate::ad::{lift, real_parts, real_times};
 use crate::brackets::{jacobian, PhaseMap};
 use crate::error::{Error, Result};
-use crate::implicit::newton_converged;
+use crate::implicit::{lift_root, newton_converged};
 use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -29,8 +29,8 @@ impl<A: PhaseMap<N>, B: PhaseMap<N>, const N: usize> PhaseMap<N> for Compose<A, 
 }
 
 /// The inverse of any invertible map, by Newton's method on `M(z) = w` with the exact AD Jacobian;
-/// derivatives of the inverse follow from frozen-Jacobian steps in the dual type (as in
-/// [`crate::implicit`]). The starting point is `w` itself unless a guess is set.
+/// derivatives of the inverse follow from frozen-Jacobian steps in the dual type
+/// ([`lift_root`]). The starting point is `w` itself unless a guess is set.
 #[derive(Clone, Copy, Debug)]
 pub struct Inverse<M, const N: usize> {
     map: M,
@@ -126,26 +126,19 @@ impl<M: PhaseMap<N>, const N: usize> Inverse<M, N> {
             }
             iterations += 1;
         };
-        let (mut qd, mut pd): (SVector<D, N>, SVector<D, N>) = (lift(&q), lift(&p));
-        for _ in 0..D::NDERIV {
-            let (a, b) = self.map.apply(t, &qd, &pd);
-            let (ra, rb) = (a - big_q, b - big_p);
-            let row = |i: usize| {
-                (0..N).fold(D::from(0.0), |s, j| {
-                    let (m1, m2) = if i < N {
-                        (inv.qq[(i, j)], inv.qp[(i, j)])
-                    } else {
-                        (inv.pq[(i - N, j)], inv.pp[(i - N, j)])
-                    };
-                    s + ra[j] * m1 + rb[j] * m2
-                })
-            };
-            let dq: SVector<D, N> = SVector::from_fn(|i, _| row(i));
-            let dp: SVector<D, N> = SVector::from_fn(|i, _| row(i + N));
-            qd -= dq;
-            pd -= dp;
-        }
-        Ok((qd, pd))
+        lift_root(
+            (lift(&q), lift(&p)),
+            |(qd, pd)| {
+                let (a, b) = self.map.apply(t, qd, pd);
+                Ok((a - big_q, b - big_p))
+            },
+            |(ra, rb)| {
+                (
+                    real_times(&inv.qq, ra) + real_times(&inv.qp, rb),
+                    real_times(&inv.pq, ra) + real_times(&inv.pp, rb),
+                )
+            },
+        )
     }
 }
 

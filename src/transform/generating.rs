@@ -664,7 +664,7 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
             what,
         )?;
         let root = implicit::polish(&relation, t.re(), &kr, &br, root);
-        let u = implicit::refine(&relation, t, &k, &b, &root);
+        let u = implicit::refine(&relation, t, &k, &b, &root)?;
         let (x, y) = if forward { (k, u) } else { (u, k) };
         let (fx, fy) = partials(&self.generator, t, &x, &y);
         let out = if forward {
