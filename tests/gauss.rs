@@ -12,8 +12,8 @@
 
 use hamilton_jacobi::brackets::{certify, exactness_defect};
 use hamilton_jacobi::integrate::{
-    integrate, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4, State,
-    StepMap, Work,
+    integrate, methods, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4,
+    State, StepMap, Work,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector1, Vector2};
 use hamilton_jacobi::systems::{kepler_orbit, pendulum_exact, Kepler2, Pendulum};
@@ -141,7 +141,7 @@ fn pendulum_orders() {
             .collect();
         check_order(
             &format!("pendulum, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             5e-16,
@@ -183,7 +183,7 @@ fn kepler_orders() {
             .collect();
         check_order(
             &format!("Kepler e = 0.5, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             floor,
@@ -211,7 +211,7 @@ fn time_dependent_hamiltonian_keeps_the_order() {
             .collect();
         check_order(
             &format!("forced oscillator, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             1e-15,

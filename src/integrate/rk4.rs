@@ -6,6 +6,7 @@
 //! [Hairer, Nørsett & Wanner, *Solving ODEs I*, II.1]. Requirements on the system: any
 //! [`Hamiltonian`]; four AD gradients per step. Not symplectic: its energy error drifts linearly.
 
+use super::methods;
 use super::{OneStep, Work};
 use crate::error::Result;
 use crate::hamiltonian::Hamiltonian;
@@ -21,7 +22,7 @@ impl<S: Hamiltonian<N>, const N: usize> OneStep<S, N> for Rk4 {
         4
     }
     fn name(&self) -> String {
-        "RK4".into()
+        methods::RK4.label()
     }
     #[inline]
     fn increment<D: DualNum<f64> + Copy>(
