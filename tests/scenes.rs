@@ -297,7 +297,11 @@ samples = 50
     // Every invariant the Kepler problem knows is drawn.
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-invariants.svg")).unwrap();
     for name in ["energy", "h_z", "e_x", "e_y"] {
-        assert!(svg.contains(&format!("{name}: rk4")), "{name} missing");
+        // Each curve is named by the invariant and the run's label (classical Runge–Kutta).
+        assert!(
+            svg.contains(&format!("{name}: classical")),
+            "{name} missing"
+        );
     }
     std::fs::remove_dir_all(&out).ok();
 }
