@@ -12,7 +12,9 @@
 //! `cargo run --release --example poincare_section [out.csv]` writes every section point
 //! `(orbit, method, k, t, y, p_y)` to `out.csv` if a path is given.
 
-use hamilton_jacobi::integrate::{integrate, AnyMethod, Crossing, Method, Problem, Section};
+use hamilton_jacobi::integrate::{
+    integrate, AnyMethod, Crossing, Method, MethodInfo, Problem, Section,
+};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::phase::State;
 use hamilton_jacobi::{hamiltonian, Result};
@@ -42,7 +44,7 @@ fn main() -> Result<()> {
         let methods = [
             AnyMethod::dop853(1e-13, 1e-15)?,
             AnyMethod::verlet((span / 0.01) as usize)?,
-            AnyMethod::splitting("Kahan–Li 8 (s=17)", (span / 0.1) as usize)?,
+            AnyMethod::new(MethodInfo::find("kahan-li17")?, (span / 0.1).round())?,
         ];
         println!("orbit y₀ = {y0}, p_y = 0, p_x = {px0:.6}, E = {ENERGY}");
         let mut reference: Vec<State<2>> = Vec::new();

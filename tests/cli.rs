@@ -33,7 +33,15 @@ fn list_and_show() {
     let o = hj(&["list"]);
     assert!(o.status.success());
     let text = String::from_utf8(o.stdout).unwrap();
-    assert!(text.contains("kepler-e0.99") && text.contains("sofroniou-spaletta10"));
+    assert!(text.contains("kepler-e0.99"));
+    // Every method of the table, by key with its label.
+    for m in &hamilton_jacobi::integrate::METHODS {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(m.key))
+            .unwrap_or_else(|| panic!("hj list lacks {}:\n{text}", m.key));
+        assert!(line.contains(&m.label()), "{line}");
+    }
     let o = hj(&["show", "heavy-top"]);
     assert!(o.status.success());
     assert!(String::from_utf8(o.stdout)
@@ -76,7 +84,7 @@ fn run_writes_under_out() {
     std::fs::write(
         &path,
         "[system]\nname = \"pendulum\"\namplitude = 1.0\n[span]\nperiods = 1\n\
-         [[method]]\nkind = \"verlet\"\nsteps = [50, 100]\n[output]\nwork_precision = true\n",
+         [[method]]\nkind = \"verlet-kdk\"\nsteps = [50, 100]\n[output]\nwork_precision = true\n",
     )
     .unwrap();
     let out = dir.join("results");

@@ -14,7 +14,8 @@ mod common;
 
 use hamilton_jacobi::brackets::{certify, exactness_defect};
 use hamilton_jacobi::integrate::{
-    integrate, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4, StepMap, Work,
+    integrate, methods, Control, Each, Fixed, Gauss, ImplicitMidpoint, OneStep, Problem, Rk4,
+    StepMap, Work,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector1, Vector2};
 use hamilton_jacobi::phase::State;
@@ -138,7 +139,7 @@ fn pendulum_orders() {
             .collect();
         check_order(
             &format!("pendulum, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             5e-16,
@@ -180,7 +181,7 @@ fn kepler_orders() {
             .collect();
         check_order(
             &format!("Kepler e = 0.5, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             floor,
@@ -208,7 +209,7 @@ fn time_dependent_hamiltonian_keeps_the_order() {
             .collect();
         check_order(
             &format!("forced oscillator, s = {S}"),
-            2 * S as u32,
+            methods::GAUSS[S - 1].order.unwrap(),
             ns,
             &errs,
             1e-15,

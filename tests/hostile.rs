@@ -14,7 +14,8 @@ use hamilton_jacobi::hamilton_jacobi::{
 };
 use hamilton_jacobi::implicit::{lift_root, lift_scalar_root};
 use hamilton_jacobi::integrate::{
-    integrate, rk4_increment, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting,
+    integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, MethodInfo, Problem, Rk4,
+    Splitting,
 };
 use hamilton_jacobi::nalgebra::{SMatrix, SVector, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
@@ -1065,6 +1066,34 @@ fn add_methods(c: &mut Vec<Call>) {
                 a[0],
                 1e-9 * (1.0 + a[0].abs()),
             )
+        },
+    );
+    // Methods built from the method table by key and knob value.
+    sweep(
+        c,
+        "integrate(AnyMethod::new(rk4, knob), t1 = 1)",
+        &[100.0],
+        &[(0, 2.5), (0, 1e12), (0, 1e300)],
+        |a| {
+            let valid = a[0] >= 1.0 && a[0].fract() == 0.0 && a[0] <= 1e8;
+            let info = MethodInfo::find("rk4").unwrap();
+            judge(AnyMethod::new(info, a[0]), valid, |m| {
+                let h = 1.0 / a[0];
+                osc_run(&m, 1.0, (1.5 * h).powi(4) / 10.0 + 1e-13)
+            })
+        },
+    );
+    sweep(
+        c,
+        "integrate(AnyMethod::new(dop853, rtol), t1 = 1)",
+        &[1e-10],
+        &[(0, 1e-300), (0, 0.5), (0, 1.0)],
+        |a| {
+            let valid = (Dop853::RTOL_MIN..1.0).contains(&a[0]);
+            let info = MethodInfo::find("dop853").unwrap();
+            judge(AnyMethod::new(info, a[0]), valid, |m| {
+                osc_run(&m, 1.0, 1e3 * a[0] + 1e-12)
+            })
         },
     );
     sized(

@@ -5,8 +5,8 @@
 mod common;
 
 use hamilton_jacobi::integrate::{
-    integrate, AnyMethod, Control, Crossing, Events, Fixed, Gauss, GeneralMethod, Method, OneStep,
-    Problem, Recorder, Report, Rk4, Samples, Section, Splitting, Work,
+    integrate, AnyMethod, Control, Crossing, Events, Fixed, Gauss, GeneralMethod, Method,
+    MethodInfo, OneStep, Problem, Recorder, Report, Rk4, Samples, Section, Splitting, Work,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::phase::State;
@@ -231,7 +231,8 @@ fn check_partial_steps<M: OneStep<HenonHeiles, 2> + Copy>(method: M, span: f64, 
 
 /// A sample between grid points is the method's own step of size `t − tₙ` from the stored state
 /// `zₙ`, checked against two chained runs (to `tₙ`, then one step to `t`) for an explicit
-/// splitting (Verlet, Kahan–Li 8), an implicit method (Gauss–Legendre s = 2) and RK4, forwards
+/// splitting (Störmer–Verlet; Kahan–Li, 17 stages, order 8), an implicit method (Gauss–Legendre,
+/// 2 stages) and RK4, forwards
 /// and backwards in time. (Interpolating between grid points instead differs from the chained
 /// runs by the interpolation error, ~1e−6 here.)
 #[test]
@@ -245,7 +246,8 @@ fn off_grid_samples_are_partial_steps_of_the_method() {
 }
 
 /// Samples at times off the step grid converge at the method's order, not at an interpolant's:
-/// Kahan–Li 8 (order 8) and Gauss–Legendre s = 3 (order 6) on the harmonic oscillator, sampled at
+/// Kahan–Li (17 stages, order 8) and Gauss–Legendre (3 stages, order 6) on the harmonic
+/// oscillator, sampled at
 /// `t = 2j + 1/7` (never a grid time for `h = 10/n`, `n = 2ᵐ·15`: `t/h = (2j + 1/7)·n/10` is not
 /// whole) against the exact flow. The
 /// halving orders are within 0.35 of the nominal order (a cubic Hermite interpolant would cap
@@ -274,16 +276,16 @@ fn off_grid_samples_converge_at_the_method_order() {
             })
             .fold(0.0, f64::max)
     };
-    type Case = (&'static str, u32, [usize; 3], fn(usize) -> AnyMethod);
+    type Case = ([usize; 3], fn(usize) -> AnyMethod);
     let cases: [Case; 2] = [
-        ("Kahan–Li 8", 8, [15, 30, 60], |n| {
+        ([15, 30, 60], |n| {
             AnyMethod::of_splitting(Splitting::KAHAN_LI8, n).unwrap()
         }),
-        ("Gauss–Legendre s=3", 6, [30, 60, 120], |n| {
-            AnyMethod::gauss(3, n).unwrap()
-        }),
+        ([30, 60, 120], |n| AnyMethod::gauss(3, n).unwrap()),
     ];
-    for (name, order, steps, make) in cases {
+    for (steps, make) in cases {
+        let info = make(1).info().unwrap();
+        let (name, order) = (info.label(), info.order.unwrap());
         let errors: Vec<f64> = steps.iter().map(|&n| error(&make(n))).collect();
         let orders = common::halving_orders(&errors);
         let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
@@ -420,18 +422,24 @@ fn observers_need_no_type_annotation() {
         .all(|w| w[0].p[0].signum() != w[1].p[0].signum()));
 }
 
-/// A list of methods built at run time (splitting tables by name, Gauss–Legendre by stage count,
-/// RK4, DOP853) runs through one `integrate` call per element and gives exactly the typed run's
-/// state and work; on a Hamiltonian not declared separable, the [`GeneralMethod`]s do the same.
+/// A list of methods built at run time (splittings by key from the method table, Gauss–Legendre
+/// by stage count, RK4, DOP853) runs through one `integrate` call per element and gives exactly
+/// the typed run's state and work; on a Hamiltonian not declared separable, the
+/// [`GeneralMethod`]s do the same.
 #[test]
 fn methods_are_values() {
     let (q0, p0) = henon_heiles_start();
     let problem = Problem::new(&HenonHeiles, 0.0, q0, p0, 5.0).unwrap();
-    let names = ["Störmer–Verlet (kick–drift–kick)", "Kahan–Li 8 (s=17)"];
-    let mut methods: Vec<AnyMethod> = names
+    let keys = ["verlet-kdk", "kahan-li17"];
+    let mut methods: Vec<AnyMethod> = keys
         .iter()
-        .map(|name| AnyMethod::splitting(name, 50).unwrap())
+        .map(|key| AnyMethod::new(MethodInfo::find(key).unwrap(), 50.0).unwrap())
         .collect();
+    assert_eq!(methods[0], AnyMethod::verlet(50).unwrap());
+    assert_eq!(
+        methods[1],
+        AnyMethod::of_splitting(Splitting::KAHAN_LI8, 50).unwrap()
+    );
     for s in 1..=6 {
         methods.push(AnyMethod::gauss(s, 20).unwrap());
     }
@@ -488,9 +496,20 @@ fn methods_are_values() {
         );
     }
 
-    // Refusals name what was wrong.
-    let e = AnyMethod::splitting("Verlet", 10).unwrap_err().to_string();
-    assert!(e.contains("Störmer–Verlet (kick–drift–kick)"), "{e}");
+    // Refusals name what was wrong: an unknown key (with the keys), a method that needs more
+    // than a separable system, a knob that is not a whole number of steps.
+    let e = MethodInfo::find("Verlet").unwrap_err().to_string();
+    assert!(e.contains("verlet-kdk") && e.contains("gauss3"), "{e}");
+    for key in ["wisdom-holman", "saba3", "exact"] {
+        let e = AnyMethod::new(MethodInfo::find(key).unwrap(), 10.0).unwrap_err();
+        assert!(e.to_string().contains(key), "{e}");
+    }
+    let e = GeneralMethod::new(MethodInfo::find("verlet-kdk").unwrap(), 10.0).unwrap_err();
+    assert!(e.to_string().contains("separable"), "{e}");
+    for knob in [0.0, 2.5, f64::NAN, f64::INFINITY, -3.0] {
+        assert!(AnyMethod::new(MethodInfo::find("rk4").unwrap(), knob).is_err());
+    }
+    assert!(AnyMethod::new(MethodInfo::find("dop853").unwrap(), f64::NAN).is_err());
     assert!(matches!(
         AnyMethod::gauss(7, 10),
         Err(Error::OutOfDomain { .. })

@@ -7,7 +7,7 @@
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::scene::case::separable_stepper;
 use hamilton_jacobi::scene::{
-    self, Case, Catalogue, HamiltonianCase, MethodKind, RunOptions, SceneError,
+    self, Case, Catalogue, HamiltonianCase, MethodKind, RunOptions, SceneError, TheoryKind,
 };
 use hamilton_jacobi::systems::HarmonicOscillator;
 use hamilton_jacobi::workprecision::Timing;
@@ -23,11 +23,31 @@ eccentricity = 0.5
 [span]
 periods = 2
 [[method]]
-kind = "kahan-li8"
+kind = "kahan-li17"
 steps = [100, 200]
 [output]
 work_precision = true
 "#;
+
+/// The fields of one CSV line (RFC 4180: a field with a comma or a quote is quoted, its quotes
+/// doubled).
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut fields = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                fields.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(String::new()),
+            (c, _) => fields.last_mut().unwrap().push(c),
+        }
+    }
+    fields
+}
 
 /// Parse `text` after replacing `from` by `to` in [`KEPLER`]-like input; the error it must give.
 fn error_of(text: &str) -> SceneError {
@@ -69,12 +89,12 @@ fn builtin_scenes_are_valid() {
 fn missing_key() {
     let e = error_of(&KEPLER.replace("[span]\nperiods = 2", ""));
     assert_names(&e, "span", &["missing"]);
-    let e = error_of(&KEPLER.replace("kind = \"kahan-li8\"\n", ""));
+    let e = error_of(&KEPLER.replace("kind = \"kahan-li17\"\n", ""));
     assert_names(&e, "method[0].kind", &["missing field `kind`"]);
     let e = error_of(&KEPLER.replace("eccentricity = 0.5", ""));
     assert_names(&e, "system.eccentricity", &["missing"]);
     let e = error_of(&KEPLER.replace("steps = [100, 200]", ""));
-    assert_names(&e, "method[0].steps", &["missing", "kahan-li8"]);
+    assert_names(&e, "method[0].steps", &["missing", "kahan-li17"]);
     let e = error_of(&KEPLER.replace("name = \"kepler\"", ""));
     assert_names(&e, "system.name", &["missing"]);
 }
@@ -105,19 +125,24 @@ fn unknown_system() {
 
 #[test]
 fn unknown_method() {
-    let e = error_of(&KEPLER.replace("kahan-li8", "kahan-li-8"));
+    let e = error_of(&KEPLER.replace("kahan-li17", "kahan-li-8"));
     assert_names(
         &e,
         "method[0].kind",
-        &["unknown variant `kahan-li-8`", "kahan-li8"],
+        &[
+            "unknown method kind `kahan-li-8`",
+            "kahan-li17",
+            "gauss3",
+            "normal-form",
+        ],
     );
     // A method that exists but does not apply: splitting needs a separable Hamiltonian.
-    let top = "[system]\nname = \"heavy-top\"\n[span]\ntime = 1\n[[method]]\nkind = \"verlet\"\nsteps = [10]\n";
+    let top = "[system]\nname = \"heavy-top\"\n[span]\ntime = 1\n[[method]]\nkind = \"verlet-kdk\"\nsteps = [10]\n";
     let e = error_of(top);
-    assert_names(&e, "method[0].kind", &["verlet", "does not apply"]);
+    assert_names(&e, "method[0].kind", &["verlet-kdk", "does not apply"]);
     // Theories of one system are not available for another.
     let e = error_of(&KEPLER.replace(
-        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"kahan-li17\"\nsteps = [100, 200]",
         "kind = \"normal-form\"\norders = [2]",
     ));
     assert_names(&e, "method[0].kind", &["normal-form", "does not apply"]);
@@ -133,7 +158,7 @@ fn unknown_keys() {
     let e = error_of(&KEPLER.replace("periods = 2", "periods = 2\nperiod = 3"));
     assert_names(&e, "span.period", &["unknown field `period`"]);
     let e = error_of(&KEPLER.replace("steps = [100, 200]", "steps = [100, 200]\nrtol = [1e-6]"));
-    assert_names(&e, "method[0].rtol", &["kahan-li8", "`steps`"]);
+    assert_names(&e, "method[0].rtol", &["kahan-li17", "`steps`"]);
 }
 
 #[test]
@@ -143,7 +168,7 @@ fn non_finite_numbers() {
     let e = error_of(&KEPLER.replace("periods = 2", "periods = inf"));
     assert_names(&e, "span.periods", &["finite", "inf"]);
     let dop = KEPLER.replace(
-        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"kahan-li17\"\nsteps = [100, 200]",
         "kind = \"dop853\"\nrtol = [1e-8, nan]",
     );
     let e = error_of(&dop);
@@ -175,7 +200,7 @@ fn out_of_domain_values_and_syntax() {
     assert_names(&e, "name", &["letters"]);
     let e = error_of(&KEPLER.replace(
         "[output]",
-        "[output]\nelements = [{ method = \"kahan-li8\" }]",
+        "[output]\nelements = [{ method = \"kahan-li17\" }]",
     ));
     assert_names(&e, "output.elements[0].steps", &["missing"]);
 }
@@ -215,7 +240,7 @@ steps = [7]
 [[method]]
 kind = "hamilton-jacobi"
 [[method]]
-kind = "kahan-li8"
+kind = "kahan-li17"
 steps = [400]
 [[method]]
 kind = "rk4"
@@ -223,9 +248,9 @@ steps = [400]
 [output]
 work_precision = true
 phase_portrait = [{ method = "exact", steps = 1 }]
-energy_error = [{ method = "kahan-li8", steps = 400 }]
+energy_error = [{ method = "kahan-li17", steps = 400 }]
 invariants = [{ method = "rk4", steps = 400 }]
-elements = [{ method = "kahan-li8", steps = 400 }]
+elements = [{ method = "kahan-li17", steps = 400 }]
 samples = 50
 "#;
     let s = scene::parse("kepler-check.toml", text, &Catalogue::builtin()).unwrap();
@@ -246,12 +271,8 @@ samples = 50
         );
     }
     let csv = std::fs::read_to_string(out.join("tables/kepler-check.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
-        .collect();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(csv_fields).collect();
+    let header = csv_fields(csv.lines().next().unwrap());
     let col = header.iter().position(|h| *h == "error").unwrap();
     let error_of = |label: &str| -> f64 {
         rows.iter()
@@ -263,16 +284,24 @@ samples = 50
     // Exact flow and HJ: a few dozen roundings of |q| ~ 1 over two periods.
     assert!(error_of("exact flow") < 1e-13, "{csv}");
     assert!(error_of("Hamilton–Jacobi quadrature") < 1e-12, "{csv}");
-    // Kahan–Li 8 at h = T/200: the error constant times h⁸ is ~1e−9 here; the run must be far
-    // below the O(h²) methods' level and above rounding.
-    let kl = error_of("Kahan–Li 8");
+    // Kahan–Li (17 stages, order 8) at h = T/200: the error constant times h⁸ is ~1e−9 here;
+    // the run must be far below the O(h²) methods' level and above rounding.
+    let kl = error_of("Kahan–Li, 17 stages, order 8");
     assert!(kl < 1e-6 && kl > 1e-15, "{kl}");
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-energy-error.svg")).unwrap();
-    assert!(svg.contains("kahan-li8"), "legend missing");
+    // The legend names the run by its label and knob (wrapped onto two lines).
+    assert!(
+        svg.contains("Kahan–Li, 17 stages, order 8") && svg.contains("(400 steps)"),
+        "legend missing"
+    );
     // Every invariant the Kepler problem knows is drawn.
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-invariants.svg")).unwrap();
     for name in ["energy", "h_z", "e_x", "e_y"] {
-        assert!(svg.contains(&format!("{name}: rk4")), "{name} missing");
+        // Each curve is named by the invariant and the run's label (classical Runge–Kutta).
+        assert!(
+            svg.contains(&format!("{name}: classical")),
+            "{name} missing"
+        );
     }
     std::fs::remove_dir_all(&out).ok();
 }
@@ -302,20 +331,20 @@ table = false
     case.prepare(3.0 * case.period().unwrap()).unwrap();
     let nf: Vec<f64> = [1.0, 2.0, 4.0, 8.0]
         .iter()
-        .map(|&k| case.run(MethodKind::NormalForm, k).unwrap().error)
+        .map(|&k| case.run(TheoryKind::NormalForm.into(), k).unwrap().error)
         .collect();
     assert!(nf.windows(2).all(|w| w[1] < w[0]), "{nf:?}");
     assert!(nf[3] < 1e-6, "{nf:?}");
     let ld: Vec<f64> = [1.0, 4.0, 8.0]
         .iter()
-        .map(|&k| case.run(MethodKind::Lindstedt, k).unwrap().error)
+        .map(|&k| case.run(TheoryKind::Lindstedt.into(), k).unwrap().error)
         .collect();
     assert!(ld[2] < ld[0], "{ld:?}");
-    assert_eq!(case.note(MethodKind::NormalForm), None);
+    assert_eq!(case.note(TheoryKind::NormalForm.into()), None);
     // Beyond μ = (a/π)² = ½ the series are shown with a warning.
     let large: toml::Table = toml::from_str("name = \"pendulum\"\namplitude = 2.5").unwrap();
     let case = Catalogue::builtin().build("p.toml", &large).unwrap();
-    for kind in [MethodKind::NormalForm, MethodKind::Lindstedt] {
+    for kind in [TheoryKind::NormalForm, TheoryKind::Lindstedt].map(MethodKind::from) {
         let note = case.note(kind).unwrap_or_default();
         assert!(
             note.contains("warning") && note.contains("0.6332"),
@@ -352,7 +381,7 @@ fn user_system_registered_from_rust() {
             Ok(Box::new(case) as Box<dyn Case>)
         }),
     );
-    let text = "[system]\nname = \"my-oscillator\"\nomega = 2.0\n[span]\nperiods = 1\n[[method]]\nkind = \"verlet\"\nsteps = [100, 200]\n";
+    let text = "[system]\nname = \"my-oscillator\"\nomega = 2.0\n[span]\nperiods = 1\n[[method]]\nkind = \"verlet-kdk\"\nsteps = [100, 200]\n";
     let s = scene::parse("osc.toml", text, &catalogue).unwrap();
     let out = temp_dir("user");
     let summary = s.run(&quick(&out)).unwrap();
@@ -509,14 +538,17 @@ fn pendulum_start_is_consistent() {
     let table: toml::Table = toml::from_str("name = \"pendulum\"\ngap = 1e-6").unwrap();
     let mut case = Catalogue::builtin().build("p.toml", &table).unwrap();
     case.prepare(2.3 * case.period().unwrap()).unwrap();
-    let hj = case.run(MethodKind::HamiltonJacobi, 1.0).unwrap().error;
+    let hj = case
+        .run(TheoryKind::HamiltonJacobi.into(), 1.0)
+        .unwrap()
+        .error;
     assert!(hj < 1e-11, "{hj:e}");
     for q in ["1.0", "-1.0"] {
         let text = format!("name = \"pendulum\"\nq = [{q}]\np = [0.0]");
         let table: toml::Table = toml::from_str(&text).unwrap();
         let mut case = Catalogue::builtin().build("p.toml", &table).unwrap();
         case.prepare(2.3 * case.period().unwrap()).unwrap();
-        let e = case.run(MethodKind::Lindstedt, 12.0).unwrap().error;
+        let e = case.run(TheoryKind::Lindstedt.into(), 12.0).unwrap().error;
         assert!(e < 1e-8, "q₀ = {q}: {e:e}");
     }
 }
@@ -590,23 +622,23 @@ fn history_of_a_method_the_scene_does_not_run_is_refused() {
     assert_names(
         &e,
         "output.phase_portrait[0].method",
-        &["`rk4`", "not one of the methods", "(kahan-li8)"],
+        &["`rk4`", "not one of the methods", "(kahan-li17)"],
     );
     let e = error_of(&KEPLER.replace(
         "[output]",
-        "[output]\nenergy_error = [{ method = \"kahan-li8\", steps = 50 }, { method = \"exact\", steps = 5 }]",
+        "[output]\nenergy_error = [{ method = \"kahan-li17\", steps = 50 }, { method = \"exact\", steps = 5 }]",
     ));
     assert_names(
         &e,
         "output.energy_error[1].method",
-        &["`exact`", "kahan-li8"],
+        &["`exact`", "kahan-li17"],
     );
     // A method the scene runs may be drawn at a knob value of its own.
     scene::parse(
         "ok.toml",
         &KEPLER.replace(
             "[output]",
-            "[output]\nphase_portrait = [{ method = \"kahan-li8\", steps = 50 }]",
+            "[output]\nphase_portrait = [{ method = \"kahan-li17\", steps = 50 }]",
         ),
         &Catalogue::builtin(),
     )
@@ -616,7 +648,10 @@ fn history_of_a_method_the_scene_does_not_run_is_refused() {
 /// A scene that runs no method (it would write an empty table) is refused.
 #[test]
 fn scene_without_a_method_is_refused() {
-    let e = error_of(&KEPLER.replace("[[method]]\nkind = \"kahan-li8\"\nsteps = [100, 200]\n", ""));
+    let e = error_of(&KEPLER.replace(
+        "[[method]]\nkind = \"kahan-li17\"\nsteps = [100, 200]\n",
+        "",
+    ));
     assert_names(&e, "method", &["runs no method", "[[method]]"]);
     let e = error_of("[system]\nname = \"pendulum\"\namplitude = 1.0\n[span]\nperiods = 1\n");
     assert_names(&e, "method", &["runs no method"]);
@@ -644,7 +679,7 @@ fn span_beyond_the_phase_resolution_is_refused() {
 #[test]
 fn span_beyond_the_dop853_step_limit_is_refused() {
     let dop = KEPLER.replace(
-        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"kahan-li17\"\nsteps = [100, 200]",
         "kind = \"dop853\"\nrtol = [1e-6, 1e-12]",
     );
     let e = error_of(&dop.replace("periods = 2", "periods = 1e7"));
@@ -675,7 +710,7 @@ fn span_beyond_the_dop853_step_limit_is_refused() {
             ),
     );
     assert_names(&e, "span.periods", &["output.phase_portrait[0]"]);
-    let j2 = "[system]\nname = \"j2-orbit\"\n[span]\nperiods = 1e7\n[[method]]\nkind = \"kahan-li8\"\nsteps = [100]\n";
+    let j2 = "[system]\nname = \"j2-orbit\"\n[span]\nperiods = 1e7\n[[method]]\nkind = \"kahan-li17\"\nsteps = [100]\n";
     let e = error_of(j2);
     assert_names(&e, "span.periods", &["the DOP853 reference", "2.3e-15"]);
     scene::parse("ok.toml", &j2.replace("1e7", "1e5"), &Catalogue::builtin()).unwrap();
@@ -716,7 +751,7 @@ fn messages_print_extreme_magnitudes_in_exponent_notation() {
     let e = error_of(&KEPLER.replace("periods = 2", "periods = -1e-300"));
     assert_names(&e, "span.periods", &["found -1e-300"]);
     let e = error_of(&KEPLER.replace(
-        "kind = \"kahan-li8\"\nsteps = [100, 200]",
+        "kind = \"kahan-li17\"\nsteps = [100, 200]",
         "kind = \"dop853\"\nrtol = [1e300]",
     ));
     assert_names(&e, "method[0].rtol[0]", &["found 1e300"]);

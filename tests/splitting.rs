@@ -7,8 +7,9 @@
 mod common;
 
 use hamilton_jacobi::brackets::certify;
+use hamilton_jacobi::integrate::methods::Construction;
 use hamilton_jacobi::integrate::{
-    integrate, Fixed, OneStep, Problem, Splitting, StepMap, WisdomHolman,
+    integrate, Fixed, MethodInfo, OneStep, Problem, Splitting, StepMap, WisdomHolman, METHODS,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
@@ -81,7 +82,25 @@ fn observed_order(
 
 const KEEP: usize = 5;
 
-/// Observed order of every splitting and composition method within ±0.3 of its nominal order on
+/// The entries of the method table built as `construction`, with their tables.
+fn entries(
+    kepler: bool,
+) -> impl Iterator<
+    Item = (
+        &'static MethodInfo,
+        &'static hamilton_jacobi::integrate::coefficients::Table,
+    ),
+> {
+    METHODS.iter().filter_map(move |m| match m.construction {
+        Construction::Splitting(t) if !kepler => Some((m, t)),
+        Construction::KeplerSplitting(t) if kepler => Some((m, t)),
+        _ => None,
+    })
+}
+
+/// Observed order of every splitting and composition method of the method table within ±0.3 of
+/// the order the table states ([`MethodInfo::order`]; the method's own `OneStep::order` and
+/// `name` agree with its entry) on
 /// the pendulum (n = 1, q₀ = 1, p₀ = 0, against the elliptic-function solution) and on Kepler
 /// (μ = a = 1, e = 0.5 from periapsis, against Kepler's equation), over 0.8 of a period.
 ///
@@ -107,9 +126,13 @@ fn observed_orders_of_splitting_methods() {
     .unwrap();
     let kref = (V::<2>::from([r[0], r[1]]), V::<2>::from([v[0], v[1]]));
     let mut failures = Vec::new();
-    for m in Splitting::all() {
-        let nominal = OneStep::<Pendulum, 1>::order(&m) as f64;
+    assert_eq!(entries(false).count(), 12);
+    for (info, table) in entries(false) {
+        let m = Splitting::new(table).unwrap();
+        let nominal = f64::from(info.order.unwrap());
         let name = OneStep::<Pendulum, 1>::name(&m);
+        assert_eq!(name, info.label());
+        assert_eq!(Some(OneStep::<Pendulum, 1>::order(&m)), info.order);
         let (op, pts_p) = observed_order(
             |n| {
                 let (q, p, _) = run(&pend, m, pq0, pp0, tp, n);
@@ -186,7 +209,8 @@ fn j2_reference(eps: f64) -> (V<2>, V<2>) {
     (q, p)
 }
 
-/// Observed order of every Wisdom–Holman method on the perturbed problem with ε = 0.01 (so that
+/// Observed order of every Wisdom–Holman method of the method table, against the order the
+/// table states, on the perturbed problem with ε = 0.01 (so that
 /// the ε²h² term, the one that sets the order 2 of all SABA_n/SBAB_n, is resolved well above the
 /// plateau; ε = 0.1 would not do: −ε/(2r³) then removes the centrifugal barrier of this orbit,
 /// L² = 3/4, and the motion falls into the centre), against the reference (floor 3e−11, 30× the
@@ -197,9 +221,13 @@ fn observed_orders_of_wisdom_holman_methods() {
     let (s, q0, p0, t1) = j2_problem(eps);
     let reference = j2_reference(eps);
     let mut failures = Vec::new();
-    for m in WisdomHolman::all() {
-        let nominal = OneStep::<PlanarJ2, 2>::order(&m) as f64;
+    assert_eq!(entries(true).count(), 8);
+    for (info, table) in entries(true) {
+        let m = WisdomHolman::new(table).unwrap();
+        let nominal = f64::from(info.order.unwrap());
         let name = OneStep::<PlanarJ2, 2>::name(&m);
+        assert_eq!(name, info.label());
+        assert_eq!(Some(OneStep::<PlanarJ2, 2>::order(&m)), info.order);
         let (o, pts) = observed_order(
             |n| {
                 let (q, p, _) = run(&s, m, q0, p0, t1, n);
@@ -287,7 +315,7 @@ fn every_step_is_canonical() {
                     // rounding of m sub-flow Jacobians gives a defect ≲ 2·m·4ε·|M|²; checked
                     // against that bound, reported separately.
                     let mm = c.jacobian.max_abs();
-                    let stages = m.table().stages().len() as f64;
+                    let stages = m.table().sub_steps().len() as f64;
                     let bound = (8.0 * stages * f64::EPSILON * mm * mm).max(1e-13);
                     long = long.max(c.symplectic_defect);
                     assert!(
@@ -322,10 +350,10 @@ fn wisdom_holman_beats_general_splitting_on_perturbed_kepler() {
     // (name, kicks per step, is Wisdom–Holman)
     let mut rows: Vec<(String, (usize, usize), bool)> = Vec::new();
     for m in Splitting::all() {
-        rows.push((m.table().name.into(), m.table().evaluations(), false));
+        rows.push((m.table().label(), m.table().evaluations(), false));
     }
     for m in WisdomHolman::all() {
-        rows.push((m.table().name.into(), m.table().evaluations(), true));
+        rows.push((m.table().label(), m.table().evaluations(), true));
     }
     let general = Splitting::all();
     let wh = WisdomHolman::all();

@@ -146,14 +146,14 @@ fn list() {
         out(&format!("    {name:<26} {description}"));
     }
     out("\nMethods and theories ([[method]] kind = ..., with its knob):");
-    for k in MethodKind::ALL {
+    for k in MethodKind::all() {
         let knob = match k.knob().key() {
             "" => "—".to_string(),
             key => key.to_string(),
         };
         out(&format!(
             "    {:<26} {:<7} {}",
-            k.name(),
+            k.key(),
             knob,
             k.description()
         ));

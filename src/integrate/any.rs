@@ -3,13 +3,14 @@
 //! ([`AnyMethod`]), so that a list of methods can be built at run time and swept.
 //!
 //! ```
-//! use hamilton_jacobi::integrate::{integrate, AnyMethod, Method, Problem};
+//! use hamilton_jacobi::integrate::{integrate, AnyMethod, Method, MethodInfo, Problem};
 //! use hamilton_jacobi::nalgebra::SVector;
 //! use hamilton_jacobi::systems::Pendulum;
 //! let pendulum = Pendulum::new(1.0).unwrap();
 //! let problem = Problem::new(&pendulum, 0.0, SVector::from([1.0]), SVector::from([0.0]), 1.0).unwrap();
 //! let methods: Vec<AnyMethod> = vec![
-//!     AnyMethod::splitting("Störmer–Verlet (kick–drift–kick)", 100).unwrap(),
+//!     AnyMethod::new(MethodInfo::find("verlet-kdk").unwrap(), 100.0).unwrap(),
+//!     AnyMethod::new(MethodInfo::find("kahan-li17").unwrap(), 10.0).unwrap(),
 //!     AnyMethod::gauss(3, 10).unwrap(),
 //!     AnyMethod::rk4(50).unwrap(),
 //!     AnyMethod::dop853(1e-12, 1e-14).unwrap(),
@@ -18,6 +19,7 @@
 //!     let run = integrate(&problem, m, &mut ()).unwrap();
 //!     assert_eq!(run.last.t, 1.0, "{}", Method::<Pendulum, 1>::label(m));
 //! }
+//! assert_eq!(methods[2].info().unwrap().label(), "Gauss–Legendre, 3 stages, order 6");
 //! ```
 //!
 //! Each variant wraps the typed method ([`Fixed`] over [`Rk4`], [`Gauss`], [`Splitting`], or
@@ -28,37 +30,81 @@
 //! ([`ExactStep`](super::ExactStep)) need capabilities (a Kepler part, a closed-form flow) that no
 //! generic bound can check at run time for an arbitrary system; they stay typed values.
 //!
-//! A front end that keys methods by name (the scene files' `MethodKind` with a knob of steps or
-//! tolerance) can map each key to one of these values and run every kind through a single
-//! generic `integrate` call per capability, instead of one match arm per method.
+//! Values are built from the method table [`METHODS`](super::METHODS) by
+//! [`AnyMethod::new`] / [`GeneralMethod::new`]: an entry and the value of its knob (steps or
+//! tolerance), so that a front end keying methods by name (the scene files, `hj`) runs every
+//! method through one generic `integrate` call per capability.
 
+use super::methods::{self, whole_steps, Capability, Construction, MethodInfo};
 use super::{integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting};
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
 
-/// A method for any [`Hamiltonian`]: RK4, Gauss–Legendre with `s = 1 … 6` stages (order `2s`),
-/// or DOP853.
+/// The refusal of a method that needs more of the system than the value built covers; `hint`
+/// says how to build it instead.
+fn not_covered(info: &MethodInfo, hint: &str) -> Error {
+    Error::invalid(
+        format!("method {} ({})", info.key, info.label()),
+        format!("needs {}; {hint}", info.capability().systems()),
+    )
+}
+
+/// A method for any [`Hamiltonian`]: classical Runge–Kutta (4 stages, order 4), Gauss–Legendre
+/// with `s = 1 … 6` stages (order `2s`), or Dormand–Prince (12 stages, order 8, adaptive).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GeneralMethod {
-    /// Classical RK4 with a fixed number of steps.
+    /// Classical Runge–Kutta, 4 stages, order 4, with a fixed number of steps.
     Rk4(Fixed<Rk4>),
-    /// Gauss–Legendre, one stage (implicit midpoint, order 2).
+    /// Gauss–Legendre, 1 stage, order 2 (the implicit midpoint rule).
     Gauss1(Fixed<Gauss<1>>),
-    /// Gauss–Legendre, two stages (order 4).
+    /// Gauss–Legendre, 2 stages, order 4.
     Gauss2(Fixed<Gauss<2>>),
-    /// Gauss–Legendre, three stages (order 6).
+    /// Gauss–Legendre, 3 stages, order 6.
     Gauss3(Fixed<Gauss<3>>),
-    /// Gauss–Legendre, four stages (order 8).
+    /// Gauss–Legendre, 4 stages, order 8.
     Gauss4(Fixed<Gauss<4>>),
-    /// Gauss–Legendre, five stages (order 10).
+    /// Gauss–Legendre, 5 stages, order 10.
     Gauss5(Fixed<Gauss<5>>),
-    /// Gauss–Legendre, six stages (order 12).
+    /// Gauss–Legendre, 6 stages, order 12.
     Gauss6(Fixed<Gauss<6>>),
-    /// DOP853 with its tolerances.
+    /// Dormand–Prince, 12 stages, order 8, with its tolerances.
     Dop853(Dop853),
 }
 
 impl GeneralMethod {
+    /// The method `info` describes, with `knob` its number of steps (a whole number) or, for
+    /// Dormand–Prince, its tolerance (`rtol = atol = knob`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a method that needs more than a [`Hamiltonian`] (a splitting,
+    /// the exact flow) or a knob that is not a whole number of steps; the errors of the
+    /// constructors for a bad knob value.
+    pub fn new(info: &MethodInfo, knob: f64) -> Result<Self> {
+        match info.construction {
+            Construction::Rk4 => Self::rk4(whole_steps(knob)?),
+            Construction::Gauss(s) => Self::gauss(s, whole_steps(knob)?),
+            Construction::Dop853 => Self::dop853(knob, knob),
+            _ => Err(not_covered(
+                info,
+                "a GeneralMethod covers any Hamiltonian; build splittings as AnyMethod",
+            )),
+        }
+    }
+
+    /// The method's entry in [`METHODS`](super::METHODS).
+    pub fn info(&self) -> &'static MethodInfo {
+        match self {
+            Self::Rk4(_) => &methods::RK4,
+            Self::Gauss1(_) => &methods::GAUSS[0],
+            Self::Gauss2(_) => &methods::GAUSS[1],
+            Self::Gauss3(_) => &methods::GAUSS[2],
+            Self::Gauss4(_) => &methods::GAUSS[3],
+            Self::Gauss5(_) => &methods::GAUSS[4],
+            Self::Gauss6(_) => &methods::GAUSS[5],
+            Self::Dop853(_) => &methods::DOP853,
+        }
+    }
+
     /// RK4 with `steps` steps over the span.
     pub fn rk4(steps: usize) -> Result<Self> {
         Ok(Self::Rk4(Fixed::new(Rk4, steps)?))
@@ -88,18 +134,9 @@ impl GeneralMethod {
         Ok(Self::Dop853(Dop853::new(rtol, atol)?))
     }
 
-    /// The order of the method (8 for DOP853).
+    /// The order of the method, from its [`info`](Self::info).
     pub fn order(&self) -> u32 {
-        match self {
-            Self::Rk4(_) => 4,
-            Self::Gauss1(_) => 2,
-            Self::Gauss2(_) => 4,
-            Self::Gauss3(_) => 6,
-            Self::Gauss4(_) => 8,
-            Self::Gauss5(_) => 10,
-            Self::Gauss6(_) => 12,
-            Self::Dop853(_) => 8,
-        }
+        self.info().order.unwrap_or(u32::MAX)
     }
 
     /// Number of steps of a fixed-step method; `None` for DOP853.
@@ -164,24 +201,35 @@ pub enum AnyMethod {
 }
 
 impl AnyMethod {
-    /// The splitting method whose table is named `name` (one of
-    /// [`Splitting::all`]'s [`Table::name`](super::coefficients::Table)s, e.g.
-    /// `"Störmer–Verlet (kick–drift–kick)"`), with `steps` steps; an unknown name is refused with
-    /// the list of names.
-    pub fn splitting(name: &str, steps: usize) -> Result<Self> {
-        let all = Splitting::all();
-        match all.iter().find(|m| m.table().name == name) {
-            Some(&m) => Ok(Self::Splitting(Fixed::new(m, steps)?)),
-            None => Err(Error::invalid(
-                "splitting method name",
-                format!(
-                    "no table named {name:?}; the tables are: {}",
-                    all.iter()
-                        .map(|m| format!("{:?}", m.table().name))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
+    /// The method `info` describes (one of [`METHODS`](super::METHODS), found by key with
+    /// [`MethodInfo::find`]), with `knob` its number of steps (a whole number) or, for
+    /// Dormand–Prince, its tolerance (`rtol = atol = knob`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a method that needs more than a [`Separable`] system
+    /// (Wisdom–Holman, SABA/SBAB, the exact flow) or a knob that is not a whole number of
+    /// steps; the errors of the constructors for a bad knob value.
+    pub fn new(info: &MethodInfo, knob: f64) -> Result<Self> {
+        match info.construction {
+            Construction::Splitting(table) => {
+                Self::of_splitting(Splitting::new(table)?, whole_steps(knob)?)
+            }
+            _ if info.capability() == Capability::Hamiltonian => {
+                GeneralMethod::new(info, knob).map(Self::General)
+            }
+            _ => Err(not_covered(
+                info,
+                "build it as its typed value (WisdomHolman, ExactStep) under Fixed",
             )),
+        }
+    }
+
+    /// The method's entry in [`METHODS`](super::METHODS); `None` for a splitting over a table
+    /// the crate does not list.
+    pub fn info(&self) -> Option<&'static MethodInfo> {
+        match self {
+            Self::General(m) => Some(m.info()),
+            Self::Splitting(m) => MethodInfo::of(Construction::Splitting(m.method.table())),
         }
     }
 
@@ -190,12 +238,12 @@ impl AnyMethod {
         Ok(Self::Splitting(Fixed::new(method, steps)?))
     }
 
-    /// Störmer–Verlet (kick–drift–kick) with `steps` steps.
+    /// Störmer–Verlet (kick–drift–kick), 1 stage, order 2, with `steps` steps.
     pub fn verlet(steps: usize) -> Result<Self> {
         Self::of_splitting(Splitting::VERLET_KDK, steps)
     }
 
-    /// RK4 with `steps` steps.
+    /// Classical Runge–Kutta (4 stages, order 4) with `steps` steps.
     pub fn rk4(steps: usize) -> Result<Self> {
         GeneralMethod::rk4(steps).map(Self::General)
     }
@@ -205,7 +253,7 @@ impl AnyMethod {
         GeneralMethod::gauss(stages, steps).map(Self::General)
     }
 
-    /// DOP853 with relative and absolute tolerances.
+    /// Dormand–Prince (12 stages, order 8) with relative and absolute tolerances.
     pub fn dop853(rtol: f64, atol: f64) -> Result<Self> {
         GeneralMethod::dop853(rtol, atol).map(Self::General)
     }

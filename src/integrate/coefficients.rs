@@ -57,10 +57,12 @@ pub enum Scheme {
     },
 }
 
-/// A splitting or composition method: its name, order, coefficients and source.
+/// A splitting or composition method: its family name, order, coefficients and source. Its
+/// label, `"<name>, <s> stages, order <p>"` ([`Table::label`]), adds the stage count
+/// ([`Table::stages`]) and the order (the naming scheme of [`methods`](super::methods)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Table {
-    /// Short name, e.g. `"Kahan–Li 8 (s=17)"`.
+    /// Family name, e.g. `"Kahan–Li"` (the label adds stages and order).
     pub name: &'static str,
     /// Classical order (for Wisdom–Holman: the order in `h` at fixed perturbation size).
     pub order: u32,
@@ -73,6 +75,30 @@ pub struct Table {
 }
 
 impl Table {
+    /// Stages: force evaluations (`B` sub-steps, kicks) per step of a long run, the closing kick
+    /// of a step merged with the opening kick of the next when the word begins and ends with one
+    /// (both act at the same point). Verlet: 1; a composition of `s` Verlet steps: `s`;
+    /// Blanes–Moan `SRKN₆ᵇ`: 6; `SABA_n`, `SBAB_n`: `n`.
+    pub const fn stages(&self) -> u32 {
+        match self.scheme {
+            // A B A … with n sub-steps has ⌊n/2⌋ kicks; B A B … has ⌈n/2⌉, of which the last is
+            // merged when n is odd (the word ends with a kick): ⌊n/2⌋ either way.
+            Scheme::Sequence { coefficients, .. } => coefficients.len() as u32 / 2,
+            Scheme::Composition { half } => {
+                if half.is_empty() {
+                    0
+                } else {
+                    2 * half.len() as u32 - 1
+                }
+            }
+        }
+    }
+
+    /// The label, `"<name>, <s> stages, order <p>"`, e.g. `"Kahan–Li, 17 stages, order 8"`.
+    pub fn label(&self) -> String {
+        super::methods::label(self.name, self.stages(), self.order)
+    }
+
     /// Number of composition weights `s` (1 for a plain sequence).
     pub fn composition_stages(&self) -> usize {
         match self.scheme {
@@ -95,7 +121,7 @@ impl Table {
     /// Call `f(flow, c)` for every sub-step in order, adjacent sub-steps of the same flow merged
     /// (`c` multiplies the step size). Stops at the first error.
     #[inline]
-    pub fn for_each_stage<E>(
+    pub fn for_each_sub_step<E>(
         &self,
         mut f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
     ) -> std::result::Result<(), E> {
@@ -129,10 +155,11 @@ impl Table {
         }
     }
 
-    /// The sub-steps as a list `(flow, c)` (merged as in [`for_each_stage`](Self::for_each_stage)).
-    pub fn stages(&self) -> Vec<(Flow, f64)> {
+    /// The sub-steps as a list `(flow, c)` (merged as in
+    /// [`for_each_sub_step`](Self::for_each_sub_step)).
+    pub fn sub_steps(&self) -> Vec<(Flow, f64)> {
         let mut out = Vec::new();
-        let _ = self.for_each_stage(|flow, c| {
+        let _ = self.for_each_sub_step(|flow, c| {
             out.push((flow, c));
             Ok::<(), ()>(())
         });
@@ -145,7 +172,7 @@ impl Table {
     /// one kick per step: the last kick of a step and the first of the next act at the same `q`.)
     pub fn evaluations(&self) -> (usize, usize) {
         let (mut a, mut b) = (0, 0);
-        for (flow, _) in self.stages() {
+        for (flow, _) in self.sub_steps() {
             match flow {
                 Flow::A => a += 1,
                 Flow::B => b += 1,
@@ -223,7 +250,7 @@ pub const VERLET_DKD: Table = Table {
 /// 262–268, doi:10.1016/0375-9601(90)90092-3; also Creutz & Gocksch 1989, Suzuki 1990).
 /// Digits from the closed form in 50-digit arithmetic; order conditions vanish to 1e−50.
 pub const YOSHIDA4: Table = Table {
-    name: "Yoshida 4 (triple jump, s=3)",
+    name: "Yoshida triple jump",
     order: 4,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -237,7 +264,7 @@ pub const YOSHIDA4: Table = Table {
 /// theories and Monte Carlo simulations", Phys. Lett. A 146 (1990) 319–323,
 /// doi:10.1016/0375-9601(90)90962-N). Digits from the closed form (50 digits).
 pub const SUZUKI4: Table = Table {
-    name: "Suzuki 4 (s=5)",
+    name: "Suzuki",
     order: 4,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -256,7 +283,7 @@ pub const SUZUKI4: Table = Table {
 /// `sll_m_time_composition`, whose middle weight carries the wrong sign); the middle weight is
 /// `1 − 2Σ` in 50 digits. Order conditions through `h⁶` vanish to 2e−25 (26-digit rounding).
 pub const YOSHIDA6A: Table = Table {
-    name: "Yoshida 6 (solution A, s=7)",
+    name: "Yoshida (solution A)",
     order: 6,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -276,7 +303,7 @@ pub const YOSHIDA6A: Table = Table {
 /// re-solved by Newton in 50 digits from the published values (the nearest root; largest change
 /// 2.3e−13), with residuals below 1e−47.
 pub const YOSHIDA8D: Table = Table {
-    name: "Yoshida 8 (solution D, s=15)",
+    name: "Yoshida (solution D)",
     order: 8,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -299,7 +326,7 @@ pub const YOSHIDA8D: Table = Table {
 /// Comp. 66 (1997) 1089–1099, doi:10.1090/S0025-5718-97-00873-9; 26 digits as tabulated in Hairer,
 /// Lubich & Wanner 2006, eq. V.3.13, and in SeLaLib). Order conditions vanish to 1e−26.
 pub const KAHAN_LI6: Table = Table {
-    name: "Kahan–Li 6 (s=9)",
+    name: "Kahan–Li",
     order: 6,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -318,7 +345,7 @@ pub const KAHAN_LI6: Table = Table {
 /// Lubich & Wanner 2006, eq. V.3.14, DifferentialEquations.jl `KahanLi8`, SeLaLib). Order
 /// conditions vanish to 2e−27.
 pub const KAHAN_LI8: Table = Table {
-    name: "Kahan–Li 8 (s=17)",
+    name: "Kahan–Li",
     order: 8,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -344,7 +371,7 @@ pub const KAHAN_LI8: Table = Table {
 /// DifferentialEquations.jl `SofSpa10`). 32-digit values (Huayno's `SS_m35`, which agree with the
 /// 26-digit table of HLW/SeLaLib to 4e−27); order conditions through `h¹⁰` vanish to 2e−32.
 pub const SOFRONIOU_SPALETTA10: Table = Table {
-    name: "Sofroniou–Spaletta 10 (s=35)",
+    name: "Sofroniou–Spaletta",
     order: 10,
     symmetric: true,
     scheme: Scheme::Composition {
@@ -387,7 +414,7 @@ pub const SOFRONIOU_SPALETTA10: Table = Table {
 /// exact) and `a₂, b₃` are re-solved from the two conditions in 50 digits (changes 1.4e−14 and
 /// 2.8e−15); residual below 1e−50. Seven kicks per stateless step (six with FSAL).
 pub const BLANES_MOAN4: Table = Table {
-    name: "Blanes–Moan SRKN6b (order 4)",
+    name: "Blanes–Moan SRKN6b",
     order: 4,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -423,7 +450,7 @@ pub const BLANES_MOAN4: Table = Table {
 
 /// `SABA₁` (drift–kick–drift): `A(½) B(1) A(½)`.
 pub const SABA1: Table = Table {
-    name: "SABA1",
+    name: "Laskar–Robutel SABA",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -435,7 +462,7 @@ pub const SABA1: Table = Table {
 
 /// `SABA₂`: `c₁ = ½ − √3/6`, `c₂ = √3/3`, `d₁ = ½`.
 pub const SABA2: Table = Table {
-    name: "SABA2",
+    name: "Laskar–Robutel SABA",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -453,7 +480,7 @@ pub const SABA2: Table = Table {
 
 /// `SABA₃`: `c₁ = ½ − √15/10`, `c₂ = √15/10`, `d₁ = 5/18`, `d₂ = 4/9`.
 pub const SABA3: Table = Table {
-    name: "SABA3",
+    name: "Laskar–Robutel SABA",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -474,7 +501,7 @@ pub const SABA3: Table = Table {
 /// `SABA₄`: `c₁ = ½ − √(525 + 70√30)/70`, `c₂ = (√(525 + 70√30) − √(525 − 70√30))/70`,
 /// `c₃ = √(525 − 70√30)/35`, `d₁ = ¼ − √30/72`, `d₂ = ¼ + √30/72`.
 pub const SABA4: Table = Table {
-    name: "SABA4",
+    name: "Laskar–Robutel SABA",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -496,7 +523,7 @@ pub const SABA4: Table = Table {
 
 /// `SBAB₁` (kick–drift–kick; the classical Wisdom–Holman map): `B(½) A(1) B(½)`.
 pub const SBAB1: Table = Table {
-    name: "SBAB1 (Wisdom–Holman)",
+    name: "Wisdom–Holman",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -508,7 +535,7 @@ pub const SBAB1: Table = Table {
 
 /// `SBAB₂`: `c₂ = ½`, `d₁ = 1/6`, `d₂ = 2/3`.
 pub const SBAB2: Table = Table {
-    name: "SBAB2",
+    name: "Laskar–Robutel SBAB",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -520,7 +547,7 @@ pub const SBAB2: Table = Table {
 
 /// `SBAB₃`: `c₂ = ½ − √5/10`, `c₃ = √5/5`, `d₁ = 1/12`, `d₂ = 5/12`.
 pub const SBAB3: Table = Table {
-    name: "SBAB3",
+    name: "Laskar–Robutel SBAB",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -540,7 +567,7 @@ pub const SBAB3: Table = Table {
 
 /// `SBAB₄`: `c₂ = ½ − √21/14`, `c₃ = √21/14`, `d₁ = 1/20`, `d₂ = 49/180`, `d₃ = 16/45`.
 pub const SBAB4: Table = Table {
-    name: "SBAB4",
+    name: "Laskar–Robutel SBAB",
     order: 2,
     symmetric: true,
     scheme: Scheme::Sequence {
@@ -560,34 +587,24 @@ pub const SBAB4: Table = Table {
     reference: "Laskar & Robutel 2001, Table 2",
 };
 
-/// Every splitting and composition table for separable `H = T(p) + V(q)`.
-pub const SPLITTING_TABLES: [&Table; 12] = [
-    &SYMPLECTIC_EULER_KD,
-    &SYMPLECTIC_EULER_DK,
-    &VERLET_KDK,
-    &VERLET_DKD,
-    &YOSHIDA4,
-    &SUZUKI4,
-    &BLANES_MOAN4,
-    &YOSHIDA6A,
-    &KAHAN_LI6,
-    &YOSHIDA8D,
-    &KAHAN_LI8,
-    &SOFRONIOU_SPALETTA10,
-];
-
-/// Every Laskar–Robutel table (Wisdom–Holman methods).
-pub const WISDOM_HOLMAN_TABLES: [&Table; 8] = [
-    &SABA1, &SABA2, &SABA3, &SABA4, &SBAB1, &SBAB2, &SBAB3, &SBAB4,
-];
-
 #[cfg(test)]
 mod tests {
+    use super::super::methods::{Construction, METHODS};
     use super::*;
+
+    /// The coefficient tables of the crate's methods ([`METHODS`]), and whether each is a Kepler
+    /// splitting.
+    fn tables() -> impl Iterator<Item = (&'static Table, bool)> {
+        METHODS.iter().filter_map(|m| match m.construction {
+            Construction::Splitting(t) => Some((t, false)),
+            Construction::KeplerSplitting(t) => Some((t, true)),
+            _ => None,
+        })
+    }
 
     fn sums(t: &Table) -> (f64, f64) {
         let (mut a, mut b) = (0.0, 0.0);
-        for (flow, c) in t.stages() {
+        for (flow, c) in t.sub_steps() {
             match flow {
                 Flow::A => a += c,
                 Flow::B => b += c,
@@ -600,23 +617,39 @@ mod tests {
     /// 71 terms of size ≤ 2 round to within 71·2·2⁻⁵³ ≈ 2e−14 (bound 1e−14 × the Σ|c| actually seen).
     #[test]
     fn every_table_is_consistent_and_symmetric() {
-        for t in SPLITTING_TABLES.iter().chain(WISDOM_HOLMAN_TABLES.iter()) {
+        assert_eq!(tables().count(), 20);
+        for (t, _) in tables() {
             let (a, b) = sums(t);
-            let scale: f64 = t.stages().iter().map(|(_, c)| c.abs()).sum();
+            let scale: f64 = t.sub_steps().iter().map(|(_, c)| c.abs()).sum();
             let tol = 4.0 * f64::EPSILON * scale;
-            assert!((a - 1.0).abs() <= tol, "{}: Σa − 1 = {:e}", t.name, a - 1.0);
-            assert!((b - 1.0).abs() <= tol, "{}: Σb − 1 = {:e}", t.name, b - 1.0);
-            let st = t.stages();
+            assert!(
+                (a - 1.0).abs() <= tol,
+                "{}: Σa − 1 = {:e}",
+                t.label(),
+                a - 1.0
+            );
+            assert!(
+                (b - 1.0).abs() <= tol,
+                "{}: Σb − 1 = {:e}",
+                t.label(),
+                b - 1.0
+            );
+            let st = t.sub_steps();
             let palindrome = (0..st.len()).all(|i| {
                 let (f, c) = st[i];
                 let (g, d) = st[st.len() - 1 - i];
                 f == g && c == d
             });
-            assert_eq!(palindrome, t.symmetric, "{}", t.name);
+            assert_eq!(palindrome, t.symmetric, "{}", t.label());
             if let Scheme::Composition { .. } = t.scheme {
                 let w = t.composition_weights();
                 let s: f64 = w.iter().sum();
-                assert!((s - 1.0).abs() <= tol, "{}: Σγ − 1 = {:e}", t.name, s - 1.0);
+                assert!(
+                    (s - 1.0).abs() <= tol,
+                    "{}: Σγ − 1 = {:e}",
+                    t.label(),
+                    s - 1.0
+                );
             }
         }
     }
@@ -629,7 +662,7 @@ mod tests {
     /// 8ε·Σ|γᵢ|ᵏ (its rounding error bound with margin).
     #[test]
     fn composition_power_sums_vanish() {
-        for t in SPLITTING_TABLES {
+        for (t, _) in tables() {
             if let Scheme::Composition { .. } = t.scheme {
                 let w = t.composition_weights();
                 let mut k = 3;
@@ -639,7 +672,7 @@ mod tests {
                     assert!(
                         s.abs() <= 8.0 * f64::EPSILON * scale * w.len() as f64,
                         "{}: Σγ^{k} = {s:e}",
-                        t.name
+                        t.label()
                     );
                     k += 2;
                 }
@@ -650,21 +683,17 @@ mod tests {
     /// The B nodes and weights of SABA_n are the Gauss–Legendre rule on [0, 1] (exact for
     /// polynomials of degree ≤ 2n − 1), those of SBAB_n the Lobatto rule with n + 1 nodes (degree
     /// ≤ 2n − 1): Σ dᵢ xᵢᵏ = 1/(k + 1), xᵢ the time at which the i-th kick acts. Checked to 1e−15.
+    /// `n` is the stage count ([`Table::stages`]), so this also checks that it is Laskar &
+    /// Robutel's index.
     #[test]
     fn laskar_robutel_kicks_form_quadrature_rules() {
-        for (n, t) in [
-            (1, &SABA1),
-            (2, &SABA2),
-            (3, &SABA3),
-            (4, &SABA4),
-            (1, &SBAB1),
-            (2, &SBAB2),
-            (3, &SBAB3),
-            (4, &SBAB4),
-        ] {
+        let kepler: Vec<&Table> = tables().filter(|(_, k)| *k).map(|(t, _)| t).collect();
+        assert_eq!(kepler.len(), 8);
+        for t in kepler {
+            let n = t.stages() as i32;
             let mut x = 0.0;
             let mut nodes = Vec::new();
-            for (flow, c) in t.stages() {
+            for (flow, c) in t.sub_steps() {
                 match flow {
                     Flow::A => x += c,
                     Flow::B => nodes.push((x, c)),
@@ -676,7 +705,7 @@ mod tests {
                 assert!(
                     (s - exact).abs() <= 1e-15,
                     "{}: Σ d x^{k} = {s} vs {exact}",
-                    t.name
+                    t.label()
                 );
             }
         }
@@ -690,5 +719,25 @@ mod tests {
         assert_eq!(SOFRONIOU_SPALETTA10.evaluations(), (36, 35));
         assert_eq!(BLANES_MOAN4.evaluations(), (6, 7));
         assert_eq!(YOSHIDA8D.composition_stages(), 15);
+        let stages: Vec<u32> = [
+            &SYMPLECTIC_EULER_KD,
+            &SYMPLECTIC_EULER_DK,
+            &VERLET_KDK,
+            &VERLET_DKD,
+            &BLANES_MOAN4,
+            &YOSHIDA8D,
+            &SBAB1,
+            &SBAB4,
+            &SABA4,
+        ]
+        .iter()
+        .map(|t| t.stages())
+        .collect();
+        assert_eq!(stages, [1, 1, 1, 1, 6, 15, 1, 4, 4]);
+        assert_eq!(KAHAN_LI8.label(), "Kahan–Li, 17 stages, order 8");
+        assert_eq!(
+            VERLET_KDK.label(),
+            "Störmer–Verlet (kick–drift–kick), 1 stage, order 2"
+        );
     }
 }

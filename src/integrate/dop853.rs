@@ -82,6 +82,7 @@
 //!   (from J. R. Dormand and P. J. Prince, *J. Comp. Appl. Math.* 6 (1980) 19–26) are reproduced
 //!   below at their full 30-digit precision.
 
+use super::methods;
 use super::{
     stop_time, Control, Dense, FirstOrderSystem, Method, Observer, Problem, Report, State,
     StepView, Work,
@@ -661,7 +662,12 @@ fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
 
 impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
     fn label(&self) -> String {
-        format!("DOP853 rtol={:e} atol={:e}", self.rtol, self.atol)
+        format!(
+            "{} rtol={:e} atol={:e}",
+            methods::DOP853.label(),
+            self.rtol,
+            self.atol
+        )
     }
 
     fn run<O: Observer<N>>(

@@ -5,6 +5,7 @@
 //! are the flow's own rounding and its accumulation over steps (with the driver's compensated
 //! summation it grows like `√n`, Brouwer's law). Requirements on the system: [`ExactFlow`].
 
+use super::methods;
 use super::{OneStep, Work};
 use crate::error::{Error, Result};
 use crate::systems::ExactFlow;
@@ -22,7 +23,7 @@ impl<S: ExactFlow<N>, const N: usize> OneStep<S, N> for ExactStep {
         u32::MAX
     }
     fn name(&self) -> String {
-        "exact flow".into()
+        methods::EXACT.label()
     }
     fn increment<D: DualNum<f64> + Copy>(
         &self,

@@ -86,6 +86,7 @@
 //!
 //! [`StepMap`]: super::StepMap
 
+use super::methods;
 use super::{OneStep, Work};
 use crate::ad::{lift, real_parts};
 use crate::error::{finite, Error, Result};
@@ -625,11 +626,11 @@ impl<H: Hamiltonian<N>, const N: usize, const S: usize> OneStep<H, N> for Gauss<
     }
 
     fn name(&self) -> String {
-        if S == 1 {
-            "implicit midpoint".into()
-        } else {
-            format!("Gauss–Legendre s={S}")
-        }
+        // `Gauss::<S>::new()` refuses S outside 1 ..= 6, so the entry exists.
+        methods::GAUSS.get(S.wrapping_sub(1)).map_or_else(
+            || methods::label(methods::GAUSS[0].family, S as u32, 2 * S as u32),
+            |m| m.label(),
+        )
     }
 
     /// One step (see the [module docs](self)). Errors: [`Error::NonFinite`] for a non-finite state

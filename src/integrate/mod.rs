@@ -20,6 +20,9 @@
 //!   Poincaré sections ([`Section`]).
 //! * A method is also a value: [`AnyMethod`] / [`GeneralMethod`] hold any of the crate's general
 //!   and splitting methods, so a list of methods can be built at run time and swept.
+//! * Every method the crate ships is described once, in [`METHODS`]: its key, label
+//!   (`"Gauss–Legendre, 3 stages, order 6"`), stages, order, knob, symplecticity, capability and
+//!   source; names, scene keys and run-time construction are derived from it ([`methods`]).
 //! * Every run reports its [`Work`] — steps and evaluations of `H`, its gradient and Hessian — and
 //!   its wall time, so that cost can be compared as counts as well as time.
 
@@ -28,6 +31,7 @@ pub mod coefficients;
 pub mod dop853;
 pub mod exact;
 pub mod gauss;
+pub mod methods;
 pub mod observers;
 pub mod rk4;
 pub mod sampling;
@@ -39,6 +43,7 @@ pub use any::{AnyMethod, GeneralMethod};
 pub use dop853::Dop853;
 pub use exact::ExactStep;
 pub use gauss::{Gauss, ImplicitMidpoint};
+pub use methods::{MethodInfo, METHODS};
 pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
 };
@@ -276,7 +281,8 @@ pub(crate) fn stop_time<const N: usize>(t: f64, prev: &State<N>, next: &State<N>
 
 /// An integration method for systems of type `S`.
 pub trait Method<S, const N: usize> {
-    /// A short label (with the knob), e.g. `"Verlet h=0.01"`.
+    /// A short label with the knob, e.g. `"Störmer–Verlet (kick–drift–kick), 1 stage, order 2
+    /// n=100"`: the method's [`MethodInfo::label`] and its steps or tolerances.
     fn label(&self) -> String;
     /// Run the method on the problem, reporting every step to the observer.
     fn run<O: Observer<N>>(
@@ -303,7 +309,7 @@ pub fn integrate<S, M: Method<S, N>, O: Observer<N>, const N: usize>(
 pub trait OneStep<S, const N: usize> {
     /// Order of the method.
     fn order(&self) -> u32;
-    /// Name of the method.
+    /// Name of the method: its label, `"<family>, <s> stages, order <p>"` ([`methods`]).
     fn name(&self) -> String;
     /// The increments of one step.
     #[allow(clippy::type_complexity)]

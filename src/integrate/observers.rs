@@ -210,7 +210,8 @@ impl Crossing {
 /// Each crossing is located within its step by the Illinois iteration on the step's dense output
 /// (see [`sampling`](super::sampling)): for fixed-step methods every iterate is a partial step of
 /// the method itself, so a section point lies on the method's numerical trajectory to its own
-/// order (a Störmer–Verlet section is good to `O(h²)`, a Kahan–Li 8 section to `O(h⁸)`); for
+/// order (a Störmer–Verlet section is good to `O(h²)`, one of Kahan–Li with 17 stages, order 8,
+/// to `O(h⁸)`); for
 /// DOP853 on its continuous extension. The stored trajectory is not altered. A crossing is seen
 /// as a change of sign of `s` between the ends of a step (the sense taken in the direction of
 /// the run), so a step must not cross the surface twice; a non-finite value of `s` at a step end

@@ -11,6 +11,7 @@
 //! with compensated summation). Requirements of [`Rk4`] on the system: any [`Hamiltonian`]; four
 //! AD gradients per step. Not symplectic: its energy error drifts linearly.
 
+use super::methods;
 use super::{OneStep, Work};
 use crate::error::{Error, Result};
 use crate::hamiltonian::Hamiltonian;
@@ -57,7 +58,7 @@ impl<S: Hamiltonian<N>, const N: usize> OneStep<S, N> for Rk4 {
         4
     }
     fn name(&self) -> String {
-        "RK4".into()
+        methods::RK4.label()
     }
     #[inline]
     fn increment<D: DualNum<f64> + Copy>(

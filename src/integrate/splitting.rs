@@ -25,6 +25,7 @@
 //! evaluates both (2 resp. 7 per step), where a long run with FSAL would need 1 resp. 6.
 
 use super::coefficients::{self, Flow, Table};
+use super::methods::{Construction, METHODS};
 use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{Error, Result};
@@ -65,7 +66,7 @@ where
     let mut dq = SVector::<D, N>::zeros();
     let mut dp = SVector::<D, N>::zeros();
     let mut elapsed = D::from(0.0);
-    table.for_each_stage(|flow, c| {
+    table.for_each_sub_step(|flow, c| {
         if c == 0.0 {
             return Ok(());
         }
@@ -131,40 +132,44 @@ pub struct Splitting {
 }
 
 impl Splitting {
-    /// Symplectic Euler, kick then drift (order 1).
+    /// Symplectic Euler, kick then drift: 1 stage, order 1 (`symplectic-euler-kd`).
     pub const SYMPLECTIC_EULER_KD: Self = Self::of(&coefficients::SYMPLECTIC_EULER_KD);
-    /// Symplectic Euler, drift then kick (order 1).
+    /// Symplectic Euler, drift then kick: 1 stage, order 1 (`symplectic-euler-dk`).
     pub const SYMPLECTIC_EULER_DK: Self = Self::of(&coefficients::SYMPLECTIC_EULER_DK);
-    /// Störmer–Verlet, kick–drift–kick (order 2).
+    /// Störmer–Verlet, kick–drift–kick: 1 stage, order 2 (`verlet-kdk`).
     pub const VERLET_KDK: Self = Self::of(&coefficients::VERLET_KDK);
-    /// Störmer–Verlet, drift–kick–drift (order 2).
+    /// Störmer–Verlet, drift–kick–drift: 1 stage, order 2 (`verlet-dkd`).
     pub const VERLET_DKD: Self = Self::of(&coefficients::VERLET_DKD);
-    /// Yoshida's triple jump (order 4, 3 kicks).
+    /// Yoshida's triple jump: 3 stages, order 4 (`yoshida3`).
     pub const YOSHIDA4: Self = Self::of(&coefficients::YOSHIDA4);
-    /// Suzuki's five-stage composition (order 4, 5 kicks).
+    /// Suzuki's composition: 5 stages, order 4 (`suzuki5`).
     pub const SUZUKI4: Self = Self::of(&coefficients::SUZUKI4);
-    /// Blanes–Moan `SRKN₆ᵇ` (order 4, 7 kicks; 6 with FSAL).
+    /// Blanes–Moan `SRKN₆ᵇ`: 6 stages (7 kicks per stateless step), order 4 (`blanes-moan6`).
     pub const BLANES_MOAN4: Self = Self::of(&coefficients::BLANES_MOAN4);
-    /// Yoshida order 6, solution A (7 kicks).
+    /// Yoshida, solution A: 7 stages, order 6 (`yoshida7`).
     pub const YOSHIDA6A: Self = Self::of(&coefficients::YOSHIDA6A);
-    /// Kahan–Li order 6, s = 9.
+    /// Kahan–Li: 9 stages, order 6 (`kahan-li9`).
     pub const KAHAN_LI6: Self = Self::of(&coefficients::KAHAN_LI6);
-    /// Yoshida order 8, solution D (15 kicks).
+    /// Yoshida, solution D: 15 stages, order 8 (`yoshida15`).
     pub const YOSHIDA8D: Self = Self::of(&coefficients::YOSHIDA8D);
-    /// Kahan–Li order 8, s = 17.
+    /// Kahan–Li: 17 stages, order 8 (`kahan-li17`).
     pub const KAHAN_LI8: Self = Self::of(&coefficients::KAHAN_LI8);
-    /// Sofroniou–Spaletta order 10, s = 35.
+    /// Sofroniou–Spaletta: 35 stages, order 10 (`sofroniou-spaletta35`).
     pub const SOFRONIOU_SPALETTA10: Self = Self::of(&coefficients::SOFRONIOU_SPALETTA10);
 
     const fn of(table: &'static Table) -> Self {
         Self { table }
     }
 
-    /// Every shipped method, lowest order first.
+    /// Every shipped method, lowest order first: the splittings of
+    /// [`METHODS`].
     pub fn all() -> Vec<Self> {
-        coefficients::SPLITTING_TABLES
+        METHODS
             .iter()
-            .map(|t| Self::of(t))
+            .filter_map(|m| match m.construction {
+                Construction::Splitting(t) => Some(Self::of(t)),
+                _ => None,
+            })
             .collect()
     }
 
@@ -189,15 +194,15 @@ pub(crate) fn check_table(table: &Table) -> Result<()> {
     };
     if empty {
         return Err(Error::invalid(
-            format!("coefficient table {}", table.name),
+            format!("coefficient table {}", table.label()),
             "no coefficients",
         ));
     }
     let (mut a, mut b, mut scale) = (0.0, 0.0, 0.0f64);
-    for (flow, c) in table.stages() {
+    for (flow, c) in table.sub_steps() {
         if !c.is_finite() {
             return Err(Error::NonFinite {
-                what: format!("coefficient of {}", table.name),
+                what: format!("coefficient of {}", table.label()),
                 value: c,
             });
         }
@@ -211,7 +216,7 @@ pub(crate) fn check_table(table: &Table) -> Result<()> {
     for (part, sum) in [("Σ a (A-flow weights)", a), ("Σ b (B-flow weights)", b)] {
         if (sum - 1.0).abs() > tol {
             return Err(Error::out_of_domain(
-                format!("{} of {}", part, table.name),
+                format!("{} of {}", part, table.label()),
                 sum,
                 "1 (consistency)",
             ));
@@ -225,7 +230,7 @@ impl<S: Separable<N>, const N: usize> OneStep<S, N> for Splitting {
         self.table.order
     }
     fn name(&self) -> String {
-        self.table.name.into()
+        self.table.label()
     }
     #[inline]
     fn increment<D: DualNum<f64> + Copy>(
@@ -239,7 +244,7 @@ impl<S: Separable<N>, const N: usize> OneStep<S, N> for Splitting {
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
         if <S as Separable<N>>::generalized_force(system, t, q, p).is_some() {
             return Err(Error::invalid(
-                format!("{} on this system", self.table.name),
+                format!("{} on this system", self.table.label()),
                 "explicit splitting integrates conservative H = T(p) + V(q) only; \
                  the system has non-conservative forces",
             ));

@@ -31,6 +31,7 @@
 //! Elliptic, parabolic and hyperbolic arcs are handled alike.
 
 use super::coefficients::{self, Table};
+use super::methods::{Construction, METHODS};
 use super::splitting::{check_table, compose, SubFlows};
 use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
@@ -54,34 +55,37 @@ pub struct WisdomHolman {
 }
 
 impl WisdomHolman {
-    /// The classical Wisdom–Holman map, kick–drift–kick (`= SBAB₁`).
+    /// The classical Wisdom–Holman map, kick–drift–kick (`= SBAB₁`): 1 stage, order 2
+    /// (`wisdom-holman`).
     pub const WH: Self = Self::of(&coefficients::SBAB1);
-    /// `SABA₁`: drift–kick–drift.
+    /// `SABA₁`, drift–kick–drift: 1 stage, order 2 (`saba1`).
     pub const SABA1: Self = Self::of(&coefficients::SABA1);
-    /// `SABA₂`.
+    /// `SABA₂`: 2 stages, order 2 (`saba2`).
     pub const SABA2: Self = Self::of(&coefficients::SABA2);
-    /// `SABA₃`.
+    /// `SABA₃`: 3 stages, order 2 (`saba3`).
     pub const SABA3: Self = Self::of(&coefficients::SABA3);
-    /// `SABA₄`.
+    /// `SABA₄`: 4 stages, order 2 (`saba4`).
     pub const SABA4: Self = Self::of(&coefficients::SABA4);
-    /// `SBAB₁` (= [`WH`](Self::WH)).
-    pub const SBAB1: Self = Self::of(&coefficients::SBAB1);
-    /// `SBAB₂`.
+    /// `SBAB₂`: 2 stages, order 2 (`sbab2`).
     pub const SBAB2: Self = Self::of(&coefficients::SBAB2);
-    /// `SBAB₃`.
+    /// `SBAB₃`: 3 stages, order 2 (`sbab3`).
     pub const SBAB3: Self = Self::of(&coefficients::SBAB3);
-    /// `SBAB₄`.
+    /// `SBAB₄`: 4 stages, order 2 (`sbab4`).
     pub const SBAB4: Self = Self::of(&coefficients::SBAB4);
 
     const fn of(table: &'static Table) -> Self {
         Self { table }
     }
 
-    /// Every shipped Wisdom–Holman method.
+    /// Every shipped Wisdom–Holman method: the Kepler splittings of
+    /// [`METHODS`].
     pub fn all() -> Vec<Self> {
-        coefficients::WISDOM_HOLMAN_TABLES
+        METHODS
             .iter()
-            .map(|t| Self::of(t))
+            .filter_map(|m| match m.construction {
+                Construction::KeplerSplitting(t) => Some(Self::of(t)),
+                _ => None,
+            })
             .collect()
     }
 
@@ -128,7 +132,7 @@ impl<S: PerturbedKepler<N>, const N: usize> OneStep<S, N> for WisdomHolman {
         self.table.order
     }
     fn name(&self) -> String {
-        self.table.name.into()
+        self.table.label()
     }
     #[inline]
     fn increment<D: DualNum<f64> + Copy>(

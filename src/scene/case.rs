@@ -3,11 +3,12 @@
 //! capabilities it was given (separable, perturbed Kepler, exact flow) and whose theories are
 //! closures.
 
-use super::spec::MethodKind;
-use crate::error::{fmt_num, Error, Result};
+use super::spec::{Knob, MethodKind, TheoryKind};
+use crate::error::{Error, Result};
+use crate::integrate::methods::{whole_steps, Capability, Construction, MethodInfo};
 use crate::integrate::{
-    integrate, Dop853, ExactStep, Fixed, Gauss, ImplicitMidpoint, Method, Observer,
-    PerturbedKepler, Problem, Report, Rk4, Splitting, StepView, WisdomHolman, Work,
+    integrate, AnyMethod, Dop853, ExactStep, Fixed, GeneralMethod, Method, Observer,
+    PerturbedKepler, Problem, Report, StepView, WisdomHolman, Work,
 };
 use crate::nalgebra::SVector;
 use crate::phase::State;
@@ -268,20 +269,6 @@ fn drive<S, M: Method<S, N>, const N: usize>(
     }
 }
 
-fn steps_of(knob: f64) -> Result<usize> {
-    if knob.is_finite() && knob >= 1.0 && knob.fract() == 0.0 && knob <= 1e12 {
-        Ok(knob as usize)
-    } else {
-        Err(Error::invalid(
-            "steps",
-            format!(
-                "expected a whole number of steps ≥ 1, got {}",
-                fmt_num(knob)
-            ),
-        ))
-    }
-}
-
 /// The most steps one DOP853 run of a scene may attempt (its runs and an integrated reference):
 /// about 17 s of a Kepler orbit's steps on one core. The scene check refuses a span whose runs
 /// would need more.
@@ -290,18 +277,18 @@ pub const ADAPTIVE_MAX_STEPS: usize = 50_000_000;
 /// Tolerance of the DOP853 reference of a case without an exact one.
 const REFERENCE_RTOL: f64 = Dop853::RTOL_MIN;
 
-/// Runs one method of a capability: `None` when `kind` is not one of its methods.
+/// Runs one method of a capability: `None` when `info` is not one of its methods.
 pub type StepperRun<H, const N: usize> = fn(
     &Problem<'_, H, N>,
-    MethodKind,
+    &'static MethodInfo,
     f64,
     Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>>;
 
-/// The methods of one capability (general, separable, perturbed Kepler, exact flow): which kinds
-/// it handles, decided without running anything, and how to run them.
+/// The methods of one capability (general, separable, perturbed Kepler, exact flow): the
+/// entries of [`METHODS`](crate::integrate::METHODS) that need it, and how to run them.
 pub struct Stepper<H, const N: usize> {
-    handles: fn(MethodKind) -> bool,
+    capability: Capability,
     run: StepperRun<H, N>,
 }
 
@@ -314,130 +301,78 @@ impl<H, const N: usize> Clone for Stepper<H, N> {
 impl<H, const N: usize> Copy for Stepper<H, N> {}
 
 impl<H, const N: usize> Stepper<H, N> {
-    /// Whether `kind` is one of this capability's methods.
+    /// Whether `kind` is one of this capability's methods (decided from the method table,
+    /// without running anything).
     pub fn handles(&self, kind: MethodKind) -> bool {
-        (self.handles)(kind)
+        kind.integrator()
+            .is_some_and(|m| m.capability() == self.capability)
     }
 }
 
-/// Runge–Kutta, Gauss–Legendre and DOP853: any Hamiltonian.
+/// Runge–Kutta, Gauss–Legendre and Dormand–Prince: any Hamiltonian.
 pub fn general_stepper<H: Hamiltonian<N>, const N: usize>() -> Stepper<H, N> {
     Stepper {
-        handles: |k| {
-            matches!(
-                k,
-                MethodKind::Rk4
-                    | MethodKind::ImplicitMidpoint
-                    | MethodKind::Gauss2
-                    | MethodKind::Gauss3
-                    | MethodKind::Gauss4
-                    | MethodKind::Dop853
-            )
-        },
+        capability: Capability::Hamiltonian,
         run: run_general::<H, N>,
     }
 }
 
 fn run_general<H: Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
-    kind: MethodKind,
+    info: &'static MethodInfo,
     knob: f64,
     sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
-    let fixed = |knob: f64| steps_of(knob);
-    Some(match kind {
-        MethodKind::Rk4 => fixed(knob)
-            .and_then(|n| Fixed::new(Rk4, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-        MethodKind::ImplicitMidpoint => fixed(knob)
-            .and_then(|n| Fixed::new(ImplicitMidpoint::new()?, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-        MethodKind::Gauss2 => fixed(knob)
-            .and_then(|n| Fixed::new(Gauss::<2>::new()?, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-        MethodKind::Gauss3 => fixed(knob)
-            .and_then(|n| Fixed::new(Gauss::<3>::new()?, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-        MethodKind::Gauss4 => fixed(knob)
-            .and_then(|n| Fixed::new(Gauss::<4>::new()?, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-        MethodKind::Dop853 => Dop853::new(knob, knob)
-            .and_then(|m| m.with_max_steps(ADAPTIVE_MAX_STEPS))
-            .and_then(|m| drive(problem, &m, sampler)),
-        _ => return None,
-    })
-}
-
-/// The splitting table of a kind, if it is an explicit splitting method.
-pub fn splitting_of(kind: MethodKind) -> Option<Splitting> {
-    Some(match kind {
-        MethodKind::SymplecticEuler => Splitting::SYMPLECTIC_EULER_KD,
-        MethodKind::Verlet => Splitting::VERLET_KDK,
-        MethodKind::VerletDkd => Splitting::VERLET_DKD,
-        MethodKind::Yoshida4 => Splitting::YOSHIDA4,
-        MethodKind::Suzuki4 => Splitting::SUZUKI4,
-        MethodKind::BlanesMoan4 => Splitting::BLANES_MOAN4,
-        MethodKind::Yoshida6 => Splitting::YOSHIDA6A,
-        MethodKind::KahanLi6 => Splitting::KAHAN_LI6,
-        MethodKind::Yoshida8 => Splitting::YOSHIDA8D,
-        MethodKind::KahanLi8 => Splitting::KAHAN_LI8,
-        MethodKind::SofroniouSpaletta10 => Splitting::SOFRONIOU_SPALETTA10,
-        _ => return None,
+    (info.capability() == Capability::Hamiltonian).then(|| {
+        let method = match GeneralMethod::new(info, knob)? {
+            GeneralMethod::Dop853(m) => {
+                GeneralMethod::Dop853(m.with_max_steps(ADAPTIVE_MAX_STEPS)?)
+            }
+            m => m,
+        };
+        drive(problem, &method, sampler)
     })
 }
 
 /// Explicit splitting methods: separable Hamiltonians.
 pub fn separable_stepper<H: Separable<N>, const N: usize>() -> Stepper<H, N> {
     Stepper {
-        handles: |k| splitting_of(k).is_some(),
+        capability: Capability::Separable,
         run: run_separable::<H, N>,
     }
 }
 
 fn run_separable<H: Separable<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
-    kind: MethodKind,
+    info: &'static MethodInfo,
     knob: f64,
     sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
-    let method = splitting_of(kind)?;
-    Some(
-        steps_of(knob)
-            .and_then(|n| Fixed::new(method, n))
-            .and_then(|m| drive(problem, &m, sampler)),
-    )
+    (info.capability() == Capability::Separable)
+        .then(|| AnyMethod::new(info, knob).and_then(|m| drive(problem, &m, sampler)))
 }
 
-/// The Kepler splitting of a kind, if it is one.
-fn kepler_splitting_of(kind: MethodKind) -> Option<WisdomHolman> {
-    Some(match kind {
-        MethodKind::WisdomHolman => WisdomHolman::WH,
-        MethodKind::Saba2 => WisdomHolman::SABA2,
-        MethodKind::Saba3 => WisdomHolman::SABA3,
-        MethodKind::Saba4 => WisdomHolman::SABA4,
-        _ => return None,
-    })
-}
-
-/// Wisdom–Holman and SABA: perturbed Kepler problems.
+/// Wisdom–Holman and SABA/SBAB: perturbed Kepler problems.
 pub fn kepler_splitting_stepper<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
 ) -> Stepper<H, N> {
     Stepper {
-        handles: |k| kepler_splitting_of(k).is_some(),
+        capability: Capability::PerturbedKepler,
         run: run_kepler_splitting::<H, N>,
     }
 }
 
 fn run_kepler_splitting<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
-    kind: MethodKind,
+    info: &'static MethodInfo,
     knob: f64,
     sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
-    let method = kepler_splitting_of(kind)?;
+    let Construction::KeplerSplitting(table) = info.construction else {
+        return None;
+    };
     Some(
-        steps_of(knob)
-            .and_then(|n| Fixed::new(method, n))
+        whole_steps(knob)
+            .and_then(|n| Fixed::new(WisdomHolman::new(table)?, n))
             .and_then(|m| drive(problem, &m, sampler)),
     )
 }
@@ -445,19 +380,19 @@ fn run_kepler_splitting<H: PerturbedKepler<N> + Hamiltonian<N>, const N: usize>(
 /// The exact flow as a method.
 pub fn exact_stepper<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>() -> Stepper<H, N> {
     Stepper {
-        handles: |k| k == MethodKind::Exact,
+        capability: Capability::ExactFlow,
         run: run_exact::<H, N>,
     }
 }
 
 fn run_exact<H: ExactFlow<N> + Hamiltonian<N>, const N: usize>(
     problem: &Problem<'_, H, N>,
-    kind: MethodKind,
+    info: &'static MethodInfo,
     knob: f64,
     sampler: Option<&mut Recording<'_, N>>,
 ) -> Option<Result<Report<N>>> {
-    (kind == MethodKind::Exact).then(|| {
-        steps_of(knob)
+    (info.construction == Construction::Exact).then(|| {
+        whole_steps(knob)
             .and_then(|n| Fixed::new(ExactStep, n))
             .and_then(|m| drive(problem, &m, sampler))
     })
@@ -479,7 +414,7 @@ pub struct HamiltonianCase<H: Hamiltonian<N>, const N: usize> {
     period: Option<f64>,
     description: String,
     steppers: Vec<Stepper<H, N>>,
-    theories: Vec<(MethodKind, Theory<N>)>,
+    theories: Vec<(TheoryKind, Theory<N>)>,
     notes: Vec<(MethodKind, String)>,
     reference: Option<Reference<N>>,
     error_label: String,
@@ -559,7 +494,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
     }
 
     /// Add a theory giving the state at any time.
-    pub fn with_theory(mut self, kind: MethodKind, theory: Theory<N>) -> Self {
+    pub fn with_theory(mut self, kind: TheoryKind, theory: Theory<N>) -> Self {
         self.theories.push((kind, theory));
         self
     }
@@ -619,9 +554,11 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
         let t1 = self.end()?.0;
         let problem = self.problem(t1)?;
         let mut sampler = sampler;
-        for s in self.steppers.iter().filter(|s| s.handles(kind)) {
-            if let Some(r) = (s.run)(&problem, kind, knob, sampler.as_deref_mut()) {
-                return r;
+        if let Some(info) = kind.integrator() {
+            for s in self.steppers.iter().filter(|s| s.handles(kind)) {
+                if let Some(r) = (s.run)(&problem, info, knob, sampler.as_deref_mut()) {
+                    return r;
+                }
             }
         }
         Err(unsupported(kind))
@@ -630,14 +567,14 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
     fn theory(&self, kind: MethodKind) -> Option<&Theory<N>> {
         self.theories
             .iter()
-            .find(|(k, _)| *k == kind)
+            .find(|(k, _)| MethodKind::Theory(*k) == kind)
             .map(|(_, t)| t)
     }
 }
 
 fn unsupported(kind: MethodKind) -> Error {
     Error::invalid(
-        format!("method {}", kind.name()),
+        format!("method {}", kind.key()),
         "does not apply to this system",
     )
 }
@@ -730,8 +667,8 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
             }
             return Ok(h);
         }
-        let states = if kind.knob() == super::spec::Knob::Steps {
-            let mut ends = StepEnds::new(steps_of(knob)?, samples);
+        let states = if kind.knob() == Knob::Steps {
+            let mut ends = StepEnds::new(whole_steps(knob)?, samples);
             let last = self.report(kind, knob, Some(&mut Recording::Steps(&mut ends)))?;
             if ends.states.last().map(|s| s.t) != Some(last.last.t) {
                 ends.states.push(last.last);
@@ -811,17 +748,17 @@ mod tests {
         stepper: Stepper<H, N>,
         problem: &Problem<'_, H, N>,
     ) {
-        for kind in MethodKind::ALL {
-            let knob = if kind.knob() == super::super::spec::Knob::Rtol {
-                1e-6
-            } else {
-                1.0
-            };
-            let ran = (stepper.run)(problem, kind, knob, None);
-            assert_eq!(stepper.handles(kind), ran.is_some(), "{}", kind.name());
+        for info in &crate::integrate::METHODS {
+            let kind = MethodKind::Integrator(info);
+            let knob = if kind.knob() == Knob::Rtol { 1e-6 } else { 1.0 };
+            let ran = (stepper.run)(problem, info, knob, None);
+            assert_eq!(stepper.handles(kind), ran.is_some(), "{}", info.key);
             if let Some(r) = ran {
-                r.unwrap_or_else(|e| panic!("{}: {e}", kind.name()));
+                r.unwrap_or_else(|e| panic!("{}: {e}", info.key));
             }
+        }
+        for theory in super::super::spec::THEORIES {
+            assert!(!stepper.handles(theory.kind.into()), "{}", theory.key);
         }
     }
 

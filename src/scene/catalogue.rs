@@ -15,7 +15,7 @@ use super::case::{
     exact_stepper, kepler_splitting_stepper, separable_stepper, system_invariants, Case,
     HamiltonianCase, Portrait, Table,
 };
-use super::spec::{MethodKind, SceneError};
+use super::spec::{MethodKind, SceneError, TheoryKind};
 use crate::error::{fmt_num, Error, Result};
 use crate::hamilton_jacobi::action_angle::ActionAngle;
 use crate::hamilton_jacobi::central::RadialMotion;
@@ -406,7 +406,7 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         // Hamilton–Jacobi: the radial quadrature through the apsides, time law inverted.
         let h = (mu * a * (1.0 - e * e)).sqrt();
         case = case.with_theory(
-            MethodKind::HamiltonJacobi,
+            TheoryKind::HamiltonJacobi,
             Box::new(move |_, t| {
                 let motion = RadialMotion::kepler_elements(mu, a, e)?;
                 let (r, rdot, theta) = motion.state_at(t)?;
@@ -542,7 +542,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_invariants(system_invariants::<Pendulum, 1>)
         .with_reference(reference)
         .with_theory(
-            MethodKind::HamiltonJacobi,
+            TheoryKind::HamiltonJacobi,
             Box::new(move |_, t| {
                 let aa = ActionAngle::pendulum(Pendulum::new(n)?, delta)?;
                 let w0 = aa.angle(q0, p0)?;
@@ -551,7 +551,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             }),
         )
         .with_theory(
-            MethodKind::NormalForm,
+            TheoryKind::NormalForm,
             Box::new(move |knob, t| {
                 let nf = PendulumNormalForm::new(n, order_of(knob)?)?;
                 let (q, p) = nf.state_at(q0, p0, t)?;
@@ -566,12 +566,12 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             "warning: μ = (a/π)² = {mu_small:.7} > {PENDULUM_WARNING_MU}, the series may not converge"
         );
         case = case
-            .with_note(MethodKind::NormalForm, note.clone())
-            .with_note(MethodKind::Lindstedt, note);
+            .with_note(TheoryKind::NormalForm.into(), note.clone())
+            .with_note(TheoryKind::Lindstedt.into(), note);
     }
     if p0 == 0.0 {
         case = case.with_theory(
-            MethodKind::Lindstedt,
+            TheoryKind::Lindstedt,
             Box::new(move |knob, t| {
                 let series = lindstedt_pendulum(order_of(knob)?)?;
                 // The series starts at +a; a start at −a is its mirror image.
@@ -645,7 +645,7 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             }),
         )
         .with_theory(
-            MethodKind::OsculatingElements,
+            TheoryKind::OsculatingElements,
             Box::new(move |rtol, t| {
                 let sol = ClassicalSolution::new(mu, 0.0)?;
                 let (g1, g2) = sol.constants(&el, 0.0)?;
@@ -656,7 +656,7 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             }),
         )
         .with_theory(
-            MethodKind::MeanElements,
+            TheoryKind::MeanElements,
             Box::new(move |_, t| MeanElements::j2(mu, j2v, radius, 0.0, el)?.state(t)),
         );
     Ok(Box::new(case))
@@ -735,7 +735,7 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             equal_aspect: false,
             project: theta_ptheta,
         })
-        .with_theory(MethodKind::HamiltonJacobi, Box::new(move |_, t| hj(t)));
+        .with_theory(TheoryKind::HamiltonJacobi, Box::new(move |_, t| hj(t)));
     Ok(Box::new(case))
 }
 
@@ -763,7 +763,7 @@ impl Case for Gallery {
     }
     fn run(&self, kind: MethodKind, _knob: f64) -> Result<super::case::Outcome> {
         Err(Error::invalid(
-            format!("method {}", kind.name()),
+            format!("method {}", kind.key()),
             "the transformation gallery runs no methods",
         ))
     }

@@ -9,7 +9,7 @@
 use super::case::Table;
 use crate::brackets::{certify, Certificate, PhaseMap};
 use crate::error::{Error, Result};
-use crate::integrate::{Gauss, Rk4, Splitting, StepMap};
+use crate::integrate::{Gauss, OneStep, Rk4, Splitting, StepMap};
 use crate::nalgebra::SVector;
 use crate::systems::{HarmonicOscillator, Kepler2, Pendulum};
 use crate::transform::generating::{RelationPoint, Sheet};
@@ -432,6 +432,9 @@ fn entries() -> Result<Vec<Entry>> {
         method: &Rk4,
         dt: h,
     };
+    let verlet_label = OneStep::<Pendulum, 1>::name(verlet.method);
+    let gauss_label = OneStep::<Kepler2, 2>::name(gauss_step.method);
+    let rk4_label = OneStep::<Pendulum, 1>::name(rk4.method);
     let lie8 = lie_flow(pendulum, 0.02, 8)?;
     let lie3 = lie_flow(pendulum, 0.02, 3)?;
     let euler_ict = Ict::new(pendulum, h)?;
@@ -531,19 +534,22 @@ fn entries() -> Result<Vec<Entry>> {
             map_certificate(&flow),
         )?,
         entry(
-            "Störmer–Verlet (kick–drift–kick) step of the pendulum, h = 0.1",
+            &format!("{}: one step of the pendulum, h = 0.1", verlet_label),
             "numerical step",
             at1(0.0, 1.0, 0.5),
             map_certificate(&verlet),
         )?,
         entry(
-            "Gauss–Legendre (s = 3, order 6) step of Kepler, h = 0.1",
+            &format!("{}: one step of Kepler, h = 0.1", gauss_label),
             "numerical step",
             at2(0.0, [1.2, -0.4], [0.3, 0.9]),
             map_certificate(&gauss_step),
         )?,
         entry(
-            "classical RK4 step of the pendulum, h = 0.1 (defect O(h⁶))",
+            &format!(
+                "{}: one step of the pendulum, h = 0.1 (defect O(h⁶))",
+                rk4_label
+            ),
             "numerical step",
             at1(0.0, 1.0, 0.5),
             map_certificate(&rk4),
@@ -704,9 +710,12 @@ mod tests {
         ("(q, p) ↦ (q + p², p + q)", Expect::NotCanonical),
         ("(x, y, p_x, p_y) ↦ (2x", Expect::NotCanonical),
         ("harmonic oscillator flow", Expect::Canonical),
-        ("Störmer–Verlet", Expect::Canonical),
-        ("Gauss–Legendre", Expect::Canonical),
-        ("classical RK4", Expect::NotCanonical),
+        (
+            "Störmer–Verlet (kick–drift–kick), 1 stage",
+            Expect::Canonical,
+        ),
+        ("Gauss–Legendre, 3 stages, order 6", Expect::Canonical),
+        ("classical Runge–Kutta, 4 stages", Expect::NotCanonical),
         (
             "pendulum flow as the Lie series exp(h L_H), h = 0.02, order 8",
             Expect::Canonical,

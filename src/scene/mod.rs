@@ -17,7 +17,7 @@
 //! # time = 628.3                          #   or a length of time
 //!
 //! [[method]]                              # at least one of these
-//! kind = "kahan-li8"                      # `hj list` shows every kind and its knob
+//! kind = "kahan-li17"                      # `hj list` shows every kind and its knob
 //! steps = [250, 500, 1000, 2000]
 //!
 //! [[method]]
@@ -33,7 +33,7 @@
 //! steps = [100]
 //!
 //! [[method]]
-//! kind = "verlet"
+//! kind = "verlet-kdk"
 //! steps = [1000, 4000]
 //!
 //! [[method]]
@@ -46,9 +46,9 @@
 //! work_precision = true                   # figures/<name>-work-precision.svg
 //! # Histories name methods the scene runs (a `[[method]]` kind), each with its own knob value.
 //! phase_portrait = [{ method = "exact", steps = 4000 }]       # figures/<name>-phase-portrait.svg
-//! energy_error = [{ method = "verlet", steps = 4000 }]        # figures/<name>-energy-error.svg
+//! energy_error = [{ method = "verlet-kdk", steps = 4000 }]        # figures/<name>-energy-error.svg
 //! invariants = [{ method = "rk4", steps = 4000 }]             # figures/<name>-invariants.svg
-//! # elements = [{ method = "kahan-li8", steps = 8000 }]       # Kepler-type systems
+//! # elements = [{ method = "kahan-li17", steps = 8000 }]       # Kepler-type systems
 //! samples = 400                           # points per history: step ends of fixed-step
 //!                                         # methods, uniform times otherwise
 //! ```
@@ -69,7 +69,7 @@ pub mod spec;
 pub use case::{Case, HamiltonianCase, History, Outcome, Table};
 pub use catalogue::{Catalogue, Params};
 pub use runner::{RunOptions, RunSummary, Scene};
-pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile};
+pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
 pub const BUILTIN: [(&str, &str); 12] = [

@@ -3,8 +3,11 @@
 
 use super::case::{Case, History, ADAPTIVE_MAX_STEPS};
 use super::catalogue::Catalogue;
-use super::spec::{Knob, MethodKind, MethodSpec, OutputSpec, RunSpec, SceneError, SceneFile};
+use super::spec::{
+    Knob, MethodKind, MethodSpec, OutputSpec, RunSpec, SceneError, SceneFile, TheoryKind,
+};
 use crate::error::fmt_num;
+use crate::integrate::methods::Construction;
 use crate::plot::{Curve, Figure, Style};
 use crate::systems::Invariant;
 use crate::workprecision::{sweep, Comparison, Series, Timing};
@@ -57,7 +60,7 @@ fn knob_values(file: &str, i: usize, m: &MethodSpec) -> Result<Vec<f64>, SceneEr
             return Err(SceneError::new(
                 file,
                 key(k.key()),
-                format!("`{}` takes {expected}, not `{}`", m.kind.name(), k.key()),
+                format!("`{}` takes {expected}, not `{}`", m.kind.key(), k.key()),
             ));
         }
     }
@@ -73,7 +76,7 @@ fn knob_values(file: &str, i: usize, m: &MethodSpec) -> Result<Vec<f64>, SceneEr
             key(want.key()),
             format!(
                 "missing: `{}` needs a non-empty list `{}`",
-                m.kind.name(),
+                m.kind.key(),
                 want.key()
             ),
         ));
@@ -117,7 +120,7 @@ fn run_knob(file: &str, key: &str, r: &RunSpec) -> Result<f64, SceneError> {
                 return Err(SceneError::new(
                     file,
                     format!("{key}.{name}"),
-                    format!("`{}` does not take `{name}`", r.method.name()),
+                    format!("`{}` does not take `{name}`", r.method.key()),
                 ))
             }
             Some(x) => {
@@ -135,25 +138,47 @@ fn run_knob(file: &str, key: &str, r: &RunSpec) -> Result<f64, SceneError> {
             Err(SceneError::new(
                 file,
                 format!("{key}.{name}"),
-                format!("missing: `{}` needs `{name}`", r.method.name()),
+                format!("missing: `{}` needs `{name}`", r.method.key()),
             ))
         }
     }
 }
 
 fn label_of(m: &MethodSpec) -> String {
-    m.label
-        .clone()
-        .unwrap_or_else(|| m.kind.label().to_string())
+    m.label.clone().unwrap_or_else(|| m.kind.label())
 }
 
-fn short_label(kind: MethodKind, knob: f64) -> String {
+/// One value of a kind's knob in words: `400 steps`, `rtol 1e-10`, `order 8` (none without a
+/// knob).
+fn knob_text(kind: MethodKind, knob: f64) -> Option<String> {
     match kind.knob() {
-        Knob::Steps => format!("{} ({knob:.0} steps)", kind.name()),
-        Knob::Rtol => format!("{} (rtol {knob:.0e})", kind.name()),
-        Knob::Orders => format!("{} (order {knob:.0})", kind.name()),
-        Knob::None => kind.name().to_string(),
+        Knob::Steps => Some(format!("{knob:.0} steps")),
+        Knob::Rtol => Some(format!("rtol {knob:.0e}")),
+        Knob::Orders => Some(format!("order {knob:.0}")),
+        Knob::None => None,
     }
+}
+
+/// A run named by its key and knob value, as the scene file names it (progress, failures).
+fn short_label(kind: MethodKind, knob: f64) -> String {
+    match knob_text(kind, knob) {
+        Some(k) => format!("{} ({k})", kind.key()),
+        None => kind.key().to_string(),
+    }
+}
+
+/// A run named by its label and knob value (figure legends).
+fn legend_label(kind: MethodKind, knob: f64) -> String {
+    match knob_text(kind, knob) {
+        Some(k) => format!("{} ({k})", kind.label()),
+        None => kind.label(),
+    }
+}
+
+/// Whether `kind` is Dormand–Prince, whose step count the span check bounds.
+fn is_dop853(kind: MethodKind) -> bool {
+    kind.integrator()
+        .is_some_and(|m| m.construction == Construction::Dop853)
 }
 
 /// The longest scene name: it prefixes file names of up to 19 more bytes
@@ -292,7 +317,7 @@ fn check_span_work(
         adaptive.push(("the DOP853 reference".to_string(), rtol));
     }
     for (i, m) in spec.methods.iter().enumerate() {
-        if m.kind == MethodKind::Dop853 {
+        if is_dop853(m.kind) {
             for (j, &r) in m.rtol.iter().flatten().enumerate() {
                 adaptive.push((format!("method[{i}].rtol[{j}]"), r));
             }
@@ -301,7 +326,7 @@ fn check_span_work(
     let o = &spec.output;
     for (list, name) in history_outputs(o) {
         for (j, r) in list.iter().enumerate() {
-            if let (MethodKind::Dop853, Some(rtol)) = (r.method, r.rtol) {
+            if let (true, Some(rtol)) = (is_dop853(r.method), r.rtol) {
                 adaptive.push((format!("output.{name}[{j}]"), rtol));
             }
         }
@@ -419,7 +444,7 @@ impl Scene {
                     format!("method[{i}].kind"),
                     format!(
                         "`{}` ({}) does not apply to this system",
-                        m.kind.name(),
+                        m.kind.key(),
                         m.kind.description()
                     ),
                 ));
@@ -455,8 +480,8 @@ impl Scene {
         }
         let mut runs: Vec<&str> = Vec::new();
         for m in &spec.methods {
-            if !runs.contains(&m.kind.name()) {
-                runs.push(m.kind.name());
+            if !runs.contains(&m.kind.key()) {
+                runs.push(m.kind.key());
             }
         }
         for (list, key) in history_outputs(o) {
@@ -466,27 +491,27 @@ impl Scene {
                     return Err(SceneError::new(
                         file,
                         format!("{k}.method"),
-                        format!("`{}` does not apply to this system", r.method.name()),
+                        format!("`{}` does not apply to this system", r.method.key()),
                     ));
                 }
-                if !runs.contains(&r.method.name()) {
+                if !runs.contains(&r.method.key()) {
                     return Err(SceneError::new(
                         file,
                         format!("{k}.method"),
                         format!(
                             "`{}` is not one of the methods the scene runs ({}); add a \
                              `[[method]]` of kind \"{}\"",
-                            r.method.name(),
+                            r.method.key(),
                             runs.join(", "),
-                            r.method.name()
+                            r.method.key()
                         ),
                     ));
                 }
-                if r.method == MethodKind::Lindstedt {
+                if r.method == TheoryKind::Lindstedt.into() {
                     return Err(SceneError::new(
                         file,
                         format!("{k}.method"),
-                        "`lindstedt` gives the angle only, not a state",
+                        format!("`{}` gives the angle only, not a state", r.method.key()),
                     ));
                 }
                 run_knob(file, &k, r)?;
@@ -700,7 +725,7 @@ impl Scene {
                 if n == 0 || h.q.len() != n || h.p.len() != n {
                     return Err(self.err(&k, "the run returned an empty or ragged history"));
                 }
-                Ok((short_label(r.method, knob), h))
+                Ok((legend_label(r.method, knob), h))
             })
             .collect()
     }

@@ -3,6 +3,7 @@
 //! Every error names the file, the key (as a dotted path, e.g. `method[2].steps`) and what was
 //! expected, on one line: [`SceneError`].
 
+use crate::integrate::methods::{self, MethodInfo, METHODS};
 use serde::Deserialize;
 use std::fmt;
 
@@ -47,64 +48,130 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// Every method and theory a scene can name in `[[method]] kind = "…"`, with its knob.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum MethodKind {
-    /// Classical Runge–Kutta 4 (`steps`).
-    Rk4,
-    /// Symplectic Euler, kick then drift (`steps`).
-    SymplecticEuler,
-    /// Störmer–Verlet, kick–drift–kick (`steps`).
-    Verlet,
-    /// Störmer–Verlet, drift–kick–drift (`steps`).
-    VerletDkd,
-    /// Yoshida's triple-jump composition of order 4 (`steps`).
-    Yoshida4,
-    /// Suzuki's 5-stage composition of order 4 (`steps`).
-    Suzuki4,
-    /// Blanes–Moan SRKN₆ᵇ, order 4 (`steps`).
-    BlanesMoan4,
-    /// Yoshida 6A, order 6 (`steps`).
-    Yoshida6,
-    /// Kahan–Li s = 9, order 6 (`steps`).
-    KahanLi6,
-    /// Yoshida 8D, order 8 (`steps`).
-    Yoshida8,
-    /// Kahan–Li s = 17, order 8 (`steps`).
-    KahanLi8,
-    /// Sofroniou–Spaletta s = 35, order 10 (`steps`).
-    SofroniouSpaletta10,
-    /// Implicit midpoint rule, order 2 (`steps`).
-    ImplicitMidpoint,
-    /// Gauss–Legendre, 2 stages, order 4 (`steps`).
-    Gauss2,
-    /// Gauss–Legendre, 3 stages, order 6 (`steps`).
-    Gauss3,
-    /// Gauss–Legendre, 4 stages, order 8 (`steps`).
-    Gauss4,
-    /// Wisdom–Holman Kepler splitting (`steps`; perturbed Kepler problems).
-    WisdomHolman,
-    /// Laskar–Robutel SABA₂ (`steps`; perturbed Kepler problems).
-    Saba2,
-    /// Laskar–Robutel SABA₃ (`steps`; perturbed Kepler problems).
-    Saba3,
-    /// Laskar–Robutel SABA₄ (`steps`; perturbed Kepler problems).
-    Saba4,
-    /// Dormand–Prince 8(5,3) with step control (`rtol`, with `atol = rtol`).
-    Dop853,
-    /// The system's exact flow, applied in `steps` steps.
-    Exact,
-    /// The Hamilton–Jacobi solution by quadrature through the turning points (no knob).
+/// A theory a scene can compare with the integrators: a state at any time from a formula,
+/// a series or a reduced system (described in [`THEORIES`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TheoryKind {
+    /// The Hamilton–Jacobi solution by quadrature through the turning points.
     HamiltonJacobi,
-    /// Lie-series normal form of the pendulum to order N (`orders`).
+    /// Lie-series normal form of the pendulum to order N.
     NormalForm,
-    /// Lindstedt–Poincaré series of the pendulum to order N (`orders`).
+    /// Lindstedt–Poincaré series of the pendulum to order N.
     Lindstedt,
-    /// Osculating elements by Lagrange's planetary equations, integrated by DOP853 (`rtol`).
+    /// Osculating elements by Lagrange's planetary equations, integrated by Dormand–Prince.
     OsculatingElements,
-    /// Mean elements with first-order secular rates (no knob).
+    /// Mean elements with first-order secular rates.
     MeanElements,
+}
+
+/// A theory, described once: its key in scene files, its label in tables and legends, what it
+/// is (for `hj list`), and its knob.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TheoryInfo {
+    /// Which theory.
+    pub kind: TheoryKind,
+    /// Key in scene files.
+    pub key: &'static str,
+    /// Label in tables and legends.
+    pub label: &'static str,
+    /// What it is.
+    pub description: &'static str,
+    /// The knob it is swept over.
+    pub knob: Knob,
+}
+
+/// Every theory, in the order of [`TheoryKind`]'s variants (`THEORIES[k as usize].kind == k`).
+pub const THEORIES: [TheoryInfo; 5] = [
+    TheoryInfo {
+        kind: TheoryKind::HamiltonJacobi,
+        key: "hamilton-jacobi",
+        label: "Hamilton–Jacobi quadrature",
+        description: "Hamilton–Jacobi solution by quadrature",
+        knob: Knob::None,
+    },
+    TheoryInfo {
+        kind: TheoryKind::NormalForm,
+        key: "normal-form",
+        label: "Lie-series normal form",
+        description: "Lie-series normal form to order N (pendulum)",
+        knob: Knob::Orders,
+    },
+    TheoryInfo {
+        kind: TheoryKind::Lindstedt,
+        key: "lindstedt",
+        label: "Lindstedt–Poincaré",
+        description: "Lindstedt–Poincaré series to order N (pendulum)",
+        knob: Knob::Orders,
+    },
+    TheoryInfo {
+        kind: TheoryKind::OsculatingElements,
+        key: "osculating-elements",
+        label: "osculating elements (planetary equations)",
+        description: "osculating elements by Lagrange's planetary equations + Dormand–Prince \
+                      (J2 orbit)",
+        knob: Knob::Rtol,
+    },
+    TheoryInfo {
+        kind: TheoryKind::MeanElements,
+        key: "mean-elements",
+        label: "mean elements (secular J2)",
+        description: "mean elements, first-order secular rates (J2 orbit)",
+        knob: Knob::None,
+    },
+];
+
+impl TheoryKind {
+    /// The theory's entry in [`THEORIES`].
+    pub fn info(self) -> &'static TheoryInfo {
+        &THEORIES[self as usize]
+    }
+}
+
+/// What a scene names in `[[method]] kind = "…"` (and a history's `method = "…"`): an
+/// integration method of [`METHODS`] or a theory of [`THEORIES`], by key. Everything said about
+/// it — key, label, description, knob — comes from those two tables.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(try_from = "String")]
+pub enum MethodKind {
+    /// An integration method.
+    Integrator(&'static MethodInfo),
+    /// A theory.
+    Theory(TheoryKind),
+}
+
+impl PartialEq for MethodKind {
+    fn eq(&self, other: &Self) -> bool {
+        self.key() == other.key()
+    }
+}
+
+impl Eq for MethodKind {}
+
+impl std::hash::Hash for MethodKind {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.key().hash(state);
+    }
+}
+
+impl From<TheoryKind> for MethodKind {
+    fn from(kind: TheoryKind) -> Self {
+        MethodKind::Theory(kind)
+    }
+}
+
+impl TryFrom<String> for MethodKind {
+    type Error = String;
+    fn try_from(key: String) -> Result<Self, String> {
+        MethodKind::from_key(&key).ok_or_else(|| {
+            format!(
+                "unknown method kind `{key}`; the kinds are: {}",
+                MethodKind::all()
+                    .map(MethodKind::key)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+    }
 }
 
 /// The knob a method is swept over.
@@ -118,6 +185,15 @@ pub enum Knob {
     Orders,
     /// No knob: one run.
     None,
+}
+
+impl From<methods::Knob> for Knob {
+    fn from(knob: methods::Knob) -> Self {
+        match knob {
+            methods::Knob::Steps => Knob::Steps,
+            methods::Knob::Tolerance => Knob::Rtol,
+        }
+    }
 }
 
 impl Knob {
@@ -141,145 +217,57 @@ impl Knob {
 }
 
 impl MethodKind {
-    /// Every kind, in the order `hj list` shows them.
-    pub const ALL: [MethodKind; 27] = [
-        MethodKind::Rk4,
-        MethodKind::SymplecticEuler,
-        MethodKind::Verlet,
-        MethodKind::VerletDkd,
-        MethodKind::Yoshida4,
-        MethodKind::Suzuki4,
-        MethodKind::BlanesMoan4,
-        MethodKind::Yoshida6,
-        MethodKind::KahanLi6,
-        MethodKind::Yoshida8,
-        MethodKind::KahanLi8,
-        MethodKind::SofroniouSpaletta10,
-        MethodKind::ImplicitMidpoint,
-        MethodKind::Gauss2,
-        MethodKind::Gauss3,
-        MethodKind::Gauss4,
-        MethodKind::WisdomHolman,
-        MethodKind::Saba2,
-        MethodKind::Saba3,
-        MethodKind::Saba4,
-        MethodKind::Dop853,
-        MethodKind::Exact,
-        MethodKind::HamiltonJacobi,
-        MethodKind::NormalForm,
-        MethodKind::Lindstedt,
-        MethodKind::OsculatingElements,
-        MethodKind::MeanElements,
-    ];
+    /// Every kind, in the order `hj list` shows them: the integration methods, then the
+    /// theories.
+    pub fn all() -> impl Iterator<Item = MethodKind> {
+        METHODS
+            .iter()
+            .map(MethodKind::Integrator)
+            .chain(THEORIES.iter().map(|t| MethodKind::Theory(t.kind)))
+    }
 
-    /// The name used in scene files.
-    pub fn name(self) -> &'static str {
+    /// The kind with key `key`, if there is one.
+    pub fn from_key(key: &str) -> Option<MethodKind> {
+        MethodKind::all().find(|k| k.key() == key)
+    }
+
+    /// The key used in scene files, e.g. `"gauss3"`.
+    pub fn key(self) -> &'static str {
         match self {
-            MethodKind::Rk4 => "rk4",
-            MethodKind::SymplecticEuler => "symplectic-euler",
-            MethodKind::Verlet => "verlet",
-            MethodKind::VerletDkd => "verlet-dkd",
-            MethodKind::Yoshida4 => "yoshida4",
-            MethodKind::Suzuki4 => "suzuki4",
-            MethodKind::BlanesMoan4 => "blanes-moan4",
-            MethodKind::Yoshida6 => "yoshida6",
-            MethodKind::KahanLi6 => "kahan-li6",
-            MethodKind::Yoshida8 => "yoshida8",
-            MethodKind::KahanLi8 => "kahan-li8",
-            MethodKind::SofroniouSpaletta10 => "sofroniou-spaletta10",
-            MethodKind::ImplicitMidpoint => "implicit-midpoint",
-            MethodKind::Gauss2 => "gauss2",
-            MethodKind::Gauss3 => "gauss3",
-            MethodKind::Gauss4 => "gauss4",
-            MethodKind::WisdomHolman => "wisdom-holman",
-            MethodKind::Saba2 => "saba2",
-            MethodKind::Saba3 => "saba3",
-            MethodKind::Saba4 => "saba4",
-            MethodKind::Dop853 => "dop853",
-            MethodKind::Exact => "exact",
-            MethodKind::HamiltonJacobi => "hamilton-jacobi",
-            MethodKind::NormalForm => "normal-form",
-            MethodKind::Lindstedt => "lindstedt",
-            MethodKind::OsculatingElements => "osculating-elements",
-            MethodKind::MeanElements => "mean-elements",
+            MethodKind::Integrator(m) => m.key,
+            MethodKind::Theory(t) => t.info().key,
         }
     }
 
-    /// Short label for tables and legends.
-    pub fn label(self) -> &'static str {
+    /// Label for tables and legends, e.g. `"Gauss–Legendre, 3 stages, order 6"`.
+    pub fn label(self) -> String {
         match self {
-            MethodKind::Rk4 => "RK4",
-            MethodKind::SymplecticEuler => "symplectic Euler",
-            MethodKind::Verlet => "Störmer–Verlet",
-            MethodKind::VerletDkd => "Störmer–Verlet (DKD)",
-            MethodKind::Yoshida4 => "Yoshida 4",
-            MethodKind::Suzuki4 => "Suzuki 4",
-            MethodKind::BlanesMoan4 => "Blanes–Moan 4",
-            MethodKind::Yoshida6 => "Yoshida 6",
-            MethodKind::KahanLi6 => "Kahan–Li 6",
-            MethodKind::Yoshida8 => "Yoshida 8",
-            MethodKind::KahanLi8 => "Kahan–Li 8",
-            MethodKind::SofroniouSpaletta10 => "Sofroniou–Spaletta 10",
-            MethodKind::ImplicitMidpoint => "implicit midpoint",
-            MethodKind::Gauss2 => "Gauss–Legendre 4",
-            MethodKind::Gauss3 => "Gauss–Legendre 6",
-            MethodKind::Gauss4 => "Gauss–Legendre 8",
-            MethodKind::WisdomHolman => "Wisdom–Holman",
-            MethodKind::Saba2 => "SABA2",
-            MethodKind::Saba3 => "SABA3",
-            MethodKind::Saba4 => "SABA4",
-            MethodKind::Dop853 => "DOP853",
-            MethodKind::Exact => "exact flow",
-            MethodKind::HamiltonJacobi => "Hamilton–Jacobi quadrature",
-            MethodKind::NormalForm => "Lie-series normal form",
-            MethodKind::Lindstedt => "Lindstedt–Poincaré",
-            MethodKind::OsculatingElements => "osculating elements (planetary equations)",
-            MethodKind::MeanElements => "mean elements (secular J2)",
+            MethodKind::Integrator(m) => m.label(),
+            MethodKind::Theory(t) => t.info().label.to_string(),
         }
     }
 
-    /// What the method is, for `hj list`.
-    pub fn description(self) -> &'static str {
+    /// What the method is, for `hj list` and error messages.
+    pub fn description(self) -> String {
         match self {
-            MethodKind::Rk4 => "classical Runge–Kutta, order 4",
-            MethodKind::SymplecticEuler => "symplectic Euler, order 1 (separable H)",
-            MethodKind::Verlet => "Störmer–Verlet kick–drift–kick, order 2 (separable H)",
-            MethodKind::VerletDkd => "Störmer–Verlet drift–kick–drift, order 2 (separable H)",
-            MethodKind::Yoshida4 => "Yoshida triple jump, order 4 (separable H)",
-            MethodKind::Suzuki4 => "Suzuki 5-stage, order 4 (separable H)",
-            MethodKind::BlanesMoan4 => "Blanes–Moan SRKN6b, order 4 (separable H)",
-            MethodKind::Yoshida6 => "Yoshida 6A, order 6 (separable H)",
-            MethodKind::KahanLi6 => "Kahan–Li s = 9, order 6 (separable H)",
-            MethodKind::Yoshida8 => "Yoshida 8D, order 8 (separable H)",
-            MethodKind::KahanLi8 => "Kahan–Li s = 17, order 8 (separable H)",
-            MethodKind::SofroniouSpaletta10 => "Sofroniou–Spaletta s = 35, order 10 (separable H)",
-            MethodKind::ImplicitMidpoint => "implicit midpoint, order 2 (any H)",
-            MethodKind::Gauss2 => "Gauss–Legendre 2 stages, order 4 (any H)",
-            MethodKind::Gauss3 => "Gauss–Legendre 3 stages, order 6 (any H)",
-            MethodKind::Gauss4 => "Gauss–Legendre 4 stages, order 8 (any H)",
-            MethodKind::WisdomHolman => "Wisdom–Holman Kepler splitting (perturbed Kepler)",
-            MethodKind::Saba2 => "Laskar–Robutel SABA2 (perturbed Kepler)",
-            MethodKind::Saba3 => "Laskar–Robutel SABA3 (perturbed Kepler)",
-            MethodKind::Saba4 => "Laskar–Robutel SABA4 (perturbed Kepler)",
-            MethodKind::Dop853 => "Dormand–Prince 8(5,3), adaptive (any H)",
-            MethodKind::Exact => "the system's exact flow",
-            MethodKind::HamiltonJacobi => "Hamilton–Jacobi solution by quadrature",
-            MethodKind::NormalForm => "Lie-series normal form to order N (pendulum)",
-            MethodKind::Lindstedt => "Lindstedt–Poincaré series to order N (pendulum)",
-            MethodKind::OsculatingElements => {
-                "osculating elements by Lagrange's planetary equations + DOP853 (J2 orbit)"
-            }
-            MethodKind::MeanElements => "mean elements, first-order secular rates (J2 orbit)",
+            MethodKind::Integrator(m) => m.description(),
+            MethodKind::Theory(t) => t.info().description.to_string(),
         }
     }
 
     /// The knob this method is swept over.
     pub fn knob(self) -> Knob {
         match self {
-            MethodKind::Dop853 | MethodKind::OsculatingElements => Knob::Rtol,
-            MethodKind::NormalForm | MethodKind::Lindstedt => Knob::Orders,
-            MethodKind::HamiltonJacobi | MethodKind::MeanElements => Knob::None,
-            _ => Knob::Steps,
+            MethodKind::Integrator(m) => m.knob.into(),
+            MethodKind::Theory(t) => t.info().knob,
+        }
+    }
+
+    /// The integration method, if the kind is one.
+    pub fn integrator(self) -> Option<&'static MethodInfo> {
+        match self {
+            MethodKind::Integrator(m) => Some(m),
+            MethodKind::Theory(_) => None,
         }
     }
 }
@@ -307,7 +295,7 @@ pub struct MethodSpec {
     pub rtol: Option<Vec<f64>>,
     /// Orders (series theories).
     pub orders: Option<Vec<u32>>,
-    /// Label in tables and legends (default: the method's description).
+    /// Label in tables and legends (default: the method's label, [`MethodKind::label`]).
     pub label: Option<String>,
 }
 
@@ -440,4 +428,45 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
         at,
         format!("TOML syntax error: {}", e.message().trim()),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `TheoryKind::info` indexes [`THEORIES`] by the variant.
+    #[test]
+    fn theories_are_indexed_by_their_kind() {
+        for (i, t) in THEORIES.iter().enumerate() {
+            assert_eq!(t.kind as usize, i, "{}", t.key);
+            assert_eq!(t.kind.info(), t);
+            assert_eq!(
+                MethodKind::from_key(t.key),
+                Some(MethodKind::Theory(t.kind))
+            );
+        }
+    }
+
+    /// A scene's `kind` parses to the table entry of its key; an unknown key is refused with
+    /// every key.
+    #[test]
+    fn kinds_parse_by_key() {
+        let spec = parse_scene_file(
+            "k.toml",
+            "[system]\nname = \"kepler\"\n[[method]]\nkind = \"gauss3\"\nsteps = [10]\n",
+        )
+        .unwrap();
+        let kind = spec.methods[0].kind;
+        assert_eq!(kind.label(), "Gauss–Legendre, 3 stages, order 6");
+        assert_eq!(kind.knob(), Knob::Steps);
+        let e = parse_scene_file(
+            "k.toml",
+            "[system]\nname = \"kepler\"\n[[method]]\nkind = \"gauss-3\"\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "method[0].kind");
+        for k in MethodKind::all() {
+            assert!(e.message.contains(k.key()), "{e}");
+        }
+    }
 }
