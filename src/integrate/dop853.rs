@@ -93,8 +93,6 @@ use nalgebra::SVector;
 use std::cell::{Cell, OnceCell};
 use std::time::Instant;
 
-/// A phase-space vector `(q, p)` (state or stage derivative).
-
 /// Sparse row of a Butcher tableau: `(stage index, coefficient)`, stages counted from 0.
 type Row = &'static [(usize, f64)];
 

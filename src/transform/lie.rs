@@ -313,8 +313,6 @@ where
 // ---------------------------------------------------------------------------------------------
 // Lie series.
 
-/// One Lie term `L_ρ^k z = (L_ρ^k q, L_ρ^k p)` in the number type `D`.
-
 /// The Hamiltonian vector field of `ρ`, `X = (∂ρ/∂p, −∂ρ/∂q)`, so that `L_ρ f = (f, ρ) = ∇f · X`;
 /// computed by `2N` directional passes with the dual type `Dual<D>` (two components of `D` per
 /// scalar, where one full-gradient pass would carry `2N + 1`: keeps nested evaluations small).
