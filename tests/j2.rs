@@ -7,7 +7,6 @@
 
 use hamilton_jacobi::integrate::{integrate, Dop853, Fixed, Problem, WisdomHolman};
 use hamilton_jacobi::nalgebra::{SVector, Vector3};
-use hamilton_jacobi::perturbation::elements::Classical;
 use hamilton_jacobi::perturbation::forces::{
     ConstantThrust, LinearDrag, PerturbedTwoBody, Sum, ThirdBody, ThirdBodyPath, ThrustFrame, J2,
 };
@@ -20,6 +19,7 @@ use hamilton_jacobi::perturbation::variation::{
     lagrange_brackets, lagrange_brackets_with_rate, GeneralSolution, GradientForce,
     InMomentumEquation, LagrangeBracketForm, VariationOfConstants,
 };
+use hamilton_jacobi::systems::kepler::elements::Classical;
 use hamilton_jacobi::Error;
 use std::time::Instant;
 

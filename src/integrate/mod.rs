@@ -45,7 +45,7 @@ pub use observers::{
 pub use rk4::Rk4;
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
-pub use wisdom_holman::{kepler_drift, KeplerJ2, PerturbedKepler, WisdomHolman};
+pub use wisdom_holman::{KeplerJ2, PerturbedKepler, WisdomHolman};
 
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, Error, Result};

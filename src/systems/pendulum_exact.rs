@@ -25,7 +25,7 @@
 //! smallest positive double.
 
 use crate::error::{finite, non_negative, positive, Error, Result};
-use crate::systems::kepler_orbit::MAX_PHASE_ADVANCE;
+use crate::systems::kepler::orbit::MAX_PHASE_ADVANCE;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// `π − PI` rounded to a double: `PI + PI_LO` represents π to about 1e−32.
