@@ -20,7 +20,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use hamilton_jacobi::hamilton_jacobi::{ActionAngle, RadialMotion};
 use hamilton_jacobi::integrate::{integrate, Fixed, Problem, Rk4};
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::pendulum_exact::exact_state;
 use hamilton_jacobi::systems::top::motion::Nutation;
 use hamilton_jacobi::systems::{HeavyTop, Kepler2, Pendulum};
@@ -61,7 +61,7 @@ fn kepler_hj(t: f64) -> Vector2<f64> {
 
 fn kepler_closed(t: f64) -> Vector2<f64> {
     let vp = 3f64.sqrt();
-    kepler_propagate_planar(1.0, &Vector2::new(0.5, 0.0), &Vector2::new(0.0, vp), t)
+    kepler::propagate(1.0, &Vector2::new(0.5, 0.0), &Vector2::new(0.0, vp), t)
         .unwrap()
         .0
 }

@@ -7,9 +7,11 @@
 
 use hamilton_jacobi::brackets::{certify, poisson_bracket, PhaseMap};
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::systems::kepler::elements::{state_to_classical, Classical};
+use hamilton_jacobi::systems::kepler::orbit;
 use hamilton_jacobi::systems::{
-    kepler_orbit, pendulum_exact, AngularMomentum, ExactFlow, HarmonicOscillator, Invariants,
-    Kepler2, Kepler3, Pendulum,
+    pendulum_exact, AngularMomentum, ExactFlow, HarmonicOscillator, Invariants, Kepler2, Kepler3,
+    Pendulum,
 };
 use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 use std::process::ExitCode;
@@ -79,10 +81,10 @@ fn kepler_section() -> Result<()> {
     println!("|---|---|---|---|---|---|---|");
     let kep = Kepler2::new(1.0)?;
     for e in [0.0, 0.5, 0.9, 0.99] {
-        let el = kepler_orbit::PlanarElements::new(1.0, e, 0.0, 0.0)?;
-        let (r, v) = kepler_orbit::planar_elements_to_state(1.0, &el)?;
+        // The planar orbit: i = Ω = ω = 0, at periapsis.
+        let (r, v) = Classical::new(1.0, e, 0.0, 0.0, 0.0, 0.0)?.to_state(1.0)?;
         let (q0, p0) = (SVector::from([r[0], r[1]]), SVector::from([v[0], v[1]]));
-        let period = kepler_orbit::period(1.0, 1.0)?;
+        let period = orbit::period(1.0, 1.0)?;
         let inv0 = kep.invariants(0.0, &q0, &p0)?;
         let mut drift: f64 = 0.0;
         for k in 1..=100 {
@@ -103,9 +105,9 @@ fn kepler_section() -> Result<()> {
     }
     // 3-D: angular momentum algebra and the Kepler-equation round trip.
     let kep3 = Kepler3::new(1.0)?;
-    let el = kepler_orbit::Elements::new(1.3, 0.4, 0.7, 1.1, 2.3, 0.9)?;
-    let (r, v) = kepler_orbit::elements_to_state(1.0, &el)?;
-    let back = kepler_orbit::state_to_elements(1.0, &r, &v)?;
+    let el = Classical::new(1.3, 0.4, 0.7, 1.1, 2.3, 0.9)?;
+    let (r, v) = el.to_state(1.0)?;
+    let back = state_to_classical(1.0, &r, &v)?;
     println!();
     println!(
         "3-D orbit a = 1.3, e = 0.4, i = 0.7, Ω = 1.1, ω = 2.3, M = 0.9: elements → state → elements error {:.2e}; energy {:.15}",

@@ -6,7 +6,7 @@
 
 use hamilton_jacobi::integrate::{integrate, Dop853, Problem};
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::Kepler2;
 use std::f64::consts::TAU;
 use std::time::Duration;
@@ -18,7 +18,7 @@ fn main() -> hamilton_jacobi::Result<()> {
     let p0 = SVector::from([0.0, ((1.0 + e) / (1.0 - e)).sqrt()]);
     let periods = 100.0;
     let t1 = periods * TAU;
-    let (r, _) = kepler_propagate_planar(
+    let (r, _) = kepler::propagate(
         1.0,
         &Vector2::new(q0[0], q0[1]),
         &Vector2::new(p0[0], p0[1]),

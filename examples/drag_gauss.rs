@@ -19,15 +19,15 @@
 
 use hamilton_jacobi::integrate::{integrate, Control, Dop853, Observer, Problem, StepView, Work};
 use hamilton_jacobi::nalgebra::Vector3;
-use hamilton_jacobi::perturbation::elements::{
-    state_to_modified_equinoctial, Classical, ModifiedEquinoctial,
-};
 use hamilton_jacobi::perturbation::forces::{NoPotential, PerturbedTwoBody};
 use hamilton_jacobi::perturbation::gauss_variational::{
     mee_from_blocks, mee_to_blocks, ExponentialDrag, GaussEquations,
 };
 use hamilton_jacobi::perturbation::ode::rk4_richardson;
 use hamilton_jacobi::phase::State;
+use hamilton_jacobi::systems::kepler::elements::{
+    state_to_modified_equinoctial, Classical, ModifiedEquinoctial,
+};
 use std::time::Instant;
 
 const MU: f64 = 398_600.441_8;

@@ -6,14 +6,14 @@
 
 use hamilton_jacobi::integrate::{integrate, Fixed, Gauss, OneStep, Problem, Rk4};
 use hamilton_jacobi::nalgebra::Vector2;
-use hamilton_jacobi::systems::{kepler_orbit, Kepler2};
+use hamilton_jacobi::systems::{kepler, Kepler2};
 use std::f64::consts::TAU;
 
 fn time<M: OneStep<Kepler2, 2> + Copy>(label: &str, method: M, steps: usize) {
     let kepler = Kepler2::new(1.0).unwrap();
     let (q0, p0) = (Vector2::new(0.5, 0.0), Vector2::new(0.0, 3f64.sqrt()));
     let problem = Problem::new(&kepler, 0.0, q0, p0, TAU).unwrap();
-    let (qe, pe) = kepler_orbit::kepler_propagate_planar(1.0, &q0, &p0, TAU).unwrap();
+    let (qe, pe) = kepler::propagate(1.0, &q0, &p0, TAU).unwrap();
     let fixed = Fixed::new(method, steps).unwrap();
     let repeats = (200_000 / steps).max(5);
     let mut best = f64::INFINITY;

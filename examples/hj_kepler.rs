@@ -12,7 +12,7 @@ use hamilton_jacobi::hamilton_jacobi::{
     ElementConvention, Elements, InverseDistance, KeplerPolarIntegral, RadialMotion,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use std::f64::consts::PI;
 
 fn main() -> hamilton_jacobi::Result<()> {
@@ -48,7 +48,7 @@ fn main() -> hamilton_jacobi::Result<()> {
             let t = frac * 2.0 * PI;
             let (r, _, th) = m.state_at(t)?;
             let (exact, _) =
-                kepler_propagate_planar(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t)?;
+                kepler::propagate(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t)?;
             let hj = Vector2::new(r * th.cos(), r * th.sin());
             println!("| {e} | {frac} | {:.1e} |", (hj - exact).norm());
         }

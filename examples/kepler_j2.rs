@@ -9,12 +9,12 @@
 //! Run with `cargo run --release --example kepler_j2`.
 
 use hamilton_jacobi::integrate::{integrate, Dop853, Problem, Recorder};
-use hamilton_jacobi::perturbation::elements::Classical;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
 use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, osculating_classical, planetary_equations, secular_rates, ClassicalSolution,
     MeanElements,
 };
+use hamilton_jacobi::systems::kepler::elements::Classical;
 use hamilton_jacobi::Result;
 use std::f64::consts::{PI, TAU};
 use std::time::Instant;

@@ -23,11 +23,11 @@ use hamilton_jacobi::integrate::{
     Section, Splitting, StepMap, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::perturbation::elements::Classical;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
 use hamilton_jacobi::perturbation::kepler_variation::{planetary_equations, ClassicalSolution};
 use hamilton_jacobi::perturbation::ode::Ode;
 use hamilton_jacobi::perturbation::variation::GeneralSolution;
+use hamilton_jacobi::systems::kepler::elements::Classical;
 use hamilton_jacobi::systems::{ExactFlow, Pendulum};
 use hamilton_jacobi::{hamiltonian, Hamiltonian, Result};
 use std::f64::consts::PI;

@@ -12,7 +12,6 @@ use hamilton_jacobi::integrate::{
     integrate, Dop853, ExactStep, Fixed, Gauss, OneStep, Problem, Rk4, Splitting, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::perturbation::elements::Classical;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
 use hamilton_jacobi::perturbation::kepler_variation::{
     planetary_equations, ClassicalSolution, MeanElements,
@@ -20,7 +19,8 @@ use hamilton_jacobi::perturbation::kepler_variation::{
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::perturbation::ode::Ode;
 use hamilton_jacobi::perturbation::variation::GeneralSolution;
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
+use hamilton_jacobi::systems::kepler::elements::Classical;
 use hamilton_jacobi::systems::pendulum_exact::{exact_state, period};
 use hamilton_jacobi::systems::{Kepler2, Pendulum};
 use hamilton_jacobi::workprecision::{sweep, Comparison, Series, Timing};
@@ -121,7 +121,7 @@ fn main() -> Result<()> {
     let p0 = SVector::from([0.0, ((1.0 + e) / (1.0 - e)).sqrt()]);
     let t1 = periods * 2.0 * PI;
     let problem = Problem::new(&kepler, 0.0, q0, p0, t1)?;
-    let (exact_q, _) = kepler_propagate_planar(
+    let (exact_q, _) = kepler::propagate(
         1.0,
         &Vector2::new(q0[0], q0[1]),
         &Vector2::new(p0[0], p0[1]),

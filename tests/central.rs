@@ -9,7 +9,7 @@ use hamilton_jacobi::hamilton_jacobi::{
     InverseDistance, KeplerPolarIntegral, RadialMotion,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::Kepler2;
 use hamilton_jacobi::{hamiltonian, DualNum, Error};
 use proptest::prelude::*;
@@ -149,8 +149,7 @@ fn hj_motion_matches_integration_and_keplers_equation() {
             // Kepler's equation (exact f and g functions).
             let (rp, vp) = (1.0 - e, ((1.0 + e) / (1.0 - e)).sqrt());
             let (exact, v_exact) =
-                kepler_propagate_planar(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t)
-                    .unwrap();
+                kepler::propagate(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t).unwrap();
             assert!(
                 (hj - exact).norm() < 1e-11,
                 "e = {e}, t = {t}: HJ {hj:?} vs Kepler {exact:?}"

@@ -11,7 +11,7 @@ use hamilton_jacobi::integrate::{
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::phase::State;
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::{pendulum_exact, Kepler2, Pendulum};
 use hamilton_jacobi::Error;
 use std::f64::consts::{PI, TAU};
@@ -29,7 +29,7 @@ fn periapsis(e: f64) -> (V2, V2) {
 
 /// Exact Kepler state at `t` from `(q0, p0)` at 0 (Kepler's equation, f and g functions).
 fn kepler_exact(q0: &V2, p0: &V2, t: f64) -> (V2, V2) {
-    let (r, v) = kepler_propagate_planar(
+    let (r, v) = kepler::propagate(
         1.0,
         &Vector2::new(q0[0], q0[1]),
         &Vector2::new(p0[0], p0[1]),
@@ -238,7 +238,7 @@ fn kepler_100_periods_position_error() {
 }
 
 /// SPEC T12 cross-check: e = 0.9 and 0.99 at t = 0.3 T (mean anomaly 0.6π) against the 50-digit
-/// values of `r` and `ν` (tests of `kepler_orbit`) and the full state from Kepler's equation, at
+/// values of `r` and `ν` (tests of the Kepler element sets) and the full state from Kepler's equation, at
 /// rtol = atol = 1e−13. Leaving periapsis, `n_p ≈ 100–300` steps each with local error
 /// `≲ 10⁻¹³·|y|` (|y| ≤ 14 for e = 0.99) and no secular drift yet within 0.3 T: ≲ 1e−11 in position.
 #[test]

@@ -17,7 +17,6 @@ use std::time::Instant;
 use hamilton_jacobi::integrate::{integrate, Dop853, Problem};
 use hamilton_jacobi::nalgebra::{SVector, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
-use hamilton_jacobi::perturbation::elements::{Classical, ModifiedEquinoctial};
 use hamilton_jacobi::perturbation::forces::{
     ConstantThrust, LinearDrag, NoPotential, PerturbedTwoBody, Sum, ThrustFrame,
 };
@@ -29,6 +28,7 @@ use hamilton_jacobi::perturbation::ode::{rk4, rk4_richardson, ElementOde};
 use hamilton_jacobi::perturbation::variation::{
     variation_of_constants_rhs, GeneralSolution, MomentumForce, Perturbation,
 };
+use hamilton_jacobi::systems::kepler::elements::{Classical, ModifiedEquinoctial};
 use hamilton_jacobi::{DualNum, Error, Hamiltonian};
 
 type V3 = Vector3<f64>;

@@ -10,7 +10,7 @@ use hamilton_jacobi::integrate::{
     Rk4, StepMap,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::pendulum_exact::{exact_state, period};
 use hamilton_jacobi::systems::{HarmonicOscillator, Kepler2, Pendulum};
 use hamilton_jacobi::Error;
@@ -202,7 +202,7 @@ fn exact_step_and_step_maps() {
     let (q0, p0) = (SVector::from([0.5, 0.0]), SVector::from([0.0, 3f64.sqrt()]));
     let pr = Problem::new(&kep, 0.0, q0, p0, 200.0 * PI).unwrap();
     let r = integrate(&pr, &Fixed::new(ExactStep, 1).unwrap(), &mut ()).unwrap();
-    let (x, _) = kepler_propagate_planar(
+    let (x, _) = kepler::propagate(
         1.0,
         &Vector2::new(0.5, 0.0),
         &Vector2::new(0.0, 3f64.sqrt()),

@@ -9,7 +9,7 @@ use hamilton_jacobi::integrate::{
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::phase::State;
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::systems::Kepler2;
 use hamilton_jacobi::workprecision::{sweep, Timing};
 use hamilton_jacobi::Error;
@@ -27,7 +27,7 @@ fn periapsis() -> (V2, V2) {
 /// Exact Kepler state at `t` from the periapsis state at 0 (Kepler's equation, f and g).
 fn exact(t: f64) -> (V2, V2) {
     let (q0, p0) = periapsis();
-    let (r, v) = kepler_propagate_planar(
+    let (r, v) = kepler::propagate(
         1.0,
         &Vector2::new(q0[0], q0[1]),
         &Vector2::new(p0[0], p0[1]),

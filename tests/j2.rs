@@ -8,7 +8,6 @@
 
 use hamilton_jacobi::integrate::{integrate, Dop853, Fixed, Problem, WisdomHolman};
 use hamilton_jacobi::nalgebra::{SVector, Vector3};
-use hamilton_jacobi::perturbation::elements::Classical;
 use hamilton_jacobi::perturbation::forces::{
     ConstantThrust, LinearDrag, PerturbedTwoBody, Sum, ThirdBody, ThirdBodyPath, ThrustFrame, J2,
 };
@@ -21,6 +20,7 @@ use hamilton_jacobi::perturbation::variation::{
     lagrange_brackets, lagrange_brackets_with_rate, GeneralSolution, GradientForce,
     InMomentumEquation, LagrangeBracketForm, VariationOfConstants,
 };
+use hamilton_jacobi::systems::kepler::elements::Classical;
 use hamilton_jacobi::Error;
 use std::time::Instant;
 
@@ -718,7 +718,7 @@ fn delaunay_canonical_elements_give_the_same_theory() {
 fn equatorial_problem_is_the_invariant_plane_and_its_apsides_turn_at_the_secular_rate() {
     use hamilton_jacobi::integrate::Samples;
     use hamilton_jacobi::perturbation::forces::NoForce;
-    use hamilton_jacobi::systems::kepler_orbit::eccentricity_vector;
+    use hamilton_jacobi::systems::kepler::orbit::eccentricity_vector;
     let (j2v, a, e) = (1e-4, 1.0f64, 0.3f64);
     let model = J2::new(1.0, j2v, 1.0).unwrap();
     let planar = PerturbedTwoBody::<_, NoForce, 2>::conservative(1.0, model).unwrap();

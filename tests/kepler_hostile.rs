@@ -4,16 +4,17 @@
 //! test asserts "a typed error, or a finite value agreeing with an independent reference".
 
 use hamilton_jacobi::integrate::{
-    integrate, kepler_drift, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting, WisdomHolman,
+    integrate, Dop853, ExactStep, Fixed, Gauss, Problem, Rk4, Splitting, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
-use hamilton_jacobi::perturbation::elements::{propagate, propagate_classical, Classical};
 use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, ClassicalSolution, EquinoctialSolution, MeanElements,
 };
 use hamilton_jacobi::special::kepler_equation::{solve_barker, solve_kepler_hyperbolic};
-use hamilton_jacobi::systems::kepler_orbit::{self, kepler_propagate, MAX_PHASE_ADVANCE};
+use hamilton_jacobi::systems::kepler::elements::Classical;
+use hamilton_jacobi::systems::kepler::orbit::{self, MAX_PHASE_ADVANCE};
+use hamilton_jacobi::systems::kepler::{drift, propagate};
 use hamilton_jacobi::systems::{ExactFlow, Kepler2, Kepler3};
 use hamilton_jacobi::{Error, Hamiltonian};
 
@@ -80,12 +81,9 @@ fn mean_motion_at_extreme_arguments() {
         (f64::MAX, 1e-200),
     ] {
         assert!(
-            matches!(
-                kepler_orbit::mean_motion(mu, a),
-                Err(Error::OutOfDomain { .. })
-            ),
+            matches!(orbit::mean_motion(mu, a), Err(Error::OutOfDomain { .. })),
             "μ = {mu:e}, a = {a:e}: {:?}",
-            kepler_orbit::mean_motion(mu, a)
+            orbit::mean_motion(mu, a)
         );
     }
     for (mu, a, want) in [
@@ -94,7 +92,7 @@ fn mean_motion_at_extreme_arguments() {
         (1e300, 1e200, 1e-150),
         (4.0, 1.0, 2.0),
     ] {
-        let n = kepler_orbit::mean_motion(mu, a).unwrap();
+        let n = orbit::mean_motion(mu, a).unwrap();
         assert!(
             (n - want).abs() <= 4.0 * EPS * want,
             "μ = {mu:e}, a = {a:e}: {n:e}"
@@ -213,7 +211,7 @@ fn hyperbolic_drift_matches_the_conic() {
         let m1 = (e * h0.sinh() - h0) + n * dt;
         let h1 = solve_kepler_hyperbolic(m1, e).unwrap();
         let (q_ref, p_ref) = hyperbola(mu, abs_a, e, h1, u, w);
-        let (dq, dp) = kepler_drift(mu, &q0, &p0, dt)
+        let (dq, dp) = drift(mu, &q0, &p0, dt)
             .unwrap_or_else(|err| panic!("e = {e}, H₀ = {h0}, dt = {dt}: {err}"));
         let (q1, p1) = (q0 + dq, p0 + dp);
         let kq = fg_amplification(&q0, &p0, &q_ref).max(1.0);
@@ -235,7 +233,7 @@ fn hyperbolic_drift_matches_the_conic() {
             (l1 - l0).norm() <= 128.0 * EPS * kp.max(kq) * q1.norm() * p1.norm(),
             "angular momentum {l0:?} → {l1:?}"
         );
-        // Element propagation is the same drift.
+        // The state propagation is the same drift.
         let (q2, p2) = propagate(mu, &q0, &p0, dt).unwrap();
         assert_eq!((q2, p2), (q1, p1));
     }
@@ -260,9 +258,9 @@ fn wisdom_holman_on_a_strong_hyperbola() {
     assert!(eq <= 640.0 * EPS && ep <= 640.0 * EPS, "{eq:e} {ep:e}");
 }
 
-/// Past `MAX_PHASE_ADVANCE` every bound-orbit propagator refuses with `PhaseLost` (before, one
-/// returned no motion and the others arbitrary phases); below it, on the unit circle (`μ = 1`,
-/// `n = 1` exactly), each agrees with `(cos t, sin t)` to the phase rounding `8·|n t|·ε`.
+/// Past `MAX_PHASE_ADVANCE` every bound-orbit propagator refuses with `PhaseLost`; below it, on
+/// the unit circle (`μ = 1`, `n = 1` exactly), each agrees with `(cos t, sin t)` to the phase
+/// rounding `8·|n t|·ε`.
 #[test]
 fn long_phase_advances_are_refused_consistently() {
     let mu = 1.0;
@@ -273,10 +271,9 @@ fn long_phase_advances_are_refused_consistently() {
     let kepler = Kepler3::new(mu).unwrap();
     let lost = |r: Result<(), Error>| matches!(r, Err(Error::PhaseLost { .. }));
     for t in [1e17, 1e20, -1e300, 1.01 * MAX_PHASE_ADVANCE] {
-        assert!(lost(kepler_propagate(mu, &q, &p, t).map(|_| ())), "{t:e}");
-        assert!(lost(kepler_drift(mu, &q, &p, t).map(|_| ())), "{t:e}");
+        assert!(lost(drift(mu, &q, &p, t).map(|_| ())), "{t:e}");
         assert!(lost(propagate(mu, &q, &p, t).map(|_| ())), "{t:e}");
-        assert!(lost(propagate_classical(mu, &el, t).map(|_| ())), "{t:e}");
+        assert!(lost(el.propagate(mu, t).map(|_| ())), "{t:e}");
         assert!(lost(mean.at(t).map(|_| ())), "{t:e}");
         assert!(lost(kepler.exact_flow(0.0, &q, &p, t).map(|_| ())), "{t:e}");
         let cs = ClassicalSolution::new(mu, 0.0).unwrap();
@@ -288,17 +285,13 @@ fn long_phase_advances_are_refused_consistently() {
     }
     // A hyperbola has no phase: a long arc is still propagated.
     let ph = Vector3::new(0.0, 2.0, 0.0);
-    assert!(kepler_drift(mu, &q, &ph, 1e20).is_ok());
+    assert!(drift(mu, &q, &ph, 1e20).is_ok());
     for t in [1e3, 1e9, 0.99 * MAX_PHASE_ADVANCE] {
         let want = Vector3::new(t.cos(), t.sin(), 0.0);
         let tol = 8.0 * t * EPS;
-        let a = kepler_propagate(mu, &q, &p, t).unwrap().0;
-        let (dq, _) = kepler_drift(mu, &q, &p, t).unwrap();
-        let c = propagate_classical(mu, &el, t)
-            .unwrap()
-            .to_state(mu)
-            .unwrap()
-            .0;
+        let a = propagate(mu, &q, &p, t).unwrap().0;
+        let (dq, _) = drift(mu, &q, &p, t).unwrap();
+        let c = el.propagate(mu, t).unwrap().to_state(mu).unwrap().0;
         let d = mean.state(t).unwrap().0;
         for (name, x) in [
             ("propagate", a),

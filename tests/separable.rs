@@ -8,7 +8,7 @@ use hamilton_jacobi::hamilton_jacobi::{
     Liouville, LiouvilleSeparation, LiouvilleSystem, SeparatedMotion, SeparatedSystem,
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
-use hamilton_jacobi::systems::kepler_orbit::kepler_propagate_planar;
+use hamilton_jacobi::systems::kepler;
 use hamilton_jacobi::{DualNum, Error, Result};
 use std::f64::consts::PI;
 
@@ -43,7 +43,7 @@ fn kepler_by_jacobi_inversion() {
     for (e, sense) in [(0.3, 1.0), (0.8, -1.0), (0.95, 1.0)] {
         let (rp, vp) = (1.0 - e, ((1.0 + e) / (1.0 - e)).sqrt() * sense);
         let start = |t: f64| {
-            kepler_propagate_planar(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t).unwrap()
+            kepler::propagate(1.0, &Vector2::new(rp, 0.0), &Vector2::new(0.0, vp), t).unwrap()
         };
         let t0 = 4.0; // past apoapsis (T = 2π): inbound
         let (x0, v0) = start(t0);

@@ -13,7 +13,7 @@ use hamilton_jacobi::integrate::{
 };
 use hamilton_jacobi::nalgebra::{SVector, Vector2};
 use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
-use hamilton_jacobi::systems::{kepler_orbit, ExactFlow, Kepler2, Pendulum};
+use hamilton_jacobi::systems::{kepler, ExactFlow, Kepler2, Pendulum};
 use hamilton_jacobi::{Error, Hamiltonian};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -117,7 +117,7 @@ fn observed_orders_of_splitting_methods() {
     let kep = Kepler2::new(1.0).unwrap();
     let (kq0, kp0) = (V::<2>::from([0.5, 0.0]), V::<2>::from([0.0, 3f64.sqrt()]));
     let tk = 0.8 * 2.0 * PI;
-    let (r, v) = kepler_orbit::kepler_propagate_planar(
+    let (r, v) = kepler::propagate(
         1.0,
         &Vector2::new(kq0[0], kq0[1]),
         &Vector2::new(kp0[0], kp0[1]),

@@ -5,11 +5,13 @@
 mod common;
 
 use approx::assert_relative_eq;
-use hamilton_jacobi::nalgebra::{SVector, Vector3};
+use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::special::kepler_equation;
+use hamilton_jacobi::systems::kepler::elements::{state_to_classical, Classical};
+use hamilton_jacobi::systems::kepler::orbit;
 use hamilton_jacobi::systems::{
-    kepler_orbit, pendulum_exact, ExactFlow, HarmonicOscillator, Invariants, Kepler, Kepler2,
-    Kepler3, Pendulum, Projectile,
+    pendulum_exact, ExactFlow, HarmonicOscillator, Invariants, Kepler, Kepler2, Kepler3, Pendulum,
+    Projectile,
 };
 use hamilton_jacobi::{Error, Hamiltonian};
 use proptest::prelude::*;
@@ -67,10 +69,10 @@ proptest! {
     #[test]
     fn kepler_elements_state_round_trip(a in 0.1..10.0f64, e in 0.0..0.99f64, i in 0.01..3.13f64,
                                         raan in 0.0..TAU, argp in 0.0..TAU, m in -PI..PI) {
-        let el = kepler_orbit::Elements::new(a, e, i, raan, argp, m).unwrap();
-        let (r, v) = kepler_orbit::elements_to_state(1.0, &el).unwrap();
-        let back = kepler_orbit::state_to_elements(1.0, &r, &v).unwrap();
-        let (r2, v2) = kepler_orbit::elements_to_state(1.0, &back).unwrap();
+        let el = Classical::new(a, e, i, raan, argp, m).unwrap();
+        let (r, v) = el.to_state(1.0).unwrap();
+        let back = state_to_classical(1.0, &r, &v).unwrap();
+        let (r2, v2) = back.to_state(1.0).unwrap();
         // state → elements → state is well conditioned except through Kepler's equation near e → 1
         // (∂E/∂M = 1/(1 − e cos E) ≤ 100 here): allow 100 × a few ulps of |r|, |v|.
         prop_assert!((r2 - r).norm() <= 1e-12 * r.norm(), "r {} vs {}", r2, r);
@@ -88,8 +90,8 @@ fn invariants_are_conserved_by_the_exact_flows() {
     // eccentricity vector e P̂ with P̂ the periapsis direction [Vallado §2.2].
     let (a, e, inc, raan, argp) = (1.0, 0.9, 0.4, 0.3, 1.2);
     let k = Kepler3::new(1.0).unwrap();
-    let el = kepler_orbit::Elements::new(a, e, inc, raan, argp, 0.0).unwrap();
-    let (r, v) = kepler_orbit::elements_to_state(1.0, &el).unwrap();
+    let el = Classical::new(a, e, inc, raan, argp, 0.0).unwrap();
+    let (r, v) = el.to_state(1.0).unwrap();
     let (q0, p0) = (
         SVector::from([r[0], r[1], r[2]]),
         SVector::from([v[0], v[1], v[2]]),
@@ -133,8 +135,8 @@ fn invariants_are_conserved_by_the_exact_flows() {
         // few ulps of the initial v² (4 ε · 19) and the rounding of 20 (16 ε) give δa/a ≈ 96 ε and
         // δn/n ≈ 144 ε, so the phase is off by δ ≈ 144 ε (1 + t). That moves r by
         // |v| δ + |r| δa/a (|v| ≤ 4.4, |r| ≤ 1.9) and v by |r̈| δ ≤ 100 δ (periapsis r = 0.1).
-        let el_t = kepler_orbit::Elements::new(a, e, inc, raan, argp, t % TAU).unwrap();
-        let (re, ve) = kepler_orbit::elements_to_state(1.0, &el_t).unwrap();
+        let el_t = Classical::new(a, e, inc, raan, argp, t % TAU).unwrap();
+        let (re, ve) = el_t.to_state(1.0).unwrap();
         let delta = 144.0 * EPS * (1.0 + t);
         for i in 0..3 {
             let (dr, dv) = ((q[i] - re[i]).abs(), (p[i] - ve[i]).abs());
@@ -200,8 +202,9 @@ fn exact_flows_agree_with_integration() {
         );
     }
     let kep = Kepler2::new(1.0).unwrap();
-    let el = kepler_orbit::PlanarElements::new(1.0, 0.5, 0.3, 0.0).unwrap();
-    let (r, v) = kepler_orbit::planar_elements_to_state(1.0, &el).unwrap();
+    // The planar orbit: i = Ω = 0, periapsis at ϖ = 0.3.
+    let el = Classical::new(1.0, 0.5, 0.0, 0.0, 0.3, 0.0).unwrap();
+    let (r, v) = el.to_state(1.0).unwrap();
     let (q0, p0) = (SVector::from([r[0], r[1]]), SVector::from([v[0], v[1]]));
     let (q, p) = common::rk4_hamiltonian(&kep, 0.0, q0, p0, dt, steps, |_, _, _| {});
     let (qe, pe) = kep.exact_flow(0.0, &q0, &p0, dt * steps as f64).unwrap();
@@ -293,27 +296,18 @@ fn t12_keplers_equation_table() {
         let got = kepler_equation::solve_kepler(m, e).unwrap();
         assert!((got - big_e).abs() < 1e-12, "e = {e}: E = {got}");
         assert!((kepler_equation::eccentric_to_true(got, e).unwrap() - nu).abs() < 1e-12);
-        let el = kepler_orbit::PlanarElements::new(1.0, e, 0.0, m).unwrap();
-        let (rv, vv) = kepler_orbit::planar_elements_to_state(1.0, &el).unwrap();
-        assert!((rv.norm() - r).abs() < 1e-12, "e = {e}: r = {}", rv.norm());
+        // The planar orbit: i = Ω = ω = 0.
+        let el = Classical::new(1.0, e, 0.0, 0.0, 0.0, m).unwrap();
+        let (r3, v3) = el.to_state(1.0).unwrap();
+        assert_eq!((r3[2], v3[2]), (0.0, 0.0));
+        assert!((r3.norm() - r).abs() < 1e-12, "e = {e}: r = {}", r3.norm());
         // ε = −½ and e recovered from the state.
-        let (r3, v3) = (
-            Vector3::new(rv[0], rv[1], 0.0),
-            Vector3::new(vv[0], vv[1], 0.0),
-        );
         assert_relative_eq!(
-            kepler_orbit::specific_energy(1.0, &r3, &v3).unwrap(),
+            orbit::specific_energy(1.0, &r3, &v3).unwrap(),
             -0.5,
             epsilon = 1e-14
         );
-        assert!(
-            (kepler_orbit::eccentricity_vector(1.0, &r3, &v3)
-                .unwrap()
-                .norm()
-                - e)
-                .abs()
-                < 1e-14
-        );
+        assert!((orbit::eccentricity_vector(1.0, &r3, &v3).unwrap().norm() - e).abs() < 1e-14);
     }
     // X3 starting values near e → 1.
     for (e, m, big_e) in [
@@ -352,11 +346,16 @@ fn bad_input_gives_typed_errors() {
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(
-        kepler_orbit::Elements::new(1.0, 1.0, 0.1, 0.0, 0.0, 0.0),
+        Classical::new(1.0, 1.0, 0.1, 0.0, 0.0, 0.0),
+        Err(Error::OutOfDomain { .. })
+    ));
+    // An ellipse's eccentricity with a hyperbola's semi-major axis sign, and conversely.
+    assert!(matches!(
+        Classical::new(1.0, 1.5, 0.0, 0.0, 0.0, 0.0),
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(
-        kepler_orbit::PlanarElements::new(1.0, 1.5, 0.0, 0.0),
+        Classical::new(-1.0, 0.5, 0.0, 0.0, 0.0, 0.0),
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(
@@ -383,10 +382,26 @@ fn bad_input_gives_typed_errors() {
     assert!(k
         .vector_field(0.0, &SVector::from([0.0, 0.0]), &ok)
         .is_err());
-    // Unbound orbit in the elliptic propagator.
-    assert!(k
-        .exact_flow(0.0, &ok, &SVector::from([0.0, 2.0]), 1.0)
-        .is_err());
+    // An unbound state follows its conic: r = 1, |v| = 2, μ = 1 is the periapsis of the
+    // hyperbola |a| = ½, e = 3, n = √8; at H from e sinh H − H = n t the closed form (Battin
+    // 1999 §4.6) agrees to 1e−13 relative (a few dozen roundings, κ ≤ 3 on this arc).
+    let (abs_a, e, t) = (0.5, 3.0, 1.0);
+    let h = kepler_equation::solve_kepler_hyperbolic(8f64.sqrt() * t, e).unwrap();
+    let (b, den, vs) = (
+        abs_a * (e * e - 1.0f64).sqrt(),
+        e * h.cosh() - 1.0,
+        2f64.sqrt(),
+    );
+    let q_ref = SVector::from([abs_a * (e - h.cosh()), b * h.sinh()]);
+    let p_ref = SVector::from([
+        -vs * h.sinh() / den,
+        vs * (e * e - 1.0f64).sqrt() * h.cosh() / den,
+    ]);
+    let (q, p) = k
+        .exact_flow(0.0, &ok, &SVector::from([0.0, 2.0]), t)
+        .unwrap();
+    assert!((q - q_ref).norm() <= 1e-13 * q_ref.norm(), "{q} vs {q_ref}");
+    assert!((p - p_ref).norm() <= 1e-13 * p_ref.norm(), "{p} vs {p_ref}");
     let pend = Pendulum::new(1.0).unwrap();
     assert!(pend
         .exact_flow(0.0, &SVector::from([0.0]), &SVector::from([0.1]), f64::NAN)

@@ -50,7 +50,7 @@ pub use observers::{
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
-pub use wisdom_holman::{kepler_drift, PerturbedKepler, WisdomHolman};
+pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
 
 use crate::brackets::PhaseMap;
 use crate::error::{finite, Error, Result};

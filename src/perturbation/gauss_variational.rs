@@ -54,7 +54,7 @@
 //!
 //! `ω̇` and `Ṁ` contain `1/e`, `Ω̇` and `ω̇` contain `1/sin i`: at a circular or equatorial orbit
 //! (`e < CIRCULAR_TOLERANCE`, `|sin i| < CIRCULAR_TOLERANCE`, the tolerance below which
-//! [`state_to_classical`](super::elements::state_to_classical) sets `e = 0` or `Ω = 0`)
+//! [`state_to_classical`](crate::systems::kepler::elements::state_to_classical) sets `e = 0` or `Ω = 0`)
 //! [`gauss_classical`] refuses with [`Error::Singular`]; use the modified equinoctial form.
 //!
 //! # Force models
@@ -78,12 +78,12 @@
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
-use super::elements::{Classical, ModifiedEquinoctial};
 use super::ode::{ElementOde, Pair};
 use super::variation::MomentumForce;
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
 use crate::special::kepler_equation::mean_to_true;
-use crate::systems::kepler_orbit::CIRCULAR_TOLERANCE;
+use crate::systems::kepler::elements::{Classical, ModifiedEquinoctial};
+use crate::systems::kepler::orbit::CIRCULAR_TOLERANCE;
 
 /// A 3-vector of any dual type.
 pub type V3<D> = SVector<D, 3>;

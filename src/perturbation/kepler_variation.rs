@@ -69,11 +69,13 @@
 use std::f64::consts::{PI, TAU};
 
 use super::canonical::{average_over_phase, PhaseAverage};
-use super::elements::{state_to_classical, Classical, Equinoctial, State};
 use super::ode::{ElementOde, Pair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
-use crate::systems::kepler_orbit::{self, phase_advance};
+use crate::systems::kepler::elements::{
+    state_to_classical, Classical, Delaunay, Equinoctial, State,
+};
+use crate::systems::kepler::orbit::{self, phase_advance};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
@@ -87,7 +89,7 @@ pub trait KeplerSolution: GeneralSolution<3> {
     /// Mean motion `n = √(μ/a³)` of the constants (`a = γ₁[0] > 0`).
     fn mean_motion(&self, gamma1: &SVector<f64, 3>) -> Result<f64> {
         let a = positive("semi-major axis a = γ₁[0]", gamma1[0])?;
-        kepler_orbit::mean_motion(self.mu(), a)
+        orbit::mean_motion(self.mu(), a)
     }
 }
 
@@ -104,7 +106,7 @@ fn mean_motion_generic<D: DualNum<f64> + Copy>(mu: f64, a: D) -> D {
 
 /// The Kepler general solution in classical elements, `γ₁ = (a, e, i)`, `γ₂ = (Ω, ω, M₀)`,
 /// `M = M₀ + n(a)(t − t₀)` (elliptic orbits; outside the domain of [`Classical`], or for a phase
-/// advance `|n(t − t₀)|` beyond [`kepler_orbit::MAX_PHASE_ADVANCE`], the state is NaN and the
+/// advance `|n(t − t₀)|` beyond [`orbit::MAX_PHASE_ADVANCE`], the state is NaN and the
 /// engines report [`Error::InvalidInput`]; [`ClassicalSolution::elements`] reports
 /// [`Error::PhaseLost`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -331,7 +333,7 @@ pub struct J2SecularRates {
 ///
 /// # Errors
 /// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`; the errors of
-/// [`kepler_orbit::mean_motion`]; [`Error::OutOfDomain`] when a rate overflows.
+/// [`orbit::mean_motion`]; [`Error::OutOfDomain`] when a rate overflows.
 pub fn j2_secular_rates(
     mu: f64,
     j2: f64,
@@ -352,7 +354,7 @@ pub fn j2_secular_rates(
     if !(0.0..=PI).contains(&i) {
         return Err(Error::out_of_domain("inclination i", i, "[0, π]"));
     }
-    let n = kepler_orbit::mean_motion(mu, a)?;
+    let n = orbit::mean_motion(mu, a)?;
     let one_m_e2 = (1.0 - e) * (1.0 + e);
     let c = i.cos();
     if j2 == 0.0 {
@@ -363,7 +365,7 @@ pub fn j2_secular_rates(
             mean_motion: n,
         });
     }
-    let k = kepler_orbit::scaled_product(&[n, j2, radius, radius], &[a, a, one_m_e2, one_m_e2]);
+    let k = orbit::scaled_product(&[n, j2, radius, radius], &[a, a, one_m_e2, one_m_e2]);
     let overflow = |rate: f64| -> Result<f64> {
         if rate.is_finite() {
             Ok(rate)
@@ -637,7 +639,7 @@ impl super::canonical::CanonicalElements<3> for DelaunayElements {
         let n = alpha[0].powi(3).recip() * (self.mu * self.mu);
         let advance = n * (t - self.epoch);
         phase_advance("Delaunay general solution", advance.re())?;
-        super::elements::Delaunay {
+        Delaunay {
             l: beta[0] + advance,
             g: beta[1],
             h: beta[2],

@@ -1,10 +1,8 @@
 //! Perturbation methods [Ardema ch. 18]: variation of constants in its general form (M58) and in
-//! Lagrange-bracket form (M59), canonical variation of elements (M60), Kepler element sets,
-//! higher-order normal forms, and the integration of element equations.
+//! Lagrange-bracket form (M59), canonical variation of elements (M60), the equations of motion of
+//! the Kepler element sets ([`crate::systems::kepler::elements`]), higher-order normal forms, and
+//! the integration of element equations.
 //!
-//! * [`elements`]: Kepler element sets — classical, equinoctial, modified equinoctial (every conic)
-//!   and Delaunay (canonical) — with maps to the state written for dual numbers, and Kepler's
-//!   equation for elliptic, parabolic (Barker) and hyperbolic orbits.
 //! * [`forces`]: perturbation models written once for dual numbers — `J₂`, a third body (fixed or
 //!   on a circle, with the indirect term), linear drag, constant thrust (inertial or RTN), sums and
 //!   user-defined models — and the Cartesian system `H = |p|²/2 − μ/|q| + U` with forces;
@@ -32,7 +30,6 @@
 //!   cross-checks it.
 
 pub mod canonical;
-pub mod elements;
 pub mod forces;
 pub mod gauss_variational;
 pub mod kepler_variation;

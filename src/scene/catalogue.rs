@@ -20,8 +20,7 @@ use crate::error::{fmt_num, Error, Result};
 use crate::hamilton_jacobi::action_angle::ActionAngle;
 use crate::hamilton_jacobi::central::RadialMotion;
 use crate::integrate::{integrate, Dop853, Problem};
-use crate::nalgebra::{SVector, Vector2, Vector3};
-use crate::perturbation::elements::{state_to_classical, Classical};
+use crate::nalgebra::{SVector, Vector3};
 use crate::perturbation::forces::{PerturbedTwoBody, J2};
 use crate::perturbation::kepler_variation::{planetary_equations, ClassicalSolution, MeanElements};
 use crate::perturbation::lindstedt::lindstedt_pendulum;
@@ -29,7 +28,7 @@ use crate::perturbation::normal_form::{PendulumNormalForm, PENDULUM_WARNING_MU};
 use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
 use crate::phase::CanonicalPair;
-use crate::systems::kepler_orbit::kepler_propagate_planar;
+use crate::systems::kepler::{self, elements::state_to_classical, elements::Classical};
 use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
 use crate::systems::top::motion::Nutation;
 use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
@@ -367,14 +366,8 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         ),
     };
     let reference = Box::new(move |t: f64| {
-        let (r, v) = kepler_propagate_planar(
-            mu,
-            &Vector2::new(q0[0], q0[1]),
-            &Vector2::new(p0[0], p0[1]),
-            t,
-        )?;
         Ok((
-            (SVector::from([r[0], r[1]]), SVector::from([v[0], v[1]])),
+            kepler::propagate(mu, &q0, &p0, t)?,
             "reference: exact solution (Kepler's equation)".to_string(),
         ))
     });

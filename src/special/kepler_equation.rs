@@ -627,3 +627,314 @@ impl Conic {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use proptest::test_runner::RngSeed;
+
+    const EPS: f64 = f64::EPSILON;
+
+    /// Property-test configuration of the Kepler tests: 1000 cases from a fixed seed.
+    pub(crate) fn cfg() -> ProptestConfig {
+        ProptestConfig {
+            cases: 1000,
+            rng_seed: RngSeed::Fixed(12345),
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        }
+    }
+
+    /// Distance of two angles modulo 2π.
+    pub(crate) fn ang_diff(x: f64, y: f64) -> f64 {
+        ((x - y + PI).rem_euclid(TAU) - PI).abs()
+    }
+
+    /// Independent oracle for x − sin x: Taylor terms summed from the smallest up (|x| < 1),
+    /// direct difference otherwise.
+    fn oracle_x_minus_sin(x: f64) -> f64 {
+        if x.abs() < 1.0 {
+            let mut terms = [0.0; 12];
+            let mut t = x * x * x / 6.0;
+            for (k, slot) in terms.iter_mut().enumerate() {
+                *slot = t;
+                let d = (2 * k + 4) as f64 * (2 * k + 5) as f64;
+                t *= -x * x / d;
+            }
+            terms.iter().rev().sum()
+        } else {
+            x - x.sin()
+        }
+    }
+
+    /// Oracle residual of Kepler's equation and the sum of the magnitudes of its terms (for the
+    /// rounding-error bound).
+    fn oracle_residual(ea: f64, e: f64, m: f64) -> (f64, f64) {
+        if ea.abs() < 1.0 {
+            let a = (1.0 - e) * ea.sin();
+            let b = oracle_x_minus_sin(ea);
+            ((a + b) - m, a.abs() + b.abs() + m.abs())
+        } else {
+            let s = e * ea.sin();
+            ((ea - s) - m, ea.abs() + s.abs() + m.abs())
+        }
+    }
+
+    /// Bisection oracle on the monotone function E − e sin E − M (M ∈ [−π, π]) down to adjacent
+    /// floating-point numbers.
+    fn bisection_oracle(m: f64, e: f64) -> f64 {
+        let (mut lo, mut hi) = (-PI, PI);
+        loop {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if oracle_residual(mid, e, m).0 < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let (rl, rh) = (oracle_residual(lo, e, m).0, oracle_residual(hi, e, m).0);
+        if rl.abs() <= rh.abs() {
+            lo
+        } else {
+            hi
+        }
+    }
+
+    /// One unit in the last place of `|x|` (the smallest subnormal at 0).
+    pub(crate) fn ulp(x: f64) -> f64 {
+        let x = x.abs();
+        if x == 0.0 {
+            f64::from_bits(1)
+        } else {
+            f64::from_bits(x.to_bits() + 1) - x
+        }
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // SPEC X3
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn spec_x3_reference_values() {
+        // (e, M, E from SPEC X3, E from a 50-digit mpmath solution for the f64 inputs, relative
+        // tolerance). ∂E/∂e ≈ 110 in the first case, so the SPEC digits are compared at 1e-12;
+        // the mpmath values at 4 ulps (the root is determined to ~1 ulp by the careful residual).
+        let cases = [
+            (
+                0.999999,
+                1e-6,
+                0.0180612466215222,
+                0.018061246621522216,
+                1e-12,
+            ),
+            (0.99, 0.01, 0.342270316491775, 0.3422703164917751, 1e-14),
+            (0.9, 0.1, 0.630843527563153, 0.6308435275631535, 1e-14),
+        ];
+        for (e, m, spec, mp, rel) in cases {
+            let ea = solve_kepler(m, e).unwrap();
+            let err_spec = ((ea - spec) / spec).abs();
+            let err_mp = ((ea - mp) / mp).abs();
+            eprintln!(
+                "X3 e={e} M={m}: E={ea:.17} rel err vs SPEC {err_spec:e}, vs mpmath {err_mp:e}"
+            );
+            assert!(err_spec <= rel);
+            assert!(err_mp <= 4.0 * EPS);
+            // Odd symmetry and periodicity.
+            assert_eq!(solve_kepler(-m, e).unwrap(), -ea);
+            let shifted = solve_kepler(m + 4.0 * TAU, e).unwrap() - 4.0 * TAU;
+            // Forming M + 8π, reducing it and adding 8π back cost ~2 ulp(8π) in M and in E;
+            // dE/dM = 1/(1 − e cos E) ≈ 6000 in the first case.
+            let tol = 2.0 * ulp(4.0 * TAU) * (1.0 + 1.0 / one_minus_e_cos(ea, e));
+            assert!((shifted - ea).abs() <= tol, "{shifted} vs {ea}");
+        }
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Kepler's equation on a dense grid
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn kepler_residual_dense_grid() {
+        let es = [0.0, 1e-12, 0.1, 0.5, 0.9, 0.99, 0.999999, 1.0 - 1e-9];
+        let mut ms: Vec<f64> = (0..=8000).map(|k| -PI + TAU * k as f64 / 8000.0).collect();
+        for k in 0..=300 {
+            let small = 10f64.powf(-(k as f64));
+            ms.push(small);
+            ms.push(-small);
+            ms.push(PI - small);
+        }
+        ms.extend([0.0, -0.0, PI, -PI, f64::MIN_POSITIVE, 5e-324]);
+        let mut max_res: f64 = 0.0;
+        let mut max_strict: f64 = 0.0;
+        let mut max_vs_bisect: f64 = 0.0;
+        for &e in &es {
+            for &m in &ms {
+                let ea = solve_kepler(m, e).unwrap();
+                let (res, size) = oracle_residual(ea, e, m);
+                // SPEC criterion: a few ulps of max(1, |M|).
+                assert!(
+                    res.abs() <= 1e-15 * m.abs().max(1.0),
+                    "e={e} M={m}: residual {res:e}"
+                );
+                max_res = max_res.max(res.abs());
+                // Strict criterion: the best float is within f'(E)·ulp(E) of the root, and the
+                // oracle residual itself carries ≤ 4ε·(sum of its terms) of rounding.
+                let fp = 1.0 - e * ea.cos();
+                let bound = fp * ulp(ea) + 4.0 * EPS * size + 4.0 * f64::from_bits(1);
+                max_strict = max_strict.max(res.abs() / bound);
+                assert!(
+                    res.abs() <= bound,
+                    "e={e} M={m}: residual {res:e} > {bound:e}"
+                );
+                // Bisection oracle: both roots are determined up to the residual noise / f'.
+                let eb = bisection_oracle(m, e);
+                let fp = one_minus_e_cos(ea, e);
+                // (Plus a few units of the smallest subnormal for the absolute rounding of
+                // underflowed operations at |M| ≲ 1e-308.)
+                let tol = 2.0 * ulp(ea) + (8.0 * EPS * size + 8.0 * f64::from_bits(1)) / fp;
+                max_vs_bisect = max_vs_bisect.max((ea - eb).abs() / tol);
+                assert!(
+                    (ea - eb).abs() <= tol,
+                    "e={e} M={m}: {ea} vs bisection {eb}"
+                );
+            }
+        }
+        eprintln!(
+            "residual grid: max |res| {max_res:e}, max res/strict bound {max_strict:.3}, \
+             max |E − E_bisect|/tol {max_vs_bisect:.3}"
+        );
+    }
+
+    #[test]
+    fn kepler_unreduced_mean_anomaly_is_consistent() {
+        for &e in &[0.0, 0.3, 0.9, 0.999] {
+            for k in -50..=50 {
+                let m0 = 0.1 + 0.05 * k as f64;
+                let e0 = solve_kepler(m0, e).unwrap();
+                let base = e0 - m0;
+                let cond = 1.0 + 1.0 / one_minus_e_cos(e0, e);
+                for j in [-1000.0, -3.0, -1.0, 1.0, 7.0, 1e6] {
+                    let m = m0 + j * TAU;
+                    let ea = solve_kepler(m, e).unwrap();
+                    // E − M periodic up to the rounding of M, of the reduction and of the
+                    // shift back, ≲ 2 ulp(M) each, amplified by dE/dM = 1/(1 − e cos E).
+                    assert!(
+                        ((ea - m) - base).abs() <= 4.0 * ulp(m) * cond,
+                        "e={e} M={m}"
+                    );
+                }
+            }
+        }
+        // Monotone and continuous across the reduction boundary ±π.
+        let e = 0.7;
+        let below = solve_kepler(PI - 1e-12, e).unwrap();
+        let above = solve_kepler(PI + 1e-12, e).unwrap();
+        assert!(below < above && above - below < 1e-10);
+        // Huge |M| is accepted without panicking.
+        assert!(solve_kepler(1e300, 0.5).unwrap().is_finite());
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Anomaly conversions
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn anomaly_conversions_agree_with_defining_relations() {
+        let mut max_err: f64 = 0.0;
+        for &e in &[0.0, 0.2, 0.6, 0.95, 0.999] {
+            for k in -200..=200 {
+                let nu = 0.031 * k as f64; // spans about ±1 turn
+                let ea = true_to_eccentric(nu, e).unwrap();
+                let c = (e + nu.cos()) / (1.0 + e * nu.cos());
+                let s = ((1.0 - e) * (1.0 + e)).sqrt() * nu.sin() / (1.0 + e * nu.cos());
+                // Unit-vector comparison; the direct formulas have conditioning ≲ 1/(1 − e).
+                let err = (ea.cos() - c).abs().max((ea.sin() - s).abs());
+                max_err = max_err.max(err * (1.0 - e));
+                assert!(err <= 16.0 * EPS / (1.0 - e), "e={e} ν={nu}");
+                let back = eccentric_to_true(ea, e).unwrap();
+                // E carries ~ulp errors, magnified by dν/dE ≤ √((1+e)/(1−e)).
+                let dnude = ((1.0 + e) / (1.0 - e)).sqrt();
+                assert!((back - nu).abs() <= 8.0 * ulp(nu.abs().max(1.0)) * dnude);
+                let m = true_to_mean(nu, e).unwrap();
+                let m_direct = ea - e * ea.sin();
+                assert!((m - m_direct).abs() <= 8.0 * ulp(m.abs().max(1.0)));
+                let nu2 = mean_to_true(m, e).unwrap();
+                // dν/dM = (a/r)²√(1−e²) ≤ √((1+e)/(1−e))/(1−e); ≤ 8 ulp of M through it.
+                let cond = ((1.0 + e) / (1.0 - e)).sqrt() / (1.0 - e);
+                assert!(
+                    ang_diff(nu2, nu) <= 8.0 * EPS * cond * m.abs().max(1.0),
+                    "e={e} ν={nu} → M={m} → {nu2}"
+                );
+            }
+        }
+        eprintln!("anomalies: max |(cos,sin) E error|·(1−e) {max_err:e}");
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Barker's equation and bad input
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn barker_closed_form() {
+        for m in [
+            0.0, 1e-300, 1e-8, 0.3, -2.0, 1e6, -1e12, 1e154, 1e200, -1e300,
+        ] {
+            let b: f64 = solve_barker(m).unwrap();
+            let back = b + b * b * b / 3.0;
+            assert!(
+                (back - m).abs() <= 4.0 * f64::EPSILON * m.abs(),
+                "{m}: {back}"
+            );
+        }
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let ood = |r: Result<f64>| matches!(r, Err(Error::OutOfDomain { .. }));
+        let nf = |r: Result<f64>| matches!(r, Err(Error::NonFinite { .. }));
+        for e in [1.0, 1.5, -0.1] {
+            assert!(ood(solve_kepler(0.3, e)));
+            assert!(ood(eccentric_to_true(0.3, e)));
+            assert!(ood(true_to_eccentric(0.3, e)));
+            // The anomaly conversions cover every conic: only e < 0 is outside their domain.
+            assert_eq!(ood(mean_to_true(0.3, e)), e < 0.0);
+            assert_eq!(ood(true_to_mean(0.3, e)), e < 0.0);
+        }
+        if let Err(Error::OutOfDomain { domain, .. }) = solve_kepler(0.3, 1.0) {
+            assert_eq!(domain, "[0, 1)");
+        } else {
+            panic!("expected OutOfDomain");
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(nf(solve_kepler(bad, 0.5)));
+            assert!(nf(solve_kepler(0.5, bad)));
+            assert!(nf(eccentric_to_true(bad, 0.5)));
+        }
+    }
+
+    proptest! {
+        #![proptest_config(cfg())]
+
+        /// Kepler residual for arbitrary M (including unreduced) and e ∈ [0, 1).
+        #[test]
+        fn kepler_residual_property(
+            m in -100.0..100.0f64,
+            e in prop_oneof![0.0..1.0f64, (1e-12..1e-3f64).prop_map(|d| 1.0 - d)],
+        ) {
+            let ea = solve_kepler(m, e).unwrap();
+            // Compare in the reduced frame, where the oracle residual is cancellation-free; the
+            // reduction itself costs ≤ 2 ulp(M).
+            let (mr, _) = reduce_angle(m);
+            let er = ea - (m - mr);
+            let (res, size) = oracle_residual(er, e, mr);
+            let fp = 1.0 - e * er.cos();
+            let bound = fp * ulp(er) + 4.0 * EPS * size + 4.0 * ulp(m);
+            prop_assert!(res.abs() <= bound, "M={m} e={e}: {res:e} > {bound:e}");
+            prop_assert!(res.abs() <= 1e-15 * m.abs().max(1.0));
+        }
+    }
+}

@@ -3,7 +3,7 @@ use crate::brackets::PhaseMap;
 use crate::error::{finite, positive, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::phase::check_phase;
-use crate::systems::kepler_orbit::phase_advance;
+use crate::systems::kepler::orbit::phase_advance;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -13,7 +13,7 @@ use num_dual::DualNum;
 /// [Ardema 16.5, T5].
 ///
 /// [`ExactFlow::exact_flow`] refuses a phase `|ωτ|` above
-/// [`MAX_PHASE_ADVANCE`](crate::systems::kepler_orbit::MAX_PHASE_ADVANCE) with
+/// [`MAX_PHASE_ADVANCE`](crate::systems::kepler::orbit::MAX_PHASE_ADVANCE) with
 /// [`Error::PhaseLost`](crate::Error::PhaseLost), and a state whose `q(t)` or `p(t)` overflows
 /// (e.g. `mω q₀` beyond `f64::MAX`) with [`Error::NonFinite`](crate::Error::NonFinite).
 #[derive(Clone, Copy, Debug, PartialEq)]

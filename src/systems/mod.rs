@@ -5,7 +5,7 @@
 //! |---|---|---|
 //! | [`HarmonicOscillator`] | 1 | closed form, generic over the dual type |
 //! | [`Pendulum`] | 1 | Jacobi elliptic functions + AGM, up to the separatrix (SPEC X2) |
-//! | [`Kepler2`], [`Kepler3`] | 2, 3 | Kepler's equation, elliptic orbits (SPEC M28, X3) |
+//! | [`Kepler2`], [`Kepler3`] | 2, 3 | universal-variable flow, every conic; element sets ([`kepler`], SPEC M28, X3) |
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral, SPEC T24) |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`], SPEC M30, M57) |
@@ -16,8 +16,7 @@ use nalgebra::SVector;
 mod bead;
 mod central;
 mod harmonic;
-mod kepler;
-pub mod kepler_orbit;
+pub mod kepler;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;

@@ -28,7 +28,7 @@ use crate::error::{finite, positive, Error, Result};
 use crate::special::elliptic::{
     agm_unchecked, complete_k_unchecked, incomplete_f, jacobi_unchecked,
 };
-use crate::systems::kepler_orbit::MAX_PHASE_ADVANCE;
+use crate::systems::kepler::orbit::MAX_PHASE_ADVANCE;
 use std::f64::consts::{PI, TAU};
 
 /// `π − PI` rounded to a double: `PI + PI_LO` represents π to about 1e−32.

@@ -1,15 +1,42 @@
+//! The two-body (Kepler) problem per unit mass, `H = |p|²/2 − μ/|q|`: the system [`Kepler`], its
+//! first integrals, its element sets and its exact flow, for every conic.
+//!
+//! | item | contents |
+//! |---|---|
+//! | [`Kepler`], [`AngularMomentum`] | the system in `N = 2` or `3` dimensions, its invariants (energy, angular momentum, Laplace–Runge–Lenz vector) and exact flow |
+//! | [`orbit`] | specific energy, angular momentum, eccentricity vector, mean motion, period; the circular tolerance and the phase limit shared by the maps below |
+//! | [`elements`] | classical (elliptic and hyperbolic), equinoctial, modified equinoctial (every conic) and Delaunay (canonical) elements, with their maps to and from the state written for dual numbers |
+//! | [`propagate`], [`drift`] | the exact flow in universal variables for every conic, generic over dual numbers (exact derivatives) |
+//!
+//! Kepler's equation and the anomalies are special functions
+//! ([`crate::special::kepler_equation`]), as are the Stumpff functions of the universal variables
+//! ([`crate::special::stumpff`]); the equations of motion of the elements under a perturbation
+//! (Lagrange's and Gauss's planetary equations, secular theory) are perturbation methods
+//! ([`crate::perturbation`]).
+//!
+//! References: M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3 (SPEC M28);
+//! R. H. Battin, *An Introduction to the Mathematics and Methods of Astrodynamics*, rev. ed.,
+//! AIAA (1999), chs. 3–5; D. A. Vallado, *Fundamentals of Astrodynamics and Applications*, 4th
+//! ed., Microcosm (2013), ch. 2.
+
 use super::central::{Central, CentralPotential, InverseDistance};
-use super::{kepler_orbit, ExactFlow, Invariant, Invariants};
+use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::{PerturbedKepler, PhaseFunction, Separable};
 use crate::phase::check_phase;
-use nalgebra::{SVector, Vector2, Vector3};
+use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
+
+pub mod elements;
+mod flow;
+pub mod orbit;
+
+pub use flow::{drift, propagate};
 
 /// Kepler problem per unit mass in `N = 2` or `3` dimensions, `H = |p|²/2 − μ/|q|` (SPEC M28, §0.7).
 ///
-/// Invariants: energy, angular momentum, eccentricity (Laplace–Runge–Lenz) vector. Exact motion for
-/// bound orbits by Kepler's equation ([`kepler_orbit`]).
+/// Invariants: energy, angular momentum, eccentricity (Laplace–Runge–Lenz) vector. Exact motion on
+/// every conic by the universal-variable flow ([`propagate`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kepler<const N: usize> {
     mu: f64,
@@ -95,7 +122,7 @@ impl<const N: usize> Invariants<N> for Kepler<N> {
     ) -> Result<Vec<Invariant>> {
         // Energy and angular momentum as for every central force, then the Runge–Lenz vector.
         let (r, v) = (embed(q)?, embed(p)?);
-        let e = kepler_orbit::eccentricity_vector(self.mu, &r, &v)?;
+        let e = orbit::eccentricity_vector(self.mu, &r, &v)?;
         let mut out = self.central().invariants(t, q, p)?;
         out.push(Invariant {
             name: "e_x",
@@ -125,19 +152,7 @@ impl<const N: usize> ExactFlow<N> for Kepler<N> {
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         check_phase(t0, q0, p0)?;
         let dt = finite("t", t)? - t0;
-        let (r, v) = match N {
-            2 => {
-                let (r, v) = kepler_orbit::kepler_propagate_planar(
-                    self.mu,
-                    &Vector2::new(q0[0], q0[1]),
-                    &Vector2::new(p0[0], p0[1]),
-                    dt,
-                )?;
-                (Vector3::new(r[0], r[1], 0.0), Vector3::new(v[0], v[1], 0.0))
-            }
-            _ => kepler_orbit::kepler_propagate(self.mu, &embed(q0)?, &embed(p0)?, dt)?,
-        };
-        Ok((SVector::from_fn(|i, _| r[i]), SVector::from_fn(|i, _| v[i])))
+        propagate(self.mu, q0, p0, dt)
     }
 }
 

@@ -24,8 +24,8 @@
 //! # Conventions at the singularities (SPEC X12)
 //!
 //! The classical and Delaunay angles are undefined at `e = 0` (no periapsis) and `i = 0` or
-//! `i = π` (no node). [`state_to_classical`] (and [`state_to_delaunay`]) then return the same
-//! conventional values as [`crate::systems::kepler_orbit::state_to_elements`]:
+//! `i = π` (no node). [`state_to_classical`] (and [`state_to_delaunay`]) then return
+//! conventional values:
 //!
 //! * `e = 0` (`|e| < CIRCULAR_TOLERANCE`): `ω = 0`, and `M` (= `ν`) is the argument of latitude
 //!   measured from the node;
@@ -60,14 +60,15 @@
 //! `e = 1` parabolic, where the "mean anomaly" is `M_p = B + B³/3` with `B = tan(ν/2)`
 //! (Barker's equation; `M_p = 2√(μ/p³)(t − t_p)`), solved in closed form ([`solve_barker`](crate::special::kepler_equation::solve_barker)).
 //! The near-parabolic elliptic and hyperbolic equations are solved to full relative precision
-//! by cubic starters and cancellation-free residuals. Time propagation ([`propagate`]) uses
-//! universal variables ([`crate::integrate::kepler_drift`]), which need no switch.
+//! by cubic starters and cancellation-free residuals. The state is propagated in universal
+//! variables ([`super::propagate`]), which need no switch; the elements by the mean-anomaly
+//! advance `M ↦ M + n dt` ([`Classical::propagate`]).
 //!
 //! # References
 //!
 //! * D. A. Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Microcosm (2013),
-//!   §§2.2–2.3 (Kepler's equation for all conics, Barker's equation), §2.4 (universal
-//!   variables), §2.5–2.6 (COE ↔ state, equinoctial elements).
+//!   §§2.2–2.3 (Kepler's equation for all conics, Barker's equation, universal variables),
+//!   §2.5–2.6 (COE ↔ state, equinoctial elements).
 //! * R. H. Battin, *An Introduction to the Mathematics and Methods of Astrodynamics*, rev. ed.,
 //!   AIAA (1999), chs. 3–4, 10.
 //! * R. A. Broucke & P. J. Cefola, "On the equinoctial orbit elements", *Celestial Mechanics* 5,
@@ -81,15 +82,14 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
+use super::orbit::{self, check_state, eccentricity_vector, phase_advance, CIRCULAR_TOLERANCE};
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::implicit::lift_scalar_root;
-use crate::integrate::kepler_drift;
 use crate::special::kepler_equation::{
     eccentric_anomaly, hyperbolic_anomaly, mean_to_true, one_minus_e_cos, true_to_mean, with_re,
     wrap_two_pi, Conic,
 };
-use crate::systems::kepler_orbit::{self, CIRCULAR_TOLERANCE};
 
 /// A Cartesian state `(q, p)` (position, momentum = velocity per unit mass).
 pub type State<D> = (SVector<D, 3>, SVector<D, 3>);
@@ -102,25 +102,6 @@ fn check_mu(mu: f64) -> Result<f64> {
     positive("gravitational parameter μ", mu)
 }
 
-fn check_state(r: &Vector3<f64>, v: &Vector3<f64>) -> Result<f64> {
-    all_finite("position q", r.as_slice())?;
-    all_finite("velocity p", v.as_slice())?;
-    let rn = r.norm();
-    if rn > 0.0 && rn.is_finite() {
-        Ok(rn)
-    } else if rn == 0.0 {
-        Err(Error::invalid(
-            "position q",
-            "q = 0 is the collision singularity of the Kepler potential −μ/|q|",
-        ))
-    } else {
-        Err(Error::NonFinite {
-            what: "|q|".into(),
-            value: rn,
-        })
-    }
-}
-
 fn check_output<D: DualNum<f64> + Copy>(r: &SVector<D, 3>, v: &SVector<D, 3>) -> Result<()> {
     for i in 0..3 {
         finite(format_args!("position q[{i}]"), r[i].re())?;
@@ -128,10 +109,6 @@ fn check_output<D: DualNum<f64> + Copy>(r: &SVector<D, 3>, v: &SVector<D, 3>) ->
     }
     Ok(())
 }
-
-// ---------------------------------------------------------------------------------------------
-// Kepler's equation for every conic
-// ---------------------------------------------------------------------------------------------
 
 // ---------------------------------------------------------------------------------------------
 // Classical elements
@@ -143,8 +120,9 @@ fn check_output<D: DualNum<f64> + Copy>(r: &SVector<D, 3>, v: &SVector<D, 3>) ->
 /// Hyperbolic: `a < 0` (so `a(1 − e²) = p > 0`), `e > 1`, `M = e sinh F − F = n(t − t_p)`,
 /// `n = √(μ/(−a)³)`. Parabolas (`e = 1`, `a = ∞`) are not representable: use
 /// [`ModifiedEquinoctial`]. `i ∈ [0, π]`; the angles may be any real. Conventions at `e = 0`
-/// and `i ∈ {0, π}`: see the [module docs](self) (the same as
-/// [`kepler_orbit::Elements`], which is the elliptic `f64` case of this set).
+/// and `i ∈ {0, π}`: see the [module docs](self). In the plane (`N = 2` systems) an orbit is
+/// the case `i = 0` (counter-clockwise) or `i = π` (clockwise) with `Ω = 0`, and `ω` is then the
+/// longitude of periapsis from the x axis in the direction of motion.
 ///
 /// Generic over the number type so that `(q, p)` can be differentiated with respect to the
 /// elements ([`Classical::to_state`]).
@@ -297,7 +275,7 @@ impl Classical<f64> {
         self.a * ((1.0 - self.e) * (1.0 + self.e))
     }
 
-    /// Mean motion `n = √(μ/|a|³)` ([`kepler_orbit::mean_motion`] of `|a|`).
+    /// Mean motion `n = √(μ/|a|³)` ([`orbit::mean_motion`] of `|a|`).
     ///
     /// # Errors
     /// [`Error::OutOfDomain`] for `μ ≤ 0` or an `n` outside the normal range; as
@@ -305,7 +283,31 @@ impl Classical<f64> {
     pub fn mean_motion(&self, mu: f64) -> Result<f64> {
         let mu = check_mu(mu)?;
         self.validate()?;
-        kepler_orbit::mean_motion(mu, self.a.abs())
+        orbit::mean_motion(mu, self.a.abs())
+    }
+
+    /// The elements after a time `dt` of Kepler motion: `M ↦ M + n dt` with `n = √(μ/|a|³)`
+    /// (elliptic and hyperbolic; the other elements are constants of the motion; Vallado 2013
+    /// §2.3, Ardema 2005 §10.3).
+    ///
+    /// # Errors
+    /// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result;
+    /// [`Error::PhaseLost`] for an ellipse when `|n·dt|` exceeds
+    /// [`MAX_PHASE_ADVANCE`](orbit::MAX_PHASE_ADVANCE) (the rounding of the phase would exceed
+    /// 1e−6 rad). The elliptic `M` is returned in `[0, 2π)`; the hyperbolic `M` is not periodic
+    /// and has no such limit.
+    pub fn propagate(&self, mu: f64, dt: f64) -> Result<Self> {
+        let n = self.mean_motion(mu)?;
+        let dt = finite("time step dt", dt)?;
+        let mut out = *self;
+        let advance = if self.e < 1.0 {
+            phase_advance("classical-element propagation", n * dt)?
+        } else {
+            finite("mean-anomaly advance n·dt", n * dt)?
+        };
+        let m = finite("propagated mean anomaly", self.mean_anomaly + advance)?;
+        out.mean_anomaly = if self.e < 1.0 { wrap_two_pi(m) } else { m };
+        Ok(out)
     }
 
     /// Equinoctial elements (Broucke & Cefola 1972): `h = e sin ϖ`, `k = e cos ϖ`,
@@ -390,34 +392,6 @@ impl Classical<f64> {
             big_h: big_g * self.i.cos(),
         })
     }
-
-    /// The same orbit as [`kepler_orbit::Elements`] (elliptic only).
-    ///
-    /// # Errors
-    /// As [`kepler_orbit::Elements::new`].
-    pub fn to_kepler_orbit(&self) -> Result<kepler_orbit::Elements> {
-        kepler_orbit::Elements::new(
-            self.a,
-            self.e,
-            self.i,
-            self.raan,
-            self.argp,
-            self.mean_anomaly,
-        )
-    }
-}
-
-impl From<kepler_orbit::Elements> for Classical<f64> {
-    fn from(el: kepler_orbit::Elements) -> Self {
-        Classical {
-            a: el.a,
-            e: el.e,
-            i: el.i,
-            raan: el.raan,
-            argp: el.argp,
-            mean_anomaly: el.mean_anomaly,
-        }
-    }
 }
 
 /// `tan(i/2)` for `i ∈ [0, π)`; `i = π` is the singularity of the equinoctial sets.
@@ -451,11 +425,6 @@ fn plane(r: &Vector3<f64>, v: &Vector3<f64>) -> Result<Plane> {
         ));
     }
     Ok(Plane { hn, hvec })
-}
-
-/// Eccentricity vector `((|v|² − μ/r) r − (r·v) v)/μ`.
-fn ecc_vector(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>, rn: f64) -> Vector3<f64> {
-    r * (v.norm_squared() / mu - 1.0 / rn) - v * (r.dot(v) / mu)
 }
 
 /// Semi-major axis from a state, by whichever route is better conditioned: vis-viva,
@@ -503,8 +472,13 @@ fn eccentric_mean_anomaly(
 /// [`true_to_mean`], or for `e ≥ ½` from the eccentric anomaly `e sin E = r·v/√(μa)`,
 /// `e cos E = 1 − r/a` (Vallado 2013 §2.5, algorithm 9; Battin 1999 ch. 3). Round trips
 /// state → elements → state stay within a few times the representation limit of the elements
-/// (the rounding of `e` next to 1 costs `ulp(e)/(1 − e)` at apoapsis). Conventions at `e = 0` and `i ∈ {0, π}`: [module docs](self). `Ω`, `ω`
-/// are returned in `[0, 2π)`, and `M` in `[0, 2π)` for ellipses.
+/// (the rounding of `e` next to 1 costs `ulp(e)/(1 − e)` at apoapsis). Conventions at `e = 0`
+/// and `i ∈ {0, π}`: [module docs](self). A state from [`Classical::to_state`] with `i = 0` is
+/// exactly equatorial; one with `i = std::f64::consts::PI` is not, since `sin(fl(π)) ≈ 1.2·10⁻¹⁶`,
+/// and its tiny tilt defines the node, consistently with the input `Ω`. No threshold is applied
+/// to the inclination: the node direction of a nearly equatorial orbit is ill-conditioned, but
+/// `Ω + ω` and the reconstructed state are not. `Ω`, `ω` are returned in `[0, 2π)`, `i` in
+/// `[0, π]`, and `M` in `[0, 2π)` for ellipses.
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞; [`Error::InvalidInput`] for `q = 0`; [`Error::OutOfDomain`]
@@ -514,8 +488,7 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
     let mu = check_mu(mu)?;
     let rn = check_state(r, v)?;
     let Plane { hn, hvec: h } = plane(r, v)?;
-    let ev = ecc_vector(mu, r, v, rn);
-    all_finite("eccentricity vector", ev.as_slice())?;
+    let ev = eccentricity_vector(mu, r, v)?;
     let mut e = ev.norm();
     if e == 1.0 {
         return Err(Error::out_of_domain(
@@ -1011,12 +984,11 @@ pub fn state_to_modified_equinoctial(
     v: &Vector3<f64>,
 ) -> Result<ModifiedEquinoctial> {
     let mu = check_mu(mu)?;
-    let rn = check_state(r, v)?;
+    check_state(r, v)?;
     let Plane { hn, hvec } = plane(r, v)?;
     let (pe, qe) = equinoctial_pq(&hvec, hn)?;
     let (fh, gh) = equinoctial_frame(pe, qe);
-    let ev = ecc_vector(mu, r, v, rn);
-    all_finite("eccentricity vector", ev.as_slice())?;
+    let ev = eccentricity_vector(mu, r, v)?;
     let el = ModifiedEquinoctial {
         p: hn * (hn / mu),
         f: ev.dot(&fh),
@@ -1213,58 +1185,22 @@ impl PhaseMap<3> for DelaunayToCartesian {
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Propagation
-// ---------------------------------------------------------------------------------------------
-
-/// Exact two-body propagation of a state by `dt` (any sign) for every conic type, in any dual
-/// type: Lagrange's `f` and `g` in universal variables ([`kepler_drift`]; Vallado 2013 §2.4,
-/// algorithm 8; Battin 1999 ch. 4), with exact derivatives with respect to the initial state and
-/// `dt`.
-///
-/// # Errors
-/// As [`kepler_drift`].
-pub fn propagate<D: DualNum<f64> + Copy>(
-    mu: f64,
-    r: &SVector<D, 3>,
-    v: &SVector<D, 3>,
-    dt: D,
-) -> Result<State<D>> {
-    let (dq, dp) = kepler_drift(mu, r, v, dt)?;
-    Ok((r + dq, v + dp))
-}
-
-/// Propagate classical elements by `dt`: `M ↦ M + n dt` with `n = √(μ/|a|³)` (elliptic and
-/// hyperbolic; the other elements are constant).
-///
-/// # Errors
-/// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result;
-/// [`Error::PhaseLost`] for an ellipse when `|n·dt|` exceeds
-/// [`kepler_orbit::MAX_PHASE_ADVANCE`] (the rounding of the phase would exceed 1e−6 rad). The
-/// elliptic `M` is returned in `[0, 2π)`; the hyperbolic `M` is not periodic and has no such limit.
-pub fn propagate_classical(mu: f64, el: &Classical, dt: f64) -> Result<Classical> {
-    let n = el.mean_motion(mu)?;
-    let dt = finite("time step dt", dt)?;
-    let mut out = *el;
-    let advance = if el.e < 1.0 {
-        kepler_orbit::phase_advance("classical-element propagation", n * dt)?
-    } else {
-        finite("mean-anomaly advance n·dt", n * dt)?
-    };
-    let m = finite("propagated mean anomaly", el.mean_anomaly + advance)?;
-    out.mean_anomaly = if el.e < 1.0 { wrap_two_pi(m) } else { m };
-    Ok(out)
-}
-
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    #[allow(unused_imports)]
-    use crate::special::kepler_equation::{
-        eccentric_anomaly, hyperbolic_anomaly, mean_to_true, solve_barker, solve_kepler_hyperbolic,
-        true_to_mean, Conic,
-    };
+    use crate::special::kepler_equation::tests::{ang_diff, cfg, ulp};
+    use crate::special::kepler_equation::{eccentric_to_true, solve_kepler};
+    use crate::systems::kepler::orbit::specific_energy;
     use num_dual::Dual64;
+    use proptest::prelude::*;
+
+    const EPS: f64 = f64::EPSILON;
+
+    /// The state of `el`, unwrapped.
+    pub(crate) fn state(mu: f64, el: &Classical) -> (Vector3<f64>, Vector3<f64>) {
+        let (r, v) = el.to_state(mu).unwrap();
+        (r, v)
+    }
 
     /// The smooth equinoctial formulas (the infinitesimal parts of `Equinoctial::to_state`)
     /// agree in value with the classical path whose real parts are used.
@@ -1313,17 +1249,277 @@ mod tests {
         }
     }
 
+    // -----------------------------------------------------------------------------------------
+    // SPEC T12
+    // -----------------------------------------------------------------------------------------
+
     #[test]
-    fn barker_closed_form() {
-        for m in [
-            0.0, 1e-300, 1e-8, 0.3, -2.0, 1e6, -1e12, 1e154, 1e200, -1e300,
-        ] {
-            let b: f64 = solve_barker(m).unwrap();
-            let back = b + b * b * b / 3.0;
-            assert!(
-                (back - m).abs() <= 4.0 * f64::EPSILON * m.abs(),
-                "{m}: {back}"
-            );
+    fn spec_t12_table() {
+        // 0.6π rounded to f64 (= 1.8849555921538759, one ulp below the decimal literal
+        // 1.884955592153876 of the SPEC).
+        let m = 0.6 * PI;
+        assert!((m - 1.884955592153876).abs() <= ulp(m));
+        // (e, E, ν, r) as tabulated (13 significant digits) and the same values from a 50-digit
+        // mpmath computation rounded to f64.
+        let table = [
+            (0.0, 1.884955592154, 1.884955592154, 1.0),
+            (0.5, 2.268208852924, 2.615146567139, 1.321118261874),
+            (0.9, 2.455277465697, 2.978020808229, 1.696227664315),
+            (0.99, 2.487393943121, 3.093499073623, 1.785600428516),
+        ];
+        let mp = [
+            (1.884955592153876, 1.884955592153876, 1.0),
+            (2.268208852924498, 2.61514656713852, 1.321118261873543),
+            (2.455277465697388, 2.978020808228909, 1.696227664315214),
+            (2.487393943120737, 3.093499073622661, 1.785600428515876),
+        ];
+        let mut max_tab: f64 = 0.0;
+        let mut max_mp: f64 = 0.0;
+        for (&(e, ea_t, nu_t, r_t), &(ea_m, nu_m, r_m)) in table.iter().zip(mp.iter()) {
+            let ea = solve_kepler(m, e).unwrap();
+            let nu = eccentric_to_true(ea, e).unwrap();
+            let nu2 = mean_to_true(m, e).unwrap();
+            // The planar orbit: i = Ω = ω = 0.
+            let el = Classical::new(1.0, e, 0.0, 0.0, 0.0, m).unwrap();
+            let (r, v) = state(1.0, &el);
+            assert_eq!((r[2], v[2]), (0.0, 0.0));
+            let rn = r.norm();
+            let nu_pos = r[1].atan2(r[0]);
+            // Tabulated to 13 significant digits: rounding error ≤ 5·10⁻¹³ absolute.
+            for (got, want) in [
+                (ea, ea_t),
+                (nu, nu_t),
+                (nu2, nu_t),
+                (rn, r_t),
+                (nu_pos, nu_t),
+            ] {
+                let err = (got - want).abs();
+                max_tab = max_tab.max(err);
+                assert!(err <= 1e-12, "e = {e}: {got} vs table {want}");
+            }
+            // Against the f64-rounded mpmath values: the map M ↦ (E, ν, r) has derivatives ≤ 2
+            // here, so a few ulps of 2π-sized quantities suffice: 4·10⁻¹⁵.
+            for (got, want) in [
+                (ea, ea_m),
+                (nu, nu_m),
+                (nu2, nu_m),
+                (rn, r_m),
+                (nu_pos, nu_m),
+            ] {
+                let err = (got - want).abs();
+                max_mp = max_mp.max(err);
+                assert!(err <= 4e-15, "e = {e}: {got} vs mpmath {want}");
+            }
+            // Energy −μ/(2a) = −½ and eccentricity recovered from the state. The energy cancels
+            // by a factor ≤ 2a/r ≤ 2, e from the eccentricity vector has absolute error of a few
+            // ε: 1e-13 is generous.
+            let energy = specific_energy(1.0, &r, &v).unwrap();
+            assert!((energy + 0.5).abs() <= 1e-13, "energy {energy}");
+            let back = state_to_classical(1.0, &r, &v).unwrap();
+            assert!((back.e - e).abs() <= 1e-13, "e {} vs {e}", back.e);
+            assert!((back.a - 1.0).abs() <= 1e-13);
+            assert_eq!((back.i, back.raan), (0.0, 0.0));
+            // 3-D, inclined.
+            let el3 = Classical::new(1.0, e, 0.7, 1.1, 2.3, m).unwrap();
+            let (r3, v3) = state(1.0, &el3);
+            assert!((r3.norm() - r_t).abs() <= 1e-12);
+            let energy = specific_energy(1.0, &r3, &v3).unwrap();
+            assert!((energy + 0.5).abs() <= 1e-13, "energy {energy}");
+            let back = state_to_classical(1.0, &r3, &v3).unwrap();
+            assert!((back.e - e).abs() <= 1e-13);
+        }
+        eprintln!("T12: max error vs table {max_tab:e}, vs mpmath {max_mp:e}");
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Conventions
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn circular_and_equatorial_conventions() {
+        let mu = 3.0;
+        // Circular, inclined: argp = 0, M = argument of latitude.
+        let el = Classical::new(2.0, 0.0, 0.8, 1.2, 2.0, 0.5).unwrap();
+        let (r, v) = state(mu, &el);
+        let back = state_to_classical(mu, &r, &v).unwrap();
+        assert_eq!(back.e, 0.0);
+        assert_eq!(back.argp, 0.0);
+        assert!(ang_diff(back.mean_anomaly, 2.5) <= 1e-14);
+        assert!(ang_diff(back.raan, 1.2) <= 1e-14 && (back.i - 0.8).abs() <= 1e-14);
+        // Equatorial, eccentric: raan = 0, argp = longitude of periapsis.
+        let el = Classical::new(2.0, 0.3, 0.0, 1.0, 0.5, 0.7).unwrap();
+        let (r, v) = state(mu, &el);
+        assert_eq!((r[2], v[2]), (0.0, 0.0));
+        let back = state_to_classical(mu, &r, &v).unwrap();
+        assert_eq!((back.i, back.raan), (0.0, 0.0));
+        assert!(ang_diff(back.argp, 1.5) <= 1e-14);
+        assert!(ang_diff(back.mean_anomaly, 0.7) <= 1e-14);
+        // Both: true longitude.
+        let el = Classical::new(2.0, 0.0, 0.0, 1.0, 0.5, 0.7).unwrap();
+        let (r, v) = state(mu, &el);
+        let back = state_to_classical(mu, &r, &v).unwrap();
+        assert_eq!((back.e, back.i, back.raan, back.argp), (0.0, 0.0, 0.0, 0.0));
+        assert!(ang_diff(back.mean_anomaly, 2.2) <= 1e-14);
+        assert!(ang_diff(back.mean_anomaly, r[1].atan2(r[0])) <= 1e-14);
+        // Retrograde equatorial (h along −z): i = π, argp measured clockwise from x.
+        let r = Vector3::new(1.0, 0.0, 0.0);
+        let v = Vector3::new(0.0, -1.2, 0.0);
+        let back = state_to_classical(1.0, &r, &v).unwrap();
+        assert_eq!((back.i, back.raan), (PI, 0.0));
+        assert_eq!((back.argp, back.mean_anomaly), (0.0, 0.0)); // at periapsis on +x
+        let (r2, v2) = state(1.0, &back);
+        assert!((r2 - r).norm() <= 1e-15 && (v2 - v).norm() <= 1e-15);
+        let r = Vector3::new(0.0, -1.0, 0.0); // a quarter turn clockwise from +x
+        let v = Vector3::new(-1.0, 0.0, 0.0);
+        let back = state_to_classical(1.0, &r, &v).unwrap();
+        assert_eq!(back.e, 0.0);
+        assert!(ang_diff(back.mean_anomaly, 0.5 * PI) <= 1e-15);
+        // Prograde planar motion: i = 0, ϖ = argp from the x axis, e from the state.
+        let pe = state_to_classical(1.0, &Vector3::x(), &Vector3::new(0.0, 1.2, 0.0)).unwrap();
+        assert_eq!(
+            (pe.i, pe.raan, pe.argp, pe.mean_anomaly),
+            (0.0, 0.0, 0.0, 0.0)
+        );
+        assert!((pe.e - 0.44).abs() <= 1e-15);
+    }
+
+    #[test]
+    fn nearly_circular_eccentricity_has_no_cancellation() {
+        // √(1 + 2εk²/μ²) would return ~1e-8 noise here; the eccentricity vector resolves e.
+        for &e in &[1e-6, 1e-9, 1e-12] {
+            let el = Classical::new(1.0, e, 0.4, 0.3, 1.0, 2.0).unwrap();
+            let (r, v) = state(1.0, &el);
+            let back = state_to_classical(1.0, &r, &v).unwrap();
+            assert!((back.e - e).abs() <= 16.0 * EPS, "{} vs {e}", back.e);
+        }
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Bad input
+    // -----------------------------------------------------------------------------------------
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let ood = |r: Result<Classical>| matches!(r, Err(Error::OutOfDomain { .. }));
+        let nf = |r: Result<Classical>| matches!(r, Err(Error::NonFinite { .. }));
+        for e in [1.0, 1.5, -0.1] {
+            assert!(ood(Classical::new(1.0, e, 0.1, 0.0, 0.0, 0.0)));
+        }
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(nf(Classical::new(1.0, 0.1, 0.1, bad, 0.0, 0.0)));
+            assert!(nf(Classical::new(bad, 0.1, 0.1, 0.0, 0.0, 0.0)));
+            let rb = Vector3::new(1.0, bad, 0.0);
+            let v = Vector3::new(0.0, 1.0, 0.0);
+            assert!(nf(state_to_classical(1.0, &rb, &v)));
+            assert!(nf(state_to_classical(1.0, &v, &rb)));
+        }
+        // a ≤ 0 for an ellipse, i outside [0, π].
+        assert!(ood(Classical::new(0.0, 0.1, 0.1, 0.0, 0.0, 0.0)));
+        assert!(ood(Classical::new(1.0, 0.1, -0.1, 0.0, 0.0, 0.0)));
+        assert!(ood(Classical::new(1.0, 0.1, 3.2, 0.0, 0.0, 0.0)));
+        let el = Classical::new(1.0, 0.1, 0.1, 0.0, 0.0, 0.0).unwrap();
+        let (r, v) = (Vector3::x(), Vector3::y());
+        for mu in [0.0, -1.0] {
+            assert!(matches!(el.to_state(mu), Err(Error::OutOfDomain { .. })));
+            assert!(ood(state_to_classical(mu, &r, &v)));
+        }
+        // Public fields mutated into an invalid state are caught.
+        let mut bad_el = el;
+        bad_el.e = 1.0;
+        assert!(matches!(
+            bad_el.to_state(1.0),
+            Err(Error::OutOfDomain { .. })
+        ));
+        // A hyperbolic state gives hyperbolic elements (r = 1, |v| = 2, μ = 1: a = −½, e = 3);
+        // rectilinear motion has none.
+        let hyp = state_to_classical(1.0, &r, &Vector3::new(0.0, 2.0, 0.0)).unwrap();
+        assert!((hyp.a + 0.5).abs() <= 4.0 * EPS && (hyp.e - 3.0).abs() <= 4.0 * EPS);
+        assert!(ood(state_to_classical(
+            1.0,
+            &r,
+            &Vector3::new(0.5, 0.0, 0.0)
+        )));
+        // r = 0.
+        assert!(matches!(
+            state_to_classical(1.0, &Vector3::zeros(), &v),
+            Err(Error::InvalidInput { .. })
+        ));
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Properties
+    // -----------------------------------------------------------------------------------------
+
+    /// An angle in `[0, 2π)`.
+    pub(crate) fn angle() -> impl Strategy<Value = f64> {
+        0.0..TAU
+    }
+
+    fn ecc_full() -> impl Strategy<Value = f64> {
+        prop_oneof![1 => Just(0.0), 1 => 0.0..1e-10, 6 => 0.0..0.99]
+    }
+
+    /// An inclination in `[0, π]`, with weight on the equatorial ends `0` and `π`.
+    pub(crate) fn incl_full() -> impl Strategy<Value = f64> {
+        prop_oneof![1 => Just(0.0), 1 => Just(PI), 6 => 0.0..=PI]
+    }
+
+    proptest! {
+        #![proptest_config(cfg())]
+
+        /// Elements → state → elements, where the elements are well defined (e ≥ 10⁻³,
+        /// i ∈ (0.01, π − 0.01)). The error of each element is bounded by a multiple of ε times
+        /// its condition number: a via vis-viva cancels by 2a/r ≤ 2/(1−e) (times ~3 from the
+        /// state's own errors), Ω ∝ 1/sin i, ω and the anomalies ∝ 1/e + 1/sin i, and M picks
+        /// up dM/dν ≤ (1+e)²/√(1−e²).
+        #[test]
+        fn elements_state_elements(
+            a in 0.1..10.0f64, e in 1e-3..0.99f64, i in 0.01..(PI - 0.01),
+            raan in angle(), argp in angle(), m in angle(), mu in 0.1..10.0f64,
+        ) {
+            let el = Classical::new(a, e, i, raan, argp, m).unwrap();
+            let (r, v) = state(mu, &el);
+            let b = state_to_classical(mu, &r, &v).unwrap();
+            const K: f64 = 64.0;
+            let ang = 1.0 / e + 1.0 / i.sin();
+            let dmdnu = (1.0 + e) * (1.0 + e) / ((1.0 - e) * (1.0 + e)).sqrt();
+            prop_assert!(((b.a - a) / a).abs() <= K * EPS / (1.0 - e), "a {} vs {a}", b.a);
+            prop_assert!((b.e - e).abs() <= K * EPS, "e {} vs {e}", b.e);
+            prop_assert!((b.i - i).abs() <= K * EPS, "i {} vs {i}", b.i);
+            prop_assert!(ang_diff(b.raan, raan) <= K * EPS / i.sin());
+            prop_assert!(ang_diff(b.argp, argp) <= K * EPS * ang);
+            prop_assert!(ang_diff(b.mean_anomaly, m) <= K * EPS * ang * dmdnu);
+            prop_assert!((0.0..TAU).contains(&b.raan) && (0.0..TAU).contains(&b.argp));
+            prop_assert!((0.0..TAU).contains(&b.mean_anomaly));
+        }
+
+        /// State → elements → state over the full range, including e = 0 and i ∈ {0, π}: this
+        /// map is well conditioned apart from the Kepler solve, whose sensitivity
+        /// dE/dM = a/r ≤ 1/(1−e) multiplies the ~ε errors of the elements. Snapping e below
+        /// CIRCULAR_TOLERANCE moves the state by ≤ 2·CIRCULAR_TOLERANCE relative.
+        #[test]
+        fn state_elements_state(
+            a in 0.1..10.0f64, e in ecc_full(), i in incl_full(),
+            raan in angle(), argp in angle(), m in angle(), mu in 0.1..10.0f64,
+        ) {
+            let el = Classical::new(a, e, i, raan, argp, m).unwrap();
+            let (r, v) = state(mu, &el);
+            let b = state_to_classical(mu, &r, &v).unwrap();
+            let (r2, v2) = state(mu, &b);
+            let tol = 64.0 * EPS / (1.0 - e) + 2.0 * CIRCULAR_TOLERANCE;
+            prop_assert!((r2 - r).norm() <= tol * r.norm(), "dr {:e}", (r2 - r).norm() / r.norm());
+            prop_assert!((v2 - v).norm() <= tol * v.norm(), "dv {:e}", (v2 - v).norm() / v.norm());
+            // Conventions at the degenerate points.
+            if e == 0.0 {
+                prop_assert_eq!(b.e, 0.0);
+                prop_assert_eq!(b.argp, 0.0);
+            }
+            if i == 0.0 {
+                // The planar orbit stays in the plane, both ways.
+                prop_assert_eq!((r[2], v[2], r2[2], v2[2]), (0.0, 0.0, 0.0, 0.0));
+                prop_assert_eq!(b.i, 0.0);
+                prop_assert_eq!(b.raan, 0.0);
+            }
         }
     }
 }
