@@ -8,7 +8,7 @@ use hamilton_jacobi::systems::{AngularMomentum, Kepler3};
 use hamilton_jacobi::{DualNum, PhaseFunction, Result};
 
 // ANCHOR: map
-/// Prob. 16/3 of Ardema: Q = q^α cos βp, P = q^α sin βp — canonical only for α = ½, β = 2.
+/// [Ardema Prob. 16/3]: Q = q^α cos βp, P = q^α sin βp — canonical only for α = ½, β = 2.
 struct PowerMap {
     alpha: f64,
     beta: f64,

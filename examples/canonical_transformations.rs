@@ -15,7 +15,7 @@ use hamilton_jacobi::transform::{
 use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 
 // ANCHOR: generator
-/// The oscillator's angle variables: F₁(q, Q) = ½ m ω q² cot Q (Ardema 16.5, SPEC T5).
+/// The oscillator's angle variables: F₁(q, Q) = ½ m ω q² cot Q [Ardema 16.5].
 struct AngleVariables {
     m: f64,
     omega: f64,
@@ -35,7 +35,7 @@ impl GeneratingFunction<1> for AngleVariables {
 }
 // ANCHOR_END: generator
 
-/// Free fall: F₁(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24 (SPEC T6).
+/// Free fall: F₁(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24 [Ardema 16.4].
 struct FreeFall {
     g: f64,
 }
@@ -56,7 +56,7 @@ impl GeneratingFunction<1> for FreeFall {
     }
 }
 
-/// Q = ln(sin p / q), P = q cot p (Ardema Prob. 16/2).
+/// Q = ln(sin p / q), P = q cot p [Ardema Prob. 16/2].
 struct Prob16_2;
 impl PhaseMap<1> for Prob16_2 {
     fn apply<D: DualNum<f64> + Copy>(
@@ -116,7 +116,9 @@ fn main() -> Result<()> {
         }
     }
 
-    println!("\n4. Point transformation to polar coordinates (T8), and Kepler's K in them");
+    println!(
+        "\n4. Point transformation to polar coordinates [Ardema 16.3], and Kepler's K in them"
+    );
     let polar = point_transformation(Polar);
     let (q2, p2) = (SVector::from([1.0, 0.5]), SVector::from([0.3, -0.7]));
     let (bq, bp) = polar.forward(0.0, &q2, &p2)?;

@@ -1,4 +1,4 @@
-//! The Kepler problem by Hamilton–Jacobi separation in polar coordinates (SPEC T13, M27, M55).
+//! The Kepler problem by Hamilton–Jacobi separation in polar coordinates [Ardema 10.1, 17.3].
 //!
 //! `K = kθ + ∫ √F(r) dr`, `F = 2h + 2μ/r − k²/r²`: the time law `∂K/∂h = t − t₀` and the orbit
 //! equation are quadratures between the apsides, evaluated through the turning points with the

@@ -1,4 +1,4 @@
-//! Action–angle variables of the pendulum by quadrature, up to the separatrix (SPEC M55, X2).
+//! Action–angle variables of the pendulum by quadrature, up to the separatrix [Ardema 17.3].
 //!
 //! `J = (1/2π)∮p dq`, `T = 2π dJ/dh`, and the angle `w = ωt` from the lower turning point. The
 //! exact factorised radicand takes the gap `δ = π − a` to the separatrix itself, so periods stay

@@ -1,5 +1,5 @@
-//! Hamilton's principal function by shooting against the closed forms of SPEC T1 (projectile) and
-//! T2 (oscillator), and the approach to the oscillator's focal point ωτ = π (SPEC X4).
+//! Hamilton's principal function by shooting against the closed forms for the projectile and the
+//! oscillator [Ardema 17.1], and the approach to the oscillator's focal point ωτ = π.
 //!
 //! Run with `cargo run --release --example hj_principal`.
 
@@ -12,13 +12,13 @@ use hamilton_jacobi::systems::{HarmonicOscillator, Projectile};
 use hamilton_jacobi::Result;
 use std::f64::consts::PI;
 
-/// T1: S = |q¹ − q⁰|²/(2τ) − ½ g (y⁰ + y¹) τ − g² τ³/24.
+/// Uniform gravity: S = |q¹ − q⁰|²/(2τ) − ½ g (y⁰ + y¹) τ − g² τ³/24.
 fn projectile_s(g: f64, q0: [f64; 2], q1: [f64; 2], tau: f64) -> f64 {
     let (dx, dy) = (q1[0] - q0[0], q1[1] - q0[1]);
     (dx * dx + dy * dy) / (2.0 * tau) - 0.5 * g * (q0[1] + q1[1]) * tau - g * g * tau.powi(3) / 24.0
 }
 
-/// T2: (S, p⁰, p¹) of the oscillator with unit mass.
+/// Harmonic oscillator: (S, p⁰, p¹) of the oscillator with unit mass.
 fn oscillator_s(w: f64, x0: f64, x1: f64, tau: f64) -> (f64, f64, f64) {
     let (s, c) = (w * tau).sin_cos();
     (
@@ -39,7 +39,7 @@ fn main() -> Result<()> {
     let opts = PrincipalOptions::<2>::default();
     let opts1 = PrincipalOptions::<1>::default();
 
-    // T1, with the six derivatives of S from one dual evaluation (slots q⁰, q¹, t₀, t₁).
+    // Uniform gravity, with the six derivatives of S from one dual evaluation (slots q⁰, q¹, t₀, t₁).
     let g = 9.81;
     let proj = Projectile::new(1.0, g)?;
     let (q0, q1, t0, t1) = ([0.0, 0.0], [10.0, 5.0], 0.0, 2.0);
@@ -54,7 +54,7 @@ fn main() -> Result<()> {
     )?;
     let ds = v.s.eps();
     let h = 0.5 * (25.0 + 12.31 * 12.31);
-    println!("SPEC T1 (projectile, g = 9.81, (0, 0) → (10, 5), τ = 2)\n");
+    println!("Projectile (g = 9.81, (0, 0) → (10, 5), τ = 2) [Ardema 17.1]\n");
     println!("| quantity | closed form | shooting | difference |");
     println!("|---|---|---|---|");
     row("S", projectile_s(g, q0, q1, t1 - t0), r.s);
@@ -72,7 +72,7 @@ fn main() -> Result<()> {
         r.steps, r.iterations, r.work.gradients
     );
 
-    // T2.
+    // Harmonic oscillator.
     let osc = HarmonicOscillator::new(1.0, 2.0)?;
     let r = principal_function(
         &osc,
@@ -83,7 +83,7 @@ fn main() -> Result<()> {
         &opts1,
     )?;
     let (s, p0, p1) = oscillator_s(2.0, 1.0, 0.5, 1.0);
-    println!("SPEC T2 (oscillator, ω = 2, x⁰ = 1, x¹ = 0.5, τ = 1)\n");
+    println!("Oscillator (ω = 2, x⁰ = 1, x¹ = 0.5, τ = 1) [Ardema 17.1]\n");
     println!("| quantity | closed form | shooting | difference |");
     println!("|---|---|---|---|");
     row("S", s, r.s);
@@ -94,9 +94,9 @@ fn main() -> Result<()> {
         r.error.s, r.error.p0[0], r.error.p1[0], r.steps
     );
 
-    // X4: the unit oscillator approaching its focal point τ = π.
+    // The unit oscillator approaching its focal point τ = π.
     let unit = HarmonicOscillator::new(1.0, 1.0)?;
-    println!("SPEC X4 (ω = 1, x⁰ = 1, x¹ = 0.5, τ → π)\n");
+    println!("Focal point (ω = 1, x⁰ = 1, x¹ = 0.5, τ → π)\n");
     println!("| π − τ | S closed form | S shooting | relative error | estimate | rcond | M |");
     println!("|---|---|---|---|---|---|---|");
     for k in 1..=9 {

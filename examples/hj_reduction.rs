@@ -1,7 +1,7 @@
 //! Using known integrals to lower the order of a problem: Whittaker's reduction with the energy
-//! integral (SPEC M47, T42), Jacobi's last multiplier and Liouville's determinant (M48, T31), the
-//! two-degree-of-freedom quadrature for the Kepler problem (M48), and the separated integrals of a
-//! Liouville system (M25, T39).
+//! integral, Jacobi's last multiplier and Liouville's determinant, the two-degree-of-freedom
+//! quadrature for the Kepler problem [Ardema 15.6], and the separated integrals of a Liouville
+//! system [Ardema 8.4].
 //!
 //! Run with `cargo run --release --example hj_reduction`.
 
@@ -14,7 +14,7 @@ use hamilton_jacobi::systems::Pendulum;
 use hamilton_jacobi::{hamiltonian, DualNum, Hamiltonian, Result};
 
 hamiltonian!(
-    /// SPEC T42: H = ½(p_x² + p_y²) + g x + ½ k² y².
+    /// H = ½(p_x² + p_y²) + g x + ½ k² y² [Ardema 15.6].
     FallOscillator<2> { g: f64, k: f64 } |s, _t, q, p| p.dot(p) * 0.5 + q[0] * s.g + q[1] * q[1] * (0.5 * s.k * s.k)
 );
 
@@ -50,9 +50,9 @@ impl TwoDofMomenta for Kepler {
     }
 }
 
-/// SPEC T39: U = q₁² + q₂², v = 1, W = q₁⁴ + q₂⁴.
-struct T39;
-impl LiouvilleSystem<2> for T39 {
+/// A Liouville system [Ardema 8.4]: U = q₁² + q₂², v = 1, W = q₁⁴ + q₂⁴.
+struct QuarticLiouville;
+impl LiouvilleSystem<2> for QuarticLiouville {
     fn u<D: DualNum<f64> + Copy>(&self, _s: usize, q: D) -> D {
         q * q
     }
@@ -72,7 +72,7 @@ fn main() -> Result<()> {
     let energy = sys.value(0.0, &q0, &p0)?;
     let w = Whittaker::new(sys, energy, 0)?;
     println!(
-        "T42: y(p_x) is a sinusoid of wavenumber k/g = {}; t = (p_x0 − p_x)/g",
+        "Projectile reduced on p_x: y(p_x) is a sinusoid of wavenumber k/g = {}; t = (p_x0 − p_x)/g",
         k / g
     );
     println!("| p_x | y (reduced, RK4 in p_x) | y exact | x = φ | t | y(t) exact |");
@@ -101,7 +101,7 @@ fn main() -> Result<()> {
         }
     }
 
-    // --- Liouville's determinant and the last multiplier (T31). ---
+    // --- Liouville's determinant and the last multiplier [Ardema 15.6, 16.4]. ---
     let (t_end, c) = (7.3, 0.2);
     let (th, om) = (SVector::from([2.0]), SVector::from([0.5]));
     let f = variational_flow(&Pendulum::new(1.0)?, 0.0, &th, &om, t_end, 7300)?;
@@ -134,9 +134,9 @@ fn main() -> Result<()> {
         mean(anomaly(1.2)) - mean(anomaly(0.6))
     );
 
-    // --- Liouville system (T39). ---
+    // --- Liouville system [Ardema 8.4]. ---
     let (h39, gam) = liouville_separated_integrals(
-        &T39,
+        &QuarticLiouville,
         &SVector::from([1.0, 0.5]),
         &SVector::from([0.2, -0.3]),
     )?;

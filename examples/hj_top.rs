@@ -1,4 +1,4 @@
-//! The heavy symmetric top by Hamilton–Jacobi quadratures (SPEC M30, M57, T14, X1): the T14 table
+//! The heavy symmetric top by Hamilton–Jacobi quadratures [Ardema 11.2, 17.5]: reference values
 //! (quadrature against the elliptic closed form and against integration of Hamilton's equations),
 //! fast tops, and the sleeping top around its critical spin.
 //!
@@ -38,7 +38,7 @@ fn main() -> Result<()> {
     let top = HeavyTop::new(1.0, 0.5, 1.0)?;
     let deg = 180.0 / std::f64::consts::PI;
 
-    // T14a: release from rest at θ₂ = 60° with ω_z = 5.
+    // Release from rest at θ₂ = 60° with ω_z = 5.
     let theta2 = 60f64.to_radians();
     let (q0, p0) = (
         SVector::from([0.0, theta2, 0.0]),
@@ -50,15 +50,15 @@ fn main() -> Result<()> {
     let period = nut.period()?;
     let (dphi, dpsi) = (nut.precession_per_period()?, nut.spin_per_period()?);
     let (q, p) = rk4(&top, q0, p0, period.value, 20_000, |_| {});
-    println!("T14a  release from rest at 60°, ω_z = 5 (I = 1, J = 0.5, mgℓ = 1)\n");
-    println!("| quantity | SPEC | quadrature / cubic | elliptic | RK4 (20 000 steps) |");
+    println!("Release from rest at 60°, ω_z = 5 (I = 1, J = 0.5, mgℓ = 1)\n");
+    println!("| quantity | reference | quadrature / cubic | elliptic | RK4 (20 000 steps) |");
     println!("|---|---|---|---|---|");
     println!(
         "| u₁ | 0.191767987533668 | {u1:.15} | — | {:.13} (θ at t = T/2) |",
         rk4(&top, q0, p0, 0.5 * period.value, 10_000, |_| {}).0[1].cos()
     );
     println!(
-        "| u₁ [11.24, X1 form] | 0.191767987533668 | {:.15} | — | — |",
+        "| u₁ [11.24, factored form] | 0.191767987533668 | {:.15} | — | — |",
         motion::release_from_rest(&top, u2, 5.0)?
     );
     let [th_min, th_max] = c.theta_range();
@@ -111,7 +111,7 @@ fn main() -> Result<()> {
             nut.precession_per_period()?.value
         );
     }
-    // SPEC X1: the textbook form of [Ardema eq. 11.24] at γ = 1e4 (ω_z = 2e4).
+    // A fast top: the textbook form of [Ardema eq. 11.24] at γ = 1e4 (ω_z = 2e4).
     let cc = 1e8 / (2.0 * top.beta());
     println!(
         "\nγ = 1e4: u₁ naive c − √(1 − 2cu₂ + c²) = {:.11}, stable = {:.11}",
@@ -119,14 +119,14 @@ fn main() -> Result<()> {
         motion::release_from_rest(&top, u2, 2e4)?
     );
 
-    // T14b: steady precession at 30°.
+    // Steady precession at 30°.
     let theta0 = 30f64.to_radians();
     let sp = top.steady_precession(theta0, 5.0)?;
     let fast = sp.fast.expect("cos θ₀ ≠ 0");
     println!("\nT14b  steady precession at 30°, ω_z = 5");
     println!(
-        "fast φ̇ = {fast:.14} (SPEC 2.40703162555988), slow φ̇ = {:.15} (SPEC 0.479719720388246), \
-         minimum spin {:.14} (SPEC 3.72241943640840)",
+        "fast φ̇ = {fast:.14} (ref. 2.40703162555988), slow φ̇ = {:.15} (ref. 0.479719720388246), \
+         minimum spin {:.14} (ref. 3.72241943640840)",
         sp.slow,
         top.min_spin_for_steady_precession(theta0)?
     );
@@ -145,7 +145,7 @@ fn main() -> Result<()> {
         steady.precession_per_period()?.value / steady.period()?.value
     );
 
-    // T14c: the sleeping top around the critical spin.
+    // The sleeping top around the critical spin.
     println!(
         "\nT14c  sleeping top from θ = 1e−3 rad, θ̇ = φ̇ = 0; critical spin ω_c = {}",
         top.critical_spin()?

@@ -1,4 +1,4 @@
-//! Kepler + J₂ by Lagrange's planetary equations (M59).
+//! Kepler + J₂ by Lagrange's planetary equations [Ardema 18.1].
 //!
 //! * Secular rates of Ω, ω and M − n: Brouwer's closed forms, the planetary equations averaged
 //!   over the mean anomaly (AD brackets, trapezoidal rule), and least-squares slopes of the
@@ -111,7 +111,7 @@ fn main() -> Result<()> {
     println!("\nsecular rates at the mean elements (averaging: 64 nodes, {avg_time:?})");
     println!(
         "{:>8} | {:>15} | {:>15} | {:>15} | {:>10}",
-        "rate", "Brouwer", "averaged M59", "fit (Cartesian)", "fit − th"
+        "rate", "Brouwer", "averaged planetary eqs.", "fit (Cartesian)", "fit − th"
     );
     for (name, t, a, f) in [
         ("Ω̇", th.raan, avg.mean.1[0], fit_raan),

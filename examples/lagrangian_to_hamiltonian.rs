@@ -1,5 +1,5 @@
 //! From a Lagrangian to a Hamiltonian: the Legendre transform by Newton's method with the AD mass
-//! matrix, the Jacobi integral of the bead on a rotating hoop (SPEC T24), and Routh's reduction.
+//! matrix, the Jacobi integral of the bead on a rotating hoop [Ardema 8.2], and Routh's reduction.
 //!
 //! Run with `cargo run --release --example lagrangian_to_hamiltonian`.
 

@@ -1,10 +1,10 @@
 //! Higher-order perturbation theory for the pendulum: the Lie-series normal form to order N in a²,
 //! cross-checked by Lindstedt–Poincaré and measured against the exact elliptic period
-//! (SPEC T9, X2).
+//! up to the separatrix; second order as in [Ardema 18.2].
 //!
 //! Run with `cargo run --release --example pendulum_order_n`.
 
-// 3.14 is a SPEC T9 amplitude, not an approximation of π.
+// 3.14 is an amplitude of the period table, not an approximation of π.
 #![allow(clippy::approx_constant)]
 
 use hamilton_jacobi::perturbation::lindstedt::lindstedt_pendulum;

@@ -1,5 +1,5 @@
 //! The pendulum's exact period from small amplitude to the separatrix, by the AGM with the
-//! complementary modulus computed from the gap δ = π − a (SPEC T9, X2).
+//! complementary modulus computed from the gap δ = π − a.
 //!
 //! Run with `cargo run --release --example pendulum_separatrix`.
 

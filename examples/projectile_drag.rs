@@ -1,10 +1,10 @@
-//! Variation of constants for a projectile with linear drag (SPEC T10, M58, M59).
+//! Variation of constants for a projectile with linear drag [Ardema 18.1].
 //!
 //! Unit mass, unperturbed motion `x = γ₁t + γ₃`, `y = −½gt² + γ₂t + γ₄`, `p_x = γ₁`,
 //! `p_y = −gt + γ₂`; perturbation `R = −k p` in the momentum equation. The element equations
 //! `γ̇₁ = R_x`, `γ̇₂ = R_y`, `γ̇₃ = −tR_x`, `γ̇₄ = −tR_y` are obtained both from the general form
-//! `γ̇ = (∂φ/∂γ)⁻¹ g` (M58) and from Lagrange's bracket form `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j`
-//! (M59), integrated with RK4 + Richardson extrapolation, and compared with the exact drag solution
+//! `γ̇ = (∂φ/∂γ)⁻¹ g` and from Lagrange's bracket form `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j`
+//! [Ardema 18.1], integrated with RK4 + Richardson extrapolation, and compared with the exact drag solution
 //! `x = (u₀/k)(1 − e^{−kt})`, `y = ((v₀ + g/k)/k)(1 − e^{−kt}) − gt/k`.
 //!
 //! Run: `cargo run --release --example projectile_drag`
@@ -70,7 +70,7 @@ fn main() -> hamilton_jacobi::Result<()> {
         solution: Projectile,
         force: Drag,
     };
-    println!("| t | γ₁ | γ₂ | γ₃ | γ₄ | x (elements) | y (elements) | x − exact | y − exact | M58 − M59 | Richardson est. |");
+    println!("| t | γ₁ | γ₂ | γ₃ | γ₄ | x (elements) | y (elements) | x − exact | y − exact | general − bracket | Richardson est. |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for t in [0.5, 1.0, 1.5, 2.0, 3.0, 5.0] {
         let steps = (500.0 * t) as usize;
@@ -95,6 +95,6 @@ fn main() -> hamilton_jacobi::Result<()> {
             r58.max_error()
         );
     }
-    println!("\nSPEC T10 at t = 2: (x, y) = (4.51188363905974, −10.2046234821692).");
+    println!("\nReference at t = 2: (x, y) = (4.51188363905974, −10.2046234821692).");
     Ok(())
 }

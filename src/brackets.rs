@@ -1,6 +1,6 @@
 //! Poisson and Lagrange brackets, canonicity tests of maps, Liouville's determinant.
 //!
-//! Conventions (SPEC §0.1–0.2):
+//! Conventions:
 //!
 //! $$ (F, G) = \sum_r \Big(\frac{\partial F}{\partial q_r}\frac{\partial G}{\partial p_r}
 //!            - \frac{\partial F}{\partial p_r}\frac{\partial G}{\partial q_r}\Big)

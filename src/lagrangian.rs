@@ -1,8 +1,8 @@
 //! Lagrangian systems, the Legendre transform, Lagrange's equations, Rayleigh dissipation,
 //! the Jacobi integral and Routh's reduction — all derived by AD from `L` written once.
 //!
-//! * Lagrange's equations [Ardema 6.4, eq. 6.33] with the crate's Rayleigh convention (SPEC §0.4:
-//!   `D = ½ q̇ᵀ d q̇ ≥ 0`, `Q^d = −∂D/∂q̇`):
+//! * Lagrange's equations [Ardema 6.4, eq. 6.33] with the Rayleigh function of the sign opposite
+//!   to [Ardema eqs. 6.37–6.38], `D = ½ q̇ᵀ d q̇ ≥ 0`, `Q^d = −∂D/∂q̇`:
 //!   $$ E(t, q, \dot q, \ddot q) = \frac{d}{dt}\frac{\partial L}{\partial \dot q}
 //!      - \frac{\partial L}{\partial q} - Q^{nc} + \frac{\partial D}{\partial \dot q} = 0 . $$
 //! * Legendre transform [Ardema 15.1, eqs. 15.3–15.17]: `p = ∂L/∂q̇`,
@@ -27,7 +27,7 @@ use num_dual::{linalg::LU, Dual64, DualNum};
 /// requires the mass matrix `∂²L/∂q̇²` to be non-singular where it is used.
 ///
 /// # Reference
-/// M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum 2005, ch. 6 and 15; SPEC M14, M17, M23, M24, M44.
+/// M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum 2005, §§6.1–6.4, 8.2–8.3 and 15.1.
 pub trait Lagrangian<const N: usize> {
     /// The Lagrangian `L(t, q, q̇)`.
     fn lagrangian<D: DualNum<f64> + Copy>(
@@ -48,7 +48,7 @@ pub trait Lagrangian<const N: usize> {
         None
     }
 
-    /// Rayleigh dissipation function `D(t, q, q̇) ≥ 0` in the crate convention (SPEC §0.4),
+    /// Rayleigh dissipation function `D(t, q, q̇) ≥ 0` in the crate convention,
     /// contributing `Q^d = −∂D/∂q̇`; `None` (default) for none. A book-sign function
     /// (`D_Ardema = −D`) must be negated before it is returned here.
     fn dissipation<D: DualNum<f64> + Copy>(
@@ -175,7 +175,7 @@ pub trait Lagrangian<const N: usize> {
     }
 
     /// Jacobi integral `h = q̇·∂L/∂q̇ − L` [Ardema eq. 8.12]; constant when `L` has no explicit `t`,
-    /// the forces derive from a potential and the constraints are catastatic (M23).
+    /// the forces derive from a potential and the constraints are catastatic.
     fn jacobi_integral(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<f64> {
         check_state(t, q, qdot)?;
         let (l, _, lv) =

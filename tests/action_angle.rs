@@ -1,4 +1,4 @@
-//! Action–angle variables by quadrature (SPEC M26, M55, X2): oscillator and pendulum against closed
+//! Action–angle variables by quadrature [Ardema 9.2, 17.3]: oscillator and pendulum against closed
 //! forms, the AGM period up to the separatrix, and the motion against numerical integration.
 
 mod common;
@@ -28,7 +28,7 @@ fn oscillator_action_and_period() {
 }
 
 /// X2: the pendulum period from the exact factorised radicand against the AGM closed form, for
-/// amplitudes from 0.1 to δ = π − a = 1e−16, including SPEC X2's reference values for δ given
+/// amplitudes from 0.1 to δ = π − a = 1e−16, including 15-digit reference periods for δ given
 /// exactly. The quadrature's requested tolerance is 1e−14; near the separatrix the integrand has a
 /// logarithmic peak of width √δ resolved by bisection, so ≤ 1e−12 is asserted.
 #[test]

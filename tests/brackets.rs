@@ -1,4 +1,4 @@
-//! Poisson and Lagrange brackets, canonicity: SPEC T5, T6, T7, T11 and the bracket identities (M46, M50).
+//! Poisson and Lagrange brackets, canonicity: [Ardema 15.5, 16.3–16.5, 18.3; Probs. 16/1–16/3].
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Central forces by Hamilton–Jacobi separation: SPEC T13, X1, X3 (e → 0, e → 1), M27, and the
+//! Central forces by Hamilton–Jacobi separation [Ardema 10.1], from e → 0 to e → 1, and the
 //! same motion by numerical integration of Hamilton's equations.
 
 mod common;
@@ -34,7 +34,7 @@ fn t13_half_period_and_swept_angle() {
     assert_relative_eq!(generic.apoapsis(), 1.5, max_relative = 1e-15);
     assert_relative_eq!(generic.half_period().value, PI, max_relative = 1e-12);
     assert_relative_eq!(generic.apsidal_angle().value, PI, max_relative = 1e-12);
-    // And the SPEC M27 API with a mass: m = 2, K = m k, h_total = m h.
+    // And `central_quadrature` with a mass: m = 2, K = m k, h_total = m h.
     let (dt, dth) = central_quadrature(Scaled(2.0), 2.0, 2.0 * h, 2.0 * k, 0.5, 1.5, 10.0).unwrap();
     assert_relative_eq!(dt.value, PI, max_relative = 1e-12);
     assert_relative_eq!(dth.value, PI, max_relative = 1e-12);

@@ -237,7 +237,7 @@ fn kepler_100_periods_position_error() {
     assert!(err <= 1e-9, "{err:e}");
 }
 
-/// SPEC T12 cross-check: e = 0.9 and 0.99 at t = 0.3 T (mean anomaly 0.6π) against the 50-digit
+/// Cross-check: e = 0.9 and 0.99 at t = 0.3 T (mean anomaly 0.6π) against the 50-digit
 /// values of `r` and `ν` (tests of the Kepler element sets) and the full state from Kepler's equation, at
 /// rtol = atol = 1e−13. Leaving periapsis, `n_p ≈ 100–300` steps each with local error
 /// `≲ 10⁻¹³·|y|` (|y| ≤ 14 for e = 0.99) and no secular drift yet within 0.3 T: ≲ 1e−11 in position.

@@ -1,6 +1,6 @@
 //! Element sets of the Kepler problem (classical, equinoctial, modified equinoctial, Delaunay):
-//! round trips, SPEC T12 and X3 values, canonicity of the Delaunay variables by AD, regularity of
-//! the equinoctial sets at e = 0 and i = 0 (SPEC X12), Kepler's equation for every conic and
+//! round trips, reference anomalies, canonicity of the Delaunay variables by AD, regularity of
+//! the equinoctial sets at e = 0 and i = 0, Kepler's equation for every conic and
 //! exact two-body propagation.
 
 mod common;
@@ -165,7 +165,7 @@ fn perifocal_oracle(mu: f64, el: &Classical) -> (V3, V3) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// SPEC T12 and X3
+// Kepler's equation: the state at t = 0.3 T [Ardema 10.2–10.3] and near e = 1
 // ---------------------------------------------------------------------------------------------
 
 /// T12: μ = a = 1, M = 0.3·2π; E, ν and r tabulated to 13 digits (absolute rounding ≤ 5e−13, so
@@ -201,7 +201,7 @@ fn t12_kepler_equation_and_state() {
     eprintln!("T12 worst deviation from the table: {worst:e}");
 }
 
-/// X3 reference values through the generic solver (real parts), with the SPEC's relative
+/// Near-parabolic reference values through the generic solver (real parts), with relative
 /// tolerances (∂E/∂e ≈ 110 in the first case: 1e−12).
 #[test]
 fn x3_reference_values() {
@@ -332,7 +332,7 @@ fn anomaly_derivatives_are_exact() {
 // ---------------------------------------------------------------------------------------------
 
 /// state → elements → state for every set, and elements → state → elements where the elements
-/// are well-defined, on the SPEC's grid of eccentricities, at several anomalies and inclinations
+/// are well-defined, on a grid of eccentricities (0 to 10), at several anomalies and inclinations
 /// including i = 0. State round trips are held to [`state_tol`] of each set's representation
 /// limit, and to the flat 1e−13 wherever that limit is below rounding level (every eccentricity
 /// here except 0.99, where storing λ costs ulp(λ)·∂ν/∂M ≈ 6e−13 at periapsis, and 1 − 1e−9, where
@@ -532,7 +532,7 @@ fn conversions_between_sets() {
             assert!(rel_err(&perifocal_oracle(mu, &el), &st) <= 1e-14);
         }
     }
-    // Conventions at the singularities (SPEC X12): circular → ω = 0, equatorial → Ω = 0.
+    // Conventions at the singularities: circular → ω = 0, equatorial → Ω = 0.
     let st = classical(1.0, 0.0, 0.5, 1.0, 2.0, 0.3)
         .to_state(1.0)
         .unwrap();
@@ -671,7 +671,7 @@ fn central_difference<M: PhaseMap<3>>(
     out
 }
 
-/// SPEC X12: the equinoctial Jacobians ∂(q, p)/∂(elements) are finite and non-singular at
+/// The equinoctial Jacobians ∂(q, p)/∂(elements) are finite and non-singular at
 /// e = 0, i = 0 (they match central differences with h = 1e−5 to 1e−8: truncation h² ≈ 1e−10 and
 /// rounding ε/h ≈ 2e−11 for O(1) entries), while the classical Jacobian is singular there
 /// (det = 0 up to rounding: the columns of Ω, ω and M coincide at e = i = 0).

@@ -1,4 +1,4 @@
-//! Complete integrals and Jacobi's theorem: SPEC T3, T4, HJ residuals (M53, M54).
+//! Complete integrals, Jacobi's theorem [Ardema 17.2, 17.4]: projectile, oscillator, HJ residuals.
 
 mod common;
 

@@ -329,7 +329,7 @@ fn classical_brackets_have_the_textbook_entries() {
     // Nonzero brackets of (a, e, i, Ω, ω, M₀) at t = t₀ (Vallado 2013 §9.3; Brouwer & Clemence
     // 1961 ch. XI): [a, M₀] = −na/2, [a, ω] = −(na/2)√(1−e²), [a, Ω] = −(na/2)√(1−e²) cos i,
     // [e, ω] = na²e/√(1−e²), [e, Ω] = na²e cos i/√(1−e²), [i, Ω] = na²√(1−e²) sin i,
-    // with the crate's orientation [u, v] = Σ ∂q/∂u ∂p/∂v − ∂p/∂u ∂q/∂v (SPEC §0.2), whose sign
+    // with the orientation [u, v] = Σ ∂q/∂u ∂p/∂v − ∂p/∂u ∂q/∂v [Ardema eq. 16.24], whose sign
     // is fixed here by the first entry. Rounding of a few ulps of na²: tolerance 1e−13.
     let el = leo();
     let sol = ClassicalSolution::new(MU, 0.0).unwrap();

@@ -1,5 +1,5 @@
 //! Lagrangian core: Legendre transform (general and natural), Lagrange's equations, Rayleigh
-//! dissipation, Jacobi integral (SPEC T24), Routhian (SPEC T25), round trip L → H → L.
+//! dissipation, Jacobi integral [Ardema 8.2], Routhian [Ardema 8.3], round trip L → H → L.
 
 mod common;
 

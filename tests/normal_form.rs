@@ -1,6 +1,6 @@
 //! Higher-order perturbation theory for one degree of freedom: the Lie-series normal form of the
 //! pendulum to order N in a², cross-checked by Lindstedt–Poincaré, and both measured against the
-//! exact elliptic period (SPEC T9, X2, M60–M61).
+//! exact elliptic period up to the separatrix [Ardema 18.2–18.3].
 //!
 //! Oracles:
 //! * `PERIOD_SERIES`, `ENERGY_SERIES`: exact rational series, computed independently of the crate
@@ -8,10 +8,10 @@
 //!   `2K/π = Σ ((1/2)_j/j!)² m^j` (DLMF 19.5.1) and `m = sin²(a/2) = (1 − cos a)/2` re-expanded in
 //!   `a²`; `H̄(J)` by reverting the action `J(m) = (8/π)[E(m) − (1 − m)K(m)]` (n = 1,
 //!   `2E/π = Σ (−1/2)_j (1/2)_j/(j!)² m^j`, DLMF 19.5.2), energy `2m`.
-//! * SPEC T9 table: exact ratios τ/(2π/n) to 15 digits.
+//! * The exact ratios τ/(2π/n) = 2K(k)/π, k = sin(a/2), tabulated to 15 digits.
 //! * `pendulum_exact::period` (AGM) and `pendulum_exact::exact_state` (Jacobi functions).
 
-// 3.14 is a SPEC T9 amplitude, not an approximation of π.
+// 3.14 is an amplitude of the period table, not an approximation of π.
 #![allow(clippy::approx_constant)]
 
 use hamilton_jacobi::nalgebra::Complex;
@@ -70,7 +70,7 @@ fn c_exact(k: usize) -> f64 {
     PERIOD_SERIES[k].0 / PERIOD_SERIES[k].1
 }
 
-/// SPEC T9: (a, exact τ/(2π/n)).
+/// The pendulum's period table: (a, exact τ/(2π/n)).
 const T9: [(f64, f64); 8] = [
     (0.1, 1.00062535830774),
     (0.5, 1.01585253110144),
@@ -247,14 +247,14 @@ fn errors_per_order_against_exact_period() {
             "a = {a}: rel. errors N = 1…12: {:?}",
             row.iter().map(|e| format!("{e:.2e}")).collect::<Vec<_>>()
         );
-        // SPEC T9/X2: the second-order approximation (N = 1) is off by the table's amount.
+        // The second-order approximation (N = 1) is off by the table's amount.
         let e1 = nfs[0].period_ratio(a).unwrap().value;
         let want = 1.0 + a * a / 16.0;
         assert!(rel(e1, want) <= 2.0 * EPS);
         let e2 = nfs[1].period_ratio(a).unwrap().value;
         assert!(rel(e2, want + 11.0 * a.powi(4) / 3072.0) <= 4.0 * EPS);
     }
-    // SPEC X2: 39 % at a = 3 and 84 % at π − 1e−6 for the second-order approximation.
+    // Near the separatrix: 39 % at a = 3 and 84 % at π − 1e−6 for the second-order approximation.
     let e = nfs[0].period_ratio(3.0).unwrap();
     let ex = period(1.0, 3.0).unwrap() / (2.0 * PI);
     assert!(((e.value - ex) / ex + 0.392).abs() < 1e-3);

@@ -1,7 +1,7 @@
-//! Hamilton's principal function by shooting: SPEC T1, T2 (closed forms), the derivative
-//! identities of M52 and the Hamilton–Jacobi residuals of M53 from dual evaluations of `S`, the
-//! approach to the focal point (X4), non-linear systems against an independent integration, and
-//! typed errors for bad input.
+//! Hamilton's principal function by shooting: the projectile and the oscillator in closed form
+//! [Ardema 17.1], the derivative identities and Hamilton–Jacobi residuals [Ardema 17.1–17.2] from
+//! dual evaluations of `S`, the approach to the focal point, non-linear systems against an
+//! independent integration, and typed errors for bad input.
 //!
 //! Tolerances. Unless a test says otherwise, the solver is run with its default options: the step
 //! count `M` of the extrapolated RK4 pair is raised until the estimated error of `S`, `p⁰`, `p¹`
@@ -107,7 +107,7 @@ fn check_identities<H: Hamiltonian<N>, const N: usize, const M: usize>(
 }
 
 // ---------------------------------------------------------------------------------------------
-// SPEC T1
+// Projectile [Ardema 17.1]
 // ---------------------------------------------------------------------------------------------
 
 /// T1. Classical RK4 is exact for this motion: all elementary differentials of order ≥ 4 of the
@@ -130,7 +130,7 @@ fn t1_projectile_principal_function() {
             r.s
         );
         assert!((s - exact).abs() <= 1e-12 * exact.abs());
-        assert!((r.s - -49.8787).abs() < 5e-5); // the SPEC value as printed
+        assert!((r.s - -49.8787).abs() < 5e-5); // the six-digit reference value
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
         assert!(close(r.p0[0], 5.0) && close(r.p0[1], 12.31), "p⁰ {}", r.p0);
         assert!(close(r.p1[0], 5.0) && close(r.p1[1], -7.31), "p¹ {}", r.p1);
@@ -150,7 +150,7 @@ fn t1_projectile_principal_function() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// SPEC T2
+// Harmonic oscillator [Ardema 17.1]
 // ---------------------------------------------------------------------------------------------
 
 /// T2 instance. Path maxima: `|p| ≤ 2.7`, `|S|, τ|L| ≤ 4`; the solver's target is `1e−12` of those,
@@ -235,7 +235,7 @@ proptest! {
 }
 
 // ---------------------------------------------------------------------------------------------
-// SPEC X4: focal point of the unit oscillator
+// Focal point of the unit oscillator
 // ---------------------------------------------------------------------------------------------
 
 /// X4 near the focal point: τ = π − δ, δ = 1e−3 and 1e−6 (S = −1125.000, u₀ = 1500 and
@@ -284,7 +284,7 @@ fn x4_near_the_focal_point() {
         assert!((r.s - s).abs() <= r.error.s);
         assert!((r.p0[0] - p0).abs() <= r.error.p0[0]);
         assert!((r.rcond / delta - 1.0).abs() < 0.01, "rcond {}", r.rcond);
-        // The SPEC values as printed (four significant digits).
+        // The reference values to four significant digits.
         assert!(((r.s - s_spec) / s_spec).abs() < 5e-4);
         assert!(((r.p0[0] - u0_spec) / u0_spec).abs() < 5e-4);
     }

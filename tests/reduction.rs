@@ -497,7 +497,7 @@ fn t31_flow_determinants_by_variational_equations() {
             ed <= 2.0 * ed0 * scale + rounding,
             "damped, {n} steps: {ed:e}"
         );
-        // SPEC T31: the variational equations give both determinants to 1e−14.
+        // The variational equations give both determinants to 1e−14.
         assert!(ef <= 1e-14 && ed <= 1e-14);
         assert!(((c * t_end).exp() * (ed + exact_damped) - 1.0).abs() < 1e-13);
     }
@@ -552,7 +552,7 @@ fn t31_flow_determinants_by_variational_equations() {
     // Central differences with e = 1e−6 of the same RK4 map (tests/common, plain summation): each
     // end state carries a rounding error δ ≲ n ε ‖Φ‖ |x| (n = 7300 steps, worst case without
     // compensation), each difference quotient errs by δ/e, the determinant by ~ 2 ‖Φ‖ δ/e — about
-    // 1e−7 as a bound, measured a few 1e−9: the "integration error divided by e" of SPEC X11, five
+    // 1e−7 as a bound, measured a few 1e−9: the expected "integration error divided by e", five
     // orders above the variational result. (The truncation e² |∂³x/∂x₀³| is ~ 1e−12.)
     let e = 1e-6;
     let steps = 7300;

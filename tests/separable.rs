@@ -1,4 +1,4 @@
-//! Separable systems by Jacobi inversion of the separated quadratures (SPEC M55, M56): Kepler in
+//! Separable systems by Jacobi inversion of the separated quadratures [Ardema 17.3–17.5]: Kepler in
 //! polar coordinates (one librating, one ignorable coordinate), the anisotropic oscillator (two
 //! librating coordinates, closed form) and the Liouville system of T39 against integration.
 

@@ -1,5 +1,5 @@
 //! The systems catalogue against its oracles: AD against hand-written Hamilton's equations,
-//! invariants along the exact motion, SPEC T9/X2 (pendulum period), T12/X3 (Kepler's equation),
+//! invariants along the exact motion, the pendulum period (to the separatrix), Kepler's equation,
 //! and typed errors for bad input.
 
 mod common;
@@ -221,9 +221,9 @@ fn exact_flows_agree_with_integration() {
 }
 
 #[test]
-#[allow(clippy::approx_constant)] // a = 3.14 is a row of the SPEC table, not an approximation of π
+#[allow(clippy::approx_constant)] // a = 3.14 is a row of the table, not an approximation of π
 fn t9_pendulum_period_table() {
-    // Ratios τ/(2π/n) to 15 significant digits (SPEC T9); relative error ≤ 1e−13.
+    // Ratios τ/(2π/n) = 2K(k)/π to 15 significant digits; relative error ≤ 1e−13.
     let table = [
         (0.1, 1.00062535830774),
         (0.5, 1.01585253110144),

@@ -1,10 +1,10 @@
-//! The heavy symmetric top (SPEC M30, M57, T14, X1, X9): the system against its Lagrangian, the
+//! The heavy symmetric top [Ardema 11.2, 17.5]: the system against its Lagrangian, the
 //! cubic and its roots, the Hamilton–Jacobi quadratures against the elliptic closed form and
 //! against integration of Hamilton's equations, degenerate cases and bad input.
 //!
 //! Tolerances. The turning-point quadratures run at the engine's default relative tolerance 1e−14;
-//! SPEC reference values carry 15 significant digits (half a unit in the last place is ≤ 5e−15
-//! relative), so quadrature-vs-SPEC comparisons use 1e−13 relative. Integrations use classical RK4
+//! reference values carry 15 significant digits (half a unit in the last place is ≤ 5e−15
+//! relative), so comparisons with them use 1e−13 relative. Integrations use classical RK4
 //! (global error `C h⁴`); their tolerance is never fixed in advance but estimated by step halving:
 //! for runs with `N` and `2N` steps, `e = |x_N − x_{2N}|/15` estimates the error of the finer run
 //! (Richardson), and the finer run must agree with the quadrature within `2e` plus a rounding floor
@@ -54,7 +54,7 @@ fn rk4_halving(top: &HeavyTop, q: V3, p: V3, t: f64, n: usize) -> ((V3, V3), (V3
     ((qf, pf), ((qc - qf).abs() / 15.0, (pc - pf).abs() / 15.0))
 }
 
-/// `L` of SPEC M30 written out.
+/// `L` of [Ardema 11.2] written out.
 fn l_m30<D: DualNum<f64> + Copy>(top: &HeavyTop, q: &SVector<D, 3>, v: &SVector<D, 3>) -> D {
     let (s, c) = q[1].sin_cos();
     let wz = v[2] + v[0] * c;
@@ -176,7 +176,7 @@ fn t14a_release_from_rest() {
     assert_relative_eq!(fast.nutation_width(), 0.002407686045, max_relative = 1e-10);
 }
 
-/// SPEC X1: [Ardema 11.24] in its textbook form loses digits for fast tops; the crate's form and
+/// [Ardema eq. 11.24] in its textbook form loses digits for fast tops; the crate's form and
 /// the root of the cubic (deflated at the starting turning point) agree to rounding.
 #[test]
 fn x1_release_formula_cancellation_at_gamma_1e4() {

@@ -1,5 +1,5 @@
-//! Canonical transformations from generating functions: SPEC T5, T6, the swap and identity maps
-//! in all kinds, X4 extremes, and property tests of canonicity, inversion and Jacobi's theorem.
+//! Generating functions: the oscillator and free fall [Ardema 16.4–16.5], swap and identity maps
+//! in all kinds, singular generators, property tests of canonicity, inversion and Jacobi's theorem.
 
 mod common;
 

@@ -1,6 +1,6 @@
-//! Variation of constants (M58), Lagrange-bracket form (M59) and canonical variation of elements
-//! (M60) against SPEC T9 (pendulum elements), T10 (projectile with drag) and X12 (singular
-//! elements).
+//! Variation of constants, its Lagrange-bracket form and canonical variation of elements
+//! [Ardema 18.1–18.2] against the pendulum's elements, the projectile with drag and elements at
+//! their singularities.
 //!
 //! Tolerances are derived in the comments; measured numbers are printed (`--nocapture`).
 
@@ -192,7 +192,7 @@ fn t10_planetary_form_equals_general_form() {
 
 #[test]
 fn t10_linear_drag_integrated_to_t2() {
-    // SPEC T10: (x, y)(2) = (4.51188363905974, −10.2046234821692); exact drag solution
+    // Linear drag: (x, y)(2) = (4.51188363905974, −10.2046234821692); exact drag solution
     // x = (3/k)(1 − e^{−kt}), y = ((4 + g/k)/k)(1 − e^{−kt}) − g t/k.
     let (x_ref, y_ref) = (4.51188363905974, -10.2046234821692);
     let e = (-K_DRAG * 2.0f64).exp();
@@ -217,7 +217,7 @@ fn t10_linear_drag_integrated_to_t2() {
     for (name, r) in [("M58", r58), ("M59", r59)] {
         let (q, _) = Projectile.state(2.0, &r.y.0, &r.y.1);
         println!(
-            "T10 {name}: x = {:.15}, y = {:.15}; vs SPEC ({:.1e}, {:.1e}); vs exact ({:.1e}, {:.1e}); \
+            "T10 {name}: x = {:.15}, y = {:.15}; vs ref. ({:.1e}, {:.1e}); vs exact ({:.1e}, {:.1e}); \
              Richardson estimate {:.1e}; {} evaluations",
             q[0], q[1], q[0] - x_ref, q[1] - y_ref, q[0] - x_exact, q[1] - y_exact, r.max_error(), r.evaluations
         );
@@ -513,7 +513,7 @@ fn t9_averaged_rates_and_x2_refusal() {
 
 #[test]
 fn t9_element_odes_integrated_to_2000() {
-    // SPEC T9: a = 0.3, n = 1, α(0) = 0.045, β(0) = 0 up to t = 2000: α returns to 0.045 within
+    // a = 0.3, n = 1, α(0) = 0.045, β(0) = 0 up to t = 2000: α returns to 0.045 within
     // 1e−12, mean β̇ = 0.0056867, θ(2000) = 4.73306e−4.
     //
     // Integrator: RK4 with Richardson extrapolation, h = 0.02 and 0.01 (1e5 and 2e5 steps). The
@@ -545,7 +545,7 @@ fn t9_element_odes_integrated_to_2000() {
     assert!((mean_beta_dot - 0.0056867).abs() < 5e-8);
     assert!((th - 4.73306e-4).abs() < 5e-10);
 
-    // Independent check: direct DOP853 integration of the quartic Hamiltonian (SPEC: rtol ≲ 1e−12
+    // Independent check: direct DOP853 integration of the quartic Hamiltonian (rtol ≲ 1e−12
     // needed for these digits; 4.7330593e−4 by elliptic quadrature).
     let h = QuarticPendulum { n };
     let problem = Problem::new(&h, 0.0, V1::new(0.0), V1::new(0.3), 2000.0).unwrap();

@@ -1,5 +1,5 @@
-//! Action–angle variables of one-degree-of-freedom systems by quadrature (SPEC M55, M26, X1, X2;
-//! [Ardema 17.3, 9.2]; [Goldstein 10.6]).
+//! Action–angle variables of one-degree-of-freedom systems by quadrature, through the turning
+//! points and up to the separatrix ([Ardema 17.3, 9.2]; [Goldstein §10.6]).
 //!
 //! For `H = ½ a(q) p² + V(q)` (`a > 0` the inverse mass) and an energy `h` with a libration
 //! between turning points `q₁ < q₂` (roots of `F = p² = 2(h − V)/a`):
@@ -18,7 +18,7 @@
 //! point vanishes to rounding ([`Error::Separatrix`]). For the pendulum,
 //! [`ActionAngle::pendulum`] takes the distance `δ = π − a` to the separatrix itself and uses the
 //! exact factorisation `F = 4n² sin(d₁/2) sin(d₂/2)` with `sin(d₁/2) = sin(δ + d₂/2)`, so the
-//! period is resolved for every gap down to [`MIN_GAP`] (SPEC X2), never ∞ or NaN.
+//! period is resolved for every gap down to [`MIN_GAP`], never ∞ or NaN.
 
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
@@ -372,8 +372,8 @@ fn time_density<S: Hamiltonian<1>>(system: &S, n: &Node) -> f64 {
     1.0 / (natural_inverse_mass(system, n.x) * n.reduced.sqrt())
 }
 
-/// The period of a libration of energy `h` through `inside`, by quadrature (SPEC M26
-/// `time_of_flight` over a full cycle).
+/// The period of a libration of energy `h` through `inside`, by quadrature [Ardema 9.2,
+/// eqs. 9.13–9.15]: the time of flight over a full cycle.
 pub fn libration_period<S: Hamiltonian<1> + Clone>(
     system: S,
     h: f64,
@@ -385,7 +385,7 @@ pub fn libration_period<S: Hamiltonian<1> + Clone>(
 }
 
 /// Time of flight `∫_{q₀}^{q₁} dq/q̇` between two points of one leg of the libration of energy `h`
-/// (SPEC M26), either end allowed to be a turning point; negative when `q₁ < q₀`.
+/// [Ardema 9.2, eqs. 9.13–9.15], either end allowed to be a turning point; negative when `q₁ < q₀`.
 pub fn time_of_flight<S: Hamiltonian<1> + Clone>(
     system: S,
     h: f64,

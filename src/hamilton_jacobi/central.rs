@@ -1,5 +1,5 @@
-//! Central-force motion by separation in polar coordinates (SPEC M27, M55, T13; [Ardema 10.1,
-//! eqs. 10.1–10.19; 17.3]).
+//! Central-force motion by separation in polar coordinates [Ardema 10.1, eqs. 10.1–10.19;
+//! 15.6, eqs. 15.53–15.55; 17.3].
 //!
 //! Per unit mass, with angular momentum `k = r² θ̇` and energy `h`, the characteristic function
 //! separates as `K = kθ + ∫ √F(r) dr` with the radial radicand
@@ -12,7 +12,7 @@
 //!    \theta - \theta_0 = -\frac{\partial}{\partial k}\int \sqrt F\\,dr = \int \frac{k\\,dr}{r^2 \sqrt F}. $$
 //!
 //! Both integrands have inverse-square-root singularities at the apsides `r_p`, `r_a` (roots of
-//! `F`), removed by the substitution of [`Libration`] (SPEC X1). For the Kepler potential the
+//! `F`), removed by the substitution of [`Libration`]. For the Kepler potential the
 //! radicand factors exactly, `F = −2h (r − r_p)(r_a − r)/r²`, the substitution variable is the
 //! eccentric anomaly, and the apsides come from the cancellation-free pair
 //! `r_a = (μ + μe)/(−2h)`, `r_p = k²/(μ + μe)`; [`RadialMotion::kepler`] uses that form, which
@@ -218,7 +218,7 @@ impl<P: ReducedRadicand> RadialMotion<P> {
         Ok(self.libration.sqrt_integral()?.scale(1.0 / PI))
     }
 
-    /// Time and swept angle from periapsis to radius `r` on the outbound leg (SPEC M27 API).
+    /// Time and swept angle from periapsis to radius `r` on the outbound leg [Ardema 10.1].
     pub fn from_periapsis(&self, r: f64) -> Result<(Quadrature, Quadrature)> {
         let s = self.libration.phase(r)?;
         Ok((
@@ -297,9 +297,9 @@ fn angle_density(k: f64, n: &Node) -> f64 {
 }
 
 /// Time and angle between radii `r₀` and `r₁` on one leg of the orbit in the potential `V` for a
-/// particle of mass `m`, energy `h` and angular momentum `K = m r² θ̇` (SPEC M27 API):
+/// particle of mass `m`, energy `h` and angular momentum `K = m r² θ̇` [Ardema 10.1]:
 /// `(∫ dr/ṙ, ∫ (K/(m r²)) dr/ṙ)` with `ṙ² = (2/m)(h − V) − K²/(m² r²)`, both end points allowed to
-/// be apsides. `r_max` bounds the apsis search (an argument beyond SPEC M27's signature: the
+/// be apsides. `r_max` bounds the apsis search (the
 /// outer apsis must be bracketed). Returns `(Δt, Δθ)`, negative when `r₁ < r₀`, zero when
 /// `r₀ = r₁`.
 #[allow(clippy::too_many_arguments)]

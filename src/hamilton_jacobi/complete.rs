@@ -1,5 +1,5 @@
-//! Complete integrals of the Hamilton–Jacobi equation and Jacobi's theorem (SPEC M53, M54, §0.6;
-//! [Ardema 17.2, eqs. 17.14–17.33]).
+//! Complete integrals of the Hamilton–Jacobi equation and Jacobi's theorem
+//! [Ardema 17.2, eqs. 17.14–17.33].
 //!
 //! A complete integral `S(t, q, α)` solves
 //!
@@ -7,11 +7,11 @@
 //!
 //! for every value of the `N` constants `α`, with `det ∂²S/∂q∂α ≠ 0` [Ardema eq. 17.25]. Used as a
 //! generating function it maps the motion to constant elements `(α, β)`, in one of the two
-//! conventions of SPEC §0.6, which the API always names ([`ElementConvention`]):
+//! conventions, which the API always names ([`ElementConvention`]):
 //!
-//! * `AlphaMomenta` (Ardema ch. 17): `S` is an F2 generator, `α` the new momenta,
+//! * `AlphaMomenta` [Ardema ch. 17]: `S` is an F2 generator, `α` the new momenta,
 //!   `β = +∂S/∂α` the new coordinates;
-//! * `AlphaCoordinates` (Ardema ch. 18): `S` is an F1 generator, `α` the new coordinates,
+//! * `AlphaCoordinates` [Ardema ch. 18]: `S` is an F1 generator, `α` the new coordinates,
 //!   `β = −∂S/∂α` the new momenta.
 //!
 //! The motion is recovered by solving `∂S/∂α = ±β` for `q` at each time (Newton with the AD mixed
@@ -27,12 +27,12 @@ use crate::transform::{CanonicalTransformation, GeneratingFunction, Kind};
 use nalgebra::SVector;
 use num_dual::{Dual, DualNum};
 
-/// Which role the constants `α` of a complete integral play (SPEC §0.6). No default is assumed.
+/// The role of the constants `α` of a complete integral [Ardema 17.2, 18.2]. No default is assumed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ElementConvention {
-    /// Ardema ch. 17: `β = +∂S/∂α`; `(β, α)` are the new (coordinates, momenta).
+    /// [Ardema ch. 17]: `β = +∂S/∂α`; `(β, α)` are the new (coordinates, momenta).
     AlphaMomenta,
-    /// Ardema ch. 18: `β = −∂S/∂α`; `(α, β)` are the new (coordinates, momenta).
+    /// [Ardema ch. 18]: `β = −∂S/∂α`; `(α, β)` are the new (coordinates, momenta).
     AlphaCoordinates,
 }
 
@@ -146,7 +146,7 @@ impl<S: CompleteIntegral<N>, const N: usize> GeneratingFunction<N> for ElementGe
     }
 }
 
-/// Jacobi's theorem (M54): the map between states `(q, p)` and the constant elements `(α, β)`
+/// Jacobi's theorem [Ardema 17.2]: the map between states `(q, p)` and constant elements `(α, β)`
 /// defined by a complete integral in a named [`ElementConvention`].
 pub struct Elements<S, const N: usize> {
     map: CanonicalTransformation<ElementGenerator<S>, N>,
@@ -185,7 +185,7 @@ impl<S: CompleteIntegral<N>, const N: usize> Elements<S, N> {
     /// [`Elements::state`] in any number type `D`: the real state by Newton, its derivatives with
     /// respect to `(t, α, β)` exactly through the implicit solve (implicit AD, [`crate::implicit`]).
     /// No input validation (NaN in gives an error or NaN out); used by the element equations of
-    /// perturbation theory (M60), which differentiate `K(q(α, β, t), p(α, β, t), t)`.
+    /// perturbation theory [Ardema 18.2], which differentiate `K(q(α, β, t), p(α, β, t), t)`.
     pub fn state_generic<D: DualNum<f64> + Copy>(
         &self,
         t: D,

@@ -1,4 +1,4 @@
-//! Closed-form complete integrals of the catalogue systems (SPEC T3, T4, M27/M55).
+//! Closed-form complete integrals of the catalogue systems [Ardema 17.3–17.4].
 //!
 //! Each is one branch of a multivalued function — the branch on which the separated momentum is
 //! non-negative — and says so; states on the other branch have no preimage under Jacobi's theorem
@@ -15,7 +15,7 @@ use num_dual::{Dual64, DualNum};
 ///
 /// with `γ = p_x` and `k` the apex height; the upper sign is the ascending branch (`p_y ≥ 0`,
 /// [`ProjectileIntegral::new`]), the lower the descending one ([`ProjectileIntegral::descending`]).
-/// Both give the same elements `β = (x₀, −v₀)` for one trajectory (SPEC T3). Domain `y < k`.
+/// Both give the same elements `β = (x₀, −v₀)` for one trajectory. Domain `y < k`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectileIntegral {
     g: f64,

@@ -1,5 +1,5 @@
-//! Liouville's separable Lagrangian systems and their separated integrals (SPEC M25,
-//! [Ardema 8.4, eqs. 8.38–8.40]).
+//! Liouville's separable Lagrangian systems and their separated integrals
+//! [Ardema 8.4, eqs. 8.38–8.40].
 //!
 //! A Liouville system has
 //!
@@ -14,7 +14,7 @@
 //! (summing over `s` gives `U T = h U − W`, i.e. the energy itself, so only `N − 1` of them are
 //! new). With the new independent variable `dτ = dt/U` each coordinate moves in a one-dimensional
 //! problem `½ v_s (dq_s/dτ)² = h u_s − w_s + γ_s`, which is why these systems separate in the
-//! Hamilton–Jacobi equation (SPEC M56). The uncoupled systems `T = ½ Σ v_s q̇_s²`, `V = Σ w_s` are
+//! Hamilton–Jacobi equation [Ardema 17.5]. Uncoupled systems `T = ½ Σ v_s q̇_s²`, `V = Σ w_s` are
 //! the case `U ≡ 1` (`u₁ = 1`, the other `u_s = 0`), where the `γ_s + h u_s` are the separate
 //! energies `½ v_s q̇_s² + w_s`.
 
@@ -81,15 +81,15 @@ impl<S: LiouvilleSystem<N>, const N: usize> Lagrangian<N> for Liouville<S> {
 /// ```
 /// use hamilton_jacobi::hamilton_jacobi::{liouville_separated_integrals, LiouvilleSystem};
 /// use hamilton_jacobi::{DualNum, nalgebra::SVector};
-/// /// SPEC T39: U = q₁² + q₂², v = 1, W = q₁⁴ + q₂⁴.
-/// struct T39;
-/// impl LiouvilleSystem<2> for T39 {
+/// /// A Liouville system [Ardema 8.4]: U = q₁² + q₂², v = 1, W = q₁⁴ + q₂⁴.
+/// struct QuarticLiouville;
+/// impl LiouvilleSystem<2> for QuarticLiouville {
 ///     fn u<D: DualNum<f64> + Copy>(&self, _s: usize, q: D) -> D { q * q }
 ///     fn v<D: DualNum<f64> + Copy>(&self, _s: usize, _q: D) -> D { D::from(1.0) }
 ///     fn w<D: DualNum<f64> + Copy>(&self, _s: usize, q: D) -> D { q.powi(4) }
 /// }
 /// let (h, g) = liouville_separated_integrals(
-///     &T39, &SVector::from([1.0, 0.5]), &SVector::from([0.2, -0.3])).unwrap();
+///     &QuarticLiouville, &SVector::from([1.0, 0.5]), &SVector::from([0.2, -0.3])).unwrap();
 /// assert!((h - 0.93125).abs() < 1e-15);
 /// assert!((g[0] - 0.1).abs() < 1e-15 && (g[0] + g[1]).abs() < 1e-15);
 /// ```

@@ -1,4 +1,4 @@
-//! Hamilton–Jacobi theory (SPEC M25–M27, M47, M48, M52–M57): the Hamilton–Jacobi equation,
+//! Hamilton–Jacobi theory [Ardema ch. 17; 8.4, 9.2, 10.1, 15.6]: the Hamilton–Jacobi equation,
 //! complete integrals and the motion they generate (Jacobi's theorem); Hamilton's principal
 //! function by shooting; separated coordinates
 //! reduced to quadratures between turning points; central forces; action–angle variables;

@@ -1,5 +1,5 @@
 //! Jacobi's last multiplier, Liouville's theorem and the two-degree-of-freedom quadrature
-//! (SPEC M48, [Ardema 15.6, eqs. 15.37–15.55]).
+//! [Ardema 15.6, eqs. 15.37–15.55].
 //!
 //! * A **multiplier** of `ẋ = X(t, x)` in `ℝᵐ` is a function `M(t, x)` with (non-autonomous form
 //!   of [Ardema eq. 15.42])

@@ -1,4 +1,4 @@
-//! Hamilton's principal function by shooting (SPEC M52, M53, X4; [Ardema 17.1, eqs. 17.9–17.13]).
+//! Hamilton's principal function by shooting [Ardema 17.1, eqs. 17.9–17.13; 17.2].
 //!
 //! The principal function is the action along the actual path from `(q⁰, t₀)` to `(q¹, t₁)`,
 //!
@@ -10,7 +10,7 @@
 //! $$ dS = \sum p^1\,dq^1 - \sum p^0\,dq^0 - H_1\,dt_1 + H_0\,dt_0 . $$
 //!
 //! In `(q¹, t₁)` it solves the Hamilton–Jacobi equation `∂S/∂t₁ + H(t₁, q¹, ∂S/∂q¹) = 0`, in
-//! `(q⁰, t₀)` the equation `∂S/∂t₀ − H(t₀, q⁰, −∂S/∂q⁰) = 0` (M53).
+//! `(q⁰, t₀)` the equation `∂S/∂t₀ − H(t₀, q⁰, −∂S/∂q⁰) = 0` [Ardema 17.2].
 //!
 //! **Propagation** ([`propagate`], [`propagate_fixed`]). Hamilton's equations, with the action as
 //! an extra component `ṡ = p·∂H/∂p − H`, are integrated by classical fourth-order Runge–Kutta with
@@ -36,7 +36,7 @@
 //! (`∂S/∂p⁰ = p¹ᵀA` at fixed `q⁰`, so the action is not amplified by `A⁻¹`, but `p¹` is large
 //! near a focal point).
 //!
-//! **Focal points (SPEC X4).** Where `A` is singular, `(q⁰, t₀)` and `(q¹, t₁)` are conjugate: the
+//! **Focal points.** Where `A` is singular, `(q⁰, t₀)` and `(q¹, t₁)` are conjugate: the
 //! end point is reached by no path or by infinitely many, and the type-1 generator of the flow map
 //! does not exist. An equilibrated condition number cannot see this for `N = 1` (a `1 × 1` matrix
 //! is always perfectly conditioned after scaling), so `A` is compared with its own error estimate
@@ -56,7 +56,7 @@
 //!
 //! **Time direction.** `t₁ < t₀` is allowed: the integral runs backwards and all relations above
 //! hold unchanged. `t₁ = t₀` is refused: at `τ = 0` the principal function is singular (the identity
-//! map has no type-1 generator, X4). Systems with non-conservative forces have no principal
+//! map has no type-1 generator). Systems with non-conservative forces have no principal
 //! function and are refused.
 
 use crate::ad::{lift, real_parts, real_times, GradDual};
@@ -380,7 +380,7 @@ fn check_times(t0: f64, t1: f64) -> Result<f64> {
             "t₁ − t₀",
             tau,
             "t₁ ≠ t₀ (at τ = 0 the principal function is singular: the identity map has no \
-             type-1 generator, SPEC X4)",
+             type-1 generator)",
         ));
     }
     Ok(tau)
@@ -832,7 +832,7 @@ impl<H: Hamiltonian<N> + ?Sized, const N: usize> Problem<'_, H, N> {
 
     fn singular(&self, rcond: f64) -> Error {
         Error::Singular {
-            what: "shooting Jacobian ∂q¹/∂p⁰ (focal point: the end points are conjugate, SPEC X4)"
+            what: "shooting Jacobian ∂q¹/∂p⁰ (focal point: the end points are conjugate along the path)"
                 .into(),
             at: self.at(),
             rcond,
@@ -950,7 +950,7 @@ struct Estimate<const N: usize> {
 }
 
 /// Hamilton's principal function `S(q⁰, q¹, t₀, t₁)` with `p⁰`, `p¹`, `H₀`, `H₁` by shooting
-/// (SPEC M52; [Ardema 17.1, eqs. 17.9–17.13]):
+/// [Ardema 17.1, eqs. 17.9–17.13]:
 ///
 /// $$ S = \int_{t_0}^{t_1} L\,dt,\qquad
 ///    dS = \sum p^1 dq^1 - \sum p^0 dq^0 - H_1\,dt_1 + H_0\,dt_0 . $$
@@ -963,7 +963,7 @@ struct Estimate<const N: usize> {
 ///   path leaves the system's domain;
 /// * [`Error::OutOfDomain`] for `t₁ = t₀`; [`Error::InvalidInput`] for bad options or a system
 ///   with non-conservative forces;
-/// * [`Error::Singular`] at (or numerically indistinguishable from) a focal point, SPEC X4;
+/// * [`Error::Singular`] at (or numerically indistinguishable from) a focal point;
 /// * [`Error::NotConverged`] if Newton fails from every start or the accuracy is not reached.
 ///
 /// # Example
@@ -972,7 +972,7 @@ struct Estimate<const N: usize> {
 /// use hamilton_jacobi::nalgebra::SVector;
 /// use hamilton_jacobi::systems::HarmonicOscillator;
 ///
-/// // SPEC T2: ω = 2, x⁰ = 1, x¹ = 0.5, τ = 1.
+/// // The oscillator of [Ardema 17.1]: ω = 2, x⁰ = 1, x¹ = 0.5, τ = 1.
 /// let osc = HarmonicOscillator::new(1.0, 2.0).unwrap();
 /// let q0 = SVector::from([1.0]);
 /// let q1 = SVector::from([0.5]);
@@ -1033,7 +1033,7 @@ pub struct PrincipalValue<D, const N: usize> {
 /// real shooting Jacobian frozen, at the final step count), and one more propagation in `D`. The
 /// dual parts are exact derivatives of the discrete map, so `∂S/∂q¹`, `∂S/∂q⁰`, `∂S/∂t₁`,
 /// `∂S/∂t₀` (and higher derivatives with a higher-order `D`) come out of `S` itself,
-/// independently of the returned `p⁰`, `p¹`, `H₀`, `H₁` (SPEC M52, M53).
+/// independently of the returned `p⁰`, `p¹`, `H₀`, `H₁` [Ardema 17.1–17.2].
 ///
 /// Returns the dual values and the real report (error estimates, conditioning, work of the real
 /// solve; the `D::NDERIV + 1` dual propagations at `M` and `2M` steps come on top); errors as

@@ -1,5 +1,5 @@
-//! Order reduction with the energy integral (Whittaker's method; SPEC M47,
-//! [Ardema 15.6, eqs. 15.31–15.36]).
+//! Order reduction with the energy integral: Whittaker's method
+//! [Ardema 15.6, eqs. 15.31–15.36].
 //!
 //! For an autonomous, conservative Hamiltonian the energy integral `H(q, p) = h` is solved for one
 //! coordinate,
@@ -45,7 +45,7 @@ const MAX_ITER: usize = 60;
 /// use hamilton_jacobi::hamiltonian;
 /// use hamilton_jacobi::hamilton_jacobi::Whittaker;
 /// use hamilton_jacobi::nalgebra::SVector;
-/// // H = ½(p_x² + p_y²) + g x + ½ k² y²  (SPEC T42), g = 2, k = 3.
+/// // H = ½(p_x² + p_y²) + g x + ½ k² y² [Ardema 15.6], g = 2, k = 3.
 /// hamiltonian!(Fall<2> |_s, _t, q, p| p.dot(p) * 0.5 + q[0] * 2.0 + q[1] * q[1] * 4.5);
 /// let w = Whittaker::new(Fall, 10.0, 0).unwrap();
 /// let (q, p) = (SVector::from([0.0, 0.5]), SVector::from([0.4, -0.3]));

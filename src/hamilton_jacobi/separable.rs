@@ -1,6 +1,6 @@
 //! Separable conservative systems: the characteristic function as a sum of one-dimensional
-//! quadratures, and the motion from Jacobi's theorem (SPEC M55, M56; [Ardema 17.3–17.5,
-//! eqs. 17.34–17.44]).
+//! quadratures, and the motion from Jacobi's theorem [Ardema 17.3–17.5,
+//! eqs. 17.34–17.44].
 //!
 //! A system separates when the Hamilton–Jacobi equation `H(q, ∂K/∂q) = h` has a solution
 //! `K = Σ_r K_r(q_r; c)` depending on `N` separation constants `c` (one of them the energy `h`):
@@ -10,12 +10,12 @@
 //!    \frac{\partial K}{\partial c_j} = \sum_r \int \frac{\partial F_r/\partial c_j}{2\sqrt{F_r}}\\,dq_r
 //!    = \beta_j + \delta_{j,h}\\,t . $$
 //!
-//! Jacobi's theorem (M54, `AlphaMomenta` convention of SPEC §0.6, with `t − t₀` absorbed in `β_h`)
+//! Jacobi's theorem ([Ardema 17.2], `AlphaMomenta` convention, with `t − t₀` absorbed in `β_h`)
 //! gives the motion implicitly; [`SeparatedMotion::state_at`] solves these `N` equations for the
 //! coordinates. Each coordinate is either
 //!
 //! * **librating** between turning points (roots of `F_r`): the integrals run through the turning
-//!   points in the substitution variable `s_r` of [`Libration`] (SPEC X1), unwrapped so that each
+//!   points in the substitution variable `s_r` of [`Libration`], unwrapped so that each
 //!   increase of `s_r` by `π` is one passage between the turning points (the sign of `p_r` flips
 //!   at each), or
 //! * **ignorable** (`F_r` independent of `q_r`, [Ardema eqs. 17.40–17.44]): `K_r = p_r q_r` with
@@ -442,7 +442,7 @@ fn density<S: SeparatedSystem<N>, const N: usize>(
 ///
 /// $$ F_s(q_s; c) = p_s^2 = 2 v_s (h u_s − w_s + γ_s) $$
 ///
-/// (SPEC M25 with M56; [Ardema 8.4, eqs. 8.38–8.40]). `bounds[s]` is the interval searched for the
+/// [Ardema 8.4, eqs. 8.38–8.40; 17.5]. `bounds[s]` is the interval searched for the
 /// turning points of `q_s`.
 #[derive(Clone, Debug)]
 pub struct LiouvilleSeparation<S, const N: usize> {

@@ -213,7 +213,7 @@ pub struct StepView<'a, const N: usize> {
     pub dense: &'a dyn Dense<N>,
 }
 
-/// Sees the run step by step (SPEC DESIGN "observers"): record, monitor invariants, locate events,
+/// Sees the run step by step: record, monitor invariants, locate events,
 /// stop early. All methods default to doing nothing.
 pub trait Observer<const N: usize> {
     /// Called once with the initial state.

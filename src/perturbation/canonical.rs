@@ -1,7 +1,7 @@
-//! Canonical variation of elements (SPEC M60; [Ardema 18.2, eqs. 18.26–18.31]).
+//! Canonical variation of elements [Ardema 18.2, eqs. 18.26–18.31].
 //!
 //! Let `S(q, α, t)` be a complete integral of the unperturbed Hamilton–Jacobi equation. In the
-//! Chapter-18 convention (SPEC §0.6, [`ElementConvention::AlphaCoordinates`]) `S` is an F1
+//! Chapter-18 convention ([`ElementConvention::AlphaCoordinates`]) `S` is an F1
 //! generator, `p = ∂S/∂q`, `β = −∂S/∂α`, and the unperturbed new Hamiltonian `H + ∂S/∂t` vanishes.
 //! For `H + K` the new Hamiltonian is therefore
 //!
@@ -32,7 +32,7 @@
 //!
 //! **Averaging.** First-order secular rates are the mean of the rates over a fast phase
 //! ([`average_over_phase`]); the result carries the oscillating spread so that the caller can
-//! refuse averaging when the small parameter is not small (SPEC X2, [`PhaseAverage::require_small`]).
+//! refuse averaging when the small parameter is not small ([`PhaseAverage::require_small`]).
 
 use super::ode::{ElementOde, Pair};
 use crate::ad::{phase_gradient, PhaseDual};
@@ -44,7 +44,7 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 
 /// Canonical elements `(α, β)` of an unperturbed motion: the state `(q, p)` as a function of
-/// `(α, β, t)`, in any number type, with the convention (SPEC §0.6) that says which of `α`, `β` are
+/// `(α, β, t)`, in any number type, with the convention that says which of `α`, `β` are
 /// the new coordinates.
 pub trait CanonicalElements<const N: usize> {
     /// Which role the `α` play.
@@ -100,7 +100,7 @@ fn at<const N: usize>(t: f64, alpha: &SVector<f64, N>, beta: &SVector<f64, N>) -
 ///
 /// Errors: non-finite input; the map's own error (no solution on this branch, a refused singular
 /// solve); [`Error::NonFinite`] if `K*` is not finite; [`Error::Singular`] with `rcond = 0` if a
-/// derivative is not finite at a finite `K*` (singular elements, SPEC X12).
+/// derivative is not finite at a finite `K*` (the elements are singular there).
 pub fn disturbing_hamiltonian<M, K, const N: usize>(
     map: &M,
     k: &K,
@@ -139,7 +139,7 @@ where
     }
     if !(da.iter().chain(db.iter()).all(|v| v.is_finite())) {
         return Err(Error::Singular {
-            what: "∂K*/∂(α, β) (not finite: the elements are singular here, SPEC X12)".into(),
+            what: "∂K*/∂(α, β) (not finite: the elements are singular here)".into(),
             at: at(t, alpha, beta),
             rcond: 0.0,
         });
@@ -147,7 +147,7 @@ where
     Ok((value, da, db))
 }
 
-/// The canonical element equations (M60) at `(α, β, t)`: `(α̇, β̇)` in the convention of `map`
+/// The canonical element equations at `(α, β, t)`: `(α̇, β̇)` in the convention of `map`
 /// (see the [module docs](self) for both sign conventions).
 pub fn canonical_element_rhs<M, K, const N: usize>(
     map: &M,
@@ -212,7 +212,7 @@ pub fn canonicity_defect<M: CanonicalElements<N> + ?Sized, const N: usize>(
     };
     if !m.is_finite() {
         return Err(Error::Singular {
-            what: "∂(q, p)/∂(α, β) (not finite: singular elements, SPEC X12)".into(),
+            what: "∂(q, p)/∂(α, β) (not finite: singular elements)".into(),
             at: at(t, alpha, beta),
             rcond: 0.0,
         });
@@ -231,7 +231,7 @@ pub fn canonicity_defect<M: CanonicalElements<N> + ?Sized, const N: usize>(
     Ok(l.sub(&expected).max_abs())
 }
 
-/// The element equations of M60 as an ODE in `(α, β)`.
+/// The canonical element equations as an ODE in `(α, β)`.
 #[derive(Clone, Copy, Debug)]
 pub struct CanonicalElementEquations<M, K> {
     /// The canonical element map of the unperturbed motion.
@@ -281,7 +281,7 @@ impl<const N: usize> PhaseAverage<N> {
         Ok(eps)
     }
 
-    /// Refuse the average (SPEC X2: phase averaging is meaningless near a separatrix) when the
+    /// Refuse the average (phase averaging is meaningless near a separatrix) when the
     /// small parameter [`small_parameter`](Self::small_parameter) exceeds `limit`:
     /// [`Error::OutOfDomain`] naming `ε`. Returns `ε` otherwise.
     pub fn require_small(&self, scale: &Pair<N>, limit: f64) -> Result<f64> {
@@ -300,7 +300,7 @@ impl<const N: usize> PhaseAverage<N> {
     }
 }
 
-/// Average element rates over one period of a fast phase (M60, first-order secular rates).
+/// Average element rates over one period of a fast phase (first-order secular rates).
 ///
 /// `rhs(s)` returns the rates at phase offset `s ∈ [0, T)` — typically
 /// `canonical_element_rhs(map, k, t₀ + s, α, β)` with the elements frozen, so that the fast angle

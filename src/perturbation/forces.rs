@@ -1,9 +1,9 @@
 //! Perturbation models of the two-body problem, written once generic over [`DualNum`] and usable
-//! both in the element engines of [`variation`](super::variation) (M58/M59) and in Cartesian
+//! both in the element engines of [`variation`](super::variation) and in Cartesian
 //! integration.
 //!
 //! Per unit mass, with `r = q` the position relative to the central body and `v = p` its
-//! velocity (SPEC §0.7), the perturbed motion is
+//! velocity, the perturbed motion is
 //!
 //! $$ \dot q = p,\qquad \dot p = -\frac{\mu q}{|q|^3} - \nabla U(t, q) + f(t, q, p), $$
 //!
@@ -580,7 +580,7 @@ impl<U: DisturbingFunction<N>, F: MomentumForce<N>, const N: usize> PerturbedTwo
         self.force.as_ref()
     }
     /// The total perturbing acceleration `−∇U + f` at `(t, q, p)` (by AD), in any dual type:
-    /// what enters the momentum equation `ṗ = −μq/|q|³ + R`, M59's `R`.
+    /// what enters the momentum equation `ṗ = −μq/|q|³ + R` [Ardema 18.1].
     pub fn perturbing_acceleration<D: DualNum<f64> + Copy>(
         &self,
         t: D,

@@ -36,7 +36,7 @@
 //! `c ↦ (r, v) = Ψ(c)` of [`ModifiedEquinoctial::to_state`]: the Kepler part of the field gives
 //! the single term `√(μp)(w/p)²` in `L̇`, the perturbation the rest. The tests check both parts
 //! against [`variation_of_constants_rhs`](super::variation::variation_of_constants_rhs) of the
-//! general engine (M58), which inverts the AD Jacobian of `Ψ`.
+//! general engine, which inverts the AD Jacobian of `Ψ`.
 //!
 //! # Classical elements
 //! Gauss's planetary equations for an ellipse `(a, e, i, Ω, ω, M)` with `n = √(μ/a³)`,

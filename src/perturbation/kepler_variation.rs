@@ -1,10 +1,10 @@
 //! The Kepler problem as the unperturbed general solution of the element engines: Lagrange's
-//! planetary equations (M59) for any disturbing function and the general variation of constants
-//! (M58) for any force, in classical and in equinoctial elements; first-order secular rates by
+//! planetary equations for any disturbing function and the general variation of constants
+//! for any force, in classical and in equinoctial elements; first-order secular rates by
 //! averaging over the mean anomaly; a mean-element propagator.
 //!
 //! # The general solution
-//! Per unit mass, `H₀ = |p|²/2 − μ/|q|` (SPEC M28). Its general solution in classical elements is
+//! Per unit mass, `H₀ = |p|²/2 − μ/|q|` [Ardema 10.2]. In classical elements the solution is
 //!
 //! $$ (q, p) = \varphi(a, e, i;\ \Omega, \omega, M_0;\ t),\qquad M = M_0 + n(a)(t - t_0),\quad
 //!    n = \sqrt{\mu/a^3}, $$
@@ -26,11 +26,11 @@
 //!   eq. 3.4), here with `U = −R`.
 //! * Any force `f(t, q, p)` ([`MomentumForce`](super::variation::MomentumForce), e.g. drag or
 //!   thrust): [`VariationOfConstants`](super::variation::VariationOfConstants)
-//!   `{ solution, perturbation: InMomentumEquation(f) }` (M58) or
+//!   `{ solution, perturbation: InMomentumEquation(f) }` or
 //!   [`LagrangeBracketForm`](super::variation::LagrangeBracketForm) `{ solution, force: f }`
-//!   (M59 with `Σ_r R_r ∂F_r/∂γ_j`).
+//!   (with `Σ_r R_r ∂F_r/∂γ_j`).
 //!
-//! Both element sets are singular where their angles are (SPEC X12): classical elements at
+//! Both element sets are singular where their angles are: classical elements at
 //! `e = 0` (`ω` and `M` coincide) and `i = 0` (`Ω` and `ω` coincide), where the engines return
 //! [`Error::Singular`]; the equinoctial set is regular there (singular at
 //! `i = π`).
@@ -263,7 +263,7 @@ impl KeplerSolution for EquinoctialSolution {
     }
 }
 
-/// Lagrange's planetary equations (M59) of the Kepler problem perturbed by `U`, in the element set
+/// Lagrange's planetary equations of the Kepler problem perturbed by `U`, in the element set
 /// of `solution`: an [`ElementOde`] for [`crate::perturbation::ode`].
 pub fn planetary_equations<S: KeplerSolution, U: DisturbingFunction<3>>(
     solution: S,
@@ -276,7 +276,7 @@ pub fn planetary_equations<S: KeplerSolution, U: DisturbingFunction<3>>(
 }
 
 /// First-order secular rates: the element rates of `ode` averaged over one revolution of the
-/// fast angle at frozen constants `γ` (M60's averaging, SPEC T9 style).
+/// fast angle at frozen constants `γ`, as for the pendulum of [Ardema 18.2].
 ///
 /// The rates are evaluated at `t = t₀` (the epoch of `solution`, which `ode` must share) with the
 /// fast angle `γ₂[2] + n s`, `s ∈ [0, 2π/n)`, so that the rate of the epoch constant is
@@ -588,7 +588,7 @@ pub fn osculating_classical(
     state_to_classical(mu, q, p)
 }
 
-/// The Kepler motion in Delaunay constants as canonical elements (M60, SPEC §0.6 `AlphaMomenta`):
+/// The Kepler motion in Delaunay constants as canonical elements [Ardema 18.2] (`AlphaMomenta`):
 /// momenta `α = (L, G, H)`, coordinates `β = (l₀, g, h)` with the mean anomaly
 /// `l = l₀ + n(L)(t − t₀)`, `n = μ²/L³`. The shear `l₀ ↦ l` removes the Kepler Hamiltonian
 /// `−μ²/(2L²)`, so a perturbation `K` alone drives the elements: `α̇ = −∂K*/∂β`,

@@ -1,5 +1,5 @@
-//! Perturbation methods [Ardema ch. 18]: variation of constants in its general form (M58) and in
-//! Lagrange-bracket form (M59), canonical variation of elements (M60), the equations of motion of
+//! Perturbation methods [Ardema ch. 18]: variation of constants in its general form and in
+//! Lagrange-bracket form [Ardema 18.1], canonical variation of elements [Ardema 18.2], the equations of motion of
 //! the Kepler element sets ([`crate::systems::kepler::elements`]), higher-order normal forms, and
 //! the integration of element equations.
 //!
@@ -7,18 +7,18 @@
 //!   on a circle, with the indirect term), linear drag, constant thrust (inertial or RTN), sums and
 //!   user-defined models — and the Cartesian system `H = |p|²/2 − μ/|q| + U` with forces;
 //!   [`kepler_variation`]: the Kepler general solution in classical and equinoctial elements for
-//!   M58/M59 (Lagrange's planetary equations for any disturbing function), secular rates by
+//!   [`variation`] (Lagrange's planetary equations for any disturbing function), secular rates by
 //!   averaging, Brouwer's first-order `J₂` rates, mean-element propagation.
 //! * [`gauss_variational`]: Gauss's variational equations for a perturbing acceleration in the RTN
 //!   frame, in modified equinoctial elements (regular at `e = 0`, `i = 0`) and in classical
 //!   elements; the rotating exponential atmosphere.
 //! * [`variation`]: `γ̇ = (∂φ/∂γ)⁻¹ g` for any unperturbed general solution `x = φ(γ, t)` and
-//!   perturbation `g(x, t)` (M58); the Lagrange-bracket matrix `[γ_j, γ_s]`, its time independence,
-//!   and `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j = −∂U*/∂γ_j` (M59, Lagrange's planetary
+//!   perturbation `g(x, t)`; the Lagrange-bracket matrix `[γ_j, γ_s]`, its time independence,
+//!   and `Σ_s [γ_j, γ_s] γ̇_s = Σ_r R_r ∂F_r/∂γ_j = −∂U*/∂γ_j` (Lagrange's planetary
 //!   equations).
 //! * [`canonical`]: `α̇ = ∂K*/∂β`, `β̇ = −∂K*/∂α` from a complete integral of the unperturbed
 //!   Hamilton–Jacobi equation (or any closed-form canonical element map) with the derivatives of
-//!   `K* = K(q(α, β, t), p(α, β, t), t)` by AD through the implicit solve (M60); averaging over a
+//!   `K* = K(q(α, β, t), p(α, β, t), t)` by AD through the implicit solve; averaging over a
 //!   fast phase.
 //! * [`ode`]: the element equations are general first-order ODEs; [`ode::Ode`] hands them to the
 //!   crate's adaptive integrator ([`Dop853`](crate::integrate::Dop853) runs any

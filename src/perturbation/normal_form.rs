@@ -71,7 +71,7 @@
 //! logarithmic branch points `a = ±π` where `k = 1` — i.e. radius `π²` in `a²`: the separatrix.
 //! The frequency series `ω(J)` in the true action has radius `J_s = 8n/π`, the action of the
 //! separatrix (where `dE/dJ = 2π/τ → 0`). Near the separatrix phase averaging is meaningless
-//! (SPEC X2): [`PendulumNormalForm::period_ratio`] returns a [`ConvergenceWarning`] when the small
+//! so [`PendulumNormalForm::period_ratio`] returns a [`ConvergenceWarning`] when the small
 //! parameter `μ = (a/π)²` exceeds `1/2` and refuses amplitudes `a ≥ π`.
 //!
 //! # References
@@ -664,7 +664,7 @@ pub enum ConvergenceWarning {
     },
     /// The small parameter `μ = (a/π)²` exceeds [`PENDULUM_WARNING_MU`]: the omitted tail may
     /// exceed the last term kept; near the separatrix (`μ → 1`) phase averaging is meaningless
-    /// (SPEC X2).
+    /// as the period grows without bound.
     NearSeparatrix {
         /// `μ = (a/π)²`.
         small_parameter: f64,

@@ -1,10 +1,10 @@
 //! A minimal integrator for element equations: classical RK4 with fixed steps and a Richardson
 //! error estimate.
 //!
-//! The element equations of M58–M60 are general first-order systems `ẏ = f(t, y)` on pairs
+//! The element equations of [Ardema ch. 18] are general first-order systems `ẏ = f(t, y)` on pairs
 //! `y = (a, b) ∈ ℝᴺ × ℝᴺ` (the `2N` constants as two blocks, like `(q, p)` elsewhere in the crate,
 //! because stable Rust cannot spell `SVector<_, {2 * N}>`). They are not Hamilton's equations of a
-//! [`Hamiltonian`](crate::Hamiltonian) in the elements (in M58–M59 the elements are not canonical),
+//! [`Hamiltonian`](crate::Hamiltonian) in the elements (in general the elements are not canonical),
 //! and the crate's drivers [`Fixed`](crate::integrate::Fixed) and
 //! [`Dop853`](crate::integrate::Dop853) are bound to `S: Hamiltonian<N>` (DOP853 calls only
 //! `vector_field_unchecked`, so generalising it needs nothing more than a `VectorField<N>` trait
@@ -94,7 +94,7 @@ fn compensated_add<const N: usize>(
 /// Integrate `ode` from `(a₀, b₀)` at `t₀` to `t₁` with `steps` equal RK4 steps.
 ///
 /// Errors: non-finite input, `t₁ = t₀`, `steps = 0`, or the first error of the right-hand side
-/// (e.g. [`Error::Singular`] where the elements are singular, SPEC X12).
+/// (e.g. [`Error::Singular`] where the elements are singular).
 pub fn rk4<O: ElementOde<N> + ?Sized, const N: usize>(
     ode: &O,
     t0: f64,

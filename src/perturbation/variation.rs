@@ -1,7 +1,7 @@
-//! Variation of constants: the general form (SPEC M58; [Ardema 18.1, eqs. 18.1–18.10]) and the
-//! Lagrange-bracket form (SPEC M59; [Ardema 18.1, eqs. 18.11–18.25]).
+//! Variation of constants: the general form [Ardema 18.1, eqs. 18.1–18.10] and the
+//! Lagrange-bracket form [Ardema 18.1, eqs. 18.11–18.25].
 //!
-//! # General form (M58)
+//! # General form
 //! If `x = φ(γ, t)` is the general solution of `ẋ = X(x, t)` (state `x ∈ ℝ²ᴺ`, constants
 //! `γ ∈ ℝ²ᴺ`), the perturbed system `ẋ = X + g(x, t)` is solved by `x = φ(γ(t), t)` with
 //!
@@ -13,20 +13,20 @@
 //! because `∂φ/∂t = X(φ, t)` for every fixed `γ`. The Jacobian `∂φ/∂γ` comes by AD from
 //! [`GeneralSolution::state`], written once generic over [`DualNum`]; it is inverted with the
 //! crate's conditioning check ([`PhaseMatrix::checked_inverse`]): where the elements are singular
-//! (SPEC X12 — Kepler elements at `e = 0` and `i = 0`, an amplitude–phase pair at zero amplitude)
+//! (Kepler elements at `e = 0` and `i = 0`, an amplitude–phase pair at zero amplitude)
 //! the result is [`Error::Singular`] with the point and a reciprocal condition estimate; where a
 //! derivative of `φ` is infinite (the pendulum elements `θ = (√(2α)/n) sin n(t − β)` at `α = 0`)
 //! the same error with `rcond = 0`.
 //!
-//! # Lagrange-bracket form (M59)
+//! # Lagrange-bracket form
 //! With `x = (q, p)`, `q = F(γ, t)`, `p = G(γ, t)`, the unperturbed system Hamiltonian (possibly
 //! with its own non-conservative forces [Ardema eq. 18.25]) and a perturbation in the momentum
-//! equation only, `ṗ = −∂H/∂q + R(q, p, t)`, multiplying M58 by `(∂φ/∂γ)ᵀ J` gives
+//! equation only, `ṗ = −∂H/∂q + R(q, p, t)`, multiplying the general form by `(∂φ/∂γ)ᵀ J` gives
 //!
 //! $$ \sum_s [\gamma_j, \gamma_s]\,\dot\gamma_s = \sum_r R_r \frac{\partial F_r}{\partial \gamma_j},
 //!    \qquad j = 1\dots 2N \qquad\text{[Ardema eq. 18.21]}, $$
 //!
-//! with the Lagrange brackets of SPEC §0.2,
+//! with the Lagrange brackets,
 //! `[u, v] = Σ_r (∂q_r/∂u ∂p_r/∂v − ∂p_r/∂u ∂q_r/∂v)` [Ardema eq. 16.24]. For a conservative
 //! perturbation `R = −∂U/∂q` the right-hand side is `−∂U*/∂γ_j`, `U*(γ, t) = U(F(γ, t), t)`
 //! [Ardema eqs. 18.22–18.24] — Lagrange's planetary equations. For a Hamiltonian unperturbed
@@ -45,7 +45,7 @@ use num_dual::{Dual64, DualNum};
 /// The general solution `x = φ(γ, t)` of an unperturbed system, written once for every dual type.
 ///
 /// The state `x = (x₁, x₂)` and the constants `γ = (γ₁, γ₂)` are each split into two `N`-blocks.
-/// For the Lagrange-bracket form (M59) the blocks of the state are `(q, p) = (F(γ, t), G(γ, t))`.
+/// For the Lagrange-bracket form the blocks of the state are `(q, p) = (F(γ, t), G(γ, t))`.
 /// The constants are numbered `γ₁[0] … γ₁[N−1], γ₂[0] … γ₂[N−1]` in bracket matrices.
 pub trait GeneralSolution<const N: usize> {
     /// `φ(γ, t)`; may return NaN outside the domain of the elements.
@@ -57,7 +57,7 @@ pub trait GeneralSolution<const N: usize> {
     ) -> (SVector<D, N>, SVector<D, N>);
 }
 
-/// A perturbation `g(x, t)` of the full state equation `ẋ = X(x, t) + g(x, t)` (M58).
+/// A perturbation `g(x, t)` of the full state equation `ẋ = X(x, t) + g(x, t)`.
 pub trait Perturbation<const N: usize> {
     /// `g(x, t)` in blocks `(g₁, g₂)` matching the state blocks.
     fn perturbation<D: DualNum<f64> + Copy>(
@@ -68,7 +68,7 @@ pub trait Perturbation<const N: usize> {
     ) -> (SVector<D, N>, SVector<D, N>);
 }
 
-/// A perturbing force `R(q, p, t)` in the momentum equation only, `ṗ = −∂H/∂q + R` (M59).
+/// A perturbing force `R(q, p, t)` in the momentum equation only, `ṗ = −∂H/∂q + R`.
 pub trait MomentumForce<const N: usize> {
     /// `R(q, p, t)`.
     fn force<D: DualNum<f64> + Copy>(
@@ -79,7 +79,7 @@ pub trait MomentumForce<const N: usize> {
     ) -> SVector<D, N>;
 }
 
-/// A disturbing function `U(q, t)`: the conservative perturbation `R = −∂U/∂q` (M59).
+/// A disturbing function `U(q, t)`: the conservative perturbation `R = −∂U/∂q`.
 pub trait DisturbingFunction<const N: usize> {
     /// `U(q, t)`.
     fn disturbing_function<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
@@ -105,7 +105,7 @@ pub trait ParametricDisturbance<const N: usize, const M: usize>: DisturbingFunct
     ) -> D;
 }
 
-/// A momentum force as a full-state perturbation `g = (0, R)` (for M58).
+/// A momentum force as a full-state perturbation `g = (0, R)` (for the general form).
 #[derive(Clone, Copy, Debug)]
 pub struct InMomentumEquation<R>(pub R);
 
@@ -120,7 +120,7 @@ impl<R: MomentumForce<N>, const N: usize> Perturbation<N> for InMomentumEquation
     }
 }
 
-/// The force `R = −∂U/∂q` of a disturbing function, by AD (for comparing the two sides of M59).
+/// The force `R = −∂U/∂q` of a disturbing function, by AD (for comparing the two right-hand sides).
 #[derive(Clone, Copy, Debug)]
 pub struct GradientForce<U>(pub U);
 
@@ -169,7 +169,7 @@ fn at<const N: usize>(t: f64, g1: &SVector<f64, N>, g2: &SVector<f64, N>) -> Str
 ///
 /// Errors: non-finite input; [`Error::InvalidInput`] where `φ` itself is not finite (outside the
 /// domain of the elements); [`Error::Singular`] with `rcond = 0` where a derivative is infinite or
-/// NaN at a finite state (the elements are singular there, SPEC X12).
+/// NaN at a finite state (the elements are singular there).
 pub fn solution_jacobian<S: GeneralSolution<N> + ?Sized, const N: usize>(
     solution: &S,
     t: f64,
@@ -188,7 +188,7 @@ pub fn solution_jacobian<S: GeneralSolution<N> + ?Sized, const N: usize>(
         ),
         // φ finite but a derivative not: the elements are singular there.
         Error::InvalidInput { .. } => Error::Singular {
-            what: "∂φ/∂γ (not finite: the elements are singular here, SPEC X12)".into(),
+            what: "∂φ/∂γ (not finite: the elements are singular here)".into(),
             at: at(t, gamma1, gamma2),
             rcond: 0.0,
         },
@@ -213,7 +213,7 @@ impl<S: GeneralSolution<N> + ?Sized, const N: usize> crate::brackets::PhaseMap<N
     }
 }
 
-/// Right-hand side of the general variation-of-constants equations (M58),
+/// Right-hand side of the general variation-of-constants equations,
 /// `γ̇ = (∂φ/∂γ)⁻¹ g(φ(γ, t), t)` [Ardema eq. 18.10].
 ///
 /// Errors as [`solution_jacobian`], plus [`Error::Singular`] (with the point and the reciprocal
@@ -242,13 +242,13 @@ where
         g2.as_slice(),
     )?;
     let inv = m.checked_inverse(
-        "∂φ/∂γ (variation of constants, M58; singular elements, SPEC X12)",
+        "∂φ/∂γ (variation of constants; singular elements)",
         || at(t, gamma1, gamma2),
     )?;
     Ok(inv.apply(&g1, &g2))
 }
 
-/// The element equations of M58 as an ODE: `γ̇ = (∂φ/∂γ)⁻¹ g`.
+/// The element equations of the general form as an ODE: `γ̇ = (∂φ/∂γ)⁻¹ g`.
 #[derive(Clone, Copy, Debug)]
 pub struct VariationOfConstants<S, G> {
     /// The unperturbed general solution `φ(γ, t)`.
@@ -322,7 +322,7 @@ pub fn lagrange_brackets_with_rate<S: GeneralSolution<N> + ?Sized, const N: usiz
     }
     let what = |e: Error| match e {
         Error::NonFinite { .. } => Error::Singular {
-            what: "∂[γ_j, γ_s]/∂t (not finite: the elements are singular here, SPEC X12)".into(),
+            what: "∂[γ_j, γ_s]/∂t (not finite: the elements are singular here)".into(),
             at: at(t, gamma1, gamma2),
             rcond: 0.0,
         },
@@ -334,7 +334,7 @@ pub fn lagrange_brackets_with_rate<S: GeneralSolution<N> + ?Sized, const N: usiz
     ))
 }
 
-/// Time independence of the Lagrange brackets (M59) along sample times, at fixed `γ`.
+/// Time independence of the Lagrange brackets along sample times, at fixed `γ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BracketDefect {
     /// `max_k ‖L(t_k) − L(t_0)‖_max` over the samples.
@@ -373,8 +373,8 @@ pub fn bracket_time_defect<S: GeneralSolution<N> + ?Sized, const N: usize>(
     Ok(d)
 }
 
-/// Solve Lagrange's equations `Σ_s [γ_j, γ_s] γ̇_s = b_j` for `γ̇` (M59; [Ardema eqs. 18.21,
-/// 18.24]) given the bracket matrix `L` and the right-hand side `b = (b₁, b₂)` (either
+/// Solve Lagrange's equations `Σ_s [γ_j, γ_s] γ̇_s = b_j` for `γ̇` [Ardema eqs. 18.21,
+/// 18.24] given the bracket matrix `L` and the right-hand side `b = (b₁, b₂)` (either
 /// `Σ_r R_r ∂F_r/∂γ_j` or `−∂U*/∂γ_j`). [`Error::Singular`] if `L` is singular.
 pub fn lagrange_planetary_rhs<const N: usize>(
     bracket_matrix: &PhaseMatrix<N>,
@@ -389,7 +389,7 @@ pub fn lagrange_planetary_rhs<const N: usize>(
     all_finite("right-hand side b₁", b.0.as_slice())?;
     all_finite("right-hand side b₂", b.1.as_slice())?;
     let inv = bracket_matrix
-        .checked_inverse("Lagrange-bracket matrix [γ_j, γ_s] (M59)", || {
+        .checked_inverse("Lagrange-bracket matrix [γ_j, γ_s] of γ", || {
             format!("{bracket_matrix:?}")
         })?;
     Ok(inv.apply(&b.0, &b.1))
@@ -449,7 +449,7 @@ where
     }
     if !(d1.iter().chain(d2.iter()).all(|v| v.is_finite())) {
         return Err(Error::Singular {
-            what: "∂U*/∂γ (not finite: the elements are singular here, SPEC X12)".into(),
+            what: "∂U*/∂γ (not finite: the elements are singular here)".into(),
             at: at(t, gamma1, gamma2),
             rcond: 0.0,
         });
@@ -457,7 +457,7 @@ where
     Ok((-d1, -d2))
 }
 
-/// The element equations of M59 with a momentum force `R`:
+/// The element equations of the Lagrange-bracket form with a momentum force `R`:
 /// `γ̇ = L⁻¹ b`, `L = [γ_j, γ_s]`, `b_j = Σ_r R_r ∂F_r/∂γ_j`.
 #[derive(Clone, Copy, Debug)]
 pub struct LagrangeBracketForm<S, R> {
@@ -477,7 +477,7 @@ impl<S: GeneralSolution<N>, R: MomentumForce<N>, const N: usize> ElementOde<N>
     }
 }
 
-/// Lagrange's planetary equations (M59, conservative perturbation):
+/// Lagrange's planetary equations (conservative perturbation):
 /// `Σ_s [γ_j, γ_s] γ̇_s = −∂U*/∂γ_j`.
 #[derive(Clone, Copy, Debug)]
 pub struct PlanetaryEquations<S, U> {

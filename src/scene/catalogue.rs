@@ -552,7 +552,7 @@ fn pendulum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
             }),
         );
     // Both series are in μ = (a/π)²; beyond μ = ½ their omitted tail may exceed the last term
-    // (SPEC X2): the results are shown with that warning.
+    // as the amplitude nears the separatrix: the results are shown with that warning.
     let mu_small = (amp / PI).powi(2);
     if mu_small > PENDULUM_WARNING_MU {
         let note = format!(

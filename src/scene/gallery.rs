@@ -64,7 +64,7 @@ impl GeneratingFunction<1> for AngleVariables {
     }
 }
 
-/// Free fall, `F₁(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24` (SPEC T6): Hamilton's
+/// Free fall, `F₁(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24` [Ardema 16.4]: Hamilton's
 /// principal function of `H = p²/2 + g q`; it maps the state at time `t` to the initial state
 /// `(Q, P)`, and `K = H + ∂F₁/∂t ≡ 0`.
 struct FreeFall {
@@ -628,13 +628,13 @@ fn entries() -> Result<Vec<Entry>> {
 ///    `q = −∂F₃/∂p`, `P = −∂F₃/∂Q` (F₃), `q = −∂F₄/∂p`, `Q = ∂F₄/∂P` (F₄) [Ardema eqs. 16.4–16.18;
 ///    Goldstein §9.1]: the oscillator's angle variables `F₁ = ½mωq² cot Q` [Goldstein §9.3;
 ///    Ardema 16.5]; free fall, `F₁ = (q − Q)²/(2t) − ½gt(q + Q) − g²t³/24`, time-dependent, mapping
-///    the state at `t` to the initial state (SPEC T6); the symplectic Euler step of the pendulum as
+///    the state at `t` to the initial state [Ardema 16.4]; the pendulum's symplectic Euler step as
 ///    `F₂ = qP + hH(q, P)` [Hairer, Lubich & Wanner §VI.5]; `F₃ = −(e^Q − 1)² tan p`, giving
 ///    `Q = ln(1 + √q cos p)`, `P = 2(1 + √q cos p)√q sin p` [Goldstein, ch. 9 exercises]; and
 ///    `F₄ = −p² tan P/(2mω)`, giving `(Q, P) = (−H/ω, arctan(mωq/p))`, the oscillator's action and
 ///    angle exchanged.
 /// 2. The polar point transformation `x = r cos θ`, `y = r sin θ` with `P = (∂q/∂Q)ᵀ p`
-///    [Ardema eq. 16.22] (SPEC T8).
+///    [Ardema 16.3, eq. 16.22].
 /// 3. Explicit maps: `Q = ln(sin p / q)`, `P = q cot p` [Ardema Prob. 16/2], canonical, and its
 ///    composition with its Newton inverse (the identity); the non-canonical controls
 ///    `Q = √q cos p`, `P = √q sin p` [Ardema Prob. 16/3 with β = 1: `(Q, P) = ½`],
@@ -648,7 +648,7 @@ fn entries() -> Result<Vec<Entry>> {
 ///    (by a factor of about 64 per halving of `h`, measured here for the pendulum; for the linear
 ///    oscillator `det M = |R(iωh)|² = 1 − (ωh)⁶/72 + (ωh)⁸/576` with `R` the stability function).
 /// 6. Lie series `exp(h L_H) z = Σₖ hᵏ/k! L_Hᵏ z`, `L_H f = (f, H)` — the pendulum's flow over `h`
-///    as a Taylor series (Deprit 1969; Ardema §18.3): canonical to its truncation, `O(h^{n+1})`
+///    as a Taylor series [Deprit 1969; Ardema 18.3]: canonical to its truncation, `O(h^{n+1})`
 ///    for order `n` (below rounding at order 8 for `h = 0.02`, visible at order 3); and the
 ///    infinitesimal contact transformation `Q = q + ε ∂ρ/∂p`, `P = p − ε ∂ρ/∂q` with `ρ = H`
 ///    [Ardema eqs. 18.38–18.39], one explicit Euler step, canonical to first order only

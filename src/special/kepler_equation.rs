@@ -240,9 +240,9 @@ fn bracketed_halley(
 /// (accurate in the nearly parabolic corner `e → 1`, `M → 0`; cf. Mikkola 1987, Markley 1995) and
 /// from Danby's `M + 0.85 e` otherwise. The residual is evaluated as
 /// `(1 − e) sin E + (E − sin E) − M` with a series for `E − sin E`, so that the root is found to
-/// full relative precision even for `e = 1 − 10⁻⁹`, `M = 10⁻⁶` (SPEC X3).
+/// full relative precision even for `e = 1 − 10⁻⁹`, `M = 10⁻⁶`.
 ///
-/// References: Ardema (2005) §10.3; Danby (1988) ch. 6; Battin (1999) ch. 5.
+/// References: [Ardema 10.3]; Danby (1988) ch. 6; Battin (1999) ch. 5.
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞ input, [`Error::OutOfDomain`] for `e ∉ [0, 1)`,
@@ -263,7 +263,7 @@ pub fn solve_kepler(mean_anomaly: f64, e: f64) -> Result<f64> {
 /// Any real `E` is accepted and `ν − E` is 2π-periodic (`ν` is continuous and increasing in `E`;
 /// `ν = E` at `E = 0, ±π`).
 ///
-/// Reference: Ardema (2005) §10.3; Battin (1999) ch. 4.
+/// Reference: [Ardema 10.3]; Battin (1999) ch. 4.
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
@@ -284,7 +284,7 @@ pub fn eccentric_to_true(eccentric_anomaly: f64, e: f64) -> Result<f64> {
 ///
 /// Any real `ν` is accepted and `E − ν` is 2π-periodic.
 ///
-/// Reference: Ardema (2005) §10.3; Battin (1999) ch. 4.
+/// Reference: [Ardema 10.3]; Battin (1999) ch. 4.
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
@@ -301,7 +301,7 @@ pub fn true_to_eccentric(true_anomaly: f64, e: f64) -> Result<f64> {
 /// True anomaly from mean anomaly: solve `M = E − e sin E` ([`solve_kepler`]) and convert with
 /// [`eccentric_to_true`]. `ν − M` is 2π-periodic.
 ///
-/// Reference: Ardema (2005) §10.3; Danby (1988) ch. 6.
+/// Reference: [Ardema 10.3]; Danby (1988) ch. 6.
 ///
 /// # Errors
 /// As [`solve_kepler`].
@@ -313,7 +313,7 @@ fn elliptic_mean_to_true(mean_anomaly: f64, e: f64) -> Result<f64> {
 /// Mean anomaly from true anomaly: `E` from [`true_to_eccentric`], then `M = E − e sin E`
 /// (evaluated without cancellation near `e → 1`, `E → 0`). `M − ν` is 2π-periodic.
 ///
-/// Reference: Ardema (2005) §10.3.
+/// Reference: [Ardema 10.3].
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `e ∉ [0, 1)`.
@@ -715,13 +715,13 @@ pub(crate) mod tests {
     }
 
     // -----------------------------------------------------------------------------------------
-    // SPEC X3
+    // Kepler's equation near e = 1
     // -----------------------------------------------------------------------------------------
 
     #[test]
     fn spec_x3_reference_values() {
-        // (e, M, E from SPEC X3, E from a 50-digit mpmath solution for the f64 inputs, relative
-        // tolerance). ∂E/∂e ≈ 110 in the first case, so the SPEC digits are compared at 1e-12;
+        // (e, M, tabulated E, E from a 50-digit mpmath solution for the f64 inputs, relative
+        // tolerance). ∂E/∂e ≈ 110 in the first case, so the tabulated digits are compared at 1e-12;
         // the mpmath values at 4 ulps (the root is determined to ~1 ulp by the careful residual).
         let cases = [
             (
@@ -739,7 +739,7 @@ pub(crate) mod tests {
             let err_spec = ((ea - spec) / spec).abs();
             let err_mp = ((ea - mp) / mp).abs();
             eprintln!(
-                "X3 e={e} M={m}: E={ea:.17} rel err vs SPEC {err_spec:e}, vs mpmath {err_mp:e}"
+                "e={e} M={m}: E={ea:.17} rel err vs table {err_spec:e}, vs mpmath {err_mp:e}"
             );
             assert!(err_spec <= rel);
             assert!(err_mp <= 4.0 * EPS);
@@ -775,7 +775,7 @@ pub(crate) mod tests {
             for &m in &ms {
                 let ea = solve_kepler(m, e).unwrap();
                 let (res, size) = oracle_residual(ea, e, m);
-                // SPEC criterion: a few ulps of max(1, |M|).
+                // Required: a residual of a few ulps of max(1, |M|).
                 assert!(
                     res.abs() <= 1e-15 * m.abs().max(1.0),
                     "e={e} M={m}: residual {res:e}"

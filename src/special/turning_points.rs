@@ -1,4 +1,4 @@
-//! Quadratures between turning points (SPEC M26, X1; [Ardema 9.2, 10.1]).
+//! Quadratures between turning points [Ardema 9.2, eqs. 9.13–9.15; 10.1].
 //!
 //! Separating the Hamilton–Jacobi equation reduces every coordinate to integrals of the form
 //!
@@ -6,7 +6,7 @@
 //!
 //! where `F = p²` is the radicand of the separated momentum and `x₁ < x₂` are the turning points
 //! (simple roots of `F`, `P > 0` on `[x₁, x₂]`). The integrand has inverse-square-root end points.
-//! The substitution (SPEC X1)
+//! The substitution
 //!
 //! $$ x = \tfrac12(x_1 + x_2) - \tfrac12(x_2 - x_1)\cos s, \qquad s \in [0, \pi], $$
 //!

@@ -6,7 +6,7 @@ use nalgebra::SVector;
 use num_dual::DualNum;
 
 /// Bead on a hoop of radius `a` spinning at the constant rate `ω` about its vertical diameter;
-/// `θ` measured from the bottom [Ardema 8.2, SPEC T24]:
+/// `θ` measured from the bottom [Ardema 8.2]:
 ///
 /// $$ L = \tfrac12 m a^2 (\dot\theta^2 + \omega^2 \sin^2\theta) + m g a \cos\theta . $$
 ///

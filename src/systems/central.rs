@@ -4,8 +4,8 @@
 //!
 //! $$ H = \tfrac12 |p|^2 + V(|q|) $$
 //!
-//! per unit mass (Ardema §10.1, eqs. 10.1–10.4; Goldstein, Poole & Safko, *Classical Mechanics*,
-//! 3rd ed., §3.2). The energy and the angular momentum `q × p` are conserved.
+//! per unit mass [Ardema 10.1, eqs. 10.1–10.4; Goldstein §3.2].
+//! The energy and the angular momentum `q × p` are conserved.
 
 use super::{Invariant, Invariants};
 use crate::error::{positive, Error, Result};

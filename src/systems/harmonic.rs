@@ -10,7 +10,7 @@ use num_dual::DualNum;
 /// Harmonic oscillator `H = p²/(2m) + ½ m ω² q²`.
 ///
 /// Exact flow `q(t) = q₀ cos ωτ + p₀/(mω) sin ωτ`, `p(t) = p₀ cos ωτ − mω q₀ sin ωτ`, `τ = t − t₀`
-/// [Ardema 16.5, T5].
+/// [Ardema 16.5].
 ///
 /// [`ExactFlow::exact_flow`] refuses a phase `|ωτ|` above
 /// [`MAX_PHASE_ADVANCE`](crate::systems::kepler::orbit::MAX_PHASE_ADVANCE) with

@@ -4,11 +4,11 @@
 //! | system | degrees of freedom | exact solution |
 //! |---|---|---|
 //! | [`HarmonicOscillator`] | 1 | closed form, generic over the dual type |
-//! | [`Pendulum`] | 1 | Jacobi elliptic functions + AGM, up to the separatrix (SPEC X2) |
-//! | [`Kepler2`], [`Kepler3`] | 2, 3 | universal-variable flow, every conic; element sets ([`kepler`], SPEC M28, X3) |
+//! | [`Pendulum`] | 1 | Jacobi elliptic functions + AGM, up to the separatrix |
+//! | [`Kepler2`], [`Kepler3`] | 2, 3 | universal-variable flow, every conic; element sets ([`kepler`]; Ardema 10.2–10.3) |
 //! | [`Projectile`] | 2 | closed form |
-//! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral, SPEC T24) |
-//! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`], SPEC M30, M57) |
+//! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral [Ardema 8.2]) |
+//! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
 use nalgebra::SVector;

@@ -5,11 +5,11 @@ use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
-/// Plane pendulum `H = ½ p² + n² (1 − cos θ)` (SPEC T9; `n` the small-oscillation frequency).
+/// Plane pendulum `H = ½ p² + n² (1 − cos θ)` [Ardema 18.2], `n` the small-oscillation frequency.
 ///
 /// Exact motion by Jacobi elliptic functions, libration and rotation, valid up to the separatrix
 /// ([`pendulum_exact`]); the period `τ = 4K(k)/n`, `k = sin(a/2)`, is computed from the
-/// complementary modulus `k′ = cos(a/2)` by the AGM (SPEC X2).
+/// complementary modulus `k′ = cos(a/2)` by the AGM.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pendulum {
     n: f64,

@@ -613,7 +613,7 @@ mod tests {
 
     #[test]
     fn x2_period_from_exact_gap() {
-        // 15-digit references (tolerance as in T9).
+        // 15-digit references (tolerance as for the period table).
         let table = [
             (1e-2, 26.738_605_693_505_2),
             (1e-6, 63.579_808_398_580_3),

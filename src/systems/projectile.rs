@@ -5,7 +5,7 @@ use crate::phase::check_phase;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
-/// Projectile in a uniform field, `y` upward: `H = |p|²/(2m) + m g y` [Ardema 17.1, T1].
+/// Projectile in a uniform field, `y` upward: `H = |p|²/(2m) + m g y` [Ardema 17.1].
 ///
 /// Exact flow `x = x₀ + p_x τ/m`, `y = y₀ + p_y τ/m − ½ g τ²`, `p_y = p_{y0} − m g τ`.
 #[derive(Clone, Copy, Debug, PartialEq)]

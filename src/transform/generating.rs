@@ -1,5 +1,5 @@
-//! Canonical transformations from generating functions of the four classical kinds (SPEC M49, M51,
-//! §0.5; [Ardema 16.2, eqs. 16.4–16.18]).
+//! Canonical transformations from generating functions of the four classical kinds
+//! [Ardema 16.2–16.5, eqs. 16.4–16.39].
 //!
 //! | kind | arguments `(x, y)` | relations |
 //! |---|---|---|
@@ -9,7 +9,7 @@
 //! | F4 | `(p, P)` | `q = −∂F/∂p`, `Q = ∂F/∂P` |
 //!
 //! In every case the new Hamiltonian is `K(t, Q, P) = H + ∂F/∂t` [Ardema eq. 16.39] (Jacobi's
-//! theorem, M51), available as a [`Hamiltonian`] through [`CanonicalTransformation::transform`].
+//! theorem), available as a [`Hamiltonian`] through [`CanonicalTransformation::transform`].
 //!
 //! **Solving the implicit relations.** The forward map solves `s ∂F/∂x (x, y) = (other old
 //! variable)` for the new argument `y`, the inverse solves `s′ ∂F/∂y (x, y) = (other new variable)`
@@ -178,7 +178,7 @@ pub struct Image<const N: usize> {
     pub error: [f64; 2],
 }
 
-/// The four classical kinds of generating function (SPEC §0.5).
+/// The four classical kinds of generating function, Ardema's `W₁`–`W₄` [Ardema 16.4].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {
     /// `F1(q, Q, t)`: `p = ∂F/∂q`, `P = −∂F/∂Q`.
@@ -236,7 +236,7 @@ impl Kind {
 /// `x` is the old argument (`q` or `p`) and `y` the new one (`Q` or `P`) as in the table of the
 /// [module docs](self).
 ///
-/// # Example: the oscillator's angle variables, `F₁ = ½ m ω q² cot Q` (SPEC T5)
+/// # Example: the oscillator's angle variables, `F₁ = ½ m ω q² cot Q` [Ardema 16.5]
 /// ```
 /// use hamilton_jacobi::transform::{CanonicalTransformation, GeneratingFunction, Kind};
 /// use hamilton_jacobi::{DualNum, nalgebra::SVector};
@@ -891,7 +891,7 @@ impl<G: GeneratingFunction<N>, const N: usize> CanonicalTransformation<G, N> {
         self.generator.generator(td, &xd, &yd).eps
     }
 
-    /// The transformed Hamiltonian `K(t, Q, P) = H(t, q, p) + ∂F/∂t` (Jacobi's theorem, M51), a
+    /// The transformed Hamiltonian `K(t, Q, P) = H(t, q, p) + ∂F/∂t` [Ardema eq. 16.39], a
     /// [`Hamiltonian`] in the new variables usable everywhere in the crate.
     pub fn transform<'a, H: Hamiltonian<N>>(&'a self, h: &'a H) -> Transformed<'a, G, H, N> {
         Transformed { ct: self, h }

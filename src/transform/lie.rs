@@ -1,4 +1,4 @@
-//! Infinitesimal contact transformations, symmetries and Lie series (SPEC M61, [Ardema 18.3]).
+//! Infinitesimal contact transformations, symmetries and Lie series [Ardema 18.3].
 //!
 //! A generator `ρ(t, q, p)` — any [`PhaseFunction`] — defines
 //!
@@ -69,7 +69,7 @@ fn check_eps(eps: f64) -> Result<f64> {
 }
 
 /// The ICT is canonical to first order only: its Jacobian is `M = I + εA` with `A = J ∇²ρ` the
-/// Jacobian of `ρ`'s Hamiltonian vector field, and `MᵀJM − J = ε² AᵀJA` (Ardema eq. 18.38 and
+/// Jacobian of `ρ`'s Hamiltonian vector field, and `MᵀJM − J = ε² AᵀJA` ([Ardema eq. 18.38] and
 /// the remark after it). `J` is orthogonal, so `‖A‖_F = ‖∇²ρ‖_F`. Past `|ε| ‖∇²ρ‖_F = 1` the
 /// neglected second-order terms are as large as the first-order ones and the defect as large as
 /// `J` itself: the map is no longer a canonical transformation to any accuracy, and is refused.
@@ -165,7 +165,7 @@ fn check_output<const N: usize>(
 /// ```
 ///
 /// # Reference
-/// Ardema 2005, §18.3, eqs. 18.32–18.40.
+/// [Ardema 18.3, eqs. 18.32–18.40].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ict<R> {
     generator: R,
@@ -266,7 +266,7 @@ impl<R: PhaseFunction<N>, const N: usize> PhaseMap<N> for Ict<R> {
 /// NaN/∞ inputs and a non-finite result are errors.
 ///
 /// # Reference
-/// Ardema 2005, §18.3, eqs. 18.41–18.45.
+/// [Ardema 18.3, eqs. 18.41–18.45].
 pub fn symmetry_defect<R, H, const N: usize>(
     rho: &R,
     h: &H,
@@ -291,7 +291,7 @@ where
 /// [`Ict::transform`]).
 ///
 /// # Reference
-/// Ardema 2005, §18.3, eq. 18.40.
+/// [Ardema 18.3, eq. 18.40].
 pub fn variation<F, R, const N: usize>(
     f: &F,
     rho: &R,

@@ -1,6 +1,6 @@
 //! Canonical (contact) transformations: generating functions of the four kinds, point
 //! transformations, composition and inversion of maps, infinitesimal transformations and Lie
-//! series (SPEC M49–M51, M61). Certification of any map is [`crate::brackets::certify`]; the
+//! series [Ardema ch. 16, 18.3]. Certification of any map is [`crate::brackets::certify`]; the
 //! three classical tests of canonicity are [`crate::brackets::exactness_defect`] (the definition:
 //! `Σ p dq − Σ P dQ` closed), [`crate::brackets::liouville_determinant`] and the bracket matrices.
 

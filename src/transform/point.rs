@@ -1,5 +1,5 @@
-//! Point transformations `q = f(t, Q)` and their induced momenta (SPEC M50; [Ardema 16.3,
-//! eq. 16.22]):
+//! Point transformations `q = f(t, Q)` and their induced momenta [Ardema 16.3,
+//! eq. 16.22]:
 //!
 //! $$ q = f(t, Q),\qquad P = \Big(\frac{\partial f}{\partial Q}\Big)^{\mathsf T} p , $$
 //!
@@ -93,7 +93,7 @@ pub fn point_transformation<F: PointTransformation<N>, const N: usize>(
     CanonicalTransformation::new(PointGenerator(f))
 }
 
-/// Plane polar coordinates `Q = (r, θ)`: `x = r cos θ`, `y = r sin θ` (T8). Singular at `r = 0`.
+/// Polar coordinates `Q = (r, θ)`: `x = r cos θ`, `y = r sin θ` [Ardema 16.3]; singular at `r = 0`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Polar;
 
@@ -110,7 +110,7 @@ impl PointTransformation<2> for Polar {
 /// Spherical coordinates `Q = (r, θ, φ)`, `θ` the polar angle from the `z` axis:
 /// `x = r sin θ cos φ`, `y = r sin θ sin φ`, `z = r cos θ`. Singular at `r = 0` and on the `z`
 /// axis (`det ∂q/∂Q = r² sin θ = 0`, `φ` undefined): the forward map refuses `x = y = 0` with
-/// [`Error::Singular`] (induced momenta as in Ardema 16.3, eq. 16.22). Points off the axis, however
+/// [`Error::Singular`] (induced momenta as in [Ardema eq. 16.22]). Points off the axis, however
 /// close, map to rounding: `θ = atan2(√(x² + y²), z)` carries an absolute error of a few `ε θ`, so
 /// every `P_i` is within a few `ε |P_i| + 2εθ r |p|` (near the negative axis, `θ ≈ π`, the
 /// angular momentum `P_φ` is thus known only to about `ε r |p|`).

@@ -118,7 +118,7 @@ pub fn central_sample_points() -> Vec<(f64, SVector<f64, 3>, SVector<f64, 3>)> {
     ]
 }
 
-/// Ardema Prob. 16/2: `Q = ln(sin p / q)`, `P = q cot p` (canonical).
+/// [Ardema Prob. 16/2]: `Q = ln(sin p / q)`, `P = q cot p` (canonical).
 pub struct Prob16_2;
 impl PhaseMap<1> for Prob16_2 {
     fn apply<D: DualNum<f64> + Copy>(
@@ -134,7 +134,7 @@ impl PhaseMap<1> for Prob16_2 {
     }
 }
 
-/// Ardema Prob. 16/3: `Q = q^α cos βp`, `P = q^α sin βp` (canonical iff α = ½, β = 2).
+/// [Ardema Prob. 16/3]: `Q = q^α cos βp`, `P = q^α sin βp` (canonical iff α = ½, β = 2).
 pub struct Prob16_3 {
     pub alpha: f64,
     pub beta: f64,

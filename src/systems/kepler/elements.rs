@@ -1,7 +1,7 @@
 //! Element sets of the Kepler problem and the maps between them and the Cartesian state, for
 //! every conic type, with the element → state maps generic over dual numbers.
 //!
-//! Per unit mass, `H = |p|²/2 − μ/|q|` with `p = q̇ = v` (SPEC M28, §0.7). Four element sets:
+//! Per unit mass, `H = |p|²/2 − μ/|q|` with `p = q̇ = v` [Ardema 10.2–10.3]. Four element sets:
 //!
 //! | set | elements | conics | singular at |
 //! |---|---|---|---|
@@ -21,7 +21,7 @@
 //!   `H = G cos i`; `(l, g, h; L, G, H)` are canonical coordinates and momenta of the Kepler
 //!   problem, in which `H_K = −μ²/(2L²)`.
 //!
-//! # Conventions at the singularities (SPEC X12)
+//! # Conventions at the singularities
 //!
 //! The classical and Delaunay angles are undefined at `e = 0` (no periapsis) and `i = 0` or
 //! `i = π` (no node). [`state_to_classical`] (and [`state_to_delaunay`]) then return
@@ -51,7 +51,7 @@
 //! and the real part of the residual removed, as in [`crate::implicit`]: every Taylor coefficient
 //! of the root is then exact (implicit function theorem), while its real part keeps the full
 //! relative precision of the real solver (the residual `E − e sin E − M` cancels near
-//! `e → 1`, `M → 0`, SPEC X3, so it must not move the real part).
+//! `e → 1`, `M → 0`, so it must not move the real part).
 //!
 //! # Conic switch
 //!
@@ -75,7 +75,7 @@
 //!   303–310 (1972), doi:10.1007/BF01228432.
 //! * M. J. H. Walker, B. Ireland & J. Owens, "A set of modified equinoctial orbit elements",
 //!   *Celestial Mechanics* 36, 409–419 (1985), doi:10.1007/BF01227493.
-//! * M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3, 18 (SPEC M28).
+//! * M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3 and ch. 18.
 
 use std::f64::consts::{PI, TAU};
 
@@ -288,7 +288,7 @@ impl Classical<f64> {
 
     /// The elements after a time `dt` of Kepler motion: `M ↦ M + n dt` with `n = √(μ/|a|³)`
     /// (elliptic and hyperbolic; the other elements are constants of the motion; Vallado 2013
-    /// §2.3, Ardema 2005 §10.3).
+    /// §2.3; [Ardema 10.3]).
     ///
     /// # Errors
     /// As [`Classical::mean_motion`]; [`Error::NonFinite`] for a NaN/∞ `dt` or result;
@@ -1250,13 +1250,13 @@ pub(crate) mod tests {
     }
 
     // -----------------------------------------------------------------------------------------
-    // SPEC T12
+    // Kepler's equation and the state at t = 0.3 T [Ardema 10.2–10.3]
     // -----------------------------------------------------------------------------------------
 
     #[test]
     fn spec_t12_table() {
         // 0.6π rounded to f64 (= 1.8849555921538759, one ulp below the decimal literal
-        // 1.884955592153876 of the SPEC).
+        // 1.884955592153876 of the table).
         let m = 0.6 * PI;
         assert!((m - 1.884955592153876).abs() <= ulp(m));
         // (e, E, ν, r) as tabulated (13 significant digits) and the same values from a 50-digit

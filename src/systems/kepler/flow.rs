@@ -198,7 +198,7 @@ mod tests {
             }
             // The RK4 global error scales as h⁴ (at e = 0.9 it is ≈5e-12 with τ/2¹⁶ and ≈2e-14,
             // the round-off level of the compensated sum, with τ/2¹⁸), so with h = τ/2²⁰ the
-            // oracle is far more accurate than the SPEC agreement of 1e-9 being checked.
+            // oracle is far more accurate than the agreement of 1e-9 being checked.
             assert!(max_err <= 1e-9, "e={e} i={i}: RK4 disagreement {max_err:e}");
 
             // One full period returns to the initial state.

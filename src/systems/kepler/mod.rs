@@ -14,7 +14,7 @@
 //! (Lagrange's and Gauss's planetary equations, secular theory) are perturbation methods
 //! ([`crate::perturbation`]).
 //!
-//! References: M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3 (SPEC M28);
+//! References: M. D. Ardema, *Analytical Dynamics*, Kluwer/Plenum (2005), §§10.2–10.3;
 //! R. H. Battin, *An Introduction to the Mathematics and Methods of Astrodynamics*, rev. ed.,
 //! AIAA (1999), chs. 3–5; D. A. Vallado, *Fundamentals of Astrodynamics and Applications*, 4th
 //! ed., Microcosm (2013), ch. 2.
@@ -33,7 +33,7 @@ pub mod orbit;
 
 pub use flow::{drift, propagate};
 
-/// Kepler problem per unit mass in `N = 2` or `3` dimensions, `H = |p|²/2 − μ/|q|` (SPEC M28, §0.7).
+/// Kepler problem per unit mass in `N = 2` or `3` dimensions, `H = |p|²/2 − μ/|q|` [Ardema 10.2].
 ///
 /// Invariants: energy, angular momentum, eccentricity (Laplace–Runge–Lenz) vector. Exact motion on
 /// every conic by the universal-variable flow ([`propagate`]).
@@ -159,7 +159,7 @@ impl<const N: usize> ExactFlow<N> for Kepler<N> {
 /// A component of the angular momentum `h = q × p` as a [`PhaseFunction`]: for `N = 3` the
 /// component about axis `k` (`h_k = q_i p_j − q_j p_i`, `(i, j, k)` cyclic), for `N = 2` the `z`
 /// component `x p_y − y p_x`. An integral of every central-force problem; its Poisson brackets obey
-/// `(h_x, h_y) = h_z` (SPEC T11) and it generates rotations.
+/// `(h_x, h_y) = h_z` [Ardema 15.5] and it generates rotations [Ardema 18.3].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AngularMomentum<const N: usize> {
     i: usize,

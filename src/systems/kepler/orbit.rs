@@ -7,7 +7,7 @@
 //!
 //! H(q, p) = |p|²/2 − μ/|q|,   μ > 0,
 //!
-//! so the momentum equals the velocity, `p = q̇ = v`. Conventions (SPEC M28):
+//! so the momentum equals the velocity, `p = q̇ = v`. Conventions [Ardema 10.2–10.3]:
 //!
 //! * `k = r²θ̇ = |q × p|` is the specific angular momentum, `ε = |p|²/2 − μ/|q|` the specific
 //!   energy, `e` the eccentricity, `a = −μ/(2ε)` the semi-major axis;
@@ -15,7 +15,7 @@
 //!   [`crate::special::kepler_equation`]), period `τ = 2π/n = 2π a^{3/2}/√μ`.
 //!
 //! The eccentricity is taken from the eccentricity vector, never from `√(1 + 2εk²/μ²)`, which
-//! cancels catastrophically for nearly circular orbits (SPEC X3).
+//! cancels catastrophically for nearly circular orbits.
 //!
 //! # References
 //!
@@ -104,7 +104,7 @@ pub(crate) fn check_state(r: &Vector3<f64>, v: &Vector3<f64>) -> Result<f64> {
 /// (exact scaling by a power of two), `n = √(μ/a'³)·2^{−3k}`, so the only rounding-range limit is
 /// that of `n` itself.
 ///
-/// Reference: Ardema (2005) §10.3.
+/// Reference: [Ardema 10.3].
 ///
 /// # Errors
 /// [`Error::NonFinite`] / [`Error::OutOfDomain`] unless `μ > 0` and `a > 0` are finite;
@@ -177,7 +177,7 @@ fn scale2(x: f64, k: i32) -> f64 {
 
 /// Orbital period `τ = 2π a^{3/2}/√μ` (Kepler's third law).
 ///
-/// Reference: Ardema (2005) §10.3.
+/// Reference: [Ardema 10.3].
 ///
 /// # Errors
 /// [`Error::NonFinite`] / [`Error::OutOfDomain`] unless `μ > 0` and `a > 0` are finite.
@@ -193,7 +193,7 @@ pub fn period(mu: f64, a: f64) -> Result<f64> {
 
 /// Specific energy `ε = |v|²/2 − μ/|r|` (the Hamiltonian per unit mass; `p = v`).
 ///
-/// Reference: Ardema (2005) §10.2.
+/// Reference: [Ardema 10.2].
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `μ ≤ 0`,
@@ -207,7 +207,7 @@ pub fn specific_energy(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result<f6
 /// Specific angular momentum vector `h = r × v` (its norm is `k = r²θ̇`); conserved by the Kepler
 /// flow. No validation: NaN/∞ components propagate.
 ///
-/// Reference: Ardema (2005) §10.2.
+/// Reference: [Ardema 10.2].
 pub fn angular_momentum(r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
     r.cross(v)
 }
@@ -216,9 +216,9 @@ pub fn angular_momentum(r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
 /// points to periapsis, `|e|` is the eccentricity; conserved by the Kepler flow.
 ///
 /// Its norm is the numerically robust way to obtain `e`: the equivalent `√(1 + 2εk²/μ²)` cancels
-/// catastrophically for nearly circular orbits (SPEC X3).
+/// catastrophically for nearly circular orbits.
 ///
-/// Reference: Ardema (2005) §10.2; Battin (1999) ch. 3.
+/// Reference: [Ardema 10.2]; Battin (1999) ch. 3.
 ///
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞, [`Error::OutOfDomain`] for `μ ≤ 0`,

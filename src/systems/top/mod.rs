@@ -11,9 +11,9 @@ use crate::phase::check_phase;
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
-/// Heavy symmetric top with a fixed point on its axis (SPEC M30; [Ardema 11.2, eqs. 11.9–11.26]).
+/// Heavy symmetric top with a fixed point on its axis [Ardema 11.2, eqs. 11.9–11.26].
 ///
-/// Coordinates are the 3-1-3 Euler angles `q = (φ, θ, ψ)` (SPEC §0.7: precession `φ` about the
+/// Coordinates are the 3-1-3 Euler angles `q = (φ, θ, ψ)` ([Ardema 11.1]: precession `φ` about the
 /// vertical, nutation `θ` about the line of nodes, spin `ψ` about the figure axis), momenta
 /// `p = (p_φ, p_θ, p_ψ)`. With `I` the transverse and `J` the axial moment of inertia about the
 /// fixed point and `mgℓ` the weight times the distance of the mass centre from it,
@@ -29,15 +29,15 @@ use num_dual::DualNum;
 /// `φ` and `ψ` are ignorable: `p_ψ = J ω_z` and `p_φ = I φ̇ sin²θ + p_ψ cos θ` are constant
 /// [Ardema eqs. 11.15–11.16] and, with `H`, are the invariants ([`Invariants`]). The motion is
 /// reduced to the cubic of [`motion`] and solved there by Hamilton–Jacobi quadratures
-/// (SPEC M57), which also give the exact flow ([`ExactFlow`]).
+/// [Ardema 17.5], which also give the exact flow ([`ExactFlow`]).
 ///
-/// # Coordinate singularity (SPEC X9)
+/// # Coordinate singularity
 /// The 3-1-3 chart is singular where `sin θ = 0`: the mass matrix has determinant `I² J sin²θ` and
 /// `H` contains `1/sin²θ`. Every checked entry point ([`Hamiltonian::value`],
 /// [`Hamiltonian::vector_field`], [`Invariants::invariants`], [`ExactFlow::exact_flow`], the
 /// conversions below) refuses a state with `|sin θ| ≤ 2⁻⁵²` (θ within rounding of `0` or `π`)
 /// with [`Error::Singular`]. A sleeping top exactly at `θ = 0` is not representable; start at a
-/// small `θ` instead (SPEC T14c uses `θ = 10⁻³`).
+/// small `θ` instead, e.g. `θ = 10⁻³`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeavyTop {
     i: f64,
@@ -63,7 +63,7 @@ pub(crate) fn check_chart(theta: f64) -> Result<f64> {
         return Err(Error::Singular {
             what: "3-1-3 Euler-angle chart (mass matrix, det = I²J sin²θ)".into(),
             at: format!(
-                "θ = {theta} (sin θ = {s:e}): the precession and spin axes coincide; SPEC X9"
+                "θ = {theta} (sin θ = {s:e}): the precession and spin axes coincide on the vertical"
             ),
             rcond: s * s,
         });
@@ -117,7 +117,7 @@ impl HeavyTop {
         finite("γ = J ω_z/I", self.j * omega_z / self.i)
     }
 
-    /// The Lagrangian `L = ½ q̇ᵀ a(θ) q̇ − mgℓ cos θ` of M30 as a [`crate::Lagrangian`], for
+    /// The Lagrangian `L = ½ q̇ᵀ a(θ) q̇ − mgℓ cos θ` [Ardema 11.2] as a [`crate::Lagrangian`], for
     /// Lagrange's equations, the Legendre machinery and Routh's reduction.
     pub fn as_lagrangian(&self) -> Natural<HeavyTop> {
         Natural(*self)
@@ -137,7 +137,7 @@ impl HeavyTop {
         self.momenta_from_spin(theta, theta_dot, phi_dot, omega_z)
     }
 
-    /// Canonical momenta from `(θ, θ̇, φ̇)` and the spin `ω_z = ψ̇ + φ̇ cos θ` (SPEC M29):
+    /// Canonical momenta from `(θ, θ̇, φ̇)` and the spin `ω_z = ψ̇ + φ̇ cos θ` [Ardema 11.2]:
     /// `p_ψ = J ω_z`, `p_φ = I φ̇ sin²θ + J ω_z cos θ`, `p_θ = I θ̇`.
     pub fn momenta_from_spin(
         &self,
@@ -232,9 +232,9 @@ impl HeavyTop {
         }
     }
 
-    /// The critical spin of the sleeping top, `ω_c = 2√(I mgℓ)/J` (SPEC M30, T14c): the vertical
+    /// The critical spin of the sleeping top, `ω_c = 2√(I mgℓ)/J` [Ardema 11.2]: the vertical
     /// top is stable iff `J² ω_z² > 4 I mgℓ`. At `ω_c` the cubic has a triple root at `u = 1`
-    /// (SPEC X1).
+    /// (the time to reach it diverges, as at a separatrix).
     ///
     /// # Errors
     /// [`Error::NonFinite`] when `ω_c` overflows (e.g. `J` subnormal).

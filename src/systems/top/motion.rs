@@ -1,5 +1,5 @@
 //! The heavy symmetric top reduced to its cubic and solved by Hamilton–Jacobi quadratures
-//! (SPEC M30, M57, T14, X1, X9; [Ardema 11.2, eqs. 11.17–11.26; 17.5, eq. 17.45]).
+//! [Ardema 11.2, eqs. 11.17–11.26; 17.5, eq. 17.45].
 //!
 //! With `u = cos θ` and the constants `h` (energy), `p₁ = p_φ`, `p₂ = p_ψ` of a [`HeavyTop`], the
 //! energy integral becomes `u̇² = f(u)` with the cubic [Ardema eq. 11.19]
@@ -12,7 +12,7 @@
 //! is `u₃ ≥ 1`, so that `f = β(u − u₁)(u₂ − u)(u₃ − u)` and the reduced radicand of the
 //! turning-point quadrature ([`Libration`]) is exactly `P(u) = β(u₃ − u)`.
 //!
-//! The Hamilton–Jacobi solution (SPEC M57: `K = α₂φ + α₃ψ + ∫√F dθ`, `F = p_θ² = I² f/(1 − u²)`)
+//! The Hamilton–Jacobi solution (`K = α₂φ + α₃ψ + ∫√F dθ`, `F = p_θ² = I² f/(1 − u²)`)
 //! gives the motion by quadratures, written in `u` (`I dθ/√F = −du/√f`):
 //!
 //! $$ t = \int \frac{du}{\sqrt f},\qquad
@@ -32,12 +32,12 @@
 //!   (bracketed by the exact end values `f(±1)` and refined by safeguarded Newton), the third by
 //!   the product of the roots, `x₃ = −f₀/(β x₁ x₂)` (no cancellation), and the quadratures run in
 //!   the local variable, so the nutation width `u₂ − u₁` keeps full relative precision even at
-//!   `γ = 10⁴`, where it is `1.5·10⁻⁸` (SPEC X1). `1 ∓ u` are carried as `2 sin²(θ₀/2) ∓ x` and
+//!   `γ = 10⁴`, where it is `1.5·10⁻⁸`. `1 ∓ u` are carried as `2 sin²(θ₀/2) ∓ x` and
 //!   `2 cos²(θ₀/2) ± x` so that near-vertical tops keep their precession rate.
-//! * **Degenerate cases (SPEC X1).** A double root `u₁ = u₂` (steady precession) gives the finite
+//! * **Degenerate cases.** A double root `u₁ = u₂` (steady precession) gives the finite
 //!   small-oscillation limits of the [`Libration`] (`P` is exact there). A turning point at a pole
 //!   (`δ = ±γ` with the orbit reaching `θ = 0` or `π`) is refused with [`Error::Singular`] (the
-//!   Euler-angle chart fails there, SPEC X9). A double or triple root at the pole `u = 1` — the
+//!   Euler-angle chart fails there). A double or triple root at the pole `u = 1` — the
 //!   sleeping top at or below the critical spin `ω_c = 2√(I mgℓ)/J`, where
 //!   `f = (1 − u)²[β(1 + u) − γ²]` — is a separatrix ([`Error::Separatrix`]); above the critical
 //!   spin the sleeping top is the pole itself ([`Error::Singular`]).
@@ -76,7 +76,7 @@ impl TopCubic {
     /// The cubic of the motion through the state `(q, p)` (Euler angles `(φ, θ, ψ)` and their
     /// momenta), expanded about `u₀ = cos θ` (see the [module docs](self)).
     ///
-    /// Errors: non-finite input, `sin θ = 0` ([`Error::Singular`], SPEC X9), an orbit that reaches
+    /// Errors: non-finite input, `sin θ = 0` ([`Error::Singular`]), an orbit that reaches
     /// a pole ([`Error::Singular`]).
     pub fn from_state(top: &HeavyTop, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<Self> {
         crate::phase::check_phase(0.0, q, p)?;
@@ -112,7 +112,7 @@ impl TopCubic {
         c.with_roots()
     }
 
-    /// The cubic for the constants `h` (energy), `p₁ = p_φ`, `p₂ = p_ψ` (SPEC M30 `top_cubic`),
+    /// The cubic for the constants `h` (energy), `p₁ = p_φ`, `p₂ = p_ψ` [Ardema eq. 11.19],
     /// expanded about the maximum of `f` in `[−1, 1]`.
     ///
     /// The constants of a fast top lose digits in `α = (2h − p₂²/J)/I`; prefer
@@ -148,7 +148,7 @@ impl TopCubic {
             what: "3-1-3 Euler-angle chart".into(),
             at: format!(
                 "the pole: the vertical top (h = {h}, p_φ = {p1}, p_ψ = {p2}) stays there; \
-                 SPEC X9"
+                 sin θ = 0, where precession and spin share one axis"
             ),
             rcond: 0.0,
         };
@@ -285,7 +285,7 @@ impl TopCubic {
             what: "3-1-3 Euler-angle chart along the motion".into(),
             at: format!(
                 "the orbit reaches the pole {pole} (f(±1) = −(δ ∓ γ)² = 0 with δ = {}, γ = {}); \
-                 SPEC X9",
+                 sin θ = 0 there: precession and spin share one axis",
                 self.delta, self.gamma
             ),
             rcond: 0.0,
@@ -419,7 +419,7 @@ fn refine(g: impl Fn(f64) -> (f64, f64), a: f64, b: f64) -> Result<f64> {
 }
 
 /// The lower turning point of a top released from rest at `u₂ = cos θ₂` (`θ̇ = φ̇ = 0`) with spin
-/// `ω_z` [Ardema eq. 11.24], in the cancellation-free form of SPEC X1:
+/// `ω_z` [Ardema eq. 11.24], in a cancellation-free form:
 ///
 /// $$ u_1 = \frac{2 c u_2 - 1}{c + \sqrt{(c - u_2)^2 + 1 - u_2^2}},\qquad c = \frac{\gamma^2}{2\beta} $$
 ///
@@ -483,7 +483,7 @@ pub struct Advance {
     pub spin: Quadrature,
 }
 
-/// The nutation of a heavy top solved by Hamilton–Jacobi quadratures (SPEC M57) over the
+/// The nutation of a heavy top solved by Hamilton–Jacobi quadratures [Ardema 17.5] over the
 /// turning-point engine [`Libration`] in the local variable `x = u − u₀`, with the exact reduced
 /// radicand [`TopRadicand`]. See the [module docs](self).
 #[derive(Clone, Debug)]
@@ -545,13 +545,13 @@ impl Nutation {
         self.spin_rate - (self.cubic.u0 + n.x) * self.phi_rate(n)
     }
 
-    /// The nutation period `T = 2∫_{u₁}^{u₂} du/√f` (SPEC T14a, X1); for `u₁ = u₂` the
+    /// The nutation period `T = 2∫_{u₁}^{u₂} du/√f` [Ardema 11.2]; for `u₁ = u₂` the
     /// small-oscillation limit `2π/√(β(u₃ − u₁))`.
     pub fn period(&self) -> Result<Quadrature> {
         Ok(self.libration.inverse_sqrt_integral(|_| 1.0)?.scale(2.0))
     }
 
-    /// Precession advance per nutation period, `Δφ = 2∫ (δ − γu)/(1 − u²) du/√f` (SPEC M57).
+    /// Precession advance per nutation period, `Δφ = 2∫ (δ − γu)/(1 − u²) du/√f` [Ardema 17.5].
     pub fn precession_per_period(&self) -> Result<Quadrature> {
         let q = self
             .libration
@@ -559,7 +559,7 @@ impl Nutation {
         Ok(q.scale(2.0))
     }
 
-    /// Spin advance per nutation period, `Δψ = 2∫ [p₂/J − u(δ − γu)/(1 − u²)] du/√f` (SPEC M57).
+    /// Spin advance per nutation period, `Δψ = 2∫ [p₂/J − u(δ − γu)/(1 − u²)] du/√f` [Ardema 17.5].
     pub fn spin_per_period(&self) -> Result<Quadrature> {
         let q = self
             .libration
