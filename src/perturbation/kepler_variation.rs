@@ -66,15 +66,14 @@
 //!   does not judge whether the perturbation is small; ask
 //!   [`PhaseAverage::require_small`](super::canonical::PhaseAverage::require_small).
 
+use crate::phase::CanonicalPair;
 use std::f64::consts::{PI, TAU};
 
 use super::canonical::{average_over_phase, PhaseAverage};
 use super::ode::{ElementOde, Pair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
-use crate::systems::kepler::elements::{
-    state_to_classical, Classical, Delaunay, Equinoctial, State,
-};
+use crate::systems::kepler::elements::{state_to_classical, Classical, Delaunay, Equinoctial};
 use crate::systems::kepler::orbit::{self, phase_advance};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
@@ -573,7 +572,7 @@ impl MeanElements {
     }
 
     /// The Cartesian state of the mean elements at `t` (no short-period terms).
-    pub fn state(&self, t: f64) -> Result<State<f64>> {
+    pub fn state(&self, t: f64) -> Result<CanonicalPair<3>> {
         self.at(t)?.to_state(self.mu)
     }
 }

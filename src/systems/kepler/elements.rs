@@ -86,13 +86,11 @@ use super::orbit::{self, check_state, eccentricity_vector, phase_advance, CIRCUL
 use crate::brackets::PhaseMap;
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::implicit::lift_scalar_root;
+use crate::phase::CanonicalPair;
 use crate::special::kepler_equation::{
     eccentric_anomaly, hyperbolic_anomaly, mean_to_true, one_minus_e_cos, true_to_mean, with_re,
     wrap_two_pi, Conic,
 };
-
-/// A Cartesian state `(q, p)` (position, momentum = velocity per unit mass).
-pub type State<D> = (SVector<D, 3>, SVector<D, 3>);
 
 // ---------------------------------------------------------------------------------------------
 // Small helpers
@@ -204,7 +202,7 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
     ///
     /// # Errors
     /// As [`Classical::validate`]; [`Error::OutOfDomain`] for `μ ≤ 0`; solver errors.
-    pub fn to_state(&self, mu: f64) -> Result<State<D>> {
+    pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
         let mu = check_mu(mu)?;
         let conic = self.validate()?;
         let (a, e) = (self.a, self.e);
@@ -626,7 +624,7 @@ impl<D: DualNum<f64> + Copy> Equinoctial<D> {
     ///
     /// # Errors
     /// As [`Equinoctial::validate`]; [`Error::OutOfDomain`] for `μ ≤ 0`.
-    pub fn to_state(&self, mu: f64) -> Result<State<D>> {
+    pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
         let mu = check_mu(mu)?;
         self.validate()?;
         let re = Equinoctial {
@@ -861,7 +859,7 @@ impl<D: DualNum<f64> + Copy> ModifiedEquinoctial<D> {
     ///
     /// # Errors
     /// As [`ModifiedEquinoctial::validate`]; [`Error::OutOfDomain`] for `μ ≤ 0`.
-    pub fn to_state(&self, mu: f64) -> Result<State<D>> {
+    pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
         let mu = check_mu(mu)?;
         self.validate()?;
         let (p, f, g, h, k) = (self.p, self.f, self.g, self.h, self.k);
@@ -1088,7 +1086,7 @@ impl<D: DualNum<f64> + Copy> Delaunay<D> {
     ///
     /// # Errors
     /// As [`Delaunay::to_classical_generic`] and [`Classical::to_state`].
-    pub fn to_state(&self, mu: f64) -> Result<State<D>> {
+    pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
         self.to_classical_generic(mu)?.to_state(mu)
     }
 }
