@@ -19,8 +19,8 @@ use hamilton_jacobi::brackets::certify;
 use hamilton_jacobi::hamilton_jacobi::principal::{principal_function, PrincipalOptions};
 use hamilton_jacobi::hamilton_jacobi::ActionAngle;
 use hamilton_jacobi::integrate::{
-    integrate, AnyMethod, Crossing, Dop853, ExactStep, Fixed, ParameterSensitivity, Problem,
-    Section, Splitting, StepMap, WisdomHolman,
+    integrate, AnyMethod, Crossing, Dop853, ExactStep, Fixed, Method, OneStep,
+    ParameterSensitivity, Problem, Section, Splitting, StepMap, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
@@ -172,19 +172,22 @@ fn kepler_j2() -> Result<()> {
     let reference = integrate(&problem, &Dop853::new(Dop853::RTOL_MIN, 1e-17)?, &mut ())?.last;
     let show = |label: &str, q: &SVector<f64, 3>, elapsed: std::time::Duration| {
         println!(
-            "{label:<44} |Δq| = {:.1e} in {elapsed:>9.1?}",
+            "{label:<70} |Δq| = {:.1e} in {elapsed:>9.1?}",
             (q - reference.q).amax()
         )
     };
-    for (label, method) in [
-        ("Wisdom–Holman, 1000 steps", WisdomHolman::WH),
-        ("SABA₂, 1000 steps", WisdomHolman::SABA2),
-    ] {
+    for method in [WisdomHolman::WH, WisdomHolman::SABA2] {
+        let label = OneStep::<PerturbedTwoBody<J2>, 3>::name(&method);
         let r = integrate(&problem, &Fixed::new(method, 1000)?, &mut ())?;
-        show(label, &r.last.q, r.elapsed);
+        show(&format!("{label}, 1000 steps"), &r.last.q, r.elapsed);
     }
-    let r = integrate(&problem, &Dop853::new(1e-10, 1e-12)?, &mut ())?;
-    show("DOP853 (Cartesian), rtol = 1e-10", &r.last.q, r.elapsed);
+    let dop853 = Dop853::new(1e-10, 1e-12)?;
+    let r = integrate(&problem, &dop853, &mut ())?;
+    let label = format!(
+        "{} (Cartesian)",
+        Method::<PerturbedTwoBody<J2>, 3>::label(&dop853)
+    );
+    show(&label, &r.last.q, r.elapsed);
     // Lagrange's planetary equations with the same J₂ object, through DOP853.
     let ode = Ode(planetary_equations(sol, *system.potential()));
     let clock = Instant::now();
