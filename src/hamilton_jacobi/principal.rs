@@ -269,7 +269,7 @@ fn rk4_run<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
 /// The pair of runs with `M` and `2M` steps, Richardson-extrapolated, with the discretisation and
 /// rounding parts of the error estimate kept apart.
 #[derive(Clone, Copy, Debug)]
-struct Pair<D, const N: usize> {
+struct Richardson<D, const N: usize> {
     coarse: Run<D, N>,
     fine: Run<D, N>,
     extrapolated: Run<D, N>,
@@ -277,7 +277,7 @@ struct Pair<D, const N: usize> {
     rounding: StateError<N>,
 }
 
-impl<D: DualNum<f64> + Copy, const N: usize> Pair<D, N> {
+impl<D: DualNum<f64> + Copy, const N: usize> Richardson<D, N> {
     fn new(coarse: Run<D, N>, fine: Run<D, N>, fine_steps: usize) -> Self {
         let w = D::from(1.0 / 15.0);
         let extrapolated = Run {
@@ -347,7 +347,7 @@ fn run_pair<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     steps: usize,
     reuse: Option<Run<D, N>>,
     work: &mut Work,
-) -> Option<Pair<D, N>> {
+) -> Option<Richardson<D, N>> {
     let coarse = match reuse {
         Some(run) => run,
         None => {
@@ -357,7 +357,7 @@ fn run_pair<H: Hamiltonian<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
     };
     add_rk4_steps(work, 2 * steps);
     let fine = rk4_run(h, t0, t1, q0, p0, 2 * steps)?;
-    Some(Pair::new(coarse, fine, 2 * steps))
+    Some(Richardson::new(coarse, fine, 2 * steps))
 }
 
 fn non_finite_path(t0: f64, t1: f64) -> Error {
