@@ -46,11 +46,11 @@ fn bench(c: &mut Criterion) {
     let pp = Problem::new(&pen, 0.0, SVector::from([1.0]), SVector::from([0.0]), 7.0).unwrap();
     for table in [
         Splitting::VERLET_DKD,
-        Splitting::BLANES_MOAN4,
-        Splitting::YOSHIDA4,
-        Splitting::KAHAN_LI6,
-        Splitting::KAHAN_LI8,
-        Splitting::SOFRONIOU_SPALETTA10,
+        Splitting::BLANES_MOAN6,
+        Splitting::YOSHIDA3,
+        Splitting::KAHAN_LI9,
+        Splitting::KAHAN_LI17,
+        Splitting::SOFRONIOU_SPALETTA35,
     ] {
         per_step(c, "kepler_1000_steps", &kp, table);
         per_step(c, "pendulum_1000_steps", &pp, table);

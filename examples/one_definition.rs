@@ -54,7 +54,7 @@ fn henon_heiles() -> Result<()> {
         ("h = 0.01", AnyMethod::verlet((span / 0.01) as usize)?),
         (
             "h = 0.1",
-            AnyMethod::of_splitting(Splitting::KAHAN_LI6, (span / 0.1) as usize)?,
+            AnyMethod::of_splitting(Splitting::KAHAN_LI9, (span / 0.1) as usize)?,
         ),
         ("h = 0.1", AnyMethod::gauss(3, (span / 0.1) as usize)?),
     ];

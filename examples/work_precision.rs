@@ -74,10 +74,10 @@ fn general_methods<S: hamilton_jacobi::Separable<N> + Hamiltonian<N>, const N: u
     )?);
     for (m, lo, hi) in [
         (Splitting::VERLET_DKD, 4 * base, 512 * base),
-        (Splitting::BLANES_MOAN4, base, 64 * base),
-        (Splitting::KAHAN_LI6, base / 2, 16 * base),
-        (Splitting::KAHAN_LI8, base / 4, 8 * base),
-        (Splitting::SOFRONIOU_SPALETTA10, base / 4, 4 * base),
+        (Splitting::BLANES_MOAN6, base, 64 * base),
+        (Splitting::KAHAN_LI9, base / 2, 16 * base),
+        (Splitting::KAHAN_LI17, base / 4, 8 * base),
+        (Splitting::SOFRONIOU_SPALETTA35, base / 4, 4 * base),
     ] {
         c.push(fixed_series(
             problem,
@@ -182,7 +182,7 @@ fn main() -> Result<()> {
     let problem = Problem::new(&j2, 0.0, q0, p0, t1)?;
     let fine = |n| -> Result<SVector<f64, 3>> {
         Ok(
-            integrate(&problem, &Fixed::new(Splitting::KAHAN_LI8, n)?, &mut ())?
+            integrate(&problem, &Fixed::new(Splitting::KAHAN_LI17, n)?, &mut ())?
                 .last
                 .q,
         )
@@ -204,7 +204,7 @@ fn main() -> Result<()> {
     }
     wh.push(fixed_series(
         &problem,
-        Splitting::KAHAN_LI8,
+        Splitting::KAHAN_LI17,
         &geometric(250, 16_000, 2.0),
         reference,
     )?);
@@ -256,7 +256,7 @@ fn j2_theories() -> Result<()> {
     )?);
     c.push(fixed_series(
         &problem,
-        Splitting::KAHAN_LI8,
+        Splitting::KAHAN_LI17,
         &geometric(500, 8_000, 2.0),
         reference,
     )?);

@@ -153,7 +153,7 @@ fn report_gives_the_time_reached_for_every_method() {
     check_time_reached(
         "Yoshida 4",
         &kepler,
-        &Fixed::new(Splitting::YOSHIDA4, n).unwrap(),
+        &Fixed::new(Splitting::YOSHIDA3, n).unwrap(),
         Some(n),
     );
     check_time_reached("RK4", &kepler, &Fixed::new(Rk4, n).unwrap(), Some(n));

@@ -15,7 +15,7 @@ use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, osculating_classical, planetary_equations, secular_rates, ClassicalSolution,
     EquinoctialSolution, MeanElements,
 };
-use hamilton_jacobi::perturbation::ode::{rk4_richardson, ElementOde, Pair};
+use hamilton_jacobi::perturbation::ode::{rk4_richardson, ElementOde, ElementPair};
 use hamilton_jacobi::perturbation::variation::{
     lagrange_brackets, lagrange_brackets_with_rate, GeneralSolution, GradientForce,
     InMomentumEquation, LagrangeBracketForm, VariationOfConstants,
@@ -54,7 +54,7 @@ impl Lcg {
     }
 }
 
-fn max_abs(p: &Pair<3>) -> f64 {
+fn max_abs(p: &ElementPair<3>) -> f64 {
     p.0.amax().max(p.1.amax())
 }
 

@@ -58,11 +58,11 @@ fn check(orbits: usize) {
         ),
         (
             "Blanes–Moan 4",
-            energy_band(&Fixed::new(Splitting::BLANES_MOAN4, n / 2).unwrap(), orbits),
+            energy_band(&Fixed::new(Splitting::BLANES_MOAN6, n / 2).unwrap(), orbits),
         ),
         (
             "Kahan–Li 8",
-            energy_band(&Fixed::new(Splitting::KAHAN_LI8, n / 2).unwrap(), orbits),
+            energy_band(&Fixed::new(Splitting::KAHAN_LI17, n / 2).unwrap(), orbits),
         ),
         (
             "Gauss s=2",

@@ -239,7 +239,7 @@ fn check_partial_steps<M: OneStep<HenonHeiles, 2> + Copy>(method: M, span: f64, 
 fn off_grid_samples_are_partial_steps_of_the_method() {
     for span in [3.0, -3.0] {
         check_partial_steps(Splitting::VERLET_KDK, span, 30);
-        check_partial_steps(Splitting::KAHAN_LI8, span, 30);
+        check_partial_steps(Splitting::KAHAN_LI17, span, 30);
         check_partial_steps(Gauss::<2>::new().unwrap(), span, 30);
         check_partial_steps(Rk4, span, 30);
     }
@@ -279,7 +279,7 @@ fn off_grid_samples_converge_at_the_method_order() {
     type Case = ([usize; 3], fn(usize) -> AnyMethod);
     let cases: [Case; 2] = [
         ([15, 30, 60], |n| {
-            AnyMethod::of_splitting(Splitting::KAHAN_LI8, n).unwrap()
+            AnyMethod::of_splitting(Splitting::KAHAN_LI17, n).unwrap()
         }),
         ([30, 60, 120], |n| AnyMethod::gauss(3, n).unwrap()),
     ];
@@ -438,7 +438,7 @@ fn methods_are_values() {
     assert_eq!(methods[0], AnyMethod::verlet(50).unwrap());
     assert_eq!(
         methods[1],
-        AnyMethod::of_splitting(Splitting::KAHAN_LI8, 50).unwrap()
+        AnyMethod::of_splitting(Splitting::KAHAN_LI17, 50).unwrap()
     );
     for s in 1..=6 {
         methods.push(AnyMethod::gauss(s, 20).unwrap());

@@ -167,7 +167,7 @@ fn observed_orders_of_splitting_methods() {
         // by +1: the order is at least 10 − 0.3 and the excess is the next term. (Its order is
         // exactly 10 by the 50-digit order-condition check in `coefficients`: residuals through
         // h¹⁰ vanish to 2e−32, the h¹¹ coefficient is 2e−6.)
-        let upper = if m == Splitting::SOFRONIOU_SPALETTA10 {
+        let upper = if m == Splitting::SOFRONIOU_SPALETTA35 {
             1.0
         } else {
             0.3
@@ -202,8 +202,8 @@ fn j2_problem(eps: f64) -> (PlanarJ2, V<2>, V<2>, f64) {
 /// reference's error; asserted ≤ 1e−12.
 fn j2_reference(eps: f64) -> (V<2>, V<2>) {
     let (s, q0, p0, t1) = j2_problem(eps);
-    let (q, p, _) = run(&s, Splitting::SOFRONIOU_SPALETTA10, q0, p0, t1, 1024);
-    let (q2, p2, _) = run(&s, Splitting::KAHAN_LI8, q0, p0, t1, 2048);
+    let (q, p, _) = run(&s, Splitting::SOFRONIOU_SPALETTA35, q0, p0, t1, 1024);
+    let (q2, p2, _) = run(&s, Splitting::KAHAN_LI17, q0, p0, t1, 2048);
     let d = err((q, p), (q2, p2));
     assert!(d <= 1e-12, "reference disagreement {d:e}");
     (q, p)
@@ -421,7 +421,7 @@ fn work_counts() {
     let (q0, p0) = (V::<1>::from([1.0]), V::<1>::from([0.0]));
     let (_, _, g) = run(&pend, Splitting::VERLET_DKD, q0, p0, 1.0, 100);
     assert_eq!(g, 300);
-    let (_, _, g) = run(&pend, Splitting::SOFRONIOU_SPALETTA10, q0, p0, 1.0, 10);
+    let (_, _, g) = run(&pend, Splitting::SOFRONIOU_SPALETTA35, q0, p0, 1.0, 10);
     assert_eq!(g, 10 * (35 + 36));
     let (s, q, p, t1) = j2_problem(1e-3);
     let pb = Problem::new(&s, 0.0, q, p, t1).unwrap();
@@ -434,7 +434,7 @@ fn work_counts() {
 fn bad_input_is_rejected() {
     // Zero steps.
     assert!(matches!(
-        Fixed::new(Splitting::KAHAN_LI8, 0),
+        Fixed::new(Splitting::KAHAN_LI17, 0),
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(

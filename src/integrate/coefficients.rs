@@ -249,7 +249,7 @@ pub const VERLET_DKD: Table = Table {
 /// (H. Yoshida, "Construction of higher order symplectic integrators", Phys. Lett. A 150 (1990)
 /// 262–268, doi:10.1016/0375-9601(90)90092-3; also Creutz & Gocksch 1989, Suzuki 1990).
 /// Digits from the closed form in 50-digit arithmetic; order conditions vanish to 1e−50.
-pub const YOSHIDA4: Table = Table {
+pub const YOSHIDA3: Table = Table {
     name: "Yoshida triple jump",
     order: 4,
     symmetric: true,
@@ -263,7 +263,7 @@ pub const YOSHIDA4: Table = Table {
 /// (M. Suzuki, "Fractal decomposition of exponential operators with applications to many-body
 /// theories and Monte Carlo simulations", Phys. Lett. A 146 (1990) 319–323,
 /// doi:10.1016/0375-9601(90)90962-N). Digits from the closed form (50 digits).
-pub const SUZUKI4: Table = Table {
+pub const SUZUKI5: Table = Table {
     name: "Suzuki",
     order: 4,
     symmetric: true,
@@ -282,7 +282,7 @@ pub const SUZUKI4: Table = Table {
 /// values are those tabulated by Hairer, Lubich & Wanner 2006, §V.3.2 (also in SeLaLib's
 /// `sll_m_time_composition`, whose middle weight carries the wrong sign); the middle weight is
 /// `1 − 2Σ` in 50 digits. Order conditions through `h⁶` vanish to 2e−25 (26-digit rounding).
-pub const YOSHIDA6A: Table = Table {
+pub const YOSHIDA7: Table = Table {
     name: "Yoshida (solution A)",
     order: 6,
     symmetric: true,
@@ -302,7 +302,7 @@ pub const YOSHIDA6A: Table = Table {
 /// 3e−12 (they are accurate to about 13 digits); these are the solution of the conditions
 /// re-solved by Newton in 50 digits from the published values (the nearest root; largest change
 /// 2.3e−13), with residuals below 1e−47.
-pub const YOSHIDA8D: Table = Table {
+pub const YOSHIDA15: Table = Table {
     name: "Yoshida (solution D)",
     order: 8,
     symmetric: true,
@@ -325,7 +325,7 @@ pub const YOSHIDA8D: Table = Table {
 /// for raising the orders of unconventional schemes for ordinary differential equations", Math.
 /// Comp. 66 (1997) 1089–1099, doi:10.1090/S0025-5718-97-00873-9; 26 digits as tabulated in Hairer,
 /// Lubich & Wanner 2006, eq. V.3.13, and in SeLaLib). Order conditions vanish to 1e−26.
-pub const KAHAN_LI6: Table = Table {
+pub const KAHAN_LI9: Table = Table {
     name: "Kahan–Li",
     order: 6,
     symmetric: true,
@@ -344,7 +344,7 @@ pub const KAHAN_LI6: Table = Table {
 /// Kahan & Li's eighth-order composition with s = 17 (Kahan & Li 1997; 26 digits as in Hairer,
 /// Lubich & Wanner 2006, eq. V.3.14, DifferentialEquations.jl `KahanLi8`, SeLaLib). Order
 /// conditions vanish to 2e−27.
-pub const KAHAN_LI8: Table = Table {
+pub const KAHAN_LI17: Table = Table {
     name: "Kahan–Li",
     order: 8,
     symmetric: true,
@@ -370,7 +370,7 @@ pub const KAHAN_LI8: Table = Table {
 /// method family is theirs; this s = 35 set is Sofroniou & Spaletta's, cf.
 /// DifferentialEquations.jl `SofSpa10`). 32-digit values (Huayno's `SS_m35`, which agree with the
 /// 26-digit table of HLW/SeLaLib to 4e−27); order conditions through `h¹⁰` vanish to 2e−32.
-pub const SOFRONIOU_SPALETTA10: Table = Table {
+pub const SOFRONIOU_SPALETTA35: Table = Table {
     name: "Sofroniou–Spaletta",
     order: 10,
     symmetric: true,
@@ -413,7 +413,7 @@ pub const SOFRONIOU_SPALETTA10: Table = Table {
 /// satisfy the order conditions to 1.4e−16. Here `a₁, b₁, b₂` are the published decimals (taken as
 /// exact) and `a₂, b₃` are re-solved from the two conditions in 50 digits (changes 1.4e−14 and
 /// 2.8e−15); residual below 1e−50. Seven kicks per stateless step (six with FSAL).
-pub const BLANES_MOAN4: Table = Table {
+pub const BLANES_MOAN6: Table = Table {
     name: "Blanes–Moan SRKN6b",
     order: 4,
     symmetric: true,
@@ -715,17 +715,17 @@ mod tests {
     fn evaluation_counts() {
         assert_eq!(VERLET_DKD.evaluations(), (2, 1));
         assert_eq!(VERLET_KDK.evaluations(), (1, 2));
-        assert_eq!(KAHAN_LI8.evaluations(), (18, 17));
-        assert_eq!(SOFRONIOU_SPALETTA10.evaluations(), (36, 35));
-        assert_eq!(BLANES_MOAN4.evaluations(), (6, 7));
-        assert_eq!(YOSHIDA8D.composition_stages(), 15);
+        assert_eq!(KAHAN_LI17.evaluations(), (18, 17));
+        assert_eq!(SOFRONIOU_SPALETTA35.evaluations(), (36, 35));
+        assert_eq!(BLANES_MOAN6.evaluations(), (6, 7));
+        assert_eq!(YOSHIDA15.composition_stages(), 15);
         let stages: Vec<u32> = [
             &SYMPLECTIC_EULER_KD,
             &SYMPLECTIC_EULER_DK,
             &VERLET_KDK,
             &VERLET_DKD,
-            &BLANES_MOAN4,
-            &YOSHIDA8D,
+            &BLANES_MOAN6,
+            &YOSHIDA15,
             &SBAB1,
             &SBAB4,
             &SABA4,
@@ -734,7 +734,7 @@ mod tests {
         .map(|t| t.stages())
         .collect();
         assert_eq!(stages, [1, 1, 1, 1, 6, 15, 1, 4, 4]);
-        assert_eq!(KAHAN_LI8.label(), "Kahan–Li, 17 stages, order 8");
+        assert_eq!(KAHAN_LI17.label(), "Kahan–Li, 17 stages, order 8");
         assert_eq!(
             VERLET_KDK.label(),
             "Störmer–Verlet (kick–drift–kick), 1 stage, order 2"

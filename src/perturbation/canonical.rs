@@ -34,7 +34,7 @@
 //! ([`average_over_phase`]); the result carries the oscillating spread so that the caller can
 //! refuse averaging when the small parameter is not small ([`PhaseAverage::require_small`]).
 
-use super::ode::{ElementOde, Pair};
+use super::ode::{ElementOde, ElementPair};
 use crate::ad::{phase_gradient, PhaseDual};
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::hamilton_jacobi::complete::{CompleteIntegral, ElementConvention, Elements};
@@ -155,7 +155,7 @@ pub fn canonical_element_rhs<M, K, const N: usize>(
     t: f64,
     alpha: &SVector<f64, N>,
     beta: &SVector<f64, N>,
-) -> Result<Pair<N>>
+) -> Result<ElementPair<N>>
 where
     M: CanonicalElements<N> + ?Sized,
     K: PhaseFunction<N> + ?Sized,
@@ -243,7 +243,7 @@ pub struct CanonicalElementEquations<M, K> {
 impl<M: CanonicalElements<N>, K: PhaseFunction<N>, const N: usize> ElementOde<N>
     for CanonicalElementEquations<M, K>
 {
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         canonical_element_rhs(&self.map, &self.k, t, a, b)
     }
 }
@@ -253,13 +253,13 @@ impl<M: CanonicalElements<N>, K: PhaseFunction<N>, const N: usize> ElementOde<N>
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhaseAverage<const N: usize> {
     /// `(1/T) ∫₀ᵀ f(φ₀ + s) ds` (trapezoidal rule on `nodes` points).
-    pub mean: Pair<N>,
+    pub mean: ElementPair<N>,
     /// Componentwise `max |f − mean|` over the nodes: the amplitude of the periodic part.
-    pub spread: Pair<N>,
+    pub spread: ElementPair<N>,
     /// Componentwise `|mean_n − mean_{n/2}|`: the change from halving the nodes (for an analytic
     /// periodic integrand the trapezoidal rule converges geometrically; a trigonometric
     /// polynomial of degree `< n/2` is integrated exactly).
-    pub quadrature_error: Pair<N>,
+    pub quadrature_error: ElementPair<N>,
     /// The period `T` of the phase.
     pub period: f64,
 }
@@ -269,7 +269,7 @@ impl<const N: usize> PhaseAverage<N> {
     /// `ε = T · max_i spread_i / scale_i`: the small parameter of first-order averaging.
     /// `scale` gives the size of each element (e.g. `α` itself for an energy, the period for a
     /// time-like `β`); entries must be positive.
-    pub fn small_parameter(&self, scale: &Pair<N>) -> Result<f64> {
+    pub fn small_parameter(&self, scale: &ElementPair<N>) -> Result<f64> {
         let mut eps = 0.0f64;
         for i in 0..N {
             let s1 = positive(format_args!("scale.0[{i}]"), scale.0[i])?;
@@ -284,7 +284,7 @@ impl<const N: usize> PhaseAverage<N> {
     /// Refuse the average (phase averaging is meaningless near a separatrix) when the
     /// small parameter [`small_parameter`](Self::small_parameter) exceeds `limit`:
     /// [`Error::OutOfDomain`] naming `ε`. Returns `ε` otherwise.
-    pub fn require_small(&self, scale: &Pair<N>, limit: f64) -> Result<f64> {
+    pub fn require_small(&self, scale: &ElementPair<N>, limit: f64) -> Result<f64> {
         let limit = positive("limit on the small parameter", limit)?;
         let eps = self.small_parameter(scale)?;
         if eps <= limit {
@@ -313,7 +313,7 @@ pub fn average_over_phase<F, const N: usize>(
     nodes: usize,
 ) -> Result<PhaseAverage<N>>
 where
-    F: FnMut(f64) -> Result<Pair<N>>,
+    F: FnMut(f64) -> Result<ElementPair<N>>,
 {
     let period = positive("period", period)?;
     if nodes < 4 || !nodes.is_multiple_of(2) {
@@ -332,7 +332,7 @@ where
         all_finite(format_args!("rate at phase offset {s}; ḃ"), v.1.as_slice())?;
         values.push(v);
     }
-    let mean_of = |step: usize| -> Pair<N> {
+    let mean_of = |step: usize| -> ElementPair<N> {
         let mut m = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
         let mut count = 0.0;
         for v in values.iter().step_by(step) {

@@ -78,7 +78,7 @@
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 
-use super::ode::{ElementOde, Pair};
+use super::ode::{ElementOde, ElementPair};
 use super::variation::MomentumForce;
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
 use crate::special::kepler_equation::mean_to_true;
@@ -420,7 +420,7 @@ pub fn mee_to_blocks<D: DualNum<f64> + Copy>(el: &ModifiedEquinoctial<D>) -> (V3
 }
 
 impl<F: MomentumForce<3>> ElementOde<3> for GaussEquations<F> {
-    fn rhs(&self, t: f64, a: &Vector3<f64>, b: &Vector3<f64>) -> Result<Pair<3>> {
+    fn rhs(&self, t: f64, a: &Vector3<f64>, b: &Vector3<f64>) -> Result<ElementPair<3>> {
         let rates = self.rates(t, &mee_from_blocks(a, b))?;
         Ok(mee_to_blocks(&rates))
     }
@@ -450,7 +450,7 @@ impl<F: MomentumForce<3>> GaussClassical<F> {
 }
 
 impl<F: MomentumForce<3>> ElementOde<3> for GaussClassical<F> {
-    fn rhs(&self, t: f64, a: &Vector3<f64>, b: &Vector3<f64>) -> Result<Pair<3>> {
+    fn rhs(&self, t: f64, a: &Vector3<f64>, b: &Vector3<f64>) -> Result<ElementPair<3>> {
         let el = Classical {
             a: a[0],
             e: a[1],

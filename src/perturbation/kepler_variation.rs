@@ -70,7 +70,7 @@ use crate::phase::CanonicalPair;
 use std::f64::consts::{PI, TAU};
 
 use super::canonical::{average_over_phase, PhaseAverage};
-use super::ode::{ElementOde, Pair};
+use super::ode::{ElementOde, ElementPair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::systems::kepler::elements::{state_to_classical, Classical, Delaunay, Equinoctial};
@@ -125,7 +125,7 @@ impl ClassicalSolution {
 
     /// The constants `γ` of the elliptic orbit with osculating elements `el` at time `t`
     /// (`M₀ = M − n(t − t₀)`).
-    pub fn constants(&self, el: &Classical, t: f64) -> Result<Pair<3>> {
+    pub fn constants(&self, el: &Classical, t: f64) -> Result<ElementPair<3>> {
         finite("time t", t)?;
         let n = el.mean_motion(self.mu)?;
         if el.e >= 1.0 {
@@ -142,7 +142,7 @@ impl ClassicalSolution {
     }
 
     /// The osculating classical elements at time `t` of the constants `γ`.
-    pub fn elements(&self, t: f64, g: &Pair<3>) -> Result<Classical> {
+    pub fn elements(&self, t: f64, g: &ElementPair<3>) -> Result<Classical> {
         finite("time t", t)?;
         let n = self.mean_motion(&g.0)?;
         let advance = phase_advance("classical general solution", n * (t - self.epoch))?;
@@ -206,7 +206,7 @@ impl EquinoctialSolution {
     }
 
     /// The constants `γ` of the orbit with osculating elements `el` at time `t`.
-    pub fn constants(&self, el: &Equinoctial, t: f64) -> Result<Pair<3>> {
+    pub fn constants(&self, el: &Equinoctial, t: f64) -> Result<ElementPair<3>> {
         finite("time t", t)?;
         el.validate()?;
         let n = (self.mu / (el.a * el.a * el.a)).sqrt();
@@ -217,7 +217,7 @@ impl EquinoctialSolution {
     }
 
     /// The osculating equinoctial elements at time `t` of the constants `γ`.
-    pub fn elements(&self, t: f64, g: &Pair<3>) -> Result<Equinoctial> {
+    pub fn elements(&self, t: f64, g: &ElementPair<3>) -> Result<Equinoctial> {
         finite("time t", t)?;
         let n = self.mean_motion(&g.0)?;
         let advance = phase_advance("equinoctial general solution", n * (t - self.epoch))?;
@@ -288,7 +288,7 @@ pub fn planetary_equations<S: KeplerSolution, U: DisturbingFunction<3>>(
 pub fn secular_rates<S, O>(
     solution: &S,
     ode: &O,
-    gamma: &Pair<3>,
+    gamma: &ElementPair<3>,
     nodes: usize,
 ) -> Result<PhaseAverage<3>>
 where
@@ -614,7 +614,7 @@ impl DelaunayElements {
     ///
     /// # Errors
     /// As [`Classical::to_delaunay`].
-    pub fn constants(&self, el: &Classical, t: f64) -> Result<Pair<3>> {
+    pub fn constants(&self, el: &Classical, t: f64) -> Result<ElementPair<3>> {
         let t = finite("time t", t)?;
         let d = el.to_delaunay(self.mu)?;
         let n = self.mu * self.mu / d.big_l.powi(3);

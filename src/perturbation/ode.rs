@@ -35,17 +35,17 @@ use crate::integrate::rk4_increment;
 use nalgebra::SVector;
 
 /// A pair of `N`-vectors: the `2N` elements (or their rates) as two blocks.
-pub type Pair<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
+pub type ElementPair<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
 
 /// A first-order system `ẏ = f(t, y)` for `y = (a, b) ∈ ℝᴺ × ℝᴺ`: the element equations.
 pub trait ElementOde<const N: usize> {
     /// The right-hand side `f(t, a, b)`; an error where it is undefined (singular elements, a
     /// state outside the domain of the unperturbed solution).
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>>;
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>>;
 }
 
 impl<O: ElementOde<N> + ?Sized, const N: usize> ElementOde<N> for &O {
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         (**self).rhs(t, a, b)
     }
 }
@@ -54,13 +54,13 @@ impl<O: ElementOde<N> + ?Sized, const N: usize> ElementOde<N> for &O {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Richardson<const N: usize> {
     /// Extrapolated value `y_{h/2} + (y_{h/2} − y_h)/15` at `t₁`.
-    pub y: Pair<N>,
+    pub y: ElementPair<N>,
     /// `y_h` (`n` steps).
-    pub coarse: Pair<N>,
+    pub coarse: ElementPair<N>,
     /// `y_{h/2}` (`2n` steps).
-    pub fine: Pair<N>,
+    pub fine: ElementPair<N>,
     /// Componentwise error estimate of `y_{h/2}`: `|y_{h/2} − y_h|/15`.
-    pub error: Pair<N>,
+    pub error: ElementPair<N>,
     /// Evaluations of the right-hand side (both runs).
     pub evaluations: usize,
 }
@@ -72,7 +72,7 @@ impl<const N: usize> Richardson<N> {
     }
 }
 
-fn check_rate<const N: usize>(t: f64, k: &Pair<N>) -> Result<()> {
+fn check_rate<const N: usize>(t: f64, k: &ElementPair<N>) -> Result<()> {
     all_finite(format_args!("element rate ȧ at t = {t}; ȧ"), k.0.as_slice())?;
     all_finite(format_args!("element rate ḃ at t = {t}; ḃ"), k.1.as_slice())
 }
@@ -102,7 +102,7 @@ pub fn rk4<O: ElementOde<N> + ?Sized, const N: usize>(
     b0: &SVector<f64, N>,
     t1: f64,
     steps: usize,
-) -> Result<Pair<N>> {
+) -> Result<ElementPair<N>> {
     rk4_counted(ode, t0, a0, b0, t1, steps).map(|(y, _)| y)
 }
 
@@ -113,7 +113,7 @@ fn rk4_counted<O: ElementOde<N> + ?Sized, const N: usize>(
     b0: &SVector<f64, N>,
     t1: f64,
     steps: usize,
-) -> Result<(Pair<N>, usize)> {
+) -> Result<(ElementPair<N>, usize)> {
     finite("t₀", t0)?;
     finite("t₁", t1)?;
     all_finite("a₀", a0.as_slice())?;
@@ -137,7 +137,7 @@ fn rk4_counted<O: ElementOde<N> + ?Sized, const N: usize>(
     let mut evaluations = 0;
     for k in 0..steps {
         let t = t0 + h * k as f64;
-        let f = |t: f64, (a, b): &Pair<N>| -> Result<Pair<N>> {
+        let f = |t: f64, (a, b): &ElementPair<N>| -> Result<ElementPair<N>> {
             evaluations += 1;
             let r = ode.rhs(t, a, b)?;
             check_rate(t, &r)?;
@@ -182,7 +182,7 @@ mod tests {
     /// ȧ = b, ḃ = −a (exact: rotation).
     struct Rotation;
     impl ElementOde<1> for Rotation {
-        fn rhs(&self, _t: f64, a: &SVector<f64, 1>, b: &SVector<f64, 1>) -> Result<Pair<1>> {
+        fn rhs(&self, _t: f64, a: &SVector<f64, 1>, b: &SVector<f64, 1>) -> Result<ElementPair<1>> {
             Ok((*b, -*a))
         }
     }
@@ -217,7 +217,7 @@ mod tests {
 pub struct Ode<O>(pub O);
 
 impl<O: ElementOde<N>, const N: usize> crate::integrate::FirstOrderSystem<N> for Ode<O> {
-    fn field(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn field(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         self.0.rhs(t, a, b)
     }
 }

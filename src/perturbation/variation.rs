@@ -35,7 +35,7 @@
 //!
 //! The element equations are general ODEs; run them with [`crate::perturbation::ode`].
 
-use super::ode::{ElementOde, Pair};
+use super::ode::{ElementOde, ElementPair};
 use crate::ad::{gradient, lift, phase_gradient, PhaseDual};
 use crate::error::{all_finite, Error, Result};
 use crate::phase::{check_phase, PhaseMatrix};
@@ -225,7 +225,7 @@ pub fn variation_of_constants_rhs<S, G, const N: usize>(
     t: f64,
     gamma1: &SVector<f64, N>,
     gamma2: &SVector<f64, N>,
-) -> Result<Pair<N>>
+) -> Result<ElementPair<N>>
 where
     S: GeneralSolution<N> + ?Sized,
     G: Perturbation<N> + ?Sized,
@@ -260,7 +260,7 @@ pub struct VariationOfConstants<S, G> {
 impl<S: GeneralSolution<N>, G: Perturbation<N>, const N: usize> ElementOde<N>
     for VariationOfConstants<S, G>
 {
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         variation_of_constants_rhs(&self.solution, &self.perturbation, t, a, b)
     }
 }
@@ -378,8 +378,8 @@ pub fn bracket_time_defect<S: GeneralSolution<N> + ?Sized, const N: usize>(
 /// `Σ_r R_r ∂F_r/∂γ_j` or `−∂U*/∂γ_j`). [`Error::Singular`] if `L` is singular.
 pub fn lagrange_planetary_rhs<const N: usize>(
     bracket_matrix: &PhaseMatrix<N>,
-    b: &Pair<N>,
-) -> Result<Pair<N>> {
+    b: &ElementPair<N>,
+) -> Result<ElementPair<N>> {
     if !bracket_matrix.is_finite() {
         return Err(Error::invalid(
             "Lagrange-bracket matrix",
@@ -403,7 +403,7 @@ pub fn force_on_elements<S, R, const N: usize>(
     t: f64,
     gamma1: &SVector<f64, N>,
     gamma2: &SVector<f64, N>,
-) -> Result<Pair<N>>
+) -> Result<ElementPair<N>>
 where
     S: GeneralSolution<N> + ?Sized,
     R: MomentumForce<N> + ?Sized,
@@ -426,7 +426,7 @@ pub fn disturbing_function_gradient<S, U, const N: usize>(
     t: f64,
     gamma1: &SVector<f64, N>,
     gamma2: &SVector<f64, N>,
-) -> Result<Pair<N>>
+) -> Result<ElementPair<N>>
 where
     S: GeneralSolution<N> + ?Sized,
     U: DisturbingFunction<N> + ?Sized,
@@ -470,7 +470,7 @@ pub struct LagrangeBracketForm<S, R> {
 impl<S: GeneralSolution<N>, R: MomentumForce<N>, const N: usize> ElementOde<N>
     for LagrangeBracketForm<S, R>
 {
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         let l = lagrange_brackets(&self.solution, t, a, b)?;
         let rhs = force_on_elements(&self.solution, &self.force, t, a, b)?;
         lagrange_planetary_rhs(&l, &rhs)
@@ -490,7 +490,7 @@ pub struct PlanetaryEquations<S, U> {
 impl<S: GeneralSolution<N>, U: DisturbingFunction<N>, const N: usize> ElementOde<N>
     for PlanetaryEquations<S, U>
 {
-    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<Pair<N>> {
+    fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
         let l = lagrange_brackets(&self.solution, t, a, b)?;
         let rhs = disturbing_function_gradient(&self.solution, &self.disturbing, t, a, b)?;
         lagrange_planetary_rhs(&l, &rhs)
