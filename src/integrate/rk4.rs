@@ -40,10 +40,18 @@ pub fn rk4_increment<Y: VectorSpace>(
     let k4 = f(t + h, &y.add(&k3.scale(h)))?;
     let two = Y::Scalar::from(2.0);
     let increment = k1.add(&k2.add(&k3).scale(two)).add(&k4).scale(h / 6.0);
-    if !increment.is_finite() {
+    let offending = std::cell::Cell::new(None);
+    let finite = increment.all(|a| {
+        let re = a.re();
+        if !re.is_finite() && offending.get().is_none() {
+            offending.set(Some(re));
+        }
+        re.is_finite()
+    });
+    if !finite {
         return Err(Error::NonFinite {
-            what: format!("RK4 increment at t = {}, h = {}", t.re(), h.re()),
-            value: f64::NAN,
+            what: format!("RK4 increment at t = {:e}, h = {:e}", t.re(), h.re()),
+            value: offending.get().unwrap_or(f64::NAN),
         });
     }
     Ok(increment)
@@ -77,5 +85,30 @@ impl<S: Hamiltonian<N>, const N: usize> OneStep<S, N> for Rk4 {
             &(*q, *p),
             dt,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An overflowing field is refused with the offending component, not a generic NaN.
+    #[test]
+    fn non_finite_increment_names_the_value() {
+        let y = nalgebra::SVector::<f64, 2>::new(1.0, 2.0);
+        let err = rk4_increment(
+            |_t, y: &nalgebra::SVector<f64, 2>| Ok(nalgebra::SVector::from([y[0], f64::MAX])),
+            0.0,
+            &y,
+            1e300,
+        )
+        .unwrap_err();
+        match err {
+            Error::NonFinite { what, value } => {
+                assert_eq!(value, f64::INFINITY, "{what}");
+                assert!(what.contains("h = 1e300"), "{what}");
+            }
+            e => panic!("expected NonFinite, got {e}"),
+        }
     }
 }
