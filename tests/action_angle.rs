@@ -27,10 +27,10 @@ fn oscillator_action_and_period() {
     }
 }
 
-/// X2: the pendulum period from the exact factorised radicand against the AGM closed form, for
-/// amplitudes from 0.1 to δ = π − a = 1e−16, including 15-digit reference periods for δ given
-/// exactly. The quadrature's requested tolerance is 1e−14; near the separatrix the integrand has a
-/// logarithmic peak of width √δ resolved by bisection, so ≤ 1e−12 is asserted.
+/// The pendulum period up to the separatrix, from the exact factorised radicand against the AGM
+/// closed form, for amplitudes from 0.1 to δ = π − a = 1e−16, including 15-digit reference periods
+/// for δ given exactly. The quadrature's requested tolerance is 1e−14; near the separatrix the
+/// integrand has a logarithmic peak of width √δ resolved by bisection, so ≤ 1e−12 is asserted.
 #[test]
 fn pendulum_period_up_to_the_separatrix() {
     let pen = Pendulum::new(1.0).unwrap();

@@ -27,7 +27,8 @@ fn mom<const N: usize>(i: usize) -> Momentum<N> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T11: angular momentum brackets for a central force, and the generators of rotations/translations.
+// Angular momentum brackets for a central force, and the generators of rotations/translations
+// [Ardema 15.5, 18.3].
 
 hamiltonian!(
     /// H = |p|²/2 + V(|r|) with V = −1/r + 0.1/r² (any central potential would do).
@@ -35,7 +36,7 @@ hamiltonian!(
 );
 
 #[test]
-fn t11_angular_momentum_algebra_and_conservation() {
+fn angular_momentum_algebra_and_conservation() {
     for (t, q, p) in common::central_sample_points() {
         let h = |k| ang(k).eval(t, &q, &p);
         // (h_x, h_y) = h_z and cyclic.
@@ -62,7 +63,7 @@ fn t11_angular_momentum_algebra_and_conservation() {
 }
 
 #[test]
-fn t11_rotation_and_translation_generators() {
+fn rotation_and_translation_generators() {
     // ρ = h_z: δq = ε ∂ρ/∂p = ε(−y, x, 0), δp = −ε ∂ρ/∂q = ε(−p_y, p_x, 0).
     let (q, p) = (
         SVector::from([0.4, -1.2, 0.7]),
@@ -103,10 +104,10 @@ fn t11_rotation_and_translation_generators() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T5: the oscillator's canonical transformation from F1 = ½ m ω q² cot Q.
+// The oscillator's canonical transformation from F1 = ½ m ω q² cot Q [Ardema 16.5].
 
-const M5: f64 = 2.0;
-const W5: f64 = 3.0;
+const MASS: f64 = 2.0;
+const OMEGA: f64 = 3.0;
 
 /// Forward map (q, p) ↦ (Q, P): tan Q = mωq/p, P = (p² + m²ω²q²)/(2mω).
 struct OscillatorToAngle;
@@ -117,7 +118,7 @@ impl PhaseMap<1> for OscillatorToAngle {
         q: &SVector<D, 1>,
         p: &SVector<D, 1>,
     ) -> (SVector<D, 1>, SVector<D, 1>) {
-        let mw = M5 * W5;
+        let mw = MASS * OMEGA;
         (
             SVector::from([(q[0] * mw).atan2(p[0])]),
             SVector::from([(p[0] * p[0] + q[0] * q[0] * (mw * mw)) / (2.0 * mw)]),
@@ -135,7 +136,7 @@ impl PhaseMap<1> for AngleToOscillator {
         p: &SVector<D, 1>,
     ) -> (SVector<D, 1>, SVector<D, 1>) {
         let (big_q, big_p) = (q[0], p[0]);
-        let mw = M5 * W5;
+        let mw = MASS * OMEGA;
         (
             SVector::from([(big_p * (2.0 / mw)).sqrt() * big_q.sin()]),
             SVector::from([(big_p * (2.0 * mw)).sqrt() * big_q.cos()]),
@@ -143,7 +144,7 @@ impl PhaseMap<1> for AngleToOscillator {
     }
 }
 
-/// The angle `Q(q, p) = atan2(mωq, p)` of T5 as a phase function.
+/// The oscillator's angle `Q(q, p) = atan2(mωq, p)` as a phase function.
 struct Angle;
 impl PhaseFunction<1> for Angle {
     fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 1>, p: &SVector<D, 1>) -> D {
@@ -151,7 +152,7 @@ impl PhaseFunction<1> for Angle {
     }
 }
 
-/// `c·P(q, p)` with the action `P = (p² + m²ω²q²)/(2mω)` of T5; `c ≠ 1` is not canonical.
+/// `c·P(q, p)` with the oscillator's action `P = (p² + m²ω²q²)/(2mω)`; `c ≠ 1` is not canonical.
 struct ScaledAction(f64);
 impl PhaseFunction<1> for ScaledAction {
     fn eval<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 1>, p: &SVector<D, 1>) -> D {
@@ -173,7 +174,7 @@ impl PhaseMap<1> for ScaledInverse {
 }
 
 #[test]
-fn t5_oscillator_angle_variables() {
+fn oscillator_angle_variables() {
     let (q, p) = (SVector::from([0.5]), SVector::from([1.2]));
     let (big_q, big_p) = OscillatorToAngle.apply(0.0, &q, &p);
     // Published instance: (Q, P) = (1.19028994968253, 0.87), H = ωP = 2.61 (15 digits given).
@@ -181,14 +182,14 @@ fn t5_oscillator_angle_variables() {
     assert_relative_eq!(big_p[0], 0.87, epsilon = 1e-15);
     // Angle variables of the crate's oscillator: Q advances uniformly, Q̇ = (Q, H) = ω, and P is an
     // integral, Ṗ = (P, H) = 0 (closed forms; H is the library's `HarmonicOscillator`).
-    let osc = HarmonicOscillator::new(M5, W5).unwrap();
+    let osc = HarmonicOscillator::new(MASS, OMEGA).unwrap();
     for (q, p) in [(0.5, 1.2), (-0.8, 0.3), (0.1, -2.0), (-1.4, -0.6)] {
         let (q, p) = (SVector::from([q]), SVector::from([p]));
         let qdot = poisson_bracket(&Angle, &osc, 0.0, &q, &p).unwrap();
-        assert_relative_eq!(qdot, W5, epsilon = 16.0 * EPS * W5);
+        assert_relative_eq!(qdot, OMEGA, epsilon = 16.0 * EPS * OMEGA);
         let pdot = time_derivative(&ScaledAction(1.0), &osc, 0.0, &q, &p).unwrap();
         // The two terms ±ω q p cancel.
-        let scale = W5 * (q[0] * p[0]).abs();
+        let scale = OMEGA * (q[0] * p[0]).abs();
         assert!(pdot.abs() <= 16.0 * EPS * scale, "Ṗ = {pdot}");
         // (Q, cP) = c: canonical only for c = 1, so a bracket that always returned 1 (or
         // dropped a factor) fails here.
@@ -217,7 +218,7 @@ fn t5_oscillator_angle_variables() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T6: free fall as a canonical map; Lagrange-bracket test.
+// Free fall as a canonical map; Lagrange-bracket test [Ardema 16.4].
 
 struct FreeFall {
     g: f64,
@@ -238,7 +239,7 @@ impl PhaseMap<1> for FreeFall {
 }
 
 #[test]
-fn t6_free_fall_flow_is_canonical() {
+fn free_fall_flow_is_canonical() {
     let ff = FreeFall { g: 9.81 };
     for t in [0.0, 0.3, 2.0, 17.5] {
         let (u1, u2) = (SVector::from([1.5]), SVector::from([-4.0]));
@@ -257,10 +258,10 @@ fn t6_free_fall_flow_is_canonical() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T7: canonicity exercises.
+// Canonicity exercises [Ardema Probs. 16/1–16/3].
 
 #[test]
-fn t7_canonicity_exercises() {
+fn canonicity_exercises() {
     let points = [(0.7, 1.1), (1.9, 0.4), (0.2, 2.5)];
     for (q, p) in points {
         let (q, p) = (SVector::from([q]), SVector::from([p]));
@@ -311,7 +312,8 @@ fn bad_points_are_rejected() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Property tests (M46): antisymmetry, Leibniz, Jacobi identity, canonical brackets.
+// Property tests of the Poisson bracket [Ardema 15.5]: antisymmetry, Leibniz, Jacobi identity,
+// canonical brackets.
 
 /// A random smooth function on 2-DOF phase space: Σ c_k b_k(q, p) with nonlinear basis terms.
 #[derive(Clone, Debug)]

@@ -20,10 +20,11 @@ hamiltonian!(
     KeplerPolar<2> |_s, _t, q, p| (p[0] * p[0] + p[1] * p[1] / (q[0] * q[0])) * 0.5 - q[0].recip()
 );
 
-/// T13: e = 0.5, μ = a = 1. Both quadratures run through the turning points; the requested
-/// relative tolerance is 1e−14, so ≤ 1e−12 leaves room for the rounding of the integrands.
+/// Central-force quadratures [Ardema 10.1, 15.6] for Kepler, e = 0.5, μ = a = 1. Both run through
+/// the turning points; the requested relative tolerance is 1e−14, so ≤ 1e−12 leaves room for the
+/// rounding of the integrands.
 #[test]
-fn t13_half_period_and_swept_angle() {
+fn kepler_half_period_and_swept_angle() {
     let exact = RadialMotion::kepler_elements(1.0, 1.0, 0.5).unwrap();
     assert_relative_eq!(exact.half_period().value, PI, max_relative = 1e-12);
     assert_relative_eq!(exact.apsidal_angle().value, PI, max_relative = 1e-12);
@@ -53,8 +54,8 @@ impl CentralPotential for Scaled {
     }
 }
 
-/// X3 extremes: e = 1e−12 (apsides merge to 1e−12) and e = 1 − 1e−9 (periapsis 1e−9, the swept
-/// angle concentrated in s ≲ 4.5e−5). Half period and apsidal angle are π for every e.
+/// Near e → 0 and e → 1: e = 1e−12 (apsides merge to 1e−12) and e = 1 − 1e−9 (periapsis 1e−9,
+/// the swept angle concentrated in s ≲ 4.5e−5). Half period and apsidal angle are π for every e.
 #[test]
 fn kepler_quadratures_at_extreme_eccentricities() {
     for e in [0.0, 1e-12, 1e-6, 0.9, 0.99, 1.0 - 1e-9] {

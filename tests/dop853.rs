@@ -242,7 +242,7 @@ fn kepler_100_periods_position_error() {
 /// rtol = atol = 1e−13. Leaving periapsis, `n_p ≈ 100–300` steps each with local error
 /// `≲ 10⁻¹³·|y|` (|y| ≤ 14 for e = 0.99) and no secular drift yet within 0.3 T: ≲ 1e−11 in position.
 #[test]
-fn spec_t12_high_eccentricity() {
+fn kepler_state_at_high_eccentricity() {
     let kepler = Kepler2::new(1.0).unwrap();
     for (e, r_mp, nu_mp) in [
         (0.9, 1.696227664315214, 2.978020808228909),
@@ -263,7 +263,7 @@ fn spec_t12_high_eccentricity() {
         let pos = (rep.last.q - qe).norm();
         let vel = (rep.last.p - pe).norm();
         eprintln!(
-            "T12 e = {e}: |Δr| {:.2e}, |Δν| {:.2e}, |Δq| {pos:.2e}, |Δp| {vel:.2e}, {} steps, {} evaluations",
+            "Kepler state at 0.3 T, e = {e}: |Δr| {:.2e}, |Δν| {:.2e}, |Δq| {pos:.2e}, |Δp| {vel:.2e}, {} steps, {} evaluations",
             (r - r_mp).abs(),
             (nu - nu_mp).abs(),
             rep.work.steps,

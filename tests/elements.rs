@@ -168,10 +168,10 @@ fn perifocal_oracle(mu: f64, el: &Classical) -> (V3, V3) {
 // Kepler's equation: the state at t = 0.3 T [Ardema 10.2–10.3] and near e = 1
 // ---------------------------------------------------------------------------------------------
 
-/// T12: μ = a = 1, M = 0.3·2π; E, ν and r tabulated to 13 digits (absolute rounding ≤ 5e−13, so
-/// 1e−12), energy −½ and e recovered from the state (a few ε of O(1) terms: 1e−13).
+/// The state at M = 0.3·2π, μ = a = 1: E, ν and r tabulated to 13 digits (absolute rounding
+/// ≤ 5e−13, so 1e−12), energy −½ and e recovered from the state (a few ε of O(1) terms: 1e−13).
 #[test]
-fn t12_kepler_equation_and_state() {
+fn kepler_equation_and_state() {
     let m = 0.6 * PI;
     let table = [
         (0.0, 1.884955592154, 1.884955592154, 1.0),
@@ -198,13 +198,13 @@ fn t12_kepler_equation_and_state() {
             assert!((mee.eccentricity() - e).abs() <= 1e-13);
         }
     }
-    eprintln!("T12 worst deviation from the table: {worst:e}");
+    eprintln!("Kepler's equation and the state, worst deviation from the table: {worst:e}");
 }
 
 /// Near-parabolic reference values through the generic solver (real parts), with relative
 /// tolerances (∂E/∂e ≈ 110 in the first case: 1e−12).
 #[test]
-fn x3_reference_values() {
+fn near_parabolic_reference_values() {
     for (e, m, spec, rel) in [
         (0.999999, 1e-6, 0.0180612466215222, 1e-12),
         (0.99, 0.01, 0.342270316491775, 1e-14),

@@ -2,8 +2,8 @@
 //! independent computations:
 //!
 //! * (a) the closed-form right-hand sides against the general variation-of-constants engine
-//!   `ċ = (∂Ψ/∂c)⁻¹ g` (M58) applied to the element → state maps, by AD, at random points
-//!   (circular, equatorial and hyperbolic ones included);
+//!   `ċ = (∂Ψ/∂c)⁻¹ g` [Ardema eqs. 18.5–18.10] applied to the element → state maps, by AD, at
+//!   random points (circular, equatorial and hyperbolic ones included);
 //! * (b) element integrations (RK4 + Richardson) against Cartesian DOP853 integrations of the
 //!   same force, over ten orbits, from eccentric inclined and from circular equatorial starts;
 //! * (c) secular rates derived in closed form (linear drag, transverse thrust);
@@ -58,7 +58,8 @@ fn lift3<D: DualNum<f64> + Copy>(x: &V3) -> SVector<D, 3> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The element → state maps as (time-independent) "general solutions" for the M58 engine.
+// The element → state maps as (time-independent) "general solutions" for the general
+// variation-of-constants engine.
 // ---------------------------------------------------------------------------------------------
 
 /// `(p, f, g; h, k, L) ↦ (r, v)` of [`ModifiedEquinoctial::to_state`].

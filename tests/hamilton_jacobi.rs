@@ -12,18 +12,19 @@ use proptest::prelude::*;
 
 const G: f64 = 9.81;
 
-/// T3's integral (ascending branch), shipped as `ProjectileIntegral`.
+/// The projectile's complete integral [Ardema 17.4] (ascending branch), shipped as
+/// `ProjectileIntegral`.
 fn projectile_integral() -> ProjectileIntegral {
     ProjectileIntegral::new(G).unwrap()
 }
 
-/// T4's integral, shipped as `OscillatorIntegral`.
+/// The oscillator's complete integral [Ardema 17.4], shipped as `OscillatorIntegral`.
 fn oscillator_integral(n: f64) -> OscillatorIntegral {
     OscillatorIntegral::new(n).unwrap()
 }
 
 #[test]
-fn t3_projectile_complete_integral() {
+fn projectile_complete_integral() {
     let el = Elements::new(projectile_integral(), ElementConvention::AlphaMomenta);
     let (u0, v0) = (5.0, 12.31);
     // Initial data at t = 0: γ = u₀, k = y₀ + v₀²/(2g) = 7.72355249745158, β = (x₀, −v₀).
@@ -49,8 +50,8 @@ fn t3_projectile_complete_integral() {
     assert_relative_eq!(b2[0], -0.7, epsilon = 1e-15);
     // After the apex the ascending S has no preimage: the state at t = 2 is refused, not wrong.
     assert!(el.state(2.0, &alpha, &beta).is_err());
-    // The descending branch with the same elements reaches T1's end point at t = 2:
-    // (x, y) = (10, 5), p = (5, −7.31).
+    // The descending branch with the same elements reaches the end point of the projectile's
+    // principal function [Ardema 17.1] at t = 2: (x, y) = (10, 5), p = (5, −7.31).
     let down = Elements::new(
         ProjectileIntegral::descending(G).unwrap(),
         ElementConvention::AlphaMomenta,
@@ -85,7 +86,7 @@ fn t3_projectile_complete_integral() {
 }
 
 #[test]
-fn t4_oscillator_complete_integral() {
+fn oscillator_complete_integral() {
     let n = 2.0;
     let el = Elements::new(oscillator_integral(n), ElementConvention::AlphaMomenta);
     let (amp, t0) = (1.5, 0.3);

@@ -80,8 +80,8 @@ fn small_and_offset_librations() {
     }
 }
 
-/// X2 far beyond double precision's π: gaps 1e−36 … 1e−280 (the exact radicand takes δ itself)
-/// against the AGM, and the refusal below `MIN_GAP`.
+/// Near the separatrix, far beyond double precision's π: gaps 1e−36 … 1e−280 (the exact radicand
+/// takes δ itself) against the AGM, and the refusal below `MIN_GAP`.
 #[test]
 fn pendulum_gaps_far_below_epsilon() {
     let pen = Pendulum::new(1.0).unwrap();

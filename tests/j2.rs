@@ -1,8 +1,9 @@
-//! Kepler + J₂ by Lagrange's planetary equations (M59) and the general variation of constants
-//! (M58): first-order secular rates against Brouwer's closed forms, osculating-element
-//! integration against Cartesian integration of the same force, the M58 = M59 identity at random
-//! points, singular elements, a mean-element propagation over 1000 orbits, and the equatorial
-//! problem as the invariant plane of the spatial one, with its apsidal rate.
+//! Kepler + J₂ by Lagrange's planetary equations [Ardema eqs. 18.22–18.24] and the general
+//! variation of constants [Ardema eqs. 18.5–18.10]: first-order secular rates against Brouwer's
+//! closed forms, osculating-element integration against Cartesian integration of the same force,
+//! the identity of the two forms at random points, singular elements, a mean-element propagation
+//! over 1000 orbits, and the equatorial problem as the invariant plane of the spatial one, with its
+//! apsidal rate.
 //!
 //! Tolerances are derived in the comments; measured numbers are printed (`--nocapture`).
 
@@ -248,16 +249,16 @@ fn osculating_elements_match_cartesian_integration() {
 const TAU_F: f64 = std::f64::consts::TAU;
 
 // ---------------------------------------------------------------------------------------------
-// (c) M58 = M59 at random points; bracket matrix time independence.
+// (c) General form = planetary equations at random points; bracket matrix time independence.
 // ---------------------------------------------------------------------------------------------
 
 #[test]
-fn m58_and_m59_agree_for_j2_at_random_points() {
-    // M59: γ̇ = L⁻¹(−∂U*/∂γ), L = (∂φ/∂γ)ᵀJ(∂φ/∂γ); M58: γ̇ = (∂φ/∂γ)⁻¹(0, −∇U). Algebraically
-    // identical; numerically each is a 6×6 solve, so they differ by ~κ·ε·|γ̇| with κ the
-    // (equilibrated) condition number: ≲ 1e4 for the sampled e ∈ [0.02, 0.7], i ∈ [0.1, 3.0]
-    // (κ of L is κ(∂φ/∂γ)² at worst, ∝ 1/(e² sin² i)). Tolerance 1e−9·|γ̇|_max (≈ 5e3 ε margin
-    // over the worst measured κ·ε).
+fn general_form_and_planetary_equations_agree_for_j2() {
+    // Planetary equations γ̇ = L⁻¹(−∂U*/∂γ), L = (∂φ/∂γ)ᵀJ(∂φ/∂γ); general form
+    // γ̇ = (∂φ/∂γ)⁻¹(0, −∇U). Algebraically identical; numerically each is a 6×6 solve, so they
+    // differ by ~κ·ε·|γ̇| with κ the (equilibrated) condition number: ≲ 1e4 for the sampled
+    // e ∈ [0.02, 0.7], i ∈ [0.1, 3.0] (κ of L is κ(∂φ/∂γ)² at worst, ∝ 1/(e² sin² i)). Tolerance
+    // 1e−9·|γ̇|_max (≈ 5e3 ε margin over the worst measured κ·ε).
     let model = j2();
     let mut rng = Lcg(12345);
     let mut worst = 0.0f64;
@@ -275,39 +276,42 @@ fn m58_and_m59_agree_for_j2_at_random_points() {
         let t = rng.range(-5.0, 5.0);
         let sol = ClassicalSolution::new(MU, 0.7).unwrap();
         let g = sol.constants(&el, t).unwrap();
-        let m59 = planetary_equations(sol, model).rhs(t, &g.0, &g.1).unwrap();
-        let m58 = VariationOfConstants {
+        let planetary = planetary_equations(sol, model).rhs(t, &g.0, &g.1).unwrap();
+        let general = VariationOfConstants {
             solution: sol,
             perturbation: InMomentumEquation(GradientForce(model)),
         }
         .rhs(t, &g.0, &g.1)
         .unwrap();
-        let m59r = LagrangeBracketForm {
+        let bracket = LagrangeBracketForm {
             solution: sol,
             force: GradientForce(model),
         }
         .rhs(t, &g.0, &g.1)
         .unwrap();
-        let s = max_abs(&m59);
-        let d = max_abs(&(m58.0 - m59.0, m58.1 - m59.1))
-            .max(max_abs(&(m59r.0 - m59.0, m59r.1 - m59.1)));
+        let s = max_abs(&planetary);
+        let d = max_abs(&(general.0 - planetary.0, general.1 - planetary.1))
+            .max(max_abs(&(bracket.0 - planetary.0, bracket.1 - planetary.1)));
         worst = worst.max(d / s);
         assert!(d < 1e-9 * s, "{el:?}: {d:e} vs {s:e}");
 
         // The same in equinoctial elements.
         let esol = EquinoctialSolution::new(MU, 0.7).unwrap();
         let ge = esol.constants(&el.to_equinoctial().unwrap(), t).unwrap();
-        let e59 = planetary_equations(esol, model)
+        let planetary_equinoctial = planetary_equations(esol, model)
             .rhs(t, &ge.0, &ge.1)
             .unwrap();
-        let e58 = VariationOfConstants {
+        let general_equinoctial = VariationOfConstants {
             solution: esol,
             perturbation: InMomentumEquation(GradientForce(model)),
         }
         .rhs(t, &ge.0, &ge.1)
         .unwrap();
-        let se = max_abs(&e59);
-        let de = max_abs(&(e58.0 - e59.0, e58.1 - e59.1));
+        let se = max_abs(&planetary_equinoctial);
+        let de = max_abs(&(
+            general_equinoctial.0 - planetary_equinoctial.0,
+            general_equinoctial.1 - planetary_equinoctial.1,
+        ));
         worst = worst.max(de / se);
         assert!(de < 1e-9 * se);
 
@@ -316,7 +320,7 @@ fn m58_and_m59_agree_for_j2_at_random_points() {
         worst_time_defect = worst_time_defect.max(rate.max_abs() / l.max_abs());
     }
     println!(
-        "M58 vs M59 (J₂, 40 random points, both element sets): worst relative {worst:.2e}; \
+        "general form vs planetary equations (J₂, 40 random points, both element sets): worst relative {worst:.2e}; \
               worst |∂L/∂t|/|L| {worst_time_defect:.2e}"
     );
     // ∂L/∂t is a sum of products of O(1) entries that cancel exactly: rounding ~ 1e−14 times the
@@ -382,7 +386,7 @@ fn singular_classical_elements_are_refused_equinoctial_fine() {
     let model = j2();
     let sol = ClassicalSolution::new(MU, 0.0).unwrap();
     let ode = planetary_equations(sol, model);
-    let m58 = VariationOfConstants {
+    let general = VariationOfConstants {
         solution: sol,
         perturbation: InMomentumEquation(GradientForce(model)),
     };
@@ -391,11 +395,13 @@ fn singular_classical_elements_are_refused_equinoctial_fine() {
     for (e, i) in [(0.0, 0.5), (0.05, 0.0), (0.0, 0.0)] {
         let el = Classical::new(1.2, e, i, 0.3, 0.7, 0.2).unwrap();
         let g = sol.constants(&el, 0.0).unwrap();
-        let r59 = ode.rhs(0.0, &g.0, &g.1);
-        let r58 = m58.rhs(0.0, &g.0, &g.1);
-        println!("classical at e = {e}, i = {i}: M59 {r59:?}\n  M58 {r58:?}");
-        assert!(matches!(r59, Err(Error::Singular { .. })));
-        assert!(matches!(r58, Err(Error::Singular { .. })));
+        let r_planetary = ode.rhs(0.0, &g.0, &g.1);
+        let r_general = general.rhs(0.0, &g.0, &g.1);
+        println!(
+            "classical at e = {e}, i = {i}: planetary {r_planetary:?}\n  general {r_general:?}"
+        );
+        assert!(matches!(r_planetary, Err(Error::Singular { .. })));
+        assert!(matches!(r_general, Err(Error::Singular { .. })));
         // Equinoctial: regular; rates finite and ȧ, ḣ, k̇ … of the expected size O(n J₂ (R/a)²).
         let ge = esol.constants(&el.to_equinoctial().unwrap(), 0.0).unwrap();
         let re = eode.rhs(0.0, &ge.0, &ge.1).unwrap();
@@ -443,15 +449,17 @@ fn singular_classical_elements_are_refused_equinoctial_fine() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Non-conservative forces through M58, and other models through M59.
+// Non-conservative forces through the general form, and other models through the planetary
+// equations.
 // ---------------------------------------------------------------------------------------------
 
 #[test]
 fn forces_through_the_element_engines_match_cartesian() {
     // J₂ + linear drag + RTN thrust, one orbit; and a third body (circular path, indirect term),
-    // one orbit. Element equations: M58 (non-conservative) / M59 (conservative), RK4-Richardson
-    // with 400/800 steps; truth: DOP853 rtol 1e−13. Both errors ≲ 1e−12 (as in (b), over a
-    // tenth of the span, with perturbations of size ≲ 1e−3); tolerance 1e−10.
+    // one orbit. Element equations: general form (non-conservative) / planetary equations
+    // (conservative), RK4-Richardson with 400/800 steps; truth: DOP853 rtol 1e−13. Both errors
+    // ≲ 1e−12 (as in (b), over a tenth of the span, with perturbations of size ≲ 1e−3); tolerance
+    // 1e−10.
     let el = leo();
     let period = TAU_F * el.a.powf(1.5);
     let drag = LinearDrag::new(2e-4).unwrap();
@@ -472,7 +480,7 @@ fn forces_through_the_element_engines_match_cartesian() {
     let d = (q1 - truth.last.q).amax();
     let el1 = sol.elements(period, &r.y).unwrap();
     println!(
-        "J₂ + drag + RTN thrust, 1 orbit: M58 elements vs DOP853 |Δq| = {d:.2e}; Δa = {:.3e}",
+        "J₂ + drag + RTN thrust, 1 orbit: general-form elements vs DOP853 |Δq| = {d:.2e}; Δa = {:.3e}",
         el1.a - el.a
     );
     assert!(d < 1e-10);
@@ -499,7 +507,7 @@ fn forces_through_the_element_engines_match_cartesian() {
     let r = rk4_richardson(&ode, 0.0, &g0.0, &g0.1, period, 400).unwrap();
     let (q1, _) = sol.state(period, &r.y.0, &r.y.1);
     let d = (q1 - truth.last.q).amax();
-    println!("J₂ + third body (circular, indirect), 1 orbit: M59 vs DOP853 |Δq| = {d:.2e}");
+    println!("J₂ + third body (circular, indirect), 1 orbit: planetary equations vs DOP853 |Δq| = {d:.2e}");
     assert!(d < 1e-10);
 }
 
@@ -637,12 +645,12 @@ fn mean_elements_over_1000_orbits() {
     assert!(drift > eps * eps && drift < 16.0 * eps * eps);
 }
 
-/// Canonical variation of elements (M60) for Kepler: Hamilton's equations in Delaunay constants
-/// with K = U_J2. (a) Averaged over l₀ they give Brouwer's secular rates ḡ = ω̇, h̄ = Ω̇,
+/// Canonical variation of elements [Ardema 18.2] for Kepler: Hamilton's equations in Delaunay
+/// constants with K = U_J2. (a) Averaged over l₀ they give Brouwer's secular rates ḡ = ω̇, h̄ = Ω̇,
 /// l̄₀ = Ṁ − n and L̇ = Ġ = Ḣ = 0 on average (Ḣ = 0 exactly: U_J2 is axisymmetric); tolerance as
-/// the averaged planetary equations (1e−11·k). (b) At a point, the Delaunay rates are those of
-/// the planetary equations through the chain rule (L = √(μa), G = L√(1−e²), H = G cos i), to
-/// rounding of the AD chain (1e−12 relative).
+/// the averaged planetary equations (1e−11·k). (b) At a point, the Delaunay rates are those of the
+/// planetary equations through the chain rule (L = √(μa), G = L√(1−e²), H = G cos i), to rounding
+/// of the AD chain (1e−12 relative).
 #[test]
 fn delaunay_canonical_elements_give_the_same_theory() {
     use hamilton_jacobi::perturbation::canonical::{average_over_phase, canonical_element_rhs};

@@ -15,10 +15,10 @@ use proptest::prelude::*;
 const EPS: f64 = f64::EPSILON;
 
 // ---------------------------------------------------------------------------------------------
-// T24: bead on a rotating hoop — the Jacobi integral is conserved, T + V is not.
+// Bead on a rotating hoop [Ardema 8.2] — the Jacobi integral is conserved, T + V is not.
 
 #[test]
-fn t24_bead_on_hoop_jacobi_integral() {
+fn bead_on_hoop_jacobi_integral() {
     let bead = BeadOnHoop::new(1.0, 0.5, 9.81, 6.0).unwrap();
     let (q0, v0) = (SVector::from([0.3]), SVector::from([0.0]));
     let h0 = bead.jacobi_integral(0.0, &q0, &v0).unwrap();
@@ -70,7 +70,7 @@ fn hessian_qq<L: Lagrangian<1>>(l: &L, q: &SVector<f64, 1>) -> f64 {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T25: two masses and a spring — Routhian.
+// Two masses and a spring — Routhian [Ardema 8.3].
 
 #[derive(Clone)]
 struct TwoMasses {
@@ -89,7 +89,7 @@ impl Lagrangian<2> for TwoMasses {
 }
 
 #[test]
-fn t25_routhian_reduced_frequency() {
+fn routhian_reduced_frequency() {
     let sys = TwoMasses {
         m1: 1.0,
         m2: 2.0,

@@ -102,10 +102,10 @@ fn mom<const N: usize>(i: usize) -> Momentum<N> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T11: infinitesimal rotations and translations; symmetry defect (Noether).
+// Infinitesimal rotations and translations; symmetry defect (Noether) [Ardema 18.3].
 
 #[test]
-fn t11_rotation_generator_is_an_infinitesimal_rotation_and_a_symmetry() {
+fn rotation_generator_is_an_infinitesimal_rotation_and_a_symmetry() {
     for (t, q, p) in common::central_sample_points() {
         for eps in [1e-3, 0.1, -0.25] {
             let (big_q, big_p) = Ict::new(Hz, eps).unwrap().transform(t, &q, &p).unwrap();
@@ -135,7 +135,7 @@ fn t11_rotation_generator_is_an_infinitesimal_rotation_and_a_symmetry() {
 }
 
 #[test]
-fn t11_translation_generator_and_ignorable_coordinate() {
+fn translation_generator_and_ignorable_coordinate() {
     // ρ = p₁ with q₁ ignorable: Q = q + ε e₁, P = p, and H is invariant (p₁ is conserved).
     let (q, p) = (SVector::from([3.0, 0.4]), SVector::from([0.2, -0.9]));
     for eps in [1e-3, 0.5, -2.0] {
@@ -156,7 +156,7 @@ fn t11_translation_generator_and_ignorable_coordinate() {
 }
 
 #[test]
-fn t11_non_symmetry_has_the_hand_computed_defect() {
+fn non_symmetry_has_the_hand_computed_defect() {
     // ρ = q₁ p₂ under the central force: ∂ρ/∂t + (ρ, H) = p₂ ∂H/∂p₁ − q₁ ∂H/∂q₂
     //   = p₁ p₂ − q₁ q₂ V′(r)/r.
     for (t, q, p) in common::central_sample_points() {

@@ -71,7 +71,7 @@ fn c_exact(k: usize) -> f64 {
 }
 
 /// The pendulum's period table: (a, exact τ/(2π/n)).
-const T9: [(f64, f64); 8] = [
+const PERIOD_TABLE: [(f64, f64); 8] = [
     (0.1, 1.00062535830774),
     (0.5, 1.01585253110144),
     (1.0, 1.06633424557996),
@@ -144,7 +144,7 @@ fn period_series_matches_elliptic_series_to_order_12() {
             );
         }
     }
-    // T9's two terms, exactly.
+    // The two terms of second-order perturbation theory [Ardema 18.2], exactly.
     let c = PendulumNormalForm::new(1.0, 2)
         .unwrap()
         .period_ratio_series()
@@ -197,8 +197,8 @@ fn lindstedt_agrees_with_normal_form_and_oracle() {
 }
 
 #[test]
-fn exact_period_reproduces_t9_table() {
-    for (a, ratio) in T9 {
+fn exact_period_reproduces_the_period_table() {
+    for (a, ratio) in PERIOD_TABLE {
         let r = period(1.0, a).unwrap() / (2.0 * PI);
         // 15 significant digits in the table.
         assert!(rel(r, ratio) <= 1e-14, "a = {a}: {r} vs {ratio}");
@@ -211,7 +211,7 @@ fn errors_per_order_against_exact_period() {
     let nfs: Vec<PendulumNormalForm> = (1..=12)
         .map(|n| PendulumNormalForm::new(1.0, n).unwrap())
         .collect();
-    for (a, ratio) in T9 {
+    for (a, ratio) in PERIOD_TABLE {
         let exact = period(1.0, a).unwrap() / (2.0 * PI);
         assert!(rel(exact, ratio) <= 1e-14);
         let mut prev = f64::INFINITY;

@@ -30,13 +30,14 @@ use std::f64::consts::PI;
 const EPS: f64 = f64::EPSILON;
 const G: f64 = 9.81;
 
-/// T1: S = |q¹ − q⁰|²/(2τ) − ½ g (y⁰ + y¹) τ − g² τ³/24.
+/// The projectile's principal function [Ardema 17.1]:
+/// S = |q¹ − q⁰|²/(2τ) − ½ g (y⁰ + y¹) τ − g² τ³/24.
 fn projectile_s(q0: [f64; 2], q1: [f64; 2], tau: f64) -> f64 {
     let (dx, dy) = (q1[0] - q0[0], q1[1] - q0[1]);
     (dx * dx + dy * dy) / (2.0 * tau) - 0.5 * G * (q0[1] + q1[1]) * tau - G * G * tau.powi(3) / 24.0
 }
 
-/// T2 (unit mass): S, p⁰ = −∂S/∂x⁰, p¹ = ∂S/∂x¹.
+/// The oscillator's principal function [Ardema 17.1] (unit mass): S, p⁰ = −∂S/∂x⁰, p¹ = ∂S/∂x¹.
 fn oscillator_s(w: f64, x0: f64, x1: f64, tau: f64) -> (f64, f64, f64) {
     let (s, c) = (w * tau).sin_cos();
     (
@@ -70,8 +71,9 @@ fn s_gradient<H: Hamiltonian<N>, const N: usize, const M: usize>(
     Ok((*v.s.value(), *v.s.eps(), r))
 }
 
-/// The M52 identities and the M53 residuals for one gradient `dS` of `S`, all relative to the
-/// momentum scale `ps` and the energy scale `hs`, within `tol`.
+/// The derivative identities of the principal function and the Hamilton–Jacobi residuals at both
+/// end points for one gradient `dS` of `S`, all relative to the momentum scale `ps` and the energy
+/// scale `hs`, within `tol`.
 fn check_identities<H: Hamiltonian<N>, const N: usize, const M: usize>(
     h: &H,
     (q0, q1, t0, t1): ([f64; N], [f64; N], f64, f64),
@@ -82,7 +84,7 @@ fn check_identities<H: Hamiltonian<N>, const N: usize, const M: usize>(
     let ds_q0 = SVector::<f64, N>::from_fn(|i, _| ds[i]);
     let ds_q1 = SVector::<f64, N>::from_fn(|i, _| ds[N + i]);
     let (ds_t0, ds_t1) = (ds[2 * N], ds[2 * N + 1]);
-    // M52: p¹ = ∂S/∂q¹, p⁰ = −∂S/∂q⁰, ∂S/∂t₁ = −H₁, ∂S/∂t₀ = +H₀.
+    // p¹ = ∂S/∂q¹, p⁰ = −∂S/∂q⁰, ∂S/∂t₁ = −H₁, ∂S/∂t₀ = +H₀ [Ardema eqs. 17.9–17.13].
     assert!(
         (ds_q1 - r.p1).amax() <= tol * ps,
         "∂S/∂q¹ {ds_q1} vs p¹ {}",
@@ -99,7 +101,8 @@ fn check_identities<H: Hamiltonian<N>, const N: usize, const M: usize>(
         "∂S/∂t₀ {ds_t0} vs H₀ {}",
         r.h0
     );
-    // M53: ∂S/∂t₁ + H(t₁, q¹, ∂S/∂q¹) = 0 and ∂S/∂t₀ − H(t₀, q⁰, −∂S/∂q⁰) = 0.
+    // Hamilton–Jacobi equation [Ardema 17.2]: ∂S/∂t₁ + H(t₁, q¹, ∂S/∂q¹) = 0 and
+    // ∂S/∂t₀ − H(t₀, q⁰, −∂S/∂q⁰) = 0.
     let hj1 = ds_t1 + h.value(t1, &SVector::from(q1), &ds_q1).unwrap();
     let hj0 = ds_t0 - h.value(t0, &SVector::from(q0), &(-ds_q0)).unwrap();
     assert!(hj1.abs() <= tol * hs, "HJ residual at (q¹, t₁): {hj1:e}");
@@ -110,13 +113,13 @@ fn check_identities<H: Hamiltonian<N>, const N: usize, const M: usize>(
 // Projectile [Ardema 17.1]
 // ---------------------------------------------------------------------------------------------
 
-/// T1. Classical RK4 is exact for this motion: all elementary differentials of order ≥ 4 of the
-/// field `(p, −g e_y, |p|²/2 − g y)` vanish (only `∂²ṡ/∂p²` and constants are non-zero), so the
-/// discrete map equals the flow and only rounding remains — a few `ε` per step over `3 · 2M`
-/// steps, `ε √(2M) ≈ 1e−15` relative at the `M = 16` the solver keeps. Hence `1e−12` relative on
-/// every quantity (values and all six derivatives) with a wide margin.
+/// From (0, 0) to (10, 5) in τ = 2. Classical RK4 is exact for this motion: all elementary
+/// differentials of order ≥ 4 of the field `(p, −g e_y, |p|²/2 − g y)` vanish (only `∂²ṡ/∂p²` and
+/// constants are non-zero), so the discrete map equals the flow and only rounding remains — a few
+/// `ε` per step over `3 · 2M` steps, `ε √(2M) ≈ 1e−15` relative at the `M = 16` the solver keeps.
+/// Hence `1e−12` relative on every quantity (values and all six derivatives) with a wide margin.
 #[test]
-fn t1_projectile_principal_function() {
+fn projectile_principal_function() {
     let proj = Projectile::new(1.0, G).unwrap();
     let (q0, q1) = ([0.0, 0.0], [10.0, 5.0]);
     let h = 0.5 * (5.0f64.powi(2) + 12.31f64.powi(2)); // 88.26805
@@ -153,11 +156,12 @@ fn t1_projectile_principal_function() {
 // Harmonic oscillator [Ardema 17.1]
 // ---------------------------------------------------------------------------------------------
 
-/// T2 instance. Path maxima: `|p| ≤ 2.7`, `|S|, τ|L| ≤ 4`; the solver's target is `1e−12` of those,
-/// and `rcond = sin ωτ`-like conditioning is already inside its estimate. So `1e−11` absolute
-/// covers estimate and oracle rounding (the closed form is a few roundings of `O(1)` numbers).
+/// The instance ω = 2, x⁰ = 1, x¹ = 0.5, τ = 1. Path maxima: `|p| ≤ 2.7`, `|S|, τ|L| ≤ 4`; the
+/// solver's target is `1e−12` of those, and `rcond = sin ωτ`-like conditioning is already inside
+/// its estimate. So `1e−11` absolute covers estimate and oracle rounding (the closed form is a few
+/// roundings of `O(1)` numbers).
 #[test]
-fn t2_oscillator_principal_function() {
+fn oscillator_principal_function() {
     let osc = HarmonicOscillator::new(1.0, 2.0).unwrap();
     let (q0, q1) = ([1.0], [0.5]);
     let (s, ds, r) = s_gradient::<_, 1, 4>(&osc, q0, q1, 0.0, 1.0).unwrap();
@@ -180,7 +184,7 @@ fn t2_oscillator_principal_function() {
 /// Second derivatives of `S` come out of the same solve in a second-order dual type:
 /// `∂²S/∂(x¹)² = ω cot ωτ = ∂p¹/∂x¹`. Same error budget as above, relative to `ω/sin ωτ ≈ 2.2`.
 #[test]
-fn t2_second_derivative_from_hyper_dual() {
+fn oscillator_second_derivative_from_hyper_dual() {
     let osc = HarmonicOscillator::new(1.0, 2.0).unwrap();
     let (_, _, d2) = second_derivative(
         |x1: Dual2_64| {
@@ -204,14 +208,14 @@ fn t2_second_derivative_from_hyper_dual() {
 proptest! {
     #![proptest_config(common::config(0x5eed_0052))]
 
-    /// T2 against the closed form for random end points and times away from the focal points
-    /// ωτ = kπ (|sin ωτ| ≥ sin 0.2, so the closed form loses at most a factor ~50 to cancellation
-    /// in `(x⁰² + x¹²) cos ωτ − 2x⁰x¹`). Each case costs ~10⁴ RK4 steps with a 1-wide gradient
-    /// dual, so the full 1000 cases stay cheap. Scale of the solver's target: amplitude
+    /// The oscillator against the closed form for random end points and times away from the focal
+    /// points ωτ = kπ (|sin ωτ| ≥ sin 0.2, so the closed form loses at most a factor ~50 to
+    /// cancellation in `(x⁰² + x¹²) cos ωτ − 2x⁰x¹`). Each case costs ~10⁴ RK4 steps with a 1-wide
+    /// gradient dual, so the full 1000 cases stay cheap. Scale of the solver's target: amplitude
     /// `a = √(x⁰² + (p⁰/ω)²)`, `|p| ≤ ωa`, `|S|, τ|L| ≤ τω²a²`; tolerance `1e−12 · 10` of those
     /// (target plus the factor-10 slack in these scale bounds), plus `64 ε · 50` for the oracle.
     #[test]
-    fn t2_random_against_closed_form(
+    fn oscillator_random_against_closed_form(
         x0 in -2.0..2.0f64,
         x1 in -2.0..2.0f64,
         w in 0.5..2.0f64,
@@ -238,7 +242,7 @@ proptest! {
 // Focal point of the unit oscillator
 // ---------------------------------------------------------------------------------------------
 
-/// X4 near the focal point: τ = π − δ, δ = 1e−3 and 1e−6 (S = −1125.000, u₀ = 1500 and
+/// Near the focal point: τ = π − δ, δ = 1e−3 and 1e−6 (S = −1125.000, u₀ = 1500 and
 /// S = −1.125e6, u₀ = 1.5e6).
 ///
 /// Conditioning: the shooting Jacobian is `A = ∂x¹/∂p⁰ = sin τ ≈ δ`, against the natural scale
@@ -250,7 +254,7 @@ proptest! {
 /// `5e−12` and `3e−9` observed. The oracle is the closed form at the same double τ; `sin τ` of a
 /// double is correct to an ulp, so the oracle is good to a few ε.
 #[test]
-fn x4_near_the_focal_point() {
+fn principal_function_near_the_focal_point() {
     let unit = HarmonicOscillator::new(1.0, 1.0).unwrap();
     for (delta, s_spec, u0_spec) in [(1e-3, -1125.000, 1500.0), (1e-6, -1.125e6, 1.5e6)] {
         let tau = PI - delta;
@@ -290,12 +294,12 @@ fn x4_near_the_focal_point() {
     }
 }
 
-/// X4 at the focal point: τ = π is a typed error carrying the point, never a number — for an
-/// unreachable end point (x¹ = 0.5), for the end point reached by infinitely many paths
-/// (x¹ = −x⁰), and for the rest path x⁰ = x¹ = 0 (S = 0 on every path of the family, but p⁰ is
-/// not determined).
+/// At the focal point τ = π the principal function is a typed error carrying the point, never a
+/// number — for an unreachable end point (x¹ = 0.5), for the end point reached by infinitely many
+/// paths (x¹ = −x⁰), and for the rest path x⁰ = x¹ = 0 (S = 0 on every path of the family, but p⁰
+/// is not determined).
 #[test]
-fn x4_at_the_focal_point_is_singular() {
+fn principal_function_at_the_focal_point_is_singular() {
     let unit = HarmonicOscillator::new(1.0, 1.0).unwrap();
     for (x0, x1) in [(1.0, 0.5), (1.0, -1.0), (0.0, 0.0)] {
         let r = principal_function(

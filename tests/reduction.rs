@@ -1,6 +1,6 @@
-//! Reduction and quadrature with known integrals: Whittaker's order reduction (M47, T42), Jacobi's
-//! last multiplier, Liouville's determinant and the two-degree-of-freedom quadrature (M48, T31),
-//! Liouville's separable systems (M25, T39).
+//! Reduction and quadrature with known integrals: Whittaker's order reduction [Ardema 15.6],
+//! Jacobi's last multiplier, Liouville's determinant and the two-degree-of-freedom quadrature
+//! [Ardema 15.6, 16.4], Liouville's separable systems [Ardema 8.4].
 
 mod common;
 
@@ -19,14 +19,14 @@ use proptest::prelude::*;
 type V2 = SVector<f64, 2>;
 
 // ---------------------------------------------------------------------------------------------
-// M47 / T42: Whittaker's reduction.
+// Whittaker's order reduction [Ardema 15.6, eqs. 15.31–15.36].
 // ---------------------------------------------------------------------------------------------
 
 const G: f64 = 2.0;
 const K: f64 = 3.0;
 
 hamiltonian!(
-    /// T42: H = ½(p_x² + p_y²) + g x + ½ k² y².
+    /// Free fall in x, oscillation in y: H = ½(p_x² + p_y²) + g x + ½ k² y².
     FallOscillator<2> { g: f64, k: f64 } |s, _t, q, p| p.dot(p) * 0.5 + q[0] * s.g + q[1] * q[1] * (0.5 * s.k * s.k)
 );
 
@@ -46,7 +46,7 @@ hamiltonian!(
 );
 
 #[test]
-fn t42_whittaker_reduction_matches_full_motion() {
+fn whittaker_reduction_matches_full_motion() {
     let sys = FallOscillator { g: G, k: K };
     let (q0, p0) = (V2::new(1.0, 0.5), V2::new(0.4, -0.3));
     let h = sys.value(0.0, &q0, &p0).unwrap();
@@ -127,7 +127,7 @@ fn t42_whittaker_reduction_matches_full_motion() {
         assert!((pf[0] - px).abs() <= 1e-13, "p_x(t) at t = {t}");
     }
     println!(
-        "T42 max errors: y {:.2e} (tol {tol_y:.2e}), p_y {:.2e} (tol {tol_py:.2e}), x {:.2e} \
+        "Whittaker reduction, max errors: y {:.2e} (tol {tol_y:.2e}), p_y {:.2e} (tol {tol_py:.2e}), x {:.2e} \
          (tol {tol_x:.2e}), t {:.2e}, reduced-vs-full/exact y(t) {:.2e}",
         worst[0], worst[1], worst[2], worst[3], worst[4]
     );
@@ -265,7 +265,7 @@ fn reduction_refuses_bad_input() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// M48 / T31: multipliers, Liouville's determinant.
+// Jacobi's last multiplier, Liouville's determinant [Ardema 15.6, 16.4].
 // ---------------------------------------------------------------------------------------------
 
 /// θ̈ = −sin θ − c θ̇ as H = p²/2 − cos θ with the force Q = −c p.
@@ -450,7 +450,7 @@ fn multiplier_residuals() {
 }
 
 #[test]
-fn t31_flow_determinants_by_variational_equations() {
+fn flow_determinants_by_variational_equations() {
     let (t_end, c) = (7.3, 0.2);
     let (q0, p0) = (SVector::from([2.0]), SVector::from([0.5]));
     let pend = Pendulum::new(1.0).unwrap();
@@ -480,7 +480,7 @@ fn t31_flow_determinants_by_variational_equations() {
         let jac = (c * t_end).exp() * d.jacobian.determinant() - 1.0;
         let norm = f.jacobian.max_abs().max(d.jacobian.max_abs());
         println!(
-            "T31 variational, {steps} steps: |det − 1| = {ef:.2e}, |det − e^(−cT)| = {ed:.2e}, \
+            "flow determinants by variational equations, {steps} steps: |det − 1| = {ef:.2e}, |det − e^(−cT)| = {ed:.2e}, \
              M(T) det − M(0) = {jac:.2e}, ‖Φ‖ = {norm:.2}"
         );
         runs.push((steps as f64, ef, ed, norm));
@@ -542,7 +542,7 @@ fn t31_flow_determinants_by_variational_equations() {
         ),
     ] {
         let diff = phi.sub(&ad).max_abs();
-        println!("T31 variational Φ vs AD through the RK4 map: {diff:.1e}");
+        println!("variational Φ vs AD through the RK4 map: {diff:.1e}");
         assert!(
             diff <= 1e-12 * phi.max_abs(),
             "variational vs AD map: {diff}"
@@ -558,7 +558,7 @@ fn t31_flow_determinants_by_variational_equations() {
     let steps = 7300;
     let fd_f = (fd_determinant(&pend, q0[0], p0[0], t_end, steps, e) - 1.0).abs();
     let fd_d = (fd_determinant(&damped, q0[0], p0[0], t_end, steps, e) - exact_damped).abs();
-    println!("T31 central differences (e = 1e-6), {steps} steps: |det − 1| = {fd_f:.2e}, |det − e^(−cT)| = {fd_d:.2e}");
+    println!("flow determinants by central differences (e = 1e-6), {steps} steps: |det − 1| = {fd_f:.2e}, |det − e^(−cT)| = {fd_d:.2e}");
     let norm = runs[1].3;
     let delta = steps as f64 * f64::EPSILON * norm * q0[0].abs().max(p0[0].abs());
     let fd_bound = 2.0 * norm * delta / e + 1e-11;
@@ -583,7 +583,7 @@ fn t31_flow_determinants_by_variational_equations() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// M48: two degrees of freedom, central force (Kepler).
+// Two degrees of freedom [Ardema eqs. 15.46–15.55]: central force (Kepler).
 // ---------------------------------------------------------------------------------------------
 
 /// Central force in polar coordinates (r, θ): p_r = √(2h + 2μ/r − a²/r²), p_θ = a.
@@ -738,13 +738,13 @@ fn two_dof_quadrature_kepler_time_and_orbit() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// M25 / T39: Liouville systems.
+// Liouville's separable systems [Ardema 8.4, eqs. 8.38–8.40].
 // ---------------------------------------------------------------------------------------------
 
-/// T39: U = q₁² + q₂², v₁ = v₂ = 1, W = q₁⁴ + q₂⁴.
+/// The quartic Liouville system U = q₁² + q₂², v₁ = v₂ = 1, W = q₁⁴ + q₂⁴.
 #[derive(Clone, Copy, Debug)]
-struct T39;
-impl LiouvilleSystem<2> for T39 {
+struct QuarticLiouville;
+impl LiouvilleSystem<2> for QuarticLiouville {
     fn u<D: DualNum<f64> + Copy>(&self, _s: usize, q: D) -> D {
         q * q
     }
@@ -772,30 +772,30 @@ impl LiouvilleSystem<3> for Mixed {
 }
 
 #[test]
-fn t39_liouville_integrals_constant() {
+fn liouville_integrals_constant() {
     let (q0, v0) = (V2::new(1.0, 0.5), V2::new(0.2, -0.3));
-    let (h0, g0) = liouville_separated_integrals(&T39, &q0, &v0).unwrap();
+    let (h0, g0) = liouville_separated_integrals(&QuarticLiouville, &q0, &v0).unwrap();
     assert!((h0 - 0.93125).abs() < 1e-15);
     assert!((g0[0] - 0.1).abs() < 1e-15);
-    let l = Liouville(T39);
+    let l = Liouville(QuarticLiouville);
     assert!((l.jacobi_integral(0.0, &q0, &v0).unwrap() - h0).abs() < 1e-15);
     // RK4 on Lagrange's equations (accelerations by AD through the Lagrangian). RK4 is not
     // conservative: an integral drifts by C·T·Δt⁴. The constant is fixed by the run itself: at
     // Δt = 1e−3 and 5e−4 the drift must fall by 2⁴ = 16 (±50 %, i.e. the asymptotic regime of the
     // fourth-order method); extrapolating that law to Δt = 2e−4 (25 000 steps) gives a drift
     // (2/5)⁴ ≈ 0.026 of the 5e−4 one, which the final run must meet and which lies below the 1e−12
-    // of T39.
+    // to which h and γ₁ are required to stay constant.
     let drift = |dt: f64| {
         let steps = (5.0 / dt).round() as usize;
         let mut worst = (0.0f64, 0.0f64, 0.0f64);
         rk4_lagrangian(&l, 0.0, q0, v0, dt, steps, |_, q, v| {
-            let (h, g) = liouville_separated_integrals(&T39, q, v).unwrap();
+            let (h, g) = liouville_separated_integrals(&QuarticLiouville, q, v).unwrap();
             worst.0 = worst.0.max((h - h0).abs());
             worst.1 = worst.1.max((g[0] - g0[0]).abs());
             worst.2 = worst.2.max((g[0] + g[1]).abs());
         });
         println!(
-            "T39 over 5 s, Δt = {dt:e}: |Δh| ≤ {:.1e}, |Δγ₁| ≤ {:.1e}, |Σγ| ≤ {:.1e}",
+            "Liouville integrals over 5 s, Δt = {dt:e}: |Δh| ≤ {:.1e}, |Δγ₁| ≤ {:.1e}, |Σγ| ≤ {:.1e}",
             worst.0, worst.1, worst.2
         );
         worst
@@ -813,11 +813,11 @@ fn t39_liouville_integrals_constant() {
     assert!(coarse.2.max(mid.2).max(fine.2) < 1e-14);
     // U = 0 (at the origin) and NaN are typed errors.
     assert!(matches!(
-        liouville_separated_integrals(&T39, &V2::zeros(), &v0),
+        liouville_separated_integrals(&QuarticLiouville, &V2::zeros(), &v0),
         Err(Error::OutOfDomain { .. })
     ));
     assert!(matches!(
-        liouville_separated_integrals(&T39, &V2::new(f64::NAN, 0.0), &v0),
+        liouville_separated_integrals(&QuarticLiouville, &V2::new(f64::NAN, 0.0), &v0),
         Err(Error::NonFinite { .. })
     ));
 }

@@ -1,6 +1,6 @@
 //! Separable systems by Jacobi inversion of the separated quadratures [Ardema 17.3–17.5]: Kepler in
 //! polar coordinates (one librating, one ignorable coordinate), the anisotropic oscillator (two
-//! librating coordinates, closed form) and the Liouville system of T39 against integration.
+//! librating coordinates, closed form) and a Liouville system [Ardema 8.4] against integration.
 
 mod common;
 
@@ -119,10 +119,11 @@ fn anisotropic_oscillator_closed_form() {
     }
 }
 
-/// T39: `U = q₁² + q₂²`, `v = 1`, `W = q₁⁴ + q₂⁴`; initial `(q, q̇) = (1, 0.5, 0.2, −0.3)`.
+/// The quartic Liouville system `U = q₁² + q₂²`, `v = 1`, `W = q₁⁴ + q₂⁴`; initial
+/// `(q, q̇) = (1, 0.5, 0.2, −0.3)`.
 #[derive(Clone, Debug)]
-struct T39;
-impl LiouvilleSystem<2> for T39 {
+struct QuarticLiouville;
+impl LiouvilleSystem<2> for QuarticLiouville {
     fn u<D: DualNum<f64> + Copy>(&self, _s: usize, q: D) -> D {
         q * q
     }
@@ -137,8 +138,8 @@ impl LiouvilleSystem<2> for T39 {
 /// The Liouville system by HJ separation against RK4 of its Lagrange equations over 5 s.
 /// RK4 tolerance: twice the Richardson estimate |x_n − x_2n|/15 plus the 1e−11 inversion floor.
 #[test]
-fn t39_liouville_motion_matches_integration() {
-    let sep = LiouvilleSeparation::new(T39, [(-10.0, 10.0), (-10.0, 10.0)]).unwrap();
+fn liouville_motion_matches_integration() {
+    let sep = LiouvilleSeparation::new(QuarticLiouville, [(-10.0, 10.0), (-10.0, 10.0)]).unwrap();
     let q0 = SVector::from([1.0, 0.5]);
     let qd0 = SVector::from([0.2, -0.3]);
     let u0 = q0.dot(&q0);
@@ -152,7 +153,15 @@ fn t39_liouville_motion_matches_integration() {
         "q₂ librates in ({a}, {b}) without reaching 0"
     );
     let run = |n: usize, t: f64| {
-        common::rk4_lagrangian(&Liouville(T39), 0.0, q0, qd0, t / n as f64, n, |_, _, _| {})
+        common::rk4_lagrangian(
+            &Liouville(QuarticLiouville),
+            0.0,
+            q0,
+            qd0,
+            t / n as f64,
+            n,
+            |_, _, _| {},
+        )
     };
     for t in [1.0, 2.5, 5.0] {
         let (q, p) = motion.state_at(t).unwrap();
@@ -182,7 +191,7 @@ fn inconsistent_or_bad_input_is_refused() {
     assert!(matches!(e, Err(Error::OutOfDomain { .. })), "{e:?}");
     // Unbound (h > 0): no upper turning point.
     assert!(SeparatedMotion::new(KeplerPolar, 0.0, &q, &SVector::from([2.0, 1.0])).is_err());
-    assert!(LiouvilleSeparation::new(T39, [(1.0, -1.0), (0.0, 1.0)]).is_err());
+    assert!(LiouvilleSeparation::new(QuarticLiouville, [(1.0, -1.0), (0.0, 1.0)]).is_err());
 }
 
 /// The anisotropic oscillator's actions `J_r = E_r/ω_r` and frequencies `ω_r` from the separated

@@ -215,14 +215,14 @@ fn exact_flows_agree_with_integration() {
     let proj = Projectile::new(1.0, 9.81).unwrap();
     let (q0, p0) = (SVector::from([0.0, 0.0]), SVector::from([5.0, 12.31]));
     let (q, p) = proj.exact_flow(0.0, &q0, &p0, 2.0).unwrap();
-    // T1: (x¹, y¹) = (10, 5) and v₁ = −7.31 at τ = 2.
+    // The principal-function instance [Ardema 17.1]: (x¹, y¹) = (10, 5) and v₁ = −7.31 at τ = 2.
     assert_relative_eq!(q, SVector::from([10.0, 5.0]), epsilon = 1e-13);
     assert_relative_eq!(p, SVector::from([5.0, -7.31]), epsilon = 1e-13);
 }
 
 #[test]
 #[allow(clippy::approx_constant)] // a = 3.14 is a row of the table, not an approximation of π
-fn t9_pendulum_period_table() {
+fn pendulum_period_table() {
     // Ratios τ/(2π/n) = 2K(k)/π to 15 significant digits; relative error ≤ 1e−13.
     let table = [
         (0.1, 1.00062535830774),
@@ -252,7 +252,7 @@ fn t9_pendulum_period_table() {
 }
 
 #[test]
-fn x2_pendulum_period_at_the_separatrix() {
+fn pendulum_period_at_the_separatrix() {
     // δ given exactly.
     for (d, tau) in [
         (1e-2, 26.7386056935052),
@@ -284,7 +284,7 @@ fn x2_pendulum_period_at_the_separatrix() {
 }
 
 #[test]
-fn t12_keplers_equation_table() {
+fn keplers_equation_table() {
     // μ = 1, a = 1, t = 0.3 T: M = 0.6π. Table digits: 13 significant → 1e−12 absolute.
     let m = 0.6 * PI;
     for (e, big_e, nu, r) in [
@@ -309,7 +309,7 @@ fn t12_keplers_equation_table() {
         );
         assert!((orbit::eccentricity_vector(1.0, &r3, &v3).unwrap().norm() - e).abs() < 1e-14);
     }
-    // X3 starting values near e → 1.
+    // Starting values near e → 1.
     for (e, m, big_e) in [
         (0.999999, 1e-6, 0.0180612466215222),
         (0.99, 0.01, 0.342270316491775),

@@ -55,7 +55,11 @@ fn rk4_halving(top: &HeavyTop, q: V3, p: V3, t: f64, n: usize) -> ((V3, V3), (V3
 }
 
 /// `L` of [Ardema 11.2] written out.
-fn l_m30<D: DualNum<f64> + Copy>(top: &HeavyTop, q: &SVector<D, 3>, v: &SVector<D, 3>) -> D {
+fn heavy_top_lagrangian<D: DualNum<f64> + Copy>(
+    top: &HeavyTop,
+    q: &SVector<D, 3>,
+    v: &SVector<D, 3>,
+) -> D {
     let (s, c) = q[1].sin_cos();
     let wz = v[2] + v[0] * c;
     (v[1] * v[1] + v[0] * v[0] * s * s) * (0.5 * top.i()) + wz * wz * (0.5 * top.j())
@@ -65,11 +69,12 @@ fn l_m30<D: DualNum<f64> + Copy>(top: &HeavyTop, q: &SVector<D, 3>, v: &SVector<
 proptest! {
     #![proptest_config(ProptestConfig { cases: 300, ..common::config(0x5eed_0714) })]
 
-    /// `L` is that of M30; `H` is its Legendre transform: by the generic Newton Legendre transform,
-    /// by the closed form for natural systems, and in the momenta/rates maps (1e−12 relative: a
-    /// Newton solve on a 3×3 mass matrix whose condition number is at most ~ 1/sin²θ ≤ 1e3 here).
+    /// `L` is that of [Ardema 11.2]; `H` is its Legendre transform: by the generic Newton Legendre
+    /// transform, by the closed form for natural systems, and in the momenta/rates maps (1e−12
+    /// relative: a Newton solve on a 3×3 mass matrix whose condition number is at most ~ 1/sin²θ ≤
+    /// 1e3 here).
     #[test]
-    fn hamiltonian_is_the_legendre_transform_of_m30(
+    fn hamiltonian_is_the_legendre_transform_of_the_lagrangian(
         th in 0.05..3.09f64, ph in -3.0..3.0f64, ps in -3.0..3.0f64,
         v in prop::array::uniform3(-4.0..4.0f64),
         (i, j, mgl) in (0.3..3.0f64, 0.2..3.0f64, 0.1..5.0f64),
@@ -78,7 +83,7 @@ proptest! {
         let (q, v) = (SVector::from([ph, th, ps]), SVector::from(v));
         let lag = top.as_lagrangian();
         let l = lag.value(0.0, &q, &v).unwrap();
-        prop_assert!((l - l_m30(&top, &q, &v)).abs() <= 1e-14 * (1.0 + l.abs()));
+        prop_assert!((l - heavy_top_lagrangian(&top, &q, &v)).abs() <= 1e-14 * (1.0 + l.abs()));
         let p = lag.momentum(0.0, &q, &v).unwrap();
         let p_conv = top.momenta(th, v[1], v[0], v[2]).unwrap();
         prop_assert!((p - p_conv).norm() <= 1e-13 * (1.0 + p.norm()), "{p} vs {p_conv}");
@@ -123,7 +128,7 @@ proptest! {
 }
 
 #[test]
-fn t14a_release_from_rest() {
+fn release_from_rest() {
     let top = top();
     let (q, p) = at_rest(&top, PI / 3.0, 5.0);
     assert_relative_eq!(top.gamma(5.0).unwrap(), 2.5);
@@ -179,7 +184,7 @@ fn t14a_release_from_rest() {
 /// [Ardema eq. 11.24] in its textbook form loses digits for fast tops; the crate's form and
 /// the root of the cubic (deflated at the starting turning point) agree to rounding.
 #[test]
-fn x1_release_formula_cancellation_at_gamma_1e4() {
+fn release_formula_cancellation_at_gamma_1e4() {
     let top = top();
     let omega = 2e4; // γ = Jω/I = 1e4
     let c = 1e8 / (2.0 * top.beta());
@@ -220,7 +225,7 @@ fn very_fast_tops() {
 }
 
 #[test]
-fn t14b_steady_precession() {
+fn steady_precession_at_30_degrees() {
     let top = top();
     let theta0 = PI / 6.0;
     let sp = top.steady_precession(theta0, 5.0).unwrap();
@@ -268,15 +273,15 @@ fn t14b_steady_precession() {
 }
 
 #[test]
-fn t14c_sleeping_top() {
+fn sleeping_top_stability() {
     let top = top();
     assert_eq!(top.critical_spin().unwrap(), 4.0);
     // θ_max from the stable release formula and from the cubic of the state, and the maximum of θ
     // over 60 s of RK4 (h = 1e−3). Sampling error of a maximum: ½|θ̈| (h/2)² ≤ 1.3e−7 (|θ̈| ≤ 2
     // here); truncation error estimated by halving the step over half a nutation period.
-    // Conditioning floor (X9): Hamilton's equations in Euler angles see the initial offset from the
-    // vertical through fl(cos θ) (1 − cos θ₀ = 5e−7 carries a relative rounding of 2e−10), the
-    // quadratures through the exact 2 sin²(θ₀/2); the resulting spread of θ_max is measured by
+    // Conditioning floor near the pole: Hamilton's equations in Euler angles see the initial offset
+    // from the vertical through fl(cos θ) (1 − cos θ₀ = 5e−7 carries a relative rounding of 2e−10),
+    // the quadratures through the exact 2 sin²(θ₀/2); the resulting spread of θ_max is measured by
     // moving u₂ = cos θ₀ by one ulp either way in the release formula.
     for (omega, reference_deg) in [(3.6, 51.684021184465), (4.4, 0.137532160970)] {
         let (q, p) = at_rest(&top, 1e-3, omega);
@@ -319,9 +324,9 @@ fn t14c_sleeping_top() {
     }
 }
 
-/// X1/X2: the vertical top given by its constants (h = p₂²/2J + mgℓ, p₁ = p₂ = Jω_z): at the
+/// The vertical top given by its constants (h = p₂²/2J + mgℓ, p₁ = p₂ = Jω_z): at the
 /// critical spin the cubic is −β(1 − u)³ (triple root), below it the vertical is a separatrix,
-/// above it the motion is the pole itself, where the Euler angles are singular (X9). Typed errors,
+/// above it the motion is the pole itself, where the Euler angles are singular. Typed errors,
 /// never NaN or ∞.
 #[test]
 fn sleeping_top_constants_are_refused() {
@@ -351,7 +356,7 @@ fn sleeping_top_constants_are_refused() {
     let t = nut.period().unwrap().value;
     assert_relative_eq!(t, 3708.14893099639, max_relative = 1e-13);
     // At θ₀ = 1e−8, p_φ = Jω_z cos θ₀ rounds to p_ψ: the momenta put the state on an orbit through
-    // the pole (δ = γ exactly, X9), which is refused rather than integrated across the chart.
+    // the pole (δ = γ exactly), which is refused rather than integrated across the chart.
     let (q, p) = at_rest(&top, 1e-8, 4.0);
     assert_eq!(p[0], p[2]);
     assert!(matches!(
@@ -361,9 +366,10 @@ fn sleeping_top_constants_are_refused() {
     assert_relative_eq!(t, elliptic_period(nut.cubic()), max_relative = 1e-12);
 }
 
-/// HJ quadratures against Hamilton's equations over one nutation period from the T14a state:
-/// θ and p_θ return to their start; φ and ψ advance by the quadratures. Also the partial
-/// quadratures at an intermediate point: the time to reach u and the angles there.
+/// HJ quadratures against Hamilton's equations over one nutation period from release at rest
+/// (θ₂ = 60°, ω_z = 5) [Ardema 11.2]: θ and p_θ return to their start; φ and ψ advance by the
+/// quadratures. Also the partial quadratures at an intermediate point: the time to reach u and the
+/// angles there.
 #[test]
 fn quadratures_match_integration_over_one_period() {
     let top = top();
@@ -469,7 +475,7 @@ fn bad_inputs_are_typed_errors() {
     ));
     let top = top();
     let p = SVector::from([1.0, 0.0, 1.0]);
-    // X9: the chart singularity sin θ = 0 (θ = 0, and θ = fl(π) where sin θ = 1.2e−16).
+    // The Euler-angle chart singularity sin θ = 0 (θ = 0, and θ = fl(π) where sin θ = 1.2e−16).
     for theta in [0.0, PI, -PI] {
         let q = SVector::from([0.0, theta, 0.0]);
         assert!(matches!(
@@ -510,7 +516,7 @@ fn bad_inputs_are_typed_errors() {
         top.momenta(1.0, 0.0, f64::NAN, 1.0),
         Err(Error::NonFinite { .. })
     ));
-    // An orbit through the pole (p_φ = p_ψ, θ̇ ≠ 0): Euler angles fail there (X9).
+    // An orbit through the pole (p_φ = p_ψ, θ̇ ≠ 0): Euler angles fail there.
     let q = SVector::from([0.0, 0.5, 0.0]);
     let p = SVector::from([2.0, -3.0, 2.0]);
     assert!(matches!(

@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 const EPS: f64 = f64::EPSILON;
 
 // ---------------------------------------------------------------------------------------------
-// T5: F1 = ½ m ω q² cot Q.
+// The oscillator's angle variables from F1 = ½ m ω q² cot Q [Ardema 16.5].
 
 struct AngleVariables {
     m: f64,
@@ -37,7 +37,7 @@ impl GeneratingFunction<1> for AngleVariables {
 }
 
 #[test]
-fn t5_oscillator_angle_variables_from_f1() {
+fn oscillator_angle_variables_from_f1() {
     let (m, w) = (2.0, 3.0);
     let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
     let osc = HarmonicOscillator::new(m, w).unwrap();
@@ -78,7 +78,7 @@ fn t5_oscillator_angle_variables_from_f1() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T6: free fall with F1(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24.
+// Free fall with F1(q, Q, t) = (q − Q)²/(2t) − ½ g t (q + Q) − g² t³/24 [Ardema 16.4].
 
 struct FreeFall {
     g: f64,
@@ -102,7 +102,7 @@ impl GeneratingFunction<1> for FreeFall {
 hamiltonian!(Fall<1> { g: f64 } |s, _t, q, p| p[0] * p[0] * 0.5 + q[0] * s.g);
 
 #[test]
-fn t6_free_fall_generator() {
+fn free_fall_generator() {
     let g = 9.81;
     let ct = CanonicalTransformation::new(FreeFall { g });
     let h = Fall { g };
@@ -129,8 +129,8 @@ fn t6_free_fall_generator() {
             );
         }
     }
-    // F₁ equals Hamilton's principal function of T1 (vertical part, x¹ = x⁰): instance
-    // (y⁰, y¹) = (0, 5), τ = 2.
+    // F₁ equals Hamilton's principal function of the projectile [Ardema 17.1] (vertical part,
+    // x¹ = x⁰): instance (y⁰, y¹) = (0, 5), τ = 2.
     let f = FreeFall { g }.generator(2.0, &SVector::from([5.0]), &SVector::from([0.0]));
     let s_t1 = 25.0 / 4.0 - 0.5 * g * 5.0 * 2.0 - g * g * 8.0 / 24.0;
     assert_relative_eq!(f, s_t1, epsilon = 4.0 * EPS * s_t1.abs());
@@ -192,7 +192,8 @@ fn swap_and_identity_in_every_kind() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// X4: singular generators give typed errors with the point and the conditioning.
+// Singular generating functions and focal points give typed errors with the point and the
+// conditioning.
 
 /// Oscillator principal function as an F1 generator, S(x⁰, x¹) with x⁰ → q, x¹ → Q (ω = 1).
 struct Principal {
@@ -231,7 +232,7 @@ fn singular_message(e: &Error) -> String {
 }
 
 #[test]
-fn x4_singular_generators_are_refused() {
+fn singular_generators_are_refused() {
     let (m, w) = (1.0, 1.0);
     let ct = CanonicalTransformation::new(AngleVariables { m, omega: w });
     assert!(ct
@@ -652,7 +653,8 @@ proptest! {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T7 by the three methods: definition (closed 1-form), Liouville, brackets.
+// The canonicity exercises [Ardema Probs. 16/1–16/3] by the three methods: definition
+// (closed 1-form), Liouville, brackets.
 
 use hamilton_jacobi::brackets::{
     certify, exactness_defect, liouville_determinant, poisson_bracket_matrix, PhaseMap,
@@ -673,7 +675,7 @@ fn verdicts<M: PhaseMap<1>>(m: &M, t: f64, q: f64, p: f64, tol: f64) -> [bool; 3
 }
 
 #[test]
-fn t7_verdicts_by_all_three_methods() {
+fn canonicity_verdicts_by_all_three_methods() {
     // Tolerance: a few hundred roundings of O(1–10) second-derivative sums.
     let tol = 1e-12;
     for (q, p) in [(0.7, 1.1), (1.9, 0.4), (0.2, 2.5)] {
@@ -711,10 +713,10 @@ fn t7_verdicts_by_all_three_methods() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T8 and other point transformations.
+// The polar point transformation [Ardema 16.3] and other point transformations.
 
 #[test]
-fn t8_polar_momenta_and_other_point_transformations() {
+fn polar_momenta_and_other_point_transformations() {
     let ct = point_transformation(Polar);
     for (x, y, px, py) in [
         (1.0, 0.5, 0.3, -0.7),

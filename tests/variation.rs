@@ -40,7 +40,7 @@ impl Lcg {
 }
 
 // ---------------------------------------------------------------------------------------------
-// T10: projectile, unit mass, with a perturbing force.
+// Projectile, unit mass, with a perturbing force [Ardema 18.1].
 // ---------------------------------------------------------------------------------------------
 
 const G: f64 = 9.81;
@@ -75,7 +75,8 @@ impl MomentumForce<2> for LinearDrag {
     }
 }
 
-/// A conservative perturbation `U = ½ε|q|² + δ q_x q_y` (for Lagrange's planetary form on T10).
+/// A conservative perturbation `U = ½ε|q|² + δ q_x q_y` (for Lagrange's planetary form on the
+/// projectile).
 struct Quadratic;
 impl DisturbingFunction<2> for Quadratic {
     fn disturbing_function<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> D {
@@ -84,7 +85,7 @@ impl DisturbingFunction<2> for Quadratic {
 }
 
 #[test]
-fn t10_bracket_matrix_is_constant() {
+fn projectile_bracket_matrix_is_constant() {
     // Symbolically the matrix is [[0,0,−1,0],[0,0,0,−1],[1,0,0,0],[0,1,0,0]]; its entries are
     // sums of products of 1, t and 0, so AD reproduces it exactly (only t·0 − 1·1 terms occur).
     let expected = [
@@ -114,12 +115,12 @@ fn t10_bracket_matrix_is_constant() {
         assert_eq!(d.rate, 0.0);
         assert_eq!(d.scale, 1.0);
     }
-    println!("T10 bracket matrix: max deviation {worst:e}");
+    println!("projectile bracket matrix: max deviation {worst:e}");
     assert_eq!(worst, 0.0);
 }
 
 #[test]
-fn t10_element_equations_m58_and_m59() {
+fn projectile_element_equations_general_and_bracket_form() {
     // γ̇₁ = R_x, γ̇₂ = R_y, γ̇₃ = −t R_x, γ̇₄ = −t R_y with R = −k p(γ, t). The Jacobian ∂φ/∂γ has
     // entries 0, 1, t; its inverse and the products are exact up to a few roundings of numbers of
     // size |t R| ≲ 10·10·0.3·... ⇒ relative 4ε suffices; 1e−14 relative is asserted.
@@ -133,16 +134,16 @@ fn t10_element_equations_m58_and_m59() {
         let r = p * (-K_DRAG);
         let want_a = r;
         let want_b = -r * t;
-        let m58 =
+        let general =
             variation_of_constants_rhs(&Projectile, &InMomentumEquation(LinearDrag), t, &a, &b)
                 .unwrap();
-        let m59 = LagrangeBracketForm {
+        let bracket = LagrangeBracketForm {
             solution: Projectile,
             force: LinearDrag,
         }
         .rhs(t, &a, &b)
         .unwrap();
-        for got in [m58, m59] {
+        for got in [general, bracket] {
             let scale = 1.0 + want_a.amax().max(want_b.amax());
             worst = worst
                 .max((got.0 - want_a).amax() / scale)
@@ -153,13 +154,14 @@ fn t10_element_equations_m58_and_m59() {
         assert!((f.0 - r * t).amax() <= 1e-14 * (1.0 + (r * t).amax()));
         assert!((f.1 - r).amax() <= 1e-14 * (1.0 + r.amax()));
     }
-    println!("T10 element equations: max relative deviation {worst:e}");
+    println!("projectile element equations: max relative deviation {worst:e}");
     assert!(worst < 1e-14);
 }
 
 #[test]
-fn t10_planetary_form_equals_general_form() {
-    // Conservative perturbation U: M59 with −∂U*/∂γ and M58 with g = (0, −∂U/∂q) must agree.
+fn projectile_planetary_form_equals_general_form() {
+    // Conservative perturbation U: the planetary equations with −∂U*/∂γ [Ardema eqs. 18.22–18.24]
+    // and the general form with g = (0, −∂U/∂q) [Ardema eqs. 18.5–18.10] must agree.
     let mut rng = Lcg(12);
     for _ in 0..200 {
         let t = rng.range(-5.0, 5.0);
@@ -191,7 +193,7 @@ fn t10_planetary_form_equals_general_form() {
 }
 
 #[test]
-fn t10_linear_drag_integrated_to_t2() {
+fn projectile_with_linear_drag_integrated_to_t2() {
     // Linear drag: (x, y)(2) = (4.51188363905974, −10.2046234821692); exact drag solution
     // x = (3/k)(1 − e^{−kt}), y = ((4 + g/k)/k)(1 − e^{−kt}) − g t/k.
     let (x_ref, y_ref) = (4.51188363905974, -10.2046234821692);
@@ -204,20 +206,20 @@ fn t10_linear_drag_integrated_to_t2() {
     // < 1e−13 so that the claim "1e−12" does not rest on the extrapolation alone.
     let (a0, b0) = (V2::new(3.0, 4.0), V2::new(0.0, 0.0));
     let clock = Instant::now();
-    let m58 = VariationOfConstants {
+    let general = VariationOfConstants {
         solution: Projectile,
         perturbation: InMomentumEquation(LinearDrag),
     };
-    let m59 = LagrangeBracketForm {
+    let bracket = LagrangeBracketForm {
         solution: Projectile,
         force: LinearDrag,
     };
-    let r58 = rk4_richardson(&m58, 0.0, &a0, &b0, 2.0, 1000).unwrap();
-    let r59 = rk4_richardson(&m59, 0.0, &a0, &b0, 2.0, 1000).unwrap();
-    for (name, r) in [("M58", r58), ("M59", r59)] {
+    let r_general = rk4_richardson(&general, 0.0, &a0, &b0, 2.0, 1000).unwrap();
+    let r_bracket = rk4_richardson(&bracket, 0.0, &a0, &b0, 2.0, 1000).unwrap();
+    for (name, r) in [("general form", r_general), ("bracket form", r_bracket)] {
         let (q, _) = Projectile.state(2.0, &r.y.0, &r.y.1);
         println!(
-            "T10 {name}: x = {:.15}, y = {:.15}; vs ref. ({:.1e}, {:.1e}); vs exact ({:.1e}, {:.1e}); \
+            "projectile with drag, {name}: x = {:.15}, y = {:.15}; vs ref. ({:.1e}, {:.1e}); vs exact ({:.1e}, {:.1e}); \
              Richardson estimate {:.1e}; {} evaluations",
             q[0], q[1], q[0] - x_ref, q[1] - y_ref, q[0] - x_exact, q[1] - y_exact, r.max_error(), r.evaluations
         );
@@ -228,11 +230,15 @@ fn t10_linear_drag_integrated_to_t2() {
         assert!((r.y.0[0] - 3.0 * e).abs() < 1e-12);
         assert!((r.y.0[1] - ((4.0 + G / K_DRAG) * e - G / K_DRAG + G * 2.0)).abs() < 1e-12);
     }
-    println!("T10 integration: {:?}", clock.elapsed());
+    println!(
+        "projectile with drag, integration time: {:?}",
+        clock.elapsed()
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
-// T9: pendulum, harmonic-oscillator elements, quartic perturbation (Chapter-18 convention).
+// Pendulum: harmonic-oscillator elements, quartic perturbation (Chapter-18 convention)
+// [Ardema 18.2].
 // ---------------------------------------------------------------------------------------------
 
 /// Closed-form elements of `H₀ = ½p² + ½n²θ²`: `θ = (√(2α)/n) sin n(t − β)`,
@@ -334,8 +340,9 @@ impl Hamiltonian<1> for QuarticPendulum {
     }
 }
 
-/// The T9 formulas: `(K*, α̇, β̇)` with `x = n(t − β)`.
-fn t9_formulas(n: f64, t: f64, alpha: f64, beta: f64) -> (f64, f64, f64) {
+/// The pendulum's perturbation in elements in closed form [Ardema 18.2]: `(K*, α̇, β̇)` with
+/// `x = n(t − β)`.
+fn pendulum_element_rates(n: f64, t: f64, alpha: f64, beta: f64) -> (f64, f64, f64) {
     let x = n * (t - beta);
     let c = 3.0 - 4.0 * (2.0 * x).cos() + (4.0 * x).cos();
     (
@@ -346,10 +353,11 @@ fn t9_formulas(n: f64, t: f64, alpha: f64, beta: f64) -> (f64, f64, f64) {
 }
 
 #[test]
-fn t9_element_equations_closed_form_map() {
-    // M60 through the closed-form map, M58 with g = (0, n²θ³/6) and M59 (planetary form with
-    // U = −n²θ⁴/24) against the T9 formulas. All are a few dozen roundings of O(1) numbers with
-    // no cancellation beyond that of the formulas themselves; scale-relative 1e−13 is asserted.
+fn pendulum_element_equations_closed_form_map() {
+    // The canonical form through the closed-form map, the general form with g = (0, n²θ³/6)
+    // and the planetary form with U = −n²θ⁴/24 against the closed-form rates. All are a few dozen
+    // roundings of O(1) numbers with no cancellation beyond that of the formulas themselves;
+    // scale-relative 1e−13 is asserted.
     let mut rng = Lcg(9);
     let mut worst: f64 = 0.0;
     for _ in 0..1000 {
@@ -357,16 +365,16 @@ fn t9_element_equations_closed_form_map() {
         let alpha = rng.range(1e-3, 2.0);
         let beta = rng.range(-5.0, 5.0);
         let t = rng.range(-10.0, 10.0);
-        let (ks, ad, bd) = t9_formulas(n, t, alpha, beta);
+        let (ks, ad, bd) = pendulum_element_rates(n, t, alpha, beta);
         let map = OscillatorElements { n };
         let k = Quartic { n };
         let (a, b) = (V1::new(alpha), V1::new(beta));
         let (kv, _, _) = disturbing_hamiltonian(&map, &k, t, &a, &b).unwrap();
-        let m60 = canonical_element_rhs(&map, &k, t, &a, &b).unwrap();
-        let m58 =
+        let canonical = canonical_element_rhs(&map, &k, t, &a, &b).unwrap();
+        let general =
             variation_of_constants_rhs(&map, &InMomentumEquation(GradientForce(k)), t, &a, &b)
                 .unwrap();
-        let m59 = PlanetaryEquations {
+        let planetary = PlanetaryEquations {
             solution: map,
             disturbing: k,
         }
@@ -377,7 +385,7 @@ fn t9_element_equations_closed_form_map() {
             alpha / (24.0 * n * n) * 8.0,
         );
         worst = worst.max((kv - ks).abs() / (alpha * alpha / (48.0 * n * n) * 8.0));
-        for (ga, gb) in [m60, m58, m59] {
+        for (ga, gb) in [canonical, general, planetary] {
             worst = worst
                 .max((ga[0] - ad).abs() / sa)
                 .max((gb[0] - bd).abs() / sb);
@@ -385,17 +393,18 @@ fn t9_element_equations_closed_form_map() {
         assert!(canonicity_defect(&map, t, &a, &b).unwrap() < 1e-14 * (1.0 + 1.0 / n + n));
     }
     println!(
-        "T9 element equations (closed-form map; M58, M59, M60): max scaled deviation {worst:e}"
+        "pendulum element equations (closed-form map; general, planetary and canonical forms): \
+         max scaled deviation {worst:e}"
     );
     assert!(worst < 1e-13);
 }
 
 #[test]
-fn t9_element_equations_through_the_complete_integral() {
-    // M60 through Elements::state_generic (Newton on −∂S/∂α = β, implicit AD). Points on the
-    // branch p > 0: x = n(t − β) ∈ (−1.2, 1.2). The root θ is found to ~ε relative; the derivative
-    // of θ with respect to (α, β) is exact up to the conditioning 1/cos x ≤ 2.8 of the relation;
-    // the rates carry a few more roundings ⇒ scale-relative 1e−12 asserted.
+fn pendulum_element_equations_through_the_complete_integral() {
+    // The canonical form through Elements::state_generic (Newton on −∂S/∂α = β, implicit AD).
+    // Points on the branch p > 0: x = n(t − β) ∈ (−1.2, 1.2). The root θ is found to ~ε relative;
+    // the derivative of θ with respect to (α, β) is exact up to the conditioning 1/cos x ≤ 2.8 of
+    // the relation; the rates carry a few more roundings ⇒ scale-relative 1e−12 asserted.
     let mut rng = Lcg(19);
     let mut worst: f64 = 0.0;
     let clock = Instant::now();
@@ -405,7 +414,7 @@ fn t9_element_equations_through_the_complete_integral() {
         let beta = rng.range(-5.0, 5.0);
         let x = rng.range(-1.2, 1.2);
         let t = beta + x / n;
-        let (_, ad, bd) = t9_formulas(n, t, alpha, beta);
+        let (_, ad, bd) = pendulum_element_rates(n, t, alpha, beta);
         let (sa, sb) = (
             alpha * alpha / (12.0 * n) * 3.0,
             alpha / (24.0 * n * n) * 8.0,
@@ -432,7 +441,7 @@ fn t9_element_equations_through_the_complete_integral() {
         assert!(canonicity_defect(&ch17, t, &V1::new(alpha), &V1::new(-beta)).unwrap() < 1e-12);
     }
     println!(
-        "T9 element equations through the complete integral (both conventions): max scaled \
+        "pendulum element equations through the complete integral (both conventions): max scaled \
          deviation {worst:e} ({:?} for 300 points)",
         clock.elapsed()
     );
@@ -454,12 +463,12 @@ fn t9_element_equations_through_the_complete_integral() {
 }
 
 #[test]
-fn t9_bracket_is_one_and_time_independent() {
+fn pendulum_elements_bracket_is_one_and_time_independent() {
     let map = OscillatorElements { n: 1.3 };
     let times: Vec<f64> = (0..40).map(|k| 0.37 * k as f64).collect();
     let d = bracket_time_defect(&map, &times, &V1::new(0.045), &V1::new(0.2)).unwrap();
     println!(
-        "T9 bracket defect: variation {:e}, rate {:e}",
+        "pendulum elements, bracket defect: variation {:e}, rate {:e}",
         d.variation, d.rate
     );
     // [α, β] = sin²x + cos²x = 1 up to rounding of four O(1) products: 4ε.
@@ -469,7 +478,7 @@ fn t9_bracket_is_one_and_time_independent() {
 }
 
 #[test]
-fn t9_averaged_rates_and_x2_refusal() {
+fn pendulum_averaged_rates_and_refusal_at_large_amplitude() {
     // Frozen elements; the rates are trigonometric polynomials of degree 4 in x, so 16 nodes
     // integrate them exactly (up to rounding): ᾱ̇ = 0, β̄̇ = α/(8n²).
     for (n, alpha) in [(1.0, 0.045), (2.0, 0.3), (0.5, 0.01)] {
@@ -483,13 +492,13 @@ fn t9_averaged_rates_and_x2_refusal() {
         )
         .unwrap();
         println!(
-            "T9 averages n = {n}, α = {alpha}: ᾱ̇ = {:e}, β̄̇ = {:.15e} (α/(8n²) = {:.15e}), quadrature change {:e}",
+            "pendulum averages n = {n}, α = {alpha}: ᾱ̇ = {:e}, β̄̇ = {:.15e} (α/(8n²) = {:.15e}), quadrature change {:e}",
             avg.mean.0[0], avg.mean.1[0], alpha / (8.0 * n * n), avg.quadrature_error.1[0]
         );
         assert!(avg.mean.0[0].abs() < 1e-16 * alpha * alpha / n * 10.0);
         assert!((avg.mean.1[0] - alpha / (8.0 * n * n)).abs() < 1e-14 * alpha / (n * n));
     }
-    // X2: a = √(2α)/n = 0.3 is small, a = 3 is not.
+    // Averaging is refused towards the separatrix: a = √(2α)/n = 0.3 is small, a = 3 is not.
     let n = 1.0;
     let period = 2.0 * std::f64::consts::PI;
     let eps_of = |amp: f64| {
@@ -505,14 +514,14 @@ fn t9_averaged_rates_and_x2_refusal() {
     let (large, scale3) = eps_of(3.0);
     let refused = large.require_small(&scale3, 0.1);
     println!(
-        "X2: ε(a = 0.3) = {e:.3e}, ε(a = 3) = {:.3e}",
+        "small parameter: ε(a = 0.3) = {e:.3e}, ε(a = 3) = {:.3e}",
         large.small_parameter(&scale3).unwrap()
     );
     assert!(matches!(refused, Err(Error::OutOfDomain { .. })));
 }
 
 #[test]
-fn t9_element_odes_integrated_to_2000() {
+fn pendulum_element_odes_integrated_to_2000() {
     // a = 0.3, n = 1, α(0) = 0.045, β(0) = 0 up to t = 2000: α returns to 0.045 within
     // 1e−12, mean β̇ = 0.0056867, θ(2000) = 4.73306e−4.
     //
@@ -534,7 +543,7 @@ fn t9_element_odes_integrated_to_2000() {
     let (th, _) = OscillatorElements { n }.closed(2000.0, alpha, beta);
     let mean_beta_dot = beta / 2000.0;
     println!(
-        "T9 integration ({elapsed:?}, {} evaluations): α(2000) − 0.045 = {:.3e}, β(2000) = {:.12}, \
+        "pendulum element integration ({elapsed:?}, {} evaluations): α(2000) − 0.045 = {:.3e}, β(2000) = {:.12}, \
          mean β̇ = {:.10}, θ(2000) = {:.10e}; Richardson estimate α {:.1e}, β {:.1e}; \
          coarse−fine θ via β: {:.1e}",
         r.evaluations, alpha - 0.045, beta, mean_beta_dot, th, r.error.0[0], r.error.1[0],
@@ -552,29 +561,32 @@ fn t9_element_odes_integrated_to_2000() {
     let rep = integrate(&problem, &Dop853::new(1e-14, 1e-16).unwrap(), &mut ()).unwrap();
     let th_direct = rep.last.q[0];
     println!(
-        "T9 direct DOP853 (rtol 1e−14): θ(2000) = {th_direct:.10e}; elements − direct = {:.2e}",
+        "pendulum by direct DOP853 (rtol 1e−14): θ(2000) = {th_direct:.10e}; elements − direct = {:.2e}",
         th - th_direct
     );
     assert!((th_direct - 4.7330593e-4).abs() < 5e-11);
     assert!((th - th_direct).abs() < 5e-11);
 
-    // The same ODE in the general (M58) form over a shorter span agrees with M60.
-    let m58 = VariationOfConstants {
+    // The same ODE in the general form over a shorter span agrees with the canonical form.
+    let general = VariationOfConstants {
         solution: OscillatorElements { n },
         perturbation: InMomentumEquation(GradientForce(Quartic { n })),
     };
-    let s58 = rk4_richardson(&m58, 0.0, &a0, &b0, 100.0, 5_000).unwrap();
-    let s60 = rk4_richardson(&ode, 0.0, &a0, &b0, 100.0, 5_000).unwrap();
+    let run_general = rk4_richardson(&general, 0.0, &a0, &b0, 100.0, 5_000).unwrap();
+    let run_canonical = rk4_richardson(&ode, 0.0, &a0, &b0, 100.0, 5_000).unwrap();
     println!(
-        "M58 vs M60 at t = 100: Δα = {:.1e}, Δβ = {:.1e}",
-        s58.y.0[0] - s60.y.0[0],
-        s58.y.1[0] - s60.y.1[0]
+        "general vs canonical form at t = 100: Δα = {:.1e}, Δβ = {:.1e}",
+        run_general.y.0[0] - run_canonical.y.0[0],
+        run_general.y.1[0] - run_canonical.y.1[0]
     );
-    assert!((s58.y.0[0] - s60.y.0[0]).abs() < 1e-15 && (s58.y.1[0] - s60.y.1[0]).abs() < 1e-13);
+    assert!(
+        (run_general.y.0[0] - run_canonical.y.0[0]).abs() < 1e-15
+            && (run_general.y.1[0] - run_canonical.y.1[0]).abs() < 1e-13
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
-// X12: element methods at their own singularities.
+// Element methods at their own singularities.
 // ---------------------------------------------------------------------------------------------
 
 /// Amplitude–phase elements with a redundant phase (the analogue of Kepler's ω and M at e = 0):
@@ -623,21 +635,25 @@ impl MomentumForce<1> for ConstantForce {
 }
 
 #[test]
-fn x12_singular_elements_are_refused() {
+fn singular_elements_are_refused() {
     let map = OscillatorElements { n: 1.0 };
     let g = InMomentumEquation(ConstantForce);
     let (a0, b0) = (V1::new(0.0), V1::new(0.3));
     // α = 0: ∂θ/∂α = sin x/(n√(2α)) = ∞.
-    let e58 = variation_of_constants_rhs(&map, &g, 1.0, &a0, &b0).unwrap_err();
-    let e59 = LagrangeBracketForm {
+    let err_general = variation_of_constants_rhs(&map, &g, 1.0, &a0, &b0).unwrap_err();
+    let err_bracket = LagrangeBracketForm {
         solution: map,
         force: ConstantForce,
     }
     .rhs(1.0, &a0, &b0)
     .unwrap_err();
-    let e60 = canonical_element_rhs(&map, &Quartic { n: 1.0 }, 1.0, &a0, &b0).unwrap_err();
-    println!("X12 α = 0:\n  M58: {e58}\n  M59: {e59}\n  M60: {e60}");
-    for e in [&e58, &e59, &e60] {
+    let err_canonical =
+        canonical_element_rhs(&map, &Quartic { n: 1.0 }, 1.0, &a0, &b0).unwrap_err();
+    println!(
+        "α = 0:\n  general form: {err_general}\n  bracket form: {err_bracket}\n  canonical form: \
+         {err_canonical}"
+    );
+    for e in [&err_general, &err_bracket, &err_canonical] {
         assert!(matches!(e, Error::Singular { rcond, .. } if *rcond == 0.0));
     }
     // Through the complete integral: refused too (the solve of −∂S/∂α = β at α = 0).
@@ -646,7 +662,7 @@ fn x12_singular_elements_are_refused() {
         ElementConvention::AlphaCoordinates,
     );
     let e = canonical_element_rhs(&ch18, &Quartic { n: 1.0 }, 0.3, &a0, &b0).unwrap_err();
-    println!("  M60 via complete integral: {e}");
+    println!("  canonical form via complete integral: {e}");
     // Near α = 0 the element equations of a generic perturbation contain α in denominators:
     // β̇ = −∂K*/∂α with K* = −εθ ~ √α gives β̇ ~ 1/√α — large but finite and correct.
     for alpha in [1e-4, 1e-8, 1e-12] {
@@ -692,19 +708,20 @@ fn x12_singular_elements_are_refused() {
     assert!(matches!(e, Error::Singular { .. }));
 }
 
-/// The element equations run through the crate's adaptive integrator (`Ode` adapts an
-/// `ElementOde` to `FirstOrderSystem`): T10 at t = 2 and T9 at t = 2000 by DOP853. Tolerances:
-/// DOP853's global error here is a few rtol·|y| (smooth, non-oscillatory T10 rates), and for T9 the
-/// element rates are slow, so rtol 1e−12 leaves θ(2000) within 5e−11 of the quadrature value.
+/// The element equations run through the crate's adaptive integrator (`Ode` adapts an `ElementOde`
+/// to `FirstOrderSystem`): the projectile with drag at t = 2 and the pendulum at t = 2000 by
+/// DOP853. Tolerances: DOP853's global error here is a few rtol·|y| (smooth, non-oscillatory rates
+/// of the projectile), and for the pendulum the element rates are slow, so rtol 1e−12 leaves
+/// θ(2000) within 5e−11 of the quadrature value.
 #[test]
 fn element_equations_by_dop853() {
     use hamilton_jacobi::perturbation::ode::Ode;
     let (a0, b0) = (V2::new(3.0, 4.0), V2::new(0.0, 0.0));
-    let m59 = LagrangeBracketForm {
+    let bracket = LagrangeBracketForm {
         solution: Projectile,
         force: LinearDrag,
     };
-    let sys = Ode(m59);
+    let sys = Ode(bracket);
     let problem = Problem::new(&sys, 0.0, a0, b0, 2.0).unwrap();
     let rep = integrate(&problem, &Dop853::new(1e-13, 1e-13).unwrap(), &mut ()).unwrap();
     let (q, _) = Projectile.state(2.0, &rep.last.q, &rep.last.p);
@@ -720,7 +737,7 @@ fn element_equations_by_dop853() {
     let rep = integrate(&problem, &Dop853::new(1e-12, 1e-14).unwrap(), &mut ()).unwrap();
     let (th, _) = OscillatorElements { n }.closed(2000.0, rep.last.q[0], rep.last.p[0]);
     println!(
-        "T9 by DOP853 on the element equations: θ(2000) = {th:.10e}, α − 0.045 = {:.1e}, {} steps",
+        "pendulum by DOP853 on the element equations: θ(2000) = {th:.10e}, α − 0.045 = {:.1e}, {} steps",
         rep.last.q[0] - 0.045,
         rep.work.steps
     );
