@@ -9,7 +9,7 @@
 //!   action–angle variables (period by quadrature) and inverts the angle; `elliptic` is the Jacobi
 //!   elliptic closed form; `rk4` as above.
 //!
-//! * Heavy top T14a (I = 1, J = ½, mgℓ = 1, released from rest at 60° with ω_z = 5), to
+//! * Heavy top (I = 1, J = ½, mgℓ = 1, released from rest at 60° with ω_z = 5), to
 //!   t = 1.7 (past half a nutation): `hj` builds the cubic and its quadratures and inverts the
 //!   time law ([`Nutation::propagate`]); `rk4` as above, against a 2²⁰-step RK4 reference.
 //!
@@ -148,9 +148,9 @@ fn bench(c: &mut Criterion) {
         hj_err.max(1e-13),
     );
     println!(
-        "Top T14a, t = 1.7: |HJ − reference| {hj_err:.2e}; RK4 needs {n_top} steps for {rk_err:.2e}"
+        "Top released from rest, t = 1.7: |HJ − reference| {hj_err:.2e}; RK4 needs {n_top} steps for {rk_err:.2e}"
     );
-    let mut g = c.benchmark_group("top_t14a_state");
+    let mut g = c.benchmark_group("top_released_from_rest_state");
     g.bench_function("hj", |b| b.iter(|| top_hj(black_box(t))));
     g.bench_function("rk4", |b| {
         b.iter(|| rk4(&top, black_box(q0), black_box(p0), t, n_top))

@@ -106,7 +106,7 @@ fn main() -> Result<()> {
     let (th, om) = (SVector::from([2.0]), SVector::from([0.5]));
     let f = variational_flow(&Pendulum::new(1.0)?, 0.0, &th, &om, t_end, 7300)?;
     let d = variational_flow(&DampedPendulum { c }, 0.0, &th, &om, t_end, 7300)?;
-    println!("\nT31 (variational equations, RK4, 7300 steps):");
+    println!("\nLiouville's theorem by the variational equations (RK4, 7300 steps):");
     println!(
         "  pendulum: det Φ − 1 = {:.1e};  damped: det Φ = {:.15} (e^(−cT) = {:.15}), M det Φ − 1 = {:.1e}",
         f.jacobian.determinant() - 1.0,
@@ -141,7 +141,7 @@ fn main() -> Result<()> {
         &SVector::from([0.2, -0.3]),
     )?;
     println!(
-        "\nT39: h = {h39}, γ = ({:.15}, {:.15}), Σγ = {:.1e}",
+        "\nQuartic Liouville system: h = {h39}, γ = ({:.15}, {:.15}), Σγ = {:.1e}",
         gam[0],
         gam[1],
         gam.sum()

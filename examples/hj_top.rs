@@ -123,7 +123,7 @@ fn main() -> Result<()> {
     let theta0 = 30f64.to_radians();
     let sp = top.steady_precession(theta0, 5.0)?;
     let fast = sp.fast.expect("cos θ₀ ≠ 0");
-    println!("\nT14b  steady precession at 30°, ω_z = 5");
+    println!("\nSteady precession at 30°, ω_z = 5");
     println!(
         "fast φ̇ = {fast:.14} (ref. 2.40703162555988), slow φ̇ = {:.15} (ref. 0.479719720388246), \
          minimum spin {:.14} (ref. 3.72241943640840)",
@@ -147,7 +147,7 @@ fn main() -> Result<()> {
 
     // The sleeping top around the critical spin.
     println!(
-        "\nT14c  sleeping top from θ = 1e−3 rad, θ̇ = φ̇ = 0; critical spin ω_c = {}",
+        "\nSleeping top from θ = 1e−3 rad, θ̇ = φ̇ = 0; critical spin ω_c = {}",
         top.critical_spin()?
     );
     println!("| ω_z | θ_max quadrature (deg) | θ_max RK4 60 s (deg) | nutation period |");

@@ -62,11 +62,11 @@ fn main() -> hamilton_jacobi::Result<()> {
         defect.variation, defect.rate
     );
 
-    let m58 = VariationOfConstants {
+    let general = VariationOfConstants {
         solution: Projectile,
         perturbation: InMomentumEquation(Drag),
     };
-    let m59 = LagrangeBracketForm {
+    let bracket = LagrangeBracketForm {
         solution: Projectile,
         force: Drag,
     };
@@ -74,25 +74,27 @@ fn main() -> hamilton_jacobi::Result<()> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for t in [0.5, 1.0, 1.5, 2.0, 3.0, 5.0] {
         let steps = (500.0 * t) as usize;
-        let r58 = rk4_richardson(&m58, 0.0, &a0, &b0, t, steps)?;
-        let r59 = rk4_richardson(&m59, 0.0, &a0, &b0, t, steps)?;
-        let (q, _) = Projectile.state(t, &r58.y.0, &r58.y.1);
+        let run_general = rk4_richardson(&general, 0.0, &a0, &b0, t, steps)?;
+        let run_bracket = rk4_richardson(&bracket, 0.0, &a0, &b0, t, steps)?;
+        let (q, _) = Projectile.state(t, &run_general.y.0, &run_general.y.1);
         let e = (-K * t).exp();
         let x = u0 / K * (1.0 - e);
         let y = (v0 + G / K) / K * (1.0 - e) - G * t / K;
-        let diff = (r58.y.0 - r59.y.0).amax().max((r58.y.1 - r59.y.1).amax());
+        let diff = (run_general.y.0 - run_bracket.y.0)
+            .amax()
+            .max((run_general.y.1 - run_bracket.y.1).amax());
         println!(
             "| {t} | {:.12} | {:.12} | {:.12} | {:.12} | {:.14} | {:.14} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |",
-            r58.y.0[0],
-            r58.y.0[1],
-            r58.y.1[0],
-            r58.y.1[1],
+            run_general.y.0[0],
+            run_general.y.0[1],
+            run_general.y.1[0],
+            run_general.y.1[1],
             q[0],
             q[1],
             q[0] - x,
             q[1] - y,
             diff,
-            r58.max_error()
+            run_general.max_error()
         );
     }
     println!("\nReference at t = 2: (x, y) = (4.51188363905974, −10.2046234821692).");

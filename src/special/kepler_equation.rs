@@ -719,7 +719,7 @@ pub(crate) mod tests {
     // -----------------------------------------------------------------------------------------
 
     #[test]
-    fn spec_x3_reference_values() {
+    fn reference_values_near_e_one() {
         // (e, M, tabulated E, E from a 50-digit mpmath solution for the f64 inputs, relative
         // tolerance). ∂E/∂e ≈ 110 in the first case, so the tabulated digits are compared at 1e-12;
         // the mpmath values at 4 ulps (the root is determined to ~1 ulp by the careful residual).

@@ -580,7 +580,7 @@ mod tests {
 
     #[test]
     #[allow(clippy::approx_constant)] // 3.14 is a table entry, not an approximation of π
-    fn t9_period_ratio_table() {
+    fn period_ratio_table() {
         // 15-digit references: the last digit carries up to ±5e−15 relative, so 1e−13 is a
         // tolerance of about 20 reference ulps and 450 double ulps.
         let table = [
@@ -607,12 +607,12 @@ mod tests {
             let tau3 = period(3.0, a).unwrap();
             assert!(rel(3.0 * tau3 / TAU, ratio) <= 1e-13);
         }
-        eprintln!("T9 max relative error {worst:e}");
+        eprintln!("period ratio table: max relative error {worst:e}");
         assert_eq!(period(2.0, 0.0).unwrap(), PI);
     }
 
     #[test]
-    fn x2_period_from_exact_gap() {
+    fn period_near_separatrix_from_exact_gap() {
         // 15-digit references (tolerance as for the period table).
         let table = [
             (1e-2, 26.738_605_693_505_2),
@@ -626,12 +626,12 @@ mod tests {
             worst = worst.max(err);
             assert!(err <= 1e-13, "δ = {delta}: rel {err:e}");
         }
-        eprintln!("X2 (gap) max relative error {worst:e}");
+        eprintln!("near the separatrix (gap): max relative error {worst:e}");
         assert!(rel(period_from_gap(1.0, PI).unwrap(), TAU) <= EPS);
     }
 
     #[test]
-    fn x2_period_from_double_amplitude() {
+    fn period_near_separatrix_from_double_amplitude() {
         // a = fl(π − δ) sits at gap (PI − a) + (π − PI) from π; the references are the periods of
         // those exact doubles, which differ from the exact-gap ones from the 10th digit on.
         let table = [
@@ -645,11 +645,11 @@ mod tests {
             worst = worst.max(err);
             assert!(err <= 1e-13, "δ = {delta}: rel {err:e}");
         }
-        eprintln!("X2 (double a) max relative error {worst:e}");
+        eprintln!("near the separatrix (double amplitude): max relative error {worst:e}");
     }
 
     #[test]
-    fn x2_logarithmic_asymptote() {
+    fn period_logarithmic_asymptote_at_the_separatrix() {
         // τ = 4 ln(8/δ) + (δ²/4)(ln(8/δ) − 1/3) + …  (n = 1; DLMF 19.12.1 with k' = sin(δ/2)), so the
         // relative deviation from 4 ln(8/δ) is about δ²/16 = 6e−14 at δ = 1e−6; bound δ²/8.
         let delta = 1e-6;

@@ -1252,7 +1252,7 @@ pub(crate) mod tests {
     // -----------------------------------------------------------------------------------------
 
     #[test]
-    fn spec_t12_table() {
+    fn elements_match_reference_table() {
         // 0.6π rounded to f64 (= 1.8849555921538759, one ulp below the decimal literal
         // 1.884955592153876 of the table).
         let m = 0.6 * PI;
@@ -1326,7 +1326,7 @@ pub(crate) mod tests {
             let back = state_to_classical(1.0, &r3, &v3).unwrap();
             assert!((back.e - e).abs() <= 1e-13);
         }
-        eprintln!("T12: max error vs table {max_tab:e}, vs mpmath {max_mp:e}");
+        eprintln!("element table: max error vs table {max_tab:e}, vs mpmath {max_mp:e}");
     }
 
     // -----------------------------------------------------------------------------------------
