@@ -3,14 +3,10 @@
 //! current state, rectified at every sample), run at two tolerances. The problem of the brief:
 //! `a = 2`, `i = 0.5`, `R = μ = 1`, 100 orbits, `e = 0.1` and `e = 0.7`.
 //!
-//! Cowell's form (DOP853 on `(q, p)` directly) is not accurate enough for the `J₂ = 10⁻⁶`
-//! targets: at `rtol = 10⁻¹³` its own error after 100 orbits is `8·10⁻¹⁰` (`e = 0.1`) and
-//! `4·10⁻⁸` (`e = 0.7`), measured against the Kepler problem; the deviation equations carry the
-//! rounding relative to the deviation, not to the orbit.
+//! (tests/oracles/j2_encke.rs; Cowell's form is not accurate enough for the `J₂ = 10⁻⁶` targets).
 //!
 //! Measured numbers are printed (`--nocapture`).
 
-use hamilton_jacobi::integrate::{integrate, Dop853, FirstOrderSystem, Problem};
 use hamilton_jacobi::nalgebra::Vector3;
 use hamilton_jacobi::num_dual::Dual64;
 use hamilton_jacobi::perturbation::brouwer::{
@@ -19,79 +15,20 @@ use hamilton_jacobi::perturbation::brouwer::{
 };
 use hamilton_jacobi::perturbation::forces::J2;
 use hamilton_jacobi::perturbation::kepler_variation::j2_secular_rates;
-use hamilton_jacobi::perturbation::variation::{GradientForce, MomentumForce};
-use hamilton_jacobi::systems::kepler::drift;
 use hamilton_jacobi::systems::kepler::elements::Classical;
-use hamilton_jacobi::{Error, Result};
+use hamilton_jacobi::Error;
 use std::f64::consts::TAU;
+
+#[path = "oracles/j2_encke.rs"]
+mod encke;
 
 type V3 = Vector3<f64>;
 const MU: f64 = 1.0;
 const RADIUS: f64 = 1.0;
 
-/// Encke's formulation: the deviation `(δq, δp)` from the Kepler orbit `(q_K, p_K)(t)` of a
-/// reference state, `δq̈ = μ(q_K/|q_K|³ − q/|q|³) − ∇U_{J₂}(q)`, `q = q_K + δq`.
-struct Encke {
-    j2: J2,
-    q0: V3,
-    p0: V3,
-}
-
-impl FirstOrderSystem<3> for Encke {
-    fn field(&self, t: f64, dq: &V3, dp: &V3) -> Result<(V3, V3)> {
-        let (kq, _) = drift(MU, &self.q0, &self.p0, t)?;
-        let qk = self.q0 + kq;
-        let q = qk + dq;
-        // μ(q_K/r_K³ − q/r³) = (μ/r³)[((r/r_K)³ − 1) q_K − δq], with
-        // (r/r_K)³ − 1 = s(3 + 3s + s²)/((1 + s)^{3/2} + 1), s = δq·(δq + 2q_K)/r_K²
-        // (Battin 1999 §8.4): no cancellation, rounding relative to the deviation.
-        let rk2 = qk.norm_squared();
-        let s = dq.dot(&(dq + qk * 2.0)) / rk2;
-        let w = (1.0 + s).powf(1.5);
-        let ratio_m1 = s * (3.0 + 3.0 * s + s * s) / (w + 1.0);
-        let r3 = rk2 * rk2.sqrt() * w;
-        let kepler = (qk * ratio_m1 - dq) * (MU / r3);
-        let pert = GradientForce(&self.j2).force(t, &q, &V3::zeros());
-        Ok((*dp, kepler + pert))
-    }
-}
-
-/// Samples between two rectifications of the Encke reference.
-const RECTIFY_EVERY: usize = 8;
-
-/// The positions at `times` (DOP853 at `rtol`, absolute tolerance `rtol·10⁻⁵` on the
-/// deviation). The reference is the Kepler orbit of the state at every [`RECTIFY_EVERY`]-th
-/// time: each rectification rounds the state (`≈ ε` in the energy, an along-track error
-/// `≈ ε n t`), so it is done rarely; between them the deviation is carried across the samples.
+/// The truth at `rtol` (tests/oracles/j2_encke.rs).
 fn truth(j2: f64, start: (V3, V3), times: &[f64], rtol: f64) -> Vec<V3> {
-    let method = Dop853::new(rtol, rtol * 1e-5)
-        .unwrap()
-        .with_max_steps(10_000_000)
-        .unwrap();
-    let force = J2::new(MU, j2, RADIUS).unwrap();
-    let mut out = vec![start.0];
-    let (mut q, mut p) = start;
-    for chunk in times.windows(2).collect::<Vec<_>>().chunks(RECTIFY_EVERY) {
-        let t0 = chunk[0][0];
-        let sys = Encke {
-            j2: force,
-            q0: q,
-            p0: p,
-        };
-        let (mut dq, mut dp) = (V3::zeros(), V3::zeros());
-        for w in chunk {
-            let problem = Problem::new(&sys, w[0] - t0, dq, dp, w[1] - t0).unwrap();
-            let rep = integrate(&problem, &method, &mut ()).unwrap();
-            dq = rep.last.q;
-            dp = rep.last.p;
-            let (kq, _) = drift(MU, &q, &p, w[1] - t0).unwrap();
-            out.push(q + kq + dq);
-        }
-        let t1 = chunk[chunk.len() - 1][1];
-        let (kq, kp) = drift(MU, &q, &p, t1 - t0).unwrap();
-        (q, p) = (q + kq + dq, p + kp + dp);
-    }
-    out
+    encke::truth(J2::new(MU, j2, RADIUS).unwrap(), start, times, rtol)
 }
 
 fn initial(e: f64) -> Classical {
@@ -211,7 +148,12 @@ fn energy_integral_removes_the_along_track_drift() {
         let j2 = 1e-4;
         let el = initial(e);
         let ts = times(&el, 100, 4);
-        let tr = truth(j2, el.to_state(MU).unwrap(), &ts, 1e-13);
+        let tr = encke::truth(
+            J2::new(MU, j2, RADIUS).unwrap(),
+            el.to_state(MU).unwrap(),
+            &ts,
+            1e-13,
+        );
         let first = |v: &[f64]| max(&v[..=4]);
         let fixed = errors(&theory(j2, &el, MeanAxis::EnergyIntegral), &ts, &tr);
         let plain = errors(&theory(j2, &el, MeanAxis::FirstOrderInverse), &ts, &tr);
@@ -334,7 +276,12 @@ fn small_eccentricity_and_inclination_stay_regular() {
         let el = Classical::new(2.0, e, i, 0.3, 0.7, 0.2).unwrap();
         let ts = times(&el, 10, 8);
         let j2 = 1e-3;
-        let tr = truth(j2, el.to_state(MU).unwrap(), &ts, 1e-13);
+        let tr = encke::truth(
+            J2::new(MU, j2, RADIUS).unwrap(),
+            el.to_state(MU).unwrap(),
+            &ts,
+            1e-13,
+        );
         let th = theory(j2, &el, MeanAxis::EnergyIntegral);
         let err = max(&errors(&th, &ts, &tr));
         println!("e = {e:e}, i = {i:e}: max error over 10 orbits {err:.3e}");
