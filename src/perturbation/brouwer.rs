@@ -692,7 +692,7 @@ impl BrouwerLyddane {
         let j2 = finite("J₂", j2)?;
         finite("epoch t₀", epoch)?;
         let osc = state_to_classical(mu, r, v)?;
-        if !(osc.e < 1.0) {
+        if osc.e >= 1.0 {
             return Err(Error::out_of_domain(
                 "osculating eccentricity e of the initial state",
                 osc.e,
