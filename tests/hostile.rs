@@ -1678,6 +1678,26 @@ fn j2_energy(mu: f64, radius: f64, j2: f64, r: &Vector3<f64>, v: &Vector3<f64>) 
         + 0.5 * mu * j2 * radius * radius * (3.0 * z2 - 1.0) / (rn * rn * rn)
 }
 
+/// `(μ, R, J₂, a, e, i, Ω, ω, M)`: the element set and whether the arguments are in the
+/// domain of every element-set entry point of the theory.
+fn theory_elements(a: &[f64]) -> (Classical, bool) {
+    let el = Classical {
+        a: a[3],
+        e: a[4],
+        i: a[5],
+        raan: a[6],
+        argp: a[7],
+        mean_anomaly: a[8],
+    };
+    let valid = fin(a)
+        && a[0] > 0.0
+        && a[1] > 0.0
+        && a[3] > 0.0
+        && (0.0..1.0).contains(&a[4])
+        && (0.0..=PI).contains(&a[5]);
+    (el, valid)
+}
+
 fn add_brouwer(c: &mut Vec<Call>) {
     sweep(
         c,
@@ -1734,20 +1754,7 @@ fn add_brouwer(c: &mut Vec<Call>) {
             (8, 1e6),
         ],
         |a| {
-            let el = Classical {
-                a: a[3],
-                e: a[4],
-                i: a[5],
-                raan: a[6],
-                argp: a[7],
-                mean_anomaly: a[8],
-            };
-            let valid = fin(a)
-                && a[0] > 0.0
-                && a[1] > 0.0
-                && a[3] > 0.0
-                && (0.0..1.0).contains(&a[4])
-                && (0.0..=PI).contains(&a[5]);
+            let (el, valid) = theory_elements(a);
             judge(
                 brouwer::mean_to_osculating(a[0], a[1], a[2], &el),
                 valid,
@@ -1770,20 +1777,7 @@ fn add_brouwer(c: &mut Vec<Call>) {
             (8, -1e6),
         ],
         |a| {
-            let el = Classical {
-                a: a[3],
-                e: a[4],
-                i: a[5],
-                raan: a[6],
-                argp: a[7],
-                mean_anomaly: a[8],
-            };
-            let valid = fin(a)
-                && a[0] > 0.0
-                && a[1] > 0.0
-                && a[3] > 0.0
-                && (0.0..1.0).contains(&a[4])
-                && (0.0..=PI).contains(&a[5]);
+            let (el, valid) = theory_elements(a);
             judge(
                 brouwer::osculating_to_mean(a[0], a[1], a[2], &el),
                 valid,
@@ -1825,20 +1819,7 @@ fn add_brouwer(c: &mut Vec<Call>) {
         &[1.0, 1.0, 1e-3, 2.0, 0.1, 0.5, 0.3, 0.7, 0.2, 50.0],
         &[(9, 1e300), (4, 0.0), (5, 0.0)],
         |a| {
-            let el = Classical {
-                a: a[3],
-                e: a[4],
-                i: a[5],
-                raan: a[6],
-                argp: a[7],
-                mean_anomaly: a[8],
-            };
-            let valid = fin(&a[..9])
-                && a[0] > 0.0
-                && a[1] > 0.0
-                && a[3] > 0.0
-                && (0.0..1.0).contains(&a[4])
-                && (0.0..=PI).contains(&a[5]);
+            let (el, valid) = theory_elements(&a[..9]);
             judge(
                 brouwer::BrouwerLyddane::from_mean(a[0], a[1], a[2], 0.0, &el),
                 valid,

@@ -56,7 +56,7 @@
 //!   §9.7.
 
 use super::forces::J2;
-use super::kepler_variation::J2SecularRates;
+use super::kepler_variation::{j2_secular_rates, J2SecularRates};
 use super::variation::DisturbingFunction;
 use crate::ad::gradient;
 use crate::error::{finite, positive, Error, Result};
@@ -145,7 +145,7 @@ pub fn secular_hamiltonian<D: DualNum<f64> + Copy>(
 
 /// Brouwer's second-order secular rates of the mean elements at the mean `(a, e, i)`:
 /// `Ṁ − n = ∂K/∂L − n`, `ω̇ = ∂K/∂G`, `Ω̇ = ∂K/∂H` ([`secular_hamiltonian`]), `n = √(μ/a³)`.
-/// To first order they are [`j2_secular_rates`](super::kepler_variation::j2_secular_rates).
+/// To first order they are [`j2_secular_rates`].
 ///
 /// # Errors
 /// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`,
@@ -158,13 +158,9 @@ pub fn brouwer_secular_rates(
     e: f64,
     i: f64,
 ) -> Result<J2SecularRates> {
-    let mu = positive("gravitational parameter μ", mu)?;
-    let radius = positive("reference radius R", radius)?;
-    let j2 = finite("J₂", j2)?;
-    let a = positive("semi-major axis a", a)?;
-    check_orbit(e, i)?;
+    // The domain of the first-order rates, and n.
+    let n = j2_secular_rates(mu, j2, radius, a, e, i)?.mean_motion;
     check_small_parameter(j2, radius, a, e)?;
-    let n = orbit::mean_motion(mu, a)?;
     let (_, grad) = scaled_secular(radius / a, j2, e, i);
     let rates = J2SecularRates {
         raan: n * grad[2],
