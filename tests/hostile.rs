@@ -19,6 +19,7 @@ use hamilton_jacobi::integrate::{
 };
 use hamilton_jacobi::nalgebra::{SMatrix, SVector, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
+use hamilton_jacobi::perturbation::brouwer;
 use hamilton_jacobi::perturbation::forces::{LinearDrag, NoForce, PerturbedTwoBody, J2};
 use hamilton_jacobi::perturbation::kepler_variation::{
     j2_secular_rates, ClassicalSolution, DelaunayElements, EquinoctialSolution,
@@ -1567,6 +1568,7 @@ fn every_entry_point_survives_hostile_input() {
     add_methods(&mut calls);
     add_lifts_and_steps(&mut calls);
     add_theories(&mut calls);
+    add_brouwer(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -1641,4 +1643,202 @@ fn every_entry_point_survives_hostile_input() {
         "{} hostile-input failures",
         failures.len()
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The Brouwer–Lyddane J₂ theory.
+
+/// Lyddane's non-singular variables of an element set, for round-trip comparisons.
+fn lyddane(el: &Classical) -> [f64; 6] {
+    let w = el.argp + el.raan;
+    let s = (0.5 * el.i).sin();
+    [
+        el.a,
+        el.e * w.cos(),
+        el.e * w.sin(),
+        s * el.raan.cos(),
+        s * el.raan.sin(),
+        (el.mean_anomaly + w).sin(),
+    ]
+}
+
+fn lyddane_near(what: &str, x: &Classical, y: &Classical, tol: f64) -> Verdict {
+    let (u, v) = (lyddane(x), lyddane(y));
+    all((0..6).map(|k| {
+        let scale = if k == 0 { x.a.abs() } else { 1.0 };
+        near(&format!("{what}[{k}]"), v[k], u[k], tol * scale)
+    }))
+}
+
+/// `H = |v|²/2 − μ/r + U_{J₂}` of a state.
+fn j2_energy(mu: f64, radius: f64, j2: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> f64 {
+    let rn = r.norm();
+    let z2 = r[2] * r[2] / (rn * rn);
+    0.5 * v.norm_squared() - mu / rn
+        + 0.5 * mu * j2 * radius * radius * (3.0 * z2 - 1.0) / (rn * rn * rn)
+}
+
+/// `(μ, R, J₂, a, e, i, Ω, ω, M)`: the element set and whether the arguments are in the
+/// domain of every element-set entry point of the theory.
+fn theory_elements(a: &[f64]) -> (Classical, bool) {
+    let el = Classical {
+        a: a[3],
+        e: a[4],
+        i: a[5],
+        raan: a[6],
+        argp: a[7],
+        mean_anomaly: a[8],
+    };
+    let valid = fin(a)
+        && a[0] > 0.0
+        && a[1] > 0.0
+        && a[3] > 0.0
+        && (0.0..1.0).contains(&a[4])
+        && (0.0..=PI).contains(&a[5]);
+    (el, valid)
+}
+
+fn add_brouwer(c: &mut Vec<Call>) {
+    sweep(
+        c,
+        "brouwer::brouwer_secular_rates",
+        &[1.0, 1e-3, 1.0, 2.0, 0.1, 0.5],
+        &[(4, 1.0), (5, 4.0), (1, 1.0), (3, 0.5), (4, 0.999)],
+        |a| {
+            let p = a[3] * (1.0 - a[4]) * (1.0 + a[4]);
+            let valid = fin(a)
+                && a[0] > 0.0
+                && a[2] > 0.0
+                && a[3] > 0.0
+                && (0.0..1.0).contains(&a[4])
+                && (0.0..=PI).contains(&a[5])
+                && a[1].abs() * (a[2] / p).powi(2) <= brouwer::MAX_SMALL_PARAMETER;
+            judge(
+                brouwer::brouwer_secular_rates(a[0], a[1], a[2], a[3], a[4], a[5]),
+                valid,
+                |r| {
+                    // First order plus a bound on the second: |Δ| ≤ 60 n γ₂'².
+                    let first = j2_secular_rates(a[0], a[1], a[2], a[3], a[4], a[5]);
+                    match first {
+                        Err(_) => finite_ok("Ω̇", r.raan),
+                        Ok(f) => {
+                            let gp = 0.5 * a[1] * (a[2] / p).powi(2);
+                            let tol = 60.0 * r.mean_motion * gp * gp + 1e-300;
+                            all([
+                                near("Ω̇", r.raan, f.raan, tol + 1e-14 * f.raan.abs()),
+                                near("ω̇", r.argp, f.argp, tol + 1e-14 * f.argp.abs()),
+                                near(
+                                    "Ṁ − n",
+                                    r.mean_anomaly,
+                                    f.mean_anomaly,
+                                    tol + 1e-14 * f.mean_anomaly.abs(),
+                                ),
+                            ])
+                        }
+                    }
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "brouwer::mean_to_osculating",
+        &[1.0, 1.0, 1e-3, 2.0, 0.1, 0.5, 0.3, 0.7, 0.2],
+        &[
+            (4, 1.0),
+            (4, 1e-9),
+            (5, 1e-9),
+            (5, 1.1071487177940904),
+            (5, PI),
+            (2, 1.0),
+            (8, 1e6),
+        ],
+        |a| {
+            let (el, valid) = theory_elements(a);
+            judge(
+                brouwer::mean_to_osculating(a[0], a[1], a[2], &el),
+                valid,
+                |osc| match brouwer::osculating_to_mean(a[0], a[1], a[2], &osc) {
+                    Ok(back) => lyddane_near("mean → osc → mean", &el, &back, 1e-9),
+                    Err(_) => finite_ok("osculating a", osc.a),
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "brouwer::osculating_to_mean",
+        &[1.0, 1.0, 1e-3, 2.0, 0.1, 0.5, 0.3, 0.7, 0.2],
+        &[
+            (4, 1.0),
+            (4, 0.0),
+            (5, 0.0),
+            (5, 1.1071487177940904),
+            (8, -1e6),
+        ],
+        |a| {
+            let (el, valid) = theory_elements(a);
+            judge(
+                brouwer::osculating_to_mean(a[0], a[1], a[2], &el),
+                valid,
+                |mean| match brouwer::mean_to_osculating(a[0], a[1], a[2], &mean) {
+                    Ok(osc) => lyddane_near("osc → mean → osc", &el, &osc, 1e-9),
+                    Err(_) => Wrong("the mean elements do not map back".into()),
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "brouwer::BrouwerLyddane::from_state+state",
+        &[1.0, 1.0, 1e-3, 1.8, 0.0, 0.0, 0.0, 0.7, 0.4, 500.0],
+        &[(7, 2.0), (2, 0.5), (9, 1e300), (3, 0.5)],
+        |a| {
+            let (r, v) = (v3(&a[3..6]), v3(&a[6..9]));
+            let valid = fin(&a[..9]) && a[0] > 0.0 && a[1] > 0.0 && r.norm() > 0.0;
+            judge(
+                brouwer::BrouwerLyddane::from_state(a[0], a[1], a[2], 0.0, &r, &v),
+                valid,
+                |th| {
+                    judge(th.state(a[9]), a[9].is_finite(), |(q, p)| {
+                        // The energy along the theory: constant to O((J₂(R/p)²)²) μ/a.
+                        let mean = th.mean_elements(0.0).unwrap();
+                        let eps = a[2].abs() * (a[1] / (mean.a * (1.0 - mean.e * mean.e))).powi(2);
+                        let scale = a[0] / mean.a;
+                        let e0 = j2_energy(a[0], a[1], a[2], &r, &v);
+                        let e1 = j2_energy(a[0], a[1], a[2], &q, &p);
+                        near("energy", e1, e0, (1e3 * eps * eps + 1e-12) * scale)
+                    })
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "brouwer::BrouwerLyddane::from_mean+mean_elements",
+        &[1.0, 1.0, 1e-3, 2.0, 0.1, 0.5, 0.3, 0.7, 0.2, 50.0],
+        &[(9, 1e300), (4, 0.0), (5, 0.0)],
+        |a| {
+            let (el, valid) = theory_elements(&a[..9]);
+            judge(
+                brouwer::BrouwerLyddane::from_mean(a[0], a[1], a[2], 0.0, &el),
+                valid,
+                |th| {
+                    judge(th.mean_elements(a[9]), a[9].is_finite(), |m| {
+                        let r = th.rates();
+                        let want = wrap_pi(a[6] + r.raan * a[9]);
+                        all([
+                            near("a''", m.a, a[3], 0.0),
+                            near("Ω''(t)", m.raan, want, 1e-9 * (1.0 + (r.raan * a[9]).abs())),
+                            finite_ok("ṁ", r.mean_anomaly),
+                        ])
+                    })
+                },
+            )
+        },
+    );
+}
+
+fn wrap_pi(x: f64) -> f64 {
+    x - (x / TAU).round() * TAU
 }

@@ -28,7 +28,11 @@
 //!   frequency–amplitude series and the near-identity transformation), with a convergence
 //!   warning near the separatrix; [`lindstedt`]: the Lindstedt–Poincaré expansion that
 //!   cross-checks it.
+//! * [`brouwer`]: Brouwer's analytic `J₂` theory closed in the eccentricity, with Lyddane's
+//!   non-singular variables: second-order secular rates, first-order long- and short-period
+//!   terms, mean ↔ osculating elements, the osculating state at any time.
 
+pub mod brouwer;
 pub mod canonical;
 pub mod forces;
 pub mod gauss_variational;

@@ -203,11 +203,27 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
     /// # Errors
     /// As [`Classical::validate`]; [`Error::OutOfDomain`] for `μ ≤ 0`; solver errors.
     pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
-        let mu = check_mu(mu)?;
         let conic = self.validate()?;
+        let anomaly = if conic == Conic::Elliptic {
+            eccentric_anomaly(self.mean_anomaly, self.e)?
+        } else {
+            hyperbolic_anomaly(self.mean_anomaly, self.e)?
+        };
+        self.state_at_anomaly(mu, conic, anomaly)
+    }
+
+    /// As [`Classical::to_state`], with the eccentric (ellipse) or hyperbolic (hyperbola)
+    /// anomaly of `M` already solved (`conic` from [`Classical::validate`]).
+    pub(crate) fn state_at_anomaly(
+        &self,
+        mu: f64,
+        conic: Conic,
+        anomaly: D,
+    ) -> Result<CanonicalPair<3, D>> {
+        let mu = check_mu(mu)?;
         let (a, e) = (self.a, self.e);
         let (x, y, vx, vy) = if conic == Conic::Elliptic {
-            let ea = eccentric_anomaly(self.mean_anomaly, e)?;
+            let ea = anomaly;
             let (se, ce) = ea.sin_cos();
             let sh = (ea * 0.5).sin();
             let two_sh2 = sh * sh * 2.0;
@@ -222,7 +238,7 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
                 w * beta * ce,
             )
         } else {
-            let f = hyperbolic_anomaly(self.mean_anomaly, e)?;
+            let f = anomaly;
             let (sf, cf) = (f.sinh(), f.cosh());
             let sh = (f * 0.5).sinh();
             let two_sh2 = sh * sh * 2.0;
