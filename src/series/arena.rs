@@ -190,9 +190,9 @@ impl Arena {
         }
     }
 
-    /// `out = a·b` truncated.
-    pub(crate) fn mul_into(&mut self, a: &[f64], b: &[f64], out: &mut [f64]) {
-        self.table.mul(a, b, out, &mut self.scratch);
+    /// `out = a·b` truncated at degree `d`.
+    pub(crate) fn mul_into(&mut self, a: &[f64], b: &[f64], out: &mut [f64], d: usize) {
+        self.table.mul_to_degree(a, b, out, &mut self.scratch, d);
     }
 }
 

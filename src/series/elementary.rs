@@ -51,10 +51,11 @@ fn apply(
         let mut acc = vec![0.0; len];
         let mut tmp = vec![0.0; len];
         acc[0] = c[k];
-        for &ck in c[..k].iter().rev() {
-            ar.mul_into(&acc, &xt, &mut tmp);
+        // r_j = c_j + x̃ r_{j+1} enters f multiplied by x̃^j: only its degree ≤ K − j is needed.
+        for (j, &cj) in c[..k].iter().enumerate().rev() {
+            ar.mul_into(&acc, &xt, &mut tmp, k - j);
             std::mem::swap(&mut acc, &mut tmp);
-            acc[0] += ck;
+            acc[0] += cj;
         }
         ar.push(&acc)
     })

@@ -268,20 +268,36 @@ impl Monomials {
     /// For each term `aᵢ xᵅ` only the prefix of `b` of degree `≤ K − |α|` is visited, so exactly
     /// the products of degree `≤ K` are formed (`C(2n + K, 2n)` of them for dense operands).
     pub fn mul(&self, a: &[f64], b: &[f64], out: &mut [f64], scratch: &mut [f64]) {
+        self.mul_to_degree(a, b, out, scratch, self.degree);
+    }
+
+    /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
+    /// zero); only the products of degree `≤ d` are formed.
+    pub fn mul_to_degree(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        out: &mut [f64],
+        scratch: &mut [f64],
+        d: usize,
+    ) {
         let len = self.len;
-        let (a, b) = (&a[..len], &b[..len]);
+        let d = d.min(self.degree);
+        let top = self.upto[d];
+        let (a, b) = (&a[..top], &b[..top]);
         let scratch = &mut scratch[..len];
         scratch.fill(0.0);
-        let codes = &self.codes[..len];
+        let codes = &self.codes[..top];
         let (ia1, ia2) = (&self.ia1[..], &self.ia2[..]);
         for (i, &ai) in a.iter().enumerate() {
             if ai == 0.0 {
                 continue;
             }
             let (c1, c2) = codes[i];
-            let m = self.upto[self.degree - self.degrees[i] as usize];
+            let (r1, r2) = (&ia1[c1 as usize..], &ia2[c2 as usize..]);
+            let m = self.upto[d - self.degrees[i] as usize];
             for (&bj, &(d1, d2)) in b[..m].iter().zip(&codes[..m]) {
-                let s = ia1[(c1 + d1) as usize] + ia2[(c2 + d2) as usize];
+                let s = r1[d1 as usize] + r2[d2 as usize];
                 scratch[s as usize] += ai * bj;
             }
         }
