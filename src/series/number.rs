@@ -373,7 +373,10 @@ impl FloatConst for Series {
 }
 
 impl DualNum<f64> for Series {
-    const NDERIV: usize = usize::MAX;
+    /// The largest degree any scope may have ([`MAX_SERIES_DEGREE`](super::MAX_SERIES_DEGREE));
+    /// a scope's own degree `K` is at most this, so `NDERIV` Newton steps in the series type
+    /// (as [`crate::implicit`] takes) fix every coefficient of degree `≤ K`.
+    const NDERIV: usize = super::monomials::MAX_SERIES_DEGREE;
 
     fn recip(&self) -> Self {
         elementary::recip(*self)
