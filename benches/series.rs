@@ -33,7 +33,8 @@ fn dense(table: &Monomials, seed: u64) -> Vec<f64> {
             s = s
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
-            (((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0) / (1 + table.degree_of(i)) as f64
+            (((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0)
+                / (1 + table.degree_of(i).unwrap_or(0)) as f64
         })
         .collect()
 }
@@ -41,7 +42,12 @@ fn dense(table: &Monomials, seed: u64) -> Vec<f64> {
 fn to_dace(table: &Monomials, c: &[f64]) -> dace_rs::Da {
     let mut d = dace_rs::Da::new();
     for (i, &ci) in c.iter().enumerate() {
-        let e: Vec<u32> = table.exponents(i).iter().map(|&x| x as u32).collect();
+        let e: Vec<u32> = table
+            .exponents(i)
+            .unwrap_or(&[])
+            .iter()
+            .map(|&x| x as u32)
+            .collect();
         d.set_coefficient(&e, ci);
     }
     d

@@ -249,7 +249,7 @@ fn kepler_expansion_agrees_with_third_order_duals_along_directions() {
                 .monomials()
                 .of_degree(d)
                 .map(|i| {
-                    let a = h.monomials().exponents(i);
+                    let a = h.monomials().exponents(i).unwrap();
                     h.coefficients()[i] * (0..4).map(|k| v[k].powi(a[k] as i32)).product::<f64>()
                 })
                 .sum();

@@ -294,7 +294,7 @@ impl Polynomial {
             .iter()
             .enumerate()
             .filter(|(_, &c)| c != 0.0)
-            .map(|(i, &c)| (self.monomials.exponents(i), c))
+            .map(|(i, &c)| (self.monomials.exps(i), c))
     }
 
     /// The value `Σ c_α x^α` at `x`.
@@ -327,7 +327,7 @@ impl Polynomial {
                 continue;
             }
             let mut m = c;
-            for (v, &e) in self.monomials.exponents(i).iter().enumerate() {
+            for (v, &e) in self.monomials.exps(i).iter().enumerate() {
                 m *= powers[v][e as usize];
             }
             sum += m;
@@ -381,7 +381,7 @@ impl Polynomial {
             return Err(Error::NonFinite {
                 what: format!(
                     "Taylor coefficient of x^{:?} about {at} (the function is not analytic there)",
-                    self.monomials.exponents(i)
+                    self.monomials.exps(i)
                 ),
                 value: c,
             });

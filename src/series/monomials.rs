@@ -222,14 +222,18 @@ impl Monomials {
         false
     }
 
-    /// The exponent vector of monomial `i` (graded order).
-    pub fn exponents(&self, i: usize) -> &[u8] {
-        &self.exponents[i * self.n..(i + 1) * self.n]
+    /// The exponent vector of monomial `i` (graded order), `None` for `i ≥ len`.
+    pub fn exponents(&self, i: usize) -> Option<&[u8]> {
+        (i < self.len).then(|| self.exps(i))
     }
 
-    /// The total degree of monomial `i`.
-    pub fn degree_of(&self, i: usize) -> usize {
-        self.degrees[i] as usize
+    /// The total degree of monomial `i`, `None` for `i ≥ len`.
+    pub fn degree_of(&self, i: usize) -> Option<usize> {
+        self.degrees.get(i).map(|&d| d as usize)
+    }
+
+    pub(crate) fn exps(&self, i: usize) -> &[u8] {
+        &self.exponents[i * self.n..(i + 1) * self.n]
     }
 
     /// The graded indices of the monomials of degree exactly `d` (empty beyond `K`).
@@ -267,13 +271,24 @@ impl Monomials {
     ///
     /// For each term `aᵢ xᵅ` only the prefix of `b` of degree `≤ K − |α|` is visited, so exactly
     /// the products of degree `≤ K` are formed (`C(2n + K, 2n)` of them for dense operands).
-    pub fn mul(&self, a: &[f64], b: &[f64], out: &mut [f64], scratch: &mut [f64]) {
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when a slice is shorter than [`len`](Self::len).
+    pub fn mul(&self, a: &[f64], b: &[f64], out: &mut [f64], scratch: &mut [f64]) -> Result<()> {
+        let len = self.len;
+        if a.len() < len || b.len() < len || out.len() < len || scratch.len() < len {
+            return Err(Error::InvalidInput {
+                what: "truncated product operands".into(),
+                reason: format!("every slice needs C(n + K, n) = {len} coefficients"),
+            });
+        }
         self.mul_to_degree(a, b, out, scratch, self.degree);
+        Ok(())
     }
 
     /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
-    /// zero); only the products of degree `≤ d` are formed.
-    pub fn mul_to_degree(
+    /// zero); only the products of degree `≤ d` are formed. Slices of length `len`.
+    pub(crate) fn mul_to_degree(
         &self,
         a: &[f64],
         b: &[f64],
@@ -317,12 +332,12 @@ mod tests {
             let m = Monomials::new(n, k).unwrap();
             assert_eq!(m.len(), count_monomials(n, k, usize::MAX).unwrap());
             for i in 0..m.len() {
-                let alpha: Vec<u32> = m.exponents(i).iter().map(|&x| x as u32).collect();
+                let alpha: Vec<u32> = m.exps(i).iter().map(|&x| x as u32).collect();
                 assert_eq!(m.index_of(&alpha), Some(i));
             }
             for d in 0..=k {
                 for i in m.of_degree(d) {
-                    assert_eq!(m.degree_of(i), d);
+                    assert_eq!(m.degree_of(i), Some(d));
                 }
             }
         }
@@ -338,11 +353,11 @@ mod tests {
                     (vec![0.0; m.len()], vec![0.0; m.len()], vec![0.0; m.len()]);
                 a[i] = 2.0;
                 b[j] = 3.0;
-                m.mul(&a, &b, &mut c, &mut scratch);
+                m.mul(&a, &b, &mut c, &mut scratch).unwrap();
                 let sum: Vec<u32> = m
-                    .exponents(i)
+                    .exps(i)
                     .iter()
-                    .zip(m.exponents(j))
+                    .zip(m.exps(j))
                     .map(|(&x, &y)| (x + y) as u32)
                     .collect();
                 match m.index_of(&sum) {

@@ -72,7 +72,13 @@ pub(crate) fn product(a: Series, b: Series) -> Series {
         let table = ar.table.clone();
         let len = table.len();
         ar.push_with(|old, out, scratch| {
-            table.mul(&old[x..x + len], &old[y..y + len], out, scratch)
+            table.mul_to_degree(
+                &old[x..x + len],
+                &old[y..y + len],
+                out,
+                scratch,
+                table.degree(),
+            )
         })
     })
     .unwrap_or_else(Series::poison)
