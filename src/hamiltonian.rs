@@ -155,6 +155,20 @@ pub trait Hamiltonian<const N: usize> {
         crate::ad::jacobian(&VectorFieldMap(self), t, q, p)
     }
 
+    /// The Taylor polynomial of `H` to total degree `degree` about `(q, p)` at time `t`, in the
+    /// `2N` variables `(q − q₀, p − p₀)`, by evaluating [`hamiltonian`](Self::hamiltonian) on the
+    /// truncated power series [`Series`](crate::series::Series); see
+    /// [`series::expand_at`](crate::series::expand_at) for the variables and the errors.
+    fn taylor_expansion(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        degree: usize,
+    ) -> Result<crate::series::Polynomial> {
+        crate::series::expand_at(t, q, p, degree, |t, q, p| self.hamiltonian(t, q, p))
+    }
+
     /// Explicit time derivative `∂H/∂t` (zero for autonomous systems).
     fn partial_t(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
         check_phase(t, q, p)?;

@@ -16,6 +16,7 @@ pub mod phase;
 pub mod plot;
 #[cfg(feature = "cli")]
 pub mod scene;
+pub mod series;
 pub mod special;
 pub mod systems;
 pub mod transform;

@@ -27,6 +27,9 @@ use hamilton_jacobi::perturbation::kepler_variation::{
 use hamilton_jacobi::perturbation::lindstedt::{lindstedt_odd_force, lindstedt_pendulum};
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::phase::State;
+use hamilton_jacobi::series::{
+    expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
+};
 use hamilton_jacobi::special::elliptic;
 use hamilton_jacobi::special::kepler_equation::{self, Conic};
 use hamilton_jacobi::special::stumpff;
@@ -40,7 +43,7 @@ use hamilton_jacobi::systems::{
     BeadOnHoop, ExactFlow, HarmonicOscillator, HeavyTop, Kepler2, Kepler3, Pendulum, Projectile,
 };
 use hamilton_jacobi::transform::{Ict, LieSeries};
-use hamilton_jacobi::{Hamiltonian, Result};
+use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 use std::f64::consts::{PI, TAU};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
@@ -1252,6 +1255,198 @@ fn add_lifts_and_steps(c: &mut Vec<Call>) {
     });
 }
 
+// ---------------------------------------------------------------------------------------------
+// Truncated power series.
+
+/// `C(n + k, n)` when the series storage of `n` variables to degree `k` is within the stated
+/// limits (coefficients per value, address table, degree), `None` otherwise.
+fn series_size(n: usize, k: usize) -> Option<usize> {
+    if n == 0 || k > MAX_SERIES_DEGREE {
+        return None;
+    }
+    let mut c: u128 = 1;
+    for i in 1..=n as u128 {
+        c = c.checked_mul(k as u128 + i)? / i;
+        if c > MAX_SERIES_COEFFICIENTS as u128 {
+            return None;
+        }
+    }
+    let table = (k as u128 + 1).checked_pow(n.div_ceil(2) as u32)?;
+    (table <= MAX_ADDRESS_TABLE as u128).then_some(c as usize)
+}
+
+fn add_series(c: &mut Vec<Call>) {
+    let sizes = [0, 1, 2, 4, 12, 13, 40, 1 << 20, usize::MAX];
+    sized(c, "series::scope(n, K = 10)", &sizes, |n| {
+        let want = series_size(n, 10);
+        judge(
+            scope(n, 10, |s| s.monomials().len()),
+            want.is_some(),
+            |len| {
+                near(
+                    "number of monomials",
+                    len as f64,
+                    want.unwrap_or(0) as f64,
+                    0.0,
+                )
+            },
+        )
+    });
+    let degrees = [0, 1, 10, 24, 255, 256, 1 << 40, usize::MAX];
+    sized(c, "series::scope(n = 2, K)", &degrees, |k| {
+        let want = series_size(2, k);
+        // (x + y)² has the coefficient 2 at xy when K ≥ 2.
+        let r = scope(2, k, |s| {
+            let (x, y) = (s.variable(0)?, s.variable(1)?);
+            s.polynomial((x + y) * (x + y))
+        });
+        judge(r.and_then(|p| p), want.is_some(), |p| {
+            let xy = if k >= 2 {
+                p.coefficient(&[1, 1]).unwrap_or(f64::NAN)
+            } else {
+                2.0
+            };
+            near("coefficient of xy in (x + y)²", xy, 2.0, 0.0)
+        })
+    });
+    sweep(
+        c,
+        "Hamiltonian::taylor_expansion(Kepler2)",
+        &[1.0, 0.2, -0.1, 1.0],
+        &[(0, 0.0)],
+        |a| {
+            let kep = Kepler2::new(1.0).unwrap();
+            let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
+            judge(kep.taylor_expansion(0.0, &q, &p, 4), fin(a), |poly| {
+                let (Ok(h), Ok((qd, pd))) = (kep.value(0.0, &q, &p), kep.vector_field(0.0, &q, &p))
+                else {
+                    return Wrong("expansion Ok where H or its gradient is not finite".into());
+                };
+                let g = poly.gradient();
+                all([
+                    near("H", poly.coefficients()[0], h, 1e-14 * (1.0 + h.abs())),
+                    near("∂H/∂q₁", g[0], -pd[0], 1e-14 * (1.0 + pd[0].abs())),
+                    near("∂H/∂q₂", g[1], -pd[1], 1e-14 * (1.0 + pd[1].abs())),
+                    near("∂H/∂p₁", g[2], qd[0], 1e-14 * (1.0 + qd[0].abs())),
+                    near("∂H/∂p₂", g[3], qd[1], 1e-14 * (1.0 + qd[1].abs())),
+                ])
+            })
+        },
+    );
+    sweep(
+        c,
+        "Hamiltonian::taylor_expansion(Pendulum)",
+        &[0.7, -0.3],
+        &[(0, PI), (0, 1e300)],
+        |a| {
+            let pend = Pendulum::new(1.0).unwrap();
+            let (q, p) = (SVector::from([a[0]]), SVector::from([a[1]]));
+            judge(pend.taylor_expansion(0.0, &q, &p, 6), fin(a), |poly| {
+                // H = p²/2 + 1 − cos q: ∂²H/∂q²/2 = cos q₀/2, ∂²H/∂p²/2 = 1/2.
+                all([
+                    near(
+                        "coefficient of ξ²",
+                        poly.coefficient(&[2, 0]).unwrap_or(f64::NAN),
+                        0.5 * a[0].cos(),
+                        1e-15,
+                    ),
+                    near(
+                        "coefficient of η²",
+                        poly.coefficient(&[0, 2]).unwrap_or(f64::NAN),
+                        0.5,
+                        0.0,
+                    ),
+                ])
+            })
+        },
+    );
+    sweep(
+        c,
+        "series::expand_at(ln q + atan p)",
+        &[1.5, 0.4],
+        &[(0, -1.0)],
+        |a| {
+            let (q, p) = (SVector::from([a[0]]), SVector::from([a[1]]));
+            let r = expand_at(0.0, &q, &p, 5, |_t, q, p| q[0].ln() + p[0].atan());
+            judge(r, fin(a) && a[0] > 0.0, |poly| {
+                let (c0, g) = (poly.coefficients()[0], poly.gradient());
+                let want = a[0].ln() + a[1].atan();
+                all([
+                    near("ln q + atan p", c0, want, 1e-15 * (1.0 + want.abs())),
+                    near("1/q", g[0], 1.0 / a[0], 1e-15 / a[0]),
+                    near("1/(1 + p²)", g[1], 1.0 / (1.0 + a[1] * a[1]), 1e-15),
+                ])
+            })
+        },
+    );
+    sweep(
+        c,
+        "Polynomial::eval(exp(x + y), K = 6)",
+        &[0.3, -0.2],
+        &[],
+        |a| {
+            let poly = scope(2, 6, |s| {
+                let (x, y) = (s.variable(0).unwrap(), s.variable(1).unwrap());
+                s.polynomial((x + y).exp()).unwrap()
+            })
+            .unwrap();
+            judge(poly.eval(a), fin(a), |v| {
+                // Σ_{k ≤ 6} (x + y)^k / k!, summed directly.
+                let u = a[0] + a[1];
+                let (mut term, mut sum, mut size) = (1.0, 1.0, 1.0);
+                for k in 1..=6 {
+                    term *= u / k as f64;
+                    sum += term;
+                    size += term.abs() * (1.0 + a[0].abs() + a[1].abs()).powi(k);
+                }
+                near("truncated exp(x + y)", v, sum, 64.0 * EPS * size)
+            })
+        },
+    );
+    sweep(
+        c,
+        "series::fourier_taylor(J² exp(ε cos θ))",
+        &[1.5],
+        &[(0, -2.0)],
+        |a| {
+            let r = fourier_taylor(&SVector::from([a[0]]), 4, 4, |j, th, e| {
+                j[0] * j[0] * (e * th[0].cos()).exp()
+            });
+            judge(r, fin(a), |f| {
+                // C₀(0, 0) = J₀², C₁ coefficient of ε = J₀².
+                let c1 = f.harmonics[1].cos.coefficient(&[0, 1]).unwrap_or(f64::NAN);
+                let j2 = a[0] * a[0];
+                all([
+                    near(
+                        "C₀",
+                        f.harmonics[0].cos.coefficients()[0],
+                        j2,
+                        1e-14 * (1.0 + j2),
+                    ),
+                    near("C₁ ε", c1, j2, 1e-14 * (1.0 + j2)),
+                    finite_ok("truncation error", f.truncation_error()),
+                ])
+            })
+        },
+    );
+    sized(
+        c,
+        "series::fourier_taylor(harmonics H)",
+        &[0, 3, 63, 64, 1 << 20, usize::MAX],
+        |h| {
+            let r = fourier_taylor(&SVector::from([1.0]), h, 2, |j, th, _e| j[0] * th[0].cos());
+            judge(r, h * 4 + 4 <= 1 << 16, |f| {
+                near(
+                    "number of harmonics",
+                    f.harmonics.len() as f64,
+                    h as f64 + 1.0,
+                    0.0,
+                )
+            })
+        },
+    );
+}
+
 fn add_theories(c: &mut Vec<Call>) {
     sweep(
         c,
@@ -1569,6 +1764,7 @@ fn every_entry_point_survives_hostile_input() {
     add_lifts_and_steps(&mut calls);
     add_theories(&mut calls);
     add_brouwer(&mut calls);
+    add_series(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())

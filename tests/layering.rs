@@ -2,7 +2,7 @@
 //! layers below it, and the modules of one layer import each other without cycles.
 //!
 //! ```text
-//! core        error, phase, ad, vector_space, implicit, special
+//! core        error, phase, ad, vector_space, implicit, special, series
 //! mechanics   hamiltonian, lagrangian, brackets
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation
@@ -28,6 +28,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "vector_space",
             "implicit",
             "special",
+            "series",
         ],
     ),
     ("mechanics", &["hamiltonian", "lagrangian", "brackets"]),

@@ -1,0 +1,373 @@
+//! Monomials of `n` variables to total degree `K` in graded order, with the index tables of the
+//! truncated product.
+//!
+//! The `C(n + K, n)` exponent vectors are stored degree by degree (graded order; inside a degree,
+//! lexicographically decreasing), so the monomials of degree `≤ d` are a prefix and a truncated
+//! product `a·b` visits, for each term of `a` of degree `dₐ`, only the prefix of `b` of degree
+//! `≤ K − dₐ`. The address of a product monomial is found without search by splitting the
+//! variables into two halves and encoding each half's exponents in radix `K + 1`: the encoding is
+//! additive (`code(α + β) = code(α) + code(β)`, no carries below degree `K + 1`), and the product
+//! is accumulated in the *split order* (blocks by the second half's monomial, the first half's
+//! monomials graded inside a block), where the address is the sum `ia₁[code₁] + ia₂[code₂]` of two
+//! small tables. One permutation per product returns the accumulator to graded order.
+//!
+//! Reference: M. Berz, *Modern Map Methods in Particle Beam Physics*, Academic Press 1999, §2.3.4
+//! (the addressing scheme of the DA package, also used by DACE: M. Rasotto et al., "Differential
+//! algebra space toolbox for nonlinear uncertainty propagation in space dynamics", ICATT 2016).
+
+use crate::error::{Error, Result};
+
+/// The largest number of coefficients of one series value, `C(n + K, n) ≤ 2²⁰` (8 MiB per value);
+/// a larger request is refused before any allocation.
+pub const MAX_SERIES_COEFFICIENTS: usize = 1 << 20;
+
+/// The largest entry count of one half-variable address table, `(K + 1)^⌈n/2⌉ ≤ 2²⁴`.
+pub const MAX_ADDRESS_TABLE: usize = 1 << 24;
+
+/// The largest total degree `K` (exponents are stored in one byte).
+pub const MAX_SERIES_DEGREE: usize = 255;
+
+/// The number of monomials of `n` variables of total degree `≤ k`, `C(n + k, n)`, or `None` when
+/// it exceeds `limit` (computed without overflow).
+pub(crate) fn count_monomials(n: usize, k: usize, limit: usize) -> Option<usize> {
+    // C(n + k, n) = Π_{i=1}^{n} (k + i)/i, every partial product an integer.
+    let mut c: u128 = 1;
+    for i in 1..=n as u128 {
+        c = c.checked_mul(k as u128 + i)? / i;
+        if c > limit as u128 {
+            return None;
+        }
+    }
+    Some(c as usize)
+}
+
+/// Monomial tables for `n` variables to total degree `K`.
+#[derive(Debug)]
+pub struct Monomials {
+    n: usize,
+    degree: usize,
+    len: usize,
+    /// Exponents, `n` bytes per monomial, graded order.
+    exponents: Vec<u8>,
+    /// Degree of each monomial.
+    degrees: Vec<u8>,
+    /// `upto[d]` = number of monomials of degree `≤ d` (`upto[K] = len`), `d = 0..=K`.
+    upto: Vec<usize>,
+    /// Radix-(K+1) codes of the two halves of each monomial's exponents.
+    codes: Vec<(u32, u32)>,
+    /// First-half address table (rank of the first-half monomial in graded order).
+    ia1: Vec<u32>,
+    /// Second-half address table (start of the second-half monomial's block).
+    ia2: Vec<u32>,
+    /// `graded[s]` = graded index of the monomial at split-order address `s`.
+    graded: Vec<u32>,
+}
+
+/// The exponent vectors of `n` variables of total degree exactly `d`, lexicographically decreasing.
+fn push_degree(n: usize, d: usize, prefix: &mut Vec<u8>, out: &mut Vec<u8>) {
+    if n == 0 {
+        return;
+    }
+    if prefix.len() + 1 == n {
+        prefix.push(d as u8);
+        out.extend_from_slice(prefix);
+        prefix.pop();
+        return;
+    }
+    for first in (0..=d).rev() {
+        prefix.push(first as u8);
+        push_degree(n, d - first, prefix, out);
+        prefix.pop();
+    }
+}
+
+/// All exponent vectors of `n` variables of degree `≤ k` in graded order.
+fn graded_exponents(n: usize, k: usize) -> Vec<u8> {
+    let mut out = Vec::new();
+    if n == 0 {
+        return out;
+    }
+    let mut prefix = Vec::with_capacity(n);
+    for d in 0..=k {
+        push_degree(n, d, &mut prefix, &mut out);
+    }
+    out
+}
+
+impl Monomials {
+    /// The tables for `n ≥ 1` variables to total degree `degree`; an error (before any allocation)
+    /// when a value would exceed [`MAX_SERIES_COEFFICIENTS`] coefficients, an address table
+    /// [`MAX_ADDRESS_TABLE`] entries, or the degree [`MAX_SERIES_DEGREE`].
+    pub fn new(n: usize, degree: usize) -> Result<Self> {
+        if n == 0 {
+            return Err(Error::OutOfDomain {
+                what: "number of series variables".into(),
+                value: 0.0,
+                domain: "n ≥ 1".into(),
+            });
+        }
+        if degree > MAX_SERIES_DEGREE {
+            return Err(Error::OutOfDomain {
+                what: "series degree K".into(),
+                value: degree as f64,
+                domain: format!("0 ≤ K ≤ MAX_SERIES_DEGREE = {MAX_SERIES_DEGREE}"),
+            });
+        }
+        let len = count_monomials(n, degree, MAX_SERIES_COEFFICIENTS).ok_or_else(|| {
+            Error::WorkLimit {
+                what: format!("series storage for n = {n} variables to degree K = {degree}"),
+                limit: MAX_SERIES_COEFFICIENTS,
+                detail: "C(n + K, n) coefficients per value requested".into(),
+                hint: "lower the degree or the number of variables".into(),
+            }
+        })?;
+        let n1 = n / 2;
+        let n2 = n - n1;
+        let radix = degree + 1;
+        let table = |m: usize| -> Option<usize> {
+            let mut s: usize = 1;
+            for _ in 0..m {
+                s = s.checked_mul(radix)?;
+                if s > MAX_ADDRESS_TABLE {
+                    return None;
+                }
+            }
+            Some(s)
+        };
+        let (Some(size1), Some(size2)) = (table(n1), table(n2)) else {
+            return Err(Error::WorkLimit {
+                what: format!("series address table for n = {n} variables to degree K = {degree}"),
+                limit: MAX_ADDRESS_TABLE,
+                detail: format!("(K + 1)^{n2} entries requested"),
+                hint: "lower the degree or the number of variables".into(),
+            });
+        };
+        let exponents = graded_exponents(n, degree);
+        let degrees: Vec<u8> = exponents
+            .chunks_exact(n)
+            .map(|e| e.iter().map(|&x| x as usize).sum::<usize>() as u8)
+            .collect();
+        let mut upto = vec![0usize; degree + 1];
+        for &d in &degrees {
+            upto[d as usize] += 1;
+        }
+        for d in 1..=degree {
+            upto[d] += upto[d - 1];
+        }
+        let code = |e: &[u8]| -> u32 {
+            e.iter()
+                .rev()
+                .fold(0usize, |acc, &x| acc * radix + x as usize) as u32
+        };
+        let codes: Vec<(u32, u32)> = exponents
+            .chunks_exact(n)
+            .map(|e| (code(&e[..n1]), code(&e[n1..])))
+            .collect();
+        // First half: graded rank among first-half monomials.
+        let mut ia1 = vec![u32::MAX; size1];
+        let first = graded_exponents(n1, degree);
+        if n1 == 0 {
+            ia1[0] = 0;
+        } else {
+            for (r, e) in first.chunks_exact(n1).enumerate() {
+                ia1[code(e) as usize] = r as u32;
+            }
+        }
+        let count1 = |d: usize| count_monomials(n1, d, usize::MAX).unwrap_or(1);
+        // Second half: blocks of first-half monomials of degree ≤ K − deg₂, in graded order of
+        // the second half.
+        let mut ia2 = vec![u32::MAX; size2];
+        let mut offset = 0usize;
+        for e in graded_exponents(n2, degree).chunks_exact(n2) {
+            let d2: usize = e.iter().map(|&x| x as usize).sum();
+            ia2[code(e) as usize] = offset as u32;
+            offset += count1(degree - d2);
+        }
+        debug_assert_eq!(offset, len);
+        let mut graded = vec![0u32; len];
+        for (i, &(c1, c2)) in codes.iter().enumerate() {
+            graded[(ia1[c1 as usize] + ia2[c2 as usize]) as usize] = i as u32;
+        }
+        Ok(Self {
+            n,
+            degree,
+            len,
+            exponents,
+            degrees,
+            upto,
+            codes,
+            ia1,
+            ia2,
+            graded,
+        })
+    }
+
+    /// Number of variables `n`.
+    pub fn variables(&self) -> usize {
+        self.n
+    }
+
+    /// Total degree `K`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// Number of monomials `C(n + K, n)`.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Always false (there is at least the constant monomial).
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The exponent vector of monomial `i` (graded order), `None` for `i ≥ len`.
+    pub fn exponents(&self, i: usize) -> Option<&[u8]> {
+        (i < self.len).then(|| self.exps(i))
+    }
+
+    /// The total degree of monomial `i`, `None` for `i ≥ len`.
+    pub fn degree_of(&self, i: usize) -> Option<usize> {
+        self.degrees.get(i).map(|&d| d as usize)
+    }
+
+    pub(crate) fn exps(&self, i: usize) -> &[u8] {
+        &self.exponents[i * self.n..(i + 1) * self.n]
+    }
+
+    /// The graded indices of the monomials of degree exactly `d` (empty beyond `K`).
+    pub fn of_degree(&self, d: usize) -> std::ops::Range<usize> {
+        if d > self.degree {
+            return self.len..self.len;
+        }
+        let start = if d == 0 { 0 } else { self.upto[d - 1] };
+        start..self.upto[d]
+    }
+
+    /// The graded index of the monomial with exponents `alpha`, `None` when its length is not `n`
+    /// or its degree exceeds `K`.
+    pub fn index_of(&self, alpha: &[u32]) -> Option<usize> {
+        if alpha.len() != self.n {
+            return None;
+        }
+        let total: u64 = alpha.iter().map(|&a| a as u64).sum();
+        if total > self.degree as u64 {
+            return None;
+        }
+        let radix = self.degree + 1;
+        let n1 = self.n / 2;
+        let code = |e: &[u32]| {
+            e.iter()
+                .rev()
+                .fold(0usize, |acc, &x| acc * radix + x as usize)
+        };
+        let s = self.ia1[code(&alpha[..n1])] + self.ia2[code(&alpha[n1..])];
+        Some(self.graded[s as usize] as usize)
+    }
+
+    /// `out = a·b` truncated at degree `K` (all slices of length [`len`](Self::len), graded
+    /// order); `scratch` is a work array of the same length.
+    ///
+    /// For each term `aᵢ xᵅ` only the prefix of `b` of degree `≤ K − |α|` is visited, so exactly
+    /// the products of degree `≤ K` are formed (`C(2n + K, 2n)` of them for dense operands).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when a slice is shorter than [`len`](Self::len).
+    pub fn mul(&self, a: &[f64], b: &[f64], out: &mut [f64], scratch: &mut [f64]) -> Result<()> {
+        let len = self.len;
+        if a.len() < len || b.len() < len || out.len() < len || scratch.len() < len {
+            return Err(Error::InvalidInput {
+                what: "truncated product operands".into(),
+                reason: format!("every slice needs C(n + K, n) = {len} coefficients"),
+            });
+        }
+        self.mul_to_degree(a, b, out, scratch, self.degree);
+        Ok(())
+    }
+
+    /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
+    /// zero); only the products of degree `≤ d` are formed. Slices of length `len`.
+    pub(crate) fn mul_to_degree(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        out: &mut [f64],
+        scratch: &mut [f64],
+        d: usize,
+    ) {
+        let len = self.len;
+        let d = d.min(self.degree);
+        let top = self.upto[d];
+        let (a, b) = (&a[..top], &b[..top]);
+        let scratch = &mut scratch[..len];
+        scratch.fill(0.0);
+        let codes = &self.codes[..top];
+        let (ia1, ia2) = (&self.ia1[..], &self.ia2[..]);
+        for (i, &ai) in a.iter().enumerate() {
+            if ai == 0.0 {
+                continue;
+            }
+            let (c1, c2) = codes[i];
+            let (r1, r2) = (&ia1[c1 as usize..], &ia2[c2 as usize..]);
+            let m = self.upto[d - self.degrees[i] as usize];
+            for (&bj, &(d1, d2)) in b[..m].iter().zip(&codes[..m]) {
+                let s = r1[d1 as usize] + r2[d2 as usize];
+                scratch[s as usize] += ai * bj;
+            }
+        }
+        for (s, &g) in scratch.iter().zip(&self.graded) {
+            out[g as usize] = *s;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_and_addresses_agree_with_the_exponents() {
+        for (n, k) in [(1, 0), (1, 7), (2, 5), (3, 4), (4, 10), (5, 3)] {
+            let m = Monomials::new(n, k).unwrap();
+            assert_eq!(m.len(), count_monomials(n, k, usize::MAX).unwrap());
+            for i in 0..m.len() {
+                let alpha: Vec<u32> = m.exps(i).iter().map(|&x| x as u32).collect();
+                assert_eq!(m.index_of(&alpha), Some(i));
+            }
+            for d in 0..=k {
+                for i in m.of_degree(d) {
+                    assert_eq!(m.degree_of(i), Some(d));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn product_of_monomials_is_the_monomial_of_the_summed_exponents() {
+        let m = Monomials::new(3, 6).unwrap();
+        let mut scratch = vec![0.0; m.len()];
+        for i in 0..m.len() {
+            for j in 0..m.len() {
+                let (mut a, mut b, mut c) =
+                    (vec![0.0; m.len()], vec![0.0; m.len()], vec![0.0; m.len()]);
+                a[i] = 2.0;
+                b[j] = 3.0;
+                m.mul(&a, &b, &mut c, &mut scratch).unwrap();
+                let sum: Vec<u32> = m
+                    .exps(i)
+                    .iter()
+                    .zip(m.exps(j))
+                    .map(|(&x, &y)| (x + y) as u32)
+                    .collect();
+                match m.index_of(&sum) {
+                    Some(k) => {
+                        assert_eq!(c[k], 6.0);
+                        assert_eq!(c.iter().filter(|&&x| x != 0.0).count(), 1);
+                    }
+                    None => assert!(c.iter().all(|&x| x == 0.0)),
+                }
+            }
+        }
+    }
+}
