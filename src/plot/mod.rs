@@ -54,10 +54,17 @@
 //! * **Errors.** A figure without a single drawable point is an error, not a blank file, as is a
 //!   range too wide to represent in floating point.
 
+pub mod data;
+pub mod render;
+
+pub use data::DataFormat;
+pub use render::{Format, Size};
+
 use crate::error::{Error, Result};
 use crate::workprecision::Comparison;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -94,10 +101,10 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Width of the drawing in pixels.
-const WIDTH: u32 = 900;
-/// Height of the drawing in pixels.
-const HEIGHT: u32 = 600;
+/// Dash and gap length of a curve drawn dashed because it coincides with an earlier one.
+const DASH: (i32, i32) = (7, 5);
+/// Diameter of the dots of [`Style::Dots`], in SVG units.
+const DOT_WIDTH: f64 = 2.2;
 /// Font family of every text.
 const FONT: &str = "sans-serif";
 /// Font sizes in SVG pixels: the title.
@@ -152,12 +159,33 @@ pub enum Style {
     LineMarkers,
     /// Markers only (a scatter plot).
     Markers,
+    /// Small round dots, one per point, never thinned: Poincaré sections and other clouds of
+    /// many points. Drawn as one path of round-capped dots of the line's width, at most one per
+    /// SVG unit of the canvas (points closer than that coincide on paper).
+    Dots,
 }
 
 impl Style {
     /// Whether the points are joined by a line.
     fn line(self) -> bool {
         matches!(self, Style::Line | Style::LineMarkers)
+    }
+
+    /// The style's key in data files: `line`, `line-markers`, `markers`, `dots`.
+    pub fn key(self) -> &'static str {
+        match self {
+            Style::Line => "line",
+            Style::LineMarkers => "line-markers",
+            Style::Markers => "markers",
+            Style::Dots => "dots",
+        }
+    }
+
+    /// The style with key `key`.
+    pub fn from_key(key: &str) -> Option<Style> {
+        [Style::Line, Style::LineMarkers, Style::Markers, Style::Dots]
+            .into_iter()
+            .find(|s| s.key() == key)
     }
 
     /// Whether a marker is drawn at every point.
@@ -204,6 +232,11 @@ pub struct Figure {
     pub curves: Vec<Curve>,
     /// One unit (one decade on a logarithmic axis) has the same length on both axes.
     pub equal_aspect: bool,
+    /// The caption: what the figure shows, in sentences (written beside the figure, with the
+    /// notes the drawing adds: zero floors, thinning, coinciding curves).
+    pub caption: String,
+    /// Physical size and font size.
+    pub size: Size,
 }
 
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
@@ -239,7 +272,21 @@ impl Figure {
             y_scale: Scale::Linear,
             curves: Vec::new(),
             equal_aspect: false,
+            caption: String::new(),
+            size: Size::default(),
         }
+    }
+
+    /// Set the caption.
+    pub fn caption(mut self, caption: impl Into<String>) -> Self {
+        self.caption = caption.into();
+        self
+    }
+
+    /// Set the size.
+    pub fn size(mut self, size: Size) -> Self {
+        self.size = size;
+        self
     }
 
     /// Make the horizontal axis logarithmic.
@@ -276,24 +323,117 @@ impl Figure {
     }
 
     /// Write the figure as an SVG file at `path`. Nothing is written if the figure cannot be drawn
-    /// (see [`Figure::to_svg_string`]).
+    /// (see [`Figure::render`]).
+    ///
+    /// # Errors
+    /// As [`Figure::render`], or if the file cannot be written.
     pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
         let svg = self.to_svg_string()?;
-        std::fs::write(path, svg)
-            .map_err(|e| Error::invalid(format!("SVG file {}", path.display()), e.to_string()))
+        write_file(path, svg.as_bytes())
     }
 
-    /// The figure as SVG text. Fails if no point of any curve can be drawn, or if a range is too
-    /// wide to represent.
+    /// The figure as SVG text (see [`Figure::render`]).
+    ///
+    /// # Errors
+    /// As [`Figure::render`].
     pub fn to_svg_string(&self) -> Result<String> {
+        Ok(self.render()?.svg)
+    }
+
+    /// Draw the figure: the SVG, and the notes the drawing adds to the caption. Fails if the
+    /// size fails [`Size::check`], if no point of any curve can be drawn, or if a range is too
+    /// wide to represent.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the figure.
+    pub fn render(&self) -> Result<Rendered> {
+        self.size.check()?;
         let layout = Layout::new(self)?;
-        let mut out = String::new();
-        {
-            let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
-            layout.draw(&root).map_err(|e| self.error(e))?;
+        let (w, h) = (layout.width, layout.height);
+        let mut svg = String::new();
+        let dots = {
+            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            let dots = layout.draw(&root).map_err(|e| self.error(e))?;
             root.present().map_err(|e| self.error(e))?;
+            dots
+        };
+        // The physical size; the canvas stays the view box.
+        svg = svg.replacen(
+            &format!("<svg width=\"{w}\" height=\"{h}\""),
+            &format!(
+                "<svg width=\"{}in\" height=\"{}in\"",
+                self.size.width, self.size.height
+            ),
+            1,
+        );
+        if !dots.is_empty() {
+            if let Some(end) = svg.rfind("</svg>") {
+                svg.insert_str(end, &dots);
+            }
         }
-        Ok(out)
+        Ok(Rendered {
+            svg,
+            notes: layout.notes,
+        })
+    }
+
+    /// The caption with the notes of the drawing `r` of this figure.
+    pub fn full_caption(&self, r: &Rendered) -> String {
+        let mut parts: Vec<&str> = Vec::new();
+        if !self.caption.trim().is_empty() {
+            parts.push(self.caption.trim());
+        }
+        parts.extend(r.notes.iter().map(String::as_str));
+        parts.join(" ")
+    }
+
+    /// Write the figure beside its data: `STEM.svg` and the other `formats` (`STEM.png`,
+    /// `STEM.pdf`), the data file `STEM.csv` (with the points in `STEM.npy` for
+    /// [`DataFormat::Npy`]; see [`data`]) and the caption `STEM.caption.txt`. Nothing is written if
+    /// the figure cannot be drawn. Returns the files written.
+    ///
+    /// # Errors
+    /// As [`Figure::render`], or if a file cannot be rendered or written.
+    pub fn write(
+        &self,
+        stem: &std::path::Path,
+        formats: &[Format],
+        data: DataFormat,
+    ) -> Result<Vec<std::path::PathBuf>> {
+        let r = self.render()?;
+        let mut files = Vec::new();
+        let mut put = |ext: &str, bytes: &[u8]| -> Result<()> {
+            let path = with_suffix(stem, ext);
+            write_file(&path, bytes)?;
+            files.push(path);
+            Ok(())
+        };
+        let mut formats: Vec<Format> = formats.to_vec();
+        if !formats.contains(&Format::Svg) {
+            formats.insert(0, Format::Svg);
+        }
+        for f in formats {
+            match f {
+                Format::Svg => put("svg", r.svg.as_bytes())?,
+                Format::Png => put("png", &render::png(&r.svg, &self.size)?)?,
+                Format::Pdf => put("pdf", &render::pdf(&r.svg)?)?,
+            }
+        }
+        let caption = self.full_caption(&r);
+        match data {
+            DataFormat::Csv => put("csv", data::to_csv(self, &r, None).as_bytes())?,
+            DataFormat::Npy => {
+                let npy = with_suffix(stem, "npy");
+                let name = npy
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                put("npy", &data::points_npy(self))?;
+                put("csv", data::to_csv(self, &r, Some(&name)).as_bytes())?;
+            }
+        }
+        put("caption.txt", format!("{caption}\n").as_bytes())?;
+        Ok(files)
     }
 
     /// How errors name the figure.
@@ -313,6 +453,30 @@ impl Figure {
 
 // ---------------------------------------------------------------------------------------------
 // Preparation: which points are drawn where.
+
+/// A drawn figure: the SVG, and the notes the drawing adds to the caption (zero floors of
+/// logarithmic axes, thinned curves, coinciding curves).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rendered {
+    /// The SVG text.
+    pub svg: String,
+    /// Notes for the caption, one sentence each.
+    pub notes: Vec<String>,
+}
+
+/// `stem` with `.ext` appended (a stem may contain dots: `kepler-e0.5-orbit`).
+pub(crate) fn with_suffix(stem: &std::path::Path, ext: &str) -> std::path::PathBuf {
+    let mut s = stem.as_os_str().to_os_string();
+    s.push(".");
+    s.push(ext);
+    std::path::PathBuf::from(s)
+}
+
+/// Write `bytes` to `path`, naming the file in the error.
+pub(crate) fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
+    std::fs::write(path, bytes)
+        .map_err(|e| Error::invalid(format!("file {}", path.display()), e.to_string()))
+}
 
 /// One axis: scale and, on a logarithmic axis with zeros, where the zeros go.
 #[derive(Clone, Copy, Debug)]
@@ -365,6 +529,8 @@ struct Prepared {
     lines: Vec<Vec<(f64, f64)>>,
     /// Markers to draw (thinned), or for a line the points left alone between omitted ones.
     dots: Vec<(f64, f64)>,
+    /// The curve lies within the line width of this earlier curve everywhere (drawn dashed).
+    coincides_with: Option<usize>,
 }
 
 impl Prepared {
@@ -405,18 +571,21 @@ impl Prepared {
             drawable,
             lines: Vec::new(),
             dots: Vec::new(),
+            coincides_with: None,
         }
     }
 
     /// Choose what is drawn: lines thinned to `line_cap` points, markers to `marker_cap`.
     fn thin(&mut self, line_cap: usize, marker_cap: usize) {
         if self.style.line() {
-            self.lines = thin(&self.segments, line_cap)
+            self.lines = thin_extremes(&self.segments, line_cap)
                 .into_iter()
                 .filter(|s| s.len() >= 2)
                 .collect();
         }
-        self.dots = if self.style.markers() {
+        self.dots = if self.style == Style::Dots {
+            self.segments.concat()
+        } else if self.style.markers() {
             thin(&self.segments, marker_cap).concat()
         } else {
             self.segments
@@ -431,7 +600,7 @@ impl Prepared {
     /// Radius of the dots: markers, or a dot the width of the line.
     fn dot_radius(&self) -> i32 {
         match self.style {
-            Style::Line => STROKE as i32,
+            Style::Line | Style::Dots => STROKE as i32,
             s => s.marker_radius(),
         }
     }
@@ -445,6 +614,34 @@ impl Prepared {
     fn shape(&self) -> Shape {
         SHAPES[self.index % SHAPES.len()]
     }
+}
+
+/// How notes name a curve: its label in quotes, or its number.
+fn name_of(label: &str, index: usize) -> String {
+    if label.is_empty() {
+        format!("curve {}", index + 1)
+    } else {
+        format!("\u{201c}{label}\u{201d}")
+    }
+}
+
+/// How notes name an axis: its title in quotes.
+fn quoted_axis(label: &str) -> String {
+    format!("\u{201c}{label}\u{201d}")
+}
+
+/// A label with a note in parentheses.
+fn with_note(label: &str, note: &str) -> String {
+    if label.is_empty() {
+        format!("({note})")
+    } else {
+        format!("{label} ({note})")
+    }
+}
+
+/// An SVG colour `#RRGGBB`, as plotters writes it.
+fn svg_color(c: RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
 }
 
 /// The legend label with a note on omitted points.
@@ -461,6 +658,47 @@ fn legend_label(label: &str, non_finite: usize, negative: usize) -> String {
     } else {
         format!("{label} ({note})")
     }
+}
+
+/// A line thinned to at most `max` points without losing its extremes: the points are taken in
+/// runs of `k` consecutive points (within a stretch), and of each run the first, the lowest, the
+/// highest and the last are kept, in order. The drawn line covers the full vertical range of
+/// every run, so thinning cannot alias an oscillation into spikes or gaps (the "min/max per
+/// column" decimation of time-series plotting).
+fn thin_extremes(segments: &[Vec<(f64, f64)>], max: usize) -> Vec<Vec<(f64, f64)>> {
+    let n: usize = segments.iter().map(Vec::len).sum();
+    let max = max.max(8);
+    if n <= max {
+        return segments.to_vec();
+    }
+    // At most 4 points per run, plus up to 4 for the partial run at the end of each stretch.
+    let runs = (max / 4).saturating_sub(segments.len()).max(1);
+    let k = n.div_ceil(runs).max(2);
+    segments
+        .iter()
+        .map(|seg| {
+            let mut kept: Vec<(f64, f64)> = Vec::new();
+            for run in seg.chunks(k) {
+                let last = run.len() - 1;
+                let lo = (0..run.len())
+                    .min_by(|&a, &b| run[a].1.total_cmp(&run[b].1))
+                    .unwrap_or(0);
+                let hi = (0..run.len())
+                    .max_by(|&a, &b| run[a].1.total_cmp(&run[b].1))
+                    .unwrap_or(0);
+                let mut idx = [0, lo, hi, last];
+                idx.sort_unstable();
+                let mut prev = None;
+                for i in idx {
+                    if prev != Some(i) {
+                        kept.push(run[i]);
+                        prev = Some(i);
+                    }
+                }
+            }
+            kept
+        })
+        .collect()
 }
 
 /// Every k-th point (k chosen so that at most `max` remain), plus the first and last point of
@@ -883,6 +1121,11 @@ struct Entry {
 
 /// Everything decided before drawing.
 struct Layout {
+    /// Canvas width and height in SVG units.
+    width: u32,
+    height: u32,
+    /// Notes for the caption.
+    notes: Vec<String>,
     title_lines: Vec<String>,
     title_h: u32,
     curves: Vec<Prepared>,
@@ -909,6 +1152,8 @@ impl Layout {
     /// Decide everything about the drawing of `fig`; fails if nothing can be drawn.
     fn new(fig: &Figure) -> Result<Self> {
         let err = |why: &str| fig.error(why);
+        let (width, height) = fig.size.canvas();
+        let mut notes: Vec<String> = Vec::new();
         // Zero floors from the points with two finite coordinates.
         let finite = || {
             fig.curves
@@ -970,29 +1215,46 @@ impl Layout {
         let marker_cap = cap(Style::markers, MARKER_BUDGET, MIN_MARKERS_PER_CURVE);
         for c in &mut curves {
             c.thin(line_cap, marker_cap);
+            let drawn = c.lines.iter().map(Vec::len).sum::<usize>()
+                + if c.style.line() { 0 } else { c.dots.len() };
+            if drawn < c.drawable {
+                let what = if c.style.line() {
+                    "drawn through the first, lowest, highest and last of every run of consecutive points"
+                } else {
+                    "markers at every k-th point"
+                };
+                notes.push(format!(
+                    "{}: thinned for drawing, {drawn} of {} points shown ({what}); the data file holds every point.",
+                    name_of(&c.label, c.index),
+                    c.drawable
+                ));
+                c.label = with_note(&c.label, &format!("{drawn} of {} points drawn", c.drawable));
+            }
         }
 
-        // Axis titles.
-        let floor_note = |m: AxisMap| {
-            format!(" (0 drawn at 1e{})", (m.floor.log10().round() as i32)).replace('-', "\u{2212}")
+        // Zero floors: a note for the caption, not the axis title.
+        let floor_note = |axis: &str, m: AxisMap| {
+            format!(
+                "Zeros of {axis} are drawn at 1e{} (logarithmic axis).",
+                (m.floor.log10().round() as i32)
+            )
+            .replace('-', "\u{2212}")
         };
-        let x_desc = if x_zero {
-            format!("{}{}", fig.x_label, floor_note(xm))
-        } else {
-            fig.x_label.clone()
-        };
-        let y_desc = if y_zero {
-            format!("{}{}", fig.y_label, floor_note(ym))
-        } else {
-            fig.y_label.clone()
-        };
+        if x_zero {
+            notes.push(floor_note(&quoted_axis(&fig.x_label), xm));
+        }
+        if y_zero {
+            notes.push(floor_note(&quoted_axis(&fig.y_label), ym));
+        }
+        let x_desc = fig.x_label.clone();
+        let y_desc = fig.y_label.clone();
 
         // Title: wrapped, at most MAX_TITLE_LINES lines (the last one cut short with "…").
-        let mut title_lines = wrap(&fig.title, WIDTH as f64 - 40.0, TITLE_PX);
+        let mut title_lines = wrap(&fig.title, width as f64 - 40.0, TITLE_PX);
         if title_lines.len() > MAX_TITLE_LINES {
             title_lines.truncate(MAX_TITLE_LINES);
             if let Some(last) = title_lines.last_mut() {
-                while !last.is_empty() && text_width(last, TITLE_PX) > WIDTH as f64 - 60.0 {
+                while !last.is_empty() && text_width(last, TITLE_PX) > width as f64 - 60.0 {
                     last.pop();
                 }
                 last.push('…');
@@ -1005,10 +1267,43 @@ impl Layout {
         };
 
         // Legend: column width from the labels, font shrunk if the entries do not fit the height.
-        let body_h = (HEIGHT - title_h) as f64;
+        let body_h = (height - title_h) as f64;
+        let x_area = (2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX;
+        let x_area = x_area.ceil() as u32;
+        let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
+
+        // Curves that lie within the line width of an earlier one everywhere are drawn dashed,
+        // and the legend and caption say so.
+        let px_per_y = plot_h / (y_range.1 - y_range.0);
+        for j in 0..curves.len() {
+            if !curves[j].style.line() || curves[j].drawable < 2 {
+                continue;
+            }
+            let same = (0..j).find(|&i| {
+                let (a, b) = (&curves[i], &curves[j]);
+                a.style.line()
+                    && a.segments.len() == b.segments.len()
+                    && a.segments.iter().zip(&b.segments).all(|(sa, sb)| {
+                        sa.len() == sb.len()
+                            && sa.iter().zip(sb).all(|(pa, pb)| {
+                                pa.0 == pb.0 && (pa.1 - pb.1).abs() * px_per_y < STROKE as f64
+                            })
+                    })
+            });
+            if let Some(i) = same {
+                let other = name_of(&curves[i].label, i);
+                notes.push(format!(
+                    "{} coincides with {other} to within the line width everywhere (drawn dashed).",
+                    name_of(&curves[j].label, j)
+                ));
+                curves[j].coincides_with = Some(i);
+                curves[j].label =
+                    with_note(&curves[j].label, &format!("dashed: coincides with {other}"));
+            }
+        }
         let avail_h = body_h - MARGIN.0 as f64 - 10.0;
         let max_text_w =
-            WIDTH as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
+            width as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
         let labelled: Vec<usize> = (0..curves.len())
             .filter(|&i| !curves[i].label.is_empty())
             .collect();
@@ -1066,10 +1361,7 @@ impl Layout {
 
         // Axes: label areas and ticks, iterated because the width of the y labels decides the
         // width of the plotting area, and with equal aspect the ranges depend on both sizes.
-        let x_area = (2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX;
-        let x_area = x_area.ceil() as u32;
-        let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
-        let region_w = (WIDTH - legend_w) as f64;
+        let region_w = (width - legend_w) as f64;
         let plot_w_for = |y_area: u32| (region_w - (MARGIN.2 + MARGIN.3 + y_area) as f64).max(10.0);
         let axes = |y_area: u32| {
             let plot_w = plot_w_for(y_area);
@@ -1106,6 +1398,9 @@ impl Layout {
         let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
 
         Ok(Self {
+            width,
+            height,
+            notes,
             title_lines,
             title_h,
             curves,
@@ -1126,20 +1421,23 @@ impl Layout {
         })
     }
 
-    /// Draw title, axes, curves and legend.
+    /// Draw title, axes, curves and legend; returns the SVG of the curves drawn as dots (one
+    /// path each), to be added to the drawing.
     fn draw<'a>(
         &self,
         root: &DrawingArea<SVGBackend<'a>, Shift>,
-    ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
-    {
+    ) -> std::result::Result<
+        String,
+        DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>,
+    > {
         root.fill(&WHITE)?;
         let title_style = font(TITLE_PX).pos(Pos::new(HPos::Center, VPos::Top));
         for (i, line) in self.title_lines.iter().enumerate() {
             let y = 8 + (i as f64 * TITLE_PX * 1.25).round() as i32;
-            root.draw_text(line, &title_style, (WIDTH as i32 / 2, y))?;
+            root.draw_text(line, &title_style, (self.width as i32 / 2, y))?;
         }
         let (_, body) = root.split_vertically(self.title_h);
-        let (region, legend_area) = body.split_horizontally(WIDTH - self.legend_w);
+        let (region, legend_area) = body.split_horizontally(self.width - self.legend_w);
 
         let x_spec = TickedAxis::new(self.x_range, &self.x_ticks);
         let y_spec = TickedAxis::new(self.y_range, &self.y_ticks);
@@ -1182,14 +1480,37 @@ impl Layout {
             BLACK.stroke_width(1),
         ))?;
 
+        let mut dot_paths = String::new();
         for c in &self.curves {
             let color = c.color();
-            chart.draw_series(
-                c.lines
-                    .iter()
-                    .map(|s| PathElement::new(s.clone(), color.stroke_width(STROKE))),
-            )?;
+            if c.coincides_with.is_some() {
+                chart.draw_series(c.lines.iter().map(|s| {
+                    DashedPathElement::new(s.clone(), DASH.0, DASH.1, color.stroke_width(STROKE))
+                }))?;
+            } else {
+                chart.draw_series(
+                    c.lines
+                        .iter()
+                        .map(|s| PathElement::new(s.clone(), color.stroke_width(STROKE))),
+                )?;
+            }
             if c.dots.is_empty() {
+                continue;
+            }
+            if c.style == Style::Dots {
+                let mut seen = std::collections::HashSet::new();
+                let mut d = String::new();
+                for p in &c.dots {
+                    let (x, y) = chart.backend_coord(p);
+                    if seen.insert((x, y)) {
+                        d += &format!("M{x} {y}h0");
+                    }
+                }
+                dot_paths += &format!(
+                    "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{DOT_WIDTH}\" \
+                     stroke-linecap=\"round\"/>\n",
+                    svg_color(color)
+                );
                 continue;
             }
             let r = c.dot_radius();
@@ -1222,7 +1543,7 @@ impl Layout {
         }
 
         self.draw_legend(&legend_area)?;
-        Ok(())
+        Ok(dot_paths)
     }
 
     /// Draw the legend box in its column.
@@ -1264,11 +1585,22 @@ impl Layout {
             let c = &self.curves[e.curve];
             let color = c.color();
             let yc = (y + 0.5 * line_h).round() as i32;
-            if c.style.line() {
-                area.draw(&PathElement::new(
-                    vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)],
+            let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
+            if c.style.line() && c.coincides_with.is_some() {
+                area.draw(&DashedPathElement::new(
+                    swatch,
+                    DASH.0,
+                    DASH.1,
                     color.stroke_width(STROKE),
                 ))?;
+            } else if c.style.line() {
+                area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?;
+            }
+            if c.style == Style::Dots {
+                for k in 0..3 {
+                    let at = ((sx + (0.2 + 0.3 * k as f64) * SWATCH_W) as i32, yc);
+                    area.draw(&Circle::new(at, STROKE as i32, color.filled()))?;
+                }
             }
             if c.style.markers() {
                 let r = c.style.marker_radius();
@@ -1367,8 +1699,16 @@ mod tests {
         let mut exact = wp_series(&[(0.0, 2e-3), (1e-12, 1e-2)]);
         exact.label = "exact".into();
         c.push(exact);
-        let svg = work_precision(&c).to_svg_string().unwrap();
-        assert!(svg.contains("final error (0 drawn at 1e\u{2212}13)"));
+        let r = work_precision(&c).render().unwrap();
+        let svg = r.svg.clone();
+        assert!(
+            r.notes
+                .iter()
+                .any(|n| n.contains("final error") && n.contains("drawn at 1e\u{2212}13")),
+            "{:?}",
+            r.notes
+        );
+        assert!(!svg.contains("0 drawn at"));
         assert!(svg.contains("wall time [s]"));
         assert!(svg.contains("exact"));
         let path = std::env::temp_dir().join(format!("hj-wp-{}.svg", std::process::id()));
@@ -1463,18 +1803,25 @@ mod tests {
             [(0.0, 1e-3), (1e-8, 1e-4), (1e-4, 1e-5)],
             Style::LineMarkers,
         );
-        let svg = fig.to_svg_string().unwrap();
-        // Smallest positive error 1e-8: zeros are drawn a decade lower.
-        assert!(has_text(&svg, "error (0 drawn at 1e\u{2212}9)"), "{svg}");
-        assert!(has_text(&svg, "time [s]"));
-        assert!(!svg.contains("time [s] (0 drawn"));
+        let r = fig.render().unwrap();
+        // Smallest positive error 1e-8: zeros are drawn a decade lower; the caption says so.
+        assert_eq!(
+            r.notes,
+            ["Zeros of \u{201c}error\u{201d} are drawn at 1e\u{2212}9 (logarithmic axis)."]
+        );
+        assert!(has_text(&r.svg, "error"));
+        assert!(has_text(&r.svg, "time [s]"));
         // Without any positive value the floor is 1e-17.
-        let svg = Figure::new("t", "x", "y")
+        let r = Figure::new("t", "x", "y")
             .log_y()
             .curve("a", [(0.0, 0.0), (1.0, 0.0)], Style::Line)
-            .to_svg_string()
+            .render()
             .unwrap();
-        assert!(has_text(&svg, "y (0 drawn at 1e\u{2212}17)"));
+        assert!(
+            r.notes[0].contains("drawn at 1e\u{2212}17"),
+            "{:?}",
+            r.notes
+        );
         assert_eq!(zero_floor([3e-7, 2.0].into_iter()), 1e-8);
         assert_eq!(zero_floor([1e-6].into_iter()), 1e-7);
     }
@@ -1607,8 +1954,8 @@ mod tests {
                 .equal_aspect()
                 .curve("ellipse", ellipse, Style::Line);
         let layout = Layout::new(&fig).unwrap();
-        let plot_w = (WIDTH - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
-        let plot_h = (HEIGHT - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
+        let plot_w = (layout.width - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
+        let plot_h = (layout.height - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
         let ux = (layout.x_range.1 - layout.x_range.0) / plot_w;
         let uy = (layout.y_range.1 - layout.y_range.0) / plot_h;
         assert!((ux / uy - 1.0).abs() < 1e-9, "{ux} {uy}");
@@ -1647,5 +1994,109 @@ mod tests {
         let lines = wrap("averyveryveryveryveryveryveryverylongword", 100.0, 14.0);
         assert!(lines.len() >= 2);
         assert!(lines.iter().all(|l| text_width(l, 14.0) <= 100.0));
+    }
+
+    /// A figure with every kind of curve, thinning, zeros on a log axis and awkward labels.
+    fn busy_figure() -> Figure {
+        let long: Vec<(f64, f64)> = (0..20_000)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                (t, 1e-12 * (1.0 + t) * (1.0 + (37.0 * t).sin().abs()))
+            })
+            .collect();
+        Figure::new("busy, \"quoted\"\nand broken", "t", "|ΔE/E|")
+            .log_y()
+            .caption("A caption, with a comma.")
+            .curve("thinned, \"label\"\r\n", long.clone(), Style::Line)
+            .curve(" padded ", long, Style::Line)
+            .curve(
+                "zeros",
+                [(0.0, 0.0), (1.0, 1e-10), (2.0, f64::NAN)],
+                Style::LineMarkers,
+            )
+            .curve("dots", [(3.0, 1e-9), (4.0, 2e-9)], Style::Dots)
+            .size(Size::column())
+    }
+
+    #[test]
+    fn data_file_holds_every_point_and_redraws_the_same_svg() {
+        let fig = busy_figure();
+        let r = fig.render().unwrap();
+        // The long curves are thinned for drawing; the notes say so; the second coincides.
+        assert!(
+            r.notes.iter().any(|n| n.contains("thinned for drawing")),
+            "{:?}",
+            r.notes
+        );
+        assert!(
+            r.notes.iter().any(|n| n.contains("coincides with")),
+            "{:?}",
+            r.notes
+        );
+        assert!(
+            r.notes.iter().any(|n| n.contains("Zeros of")),
+            "{:?}",
+            r.notes
+        );
+        for format in [DataFormat::Csv, DataFormat::Npy] {
+            let dir = std::env::temp_dir().join(format!(
+                "hj-plot-data-{}-{}",
+                std::process::id(),
+                format.key()
+            ));
+            std::fs::create_dir_all(&dir).unwrap();
+            let stem = dir.join("busy.fig");
+            let files = fig.write(&stem, &[Format::Svg], format).unwrap();
+            assert!(files.iter().any(|f| f.ends_with("busy.fig.caption.txt")));
+            let back = data::read(&with_suffix(&stem, "csv")).unwrap();
+            assert_eq!(back.curves.len(), fig.curves.len());
+            for (a, b) in back.curves.iter().zip(&fig.curves) {
+                assert_eq!(a.label, b.label);
+                assert_eq!(a.style, b.style);
+                assert_eq!(a.points.len(), b.points.len());
+                for (p, q) in a.points.iter().zip(&b.points) {
+                    assert!(p.0.to_bits() == q.0.to_bits());
+                    assert!(p.1.to_bits() == q.1.to_bits() || (p.1.is_nan() && q.1.is_nan()));
+                }
+            }
+            let svg = std::fs::read_to_string(with_suffix(&stem, "svg")).unwrap();
+            assert_eq!(back.to_svg_string().unwrap(), svg);
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
+
+    #[test]
+    fn sections_of_many_points_are_one_compact_path() {
+        // A quasi-periodic cloud of 10^5 points.
+        let pts: Vec<(f64, f64)> = (0..100_000)
+            .map(|i| {
+                let a = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
+                let r = 0.2 + 0.1 * (i % 7) as f64;
+                (r * a.cos(), 0.5 * r * a.sin())
+            })
+            .collect();
+        let svg = Figure::new("section", "y", "p_y")
+            .equal_aspect()
+            .curve("orbit", pts, Style::Dots)
+            .to_svg_string()
+            .unwrap();
+        assert_eq!(svg.matches("stroke-linecap=\"round\"").count(), 1);
+        assert!(svg.len() < 2_000_000, "{}", svg.len());
+        assert!(svg.contains("width=\"6.4in\""));
+    }
+
+    #[test]
+    fn png_and_pdf_are_rendered_from_the_svg() {
+        let fig = busy_figure();
+        let svg = fig.to_svg_string().unwrap();
+        let png = render::png(&svg, &fig.size).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        // Width and height in the IHDR chunk: 3.4 in × 2.4 in at 300 dpi.
+        let w = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+        let h = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+        assert_eq!((w, h), (1020, 720));
+        let pdf = render::pdf(&svg).unwrap();
+        assert!(pdf.starts_with(b"%PDF"));
+        assert!(render::png("<svg", &fig.size).is_err());
     }
 }
