@@ -26,7 +26,7 @@
 //! `note` lines (what the drawing adds to the caption) are derived and ignored on reading.
 //!
 //! For large outputs ([`DataFormat::Npy`]) the points go to `NAME.npy` instead, a NumPy array
-//! of `float64` of shape `(N, 3)` with columns series, x, y (NumPy format 1.0), which the CSV's
+//! of `float64` of shape `(N, 4)` with columns panel, series, x, y (NumPy format 1.0), which the CSV's
 //! header names in a `# points:` line; the CSV then holds the header only.
 
 use super::{Figure, Rendered, Scale, Size, Style};
@@ -126,6 +126,9 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
     );
     line("size", &fig.size.describe());
     line("caption", &fig.caption);
+    for (p, y) in fig.panel_labels.iter().enumerate() {
+        line(&format!("panel {p}"), y);
+    }
     for n in &rendered.notes {
         line("note", n);
     }
@@ -139,7 +142,7 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
         let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
         line(
             "points",
-            &format!("{name} (float64, shape ({n}, 3): series, x, y)"),
+            &format!("{name} (float64, shape ({n}, 4): panel, series, x, y)"),
         );
     }
     let mut out = format!("{MAGIC}\n{out}{COLUMNS}\n");
@@ -147,23 +150,23 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
         for (i, c) in fig.curves.iter().enumerate() {
             let label = csv_field(&c.label);
             for &(x, y) in &c.points {
-                out += &format!("0,{i},{label},{},{}\n", num(x), num(y));
+                out += &format!("{},{i},{label},{},{}\n", c.panel, num(x), num(y));
             }
         }
     }
     out
 }
 
-/// Every point of the figure as a NumPy array of shape `(N, 3)`: series, x, y.
+/// Every point of the figure as a NumPy array of shape `(N, 4)`: panel, series, x, y.
 pub fn points_npy(fig: &Figure) -> Vec<u8> {
     let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
-    let mut values = Vec::with_capacity(3 * n);
+    let mut values = Vec::with_capacity(4 * n);
     for (i, c) in fig.curves.iter().enumerate() {
         for &(x, y) in &c.points {
-            values.extend([i as f64, x, y]);
+            values.extend([c.panel as f64, i as f64, x, y]);
         }
     }
-    npy(&[n, 3], &values)
+    npy(&[n, 4], &values)
 }
 
 /// A NumPy `.npy` file (format version 1.0) of little-endian `float64` values in C order of
@@ -352,6 +355,12 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
                 let name = value.split(" (").next().unwrap_or_default().to_string();
                 points_file = Some(name);
             }
+            k if k.starts_with("panel ") => {
+                if k[6..].parse() != Ok(fig.panel_labels.len()) {
+                    return Err(bad(format!("panel out of order in {l:?}")));
+                }
+                fig.panel_labels.push(value);
+            }
             k if k.starts_with("series ") => {
                 let i: usize = k[7..]
                     .parse()
@@ -369,6 +378,7 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
             _ => {}
         }
     }
+    let mut panels: Vec<(usize, usize)> = Vec::new();
     let mut push = |series: f64, x: f64, y: f64| -> Result<()> {
         let i = series as usize;
         match fig.curves.get_mut(i) {
@@ -383,13 +393,17 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
     };
     if let Some(name) = points_file {
         let (shape, values) = read_npy(&npy(&name)?)?;
-        if shape.len() != 2 || shape[1] != 3 {
+        if shape.len() != 2 || shape[1] != 4 {
             return Err(bad(format!(
-                "{name}: expected shape (N, 3), found {shape:?}"
+                "{name}: expected shape (N, 4), found {shape:?}"
             )));
         }
-        for v in values.chunks_exact(3) {
-            push(v[0], v[1], v[2])?;
+        for v in values.chunks_exact(4) {
+            if !(v[0] >= 0.0 && v[0] < 1e6 && v[0].fract() == 0.0) {
+                return Err(bad(format!("{name}: not a panel number: {}", v[0])));
+            }
+            panels.push((v[1] as usize, v[0] as usize));
+            push(v[1], v[2], v[3])?;
         }
     } else {
         let recs = records(text)?;
@@ -410,7 +424,17 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
                 s.parse::<f64>()
                     .map_err(|_| bad(format!("row {}: not a number: {s:?}", k + 1)))
             };
-            push(n(&r[1])?, n(&r[3])?, n(&r[4])?)?;
+            let panel: usize = r[0]
+                .parse()
+                .map_err(|_| bad(format!("row {}: not a panel number: {:?}", k + 1, r[0])))?;
+            let series = n(&r[1])?;
+            panels.push((series as usize, panel));
+            push(series, n(&r[3])?, n(&r[4])?)?;
+        }
+    }
+    for (series, panel) in panels {
+        if let Some(c) = fig.curves.get_mut(series) {
+            c.panel = panel;
         }
     }
     Ok(fig)
@@ -434,8 +458,8 @@ mod tests {
         assert!(read_npy(&bytes[..bytes.len() - 1]).is_err());
         assert!(read_npy(b"nonsense").is_err());
         let one = npy(&[4], &[0.0; 4]);
-        assert_eq!(one.len(), 64 + 32);
-        assert!(String::from_utf8_lossy(&one[10..64]).contains("'shape': (4,)"));
+        assert_eq!((one.len() - 32) % 64, 0);
+        assert!(String::from_utf8_lossy(&one[10..one.len() - 32]).contains("'shape': (4,)"));
     }
 
     #[test]

@@ -212,6 +212,8 @@ pub struct Curve {
     pub points: Vec<(f64, f64)>,
     /// Line, markers or both.
     pub style: Style,
+    /// The panel the curve is drawn in (0 for a figure of one panel).
+    pub panel: usize,
 }
 
 /// A figure: title, axis titles and scales, curves. See the [module documentation](self) for how
@@ -237,6 +239,9 @@ pub struct Figure {
     pub caption: String,
     /// Physical size and font size.
     pub size: Size,
+    /// Vertical axis titles of the panels, from the top, for a figure of several panels sharing
+    /// the horizontal axis (see [`Figure::panels`]); empty for one panel titled `y_label`.
+    pub panel_labels: Vec<String>,
 }
 
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
@@ -274,6 +279,7 @@ impl Figure {
             equal_aspect: false,
             caption: String::new(),
             size: Size::default(),
+            panel_labels: Vec::new(),
         }
     }
 
@@ -309,7 +315,18 @@ impl Figure {
 
     /// Add a curve.
     pub fn curve(
+        self,
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, f64)>,
+        style: Style,
+    ) -> Self {
+        self.curve_in(0, label, points, style)
+    }
+
+    /// Add a curve to panel `panel` (see [`Figure::panels`]).
+    pub fn curve_in(
         mut self,
+        panel: usize,
         label: impl Into<String>,
         points: impl IntoIterator<Item = (f64, f64)>,
         style: Style,
@@ -318,7 +335,18 @@ impl Figure {
             label: label.into(),
             points: points.into_iter().collect(),
             style,
+            panel,
         });
+        self
+    }
+
+    /// Make the figure a column of panels sharing the horizontal axis, with the given vertical
+    /// axis titles (from the top); curves go to a panel with [`Figure::curve_in`]. The title is
+    /// above the first panel, the horizontal axis title below the last, and the legend, beside
+    /// the first panel, is that of its curves (give every panel the same series, in the same
+    /// order, and they keep their colours).
+    pub fn panels<S: Into<String>>(mut self, y_labels: impl IntoIterator<Item = S>) -> Self {
+        self.panel_labels = y_labels.into_iter().map(Into::into).collect();
         self
     }
 
@@ -348,12 +376,18 @@ impl Figure {
     /// [`Error::InvalidInput`] naming the figure.
     pub fn render(&self) -> Result<Rendered> {
         self.size.check()?;
-        let layout = Layout::new(self)?;
-        let (w, h) = (layout.width, layout.height);
+        let (w, h) = self.size.canvas();
+        let layouts = self.layouts()?;
         let mut svg = String::new();
         let dots = {
             let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
-            let dots = layout.draw(&root).map_err(|e| self.error(e))?;
+            let mut dots = String::new();
+            let mut rest = root.clone();
+            for l in &layouts {
+                let (area, below) = rest.split_vertically(l.height);
+                dots += &l.draw(&area).map_err(|e| self.error(e))?;
+                rest = below;
+            }
             root.present().map_err(|e| self.error(e))?;
             dots
         };
@@ -373,8 +407,90 @@ impl Figure {
         }
         Ok(Rendered {
             svg,
-            notes: layout.notes,
+            notes: layouts.into_iter().flat_map(|l| l.notes).collect(),
         })
+    }
+
+    /// The layouts of the panels, from the top (one for a figure of one panel). Panels share
+    /// the canvas width, the legend column and the width of the vertical axes' label area, so
+    /// that their horizontal axes line up.
+    fn layouts(&self) -> Result<Vec<Layout>> {
+        let (w, h) = self.size.canvas();
+        let n_panels = self.panel_labels.len().max(1);
+        if let Some(c) = self.curves.iter().find(|c| c.panel >= n_panels) {
+            return Err(self.error(format!(
+                "the curve {:?} is in panel {}, but the figure has {n_panels} panel(s)",
+                c.label, c.panel
+            )));
+        }
+        if self.panel_labels.len() <= 1 {
+            let mut fig = self.clone();
+            if let Some(y) = self.panel_labels.first() {
+                fig.y_label = y.clone();
+            }
+            return Ok(vec![Layout::new(&fig, Shared::canvas((w, h)))?]);
+        }
+        let n = self.panel_labels.len() as u32;
+        let sub: Vec<Figure> = (0..self.panel_labels.len())
+            .map(|p| {
+                let mut f = Figure::new(
+                    if p == 0 {
+                        self.title.clone()
+                    } else {
+                        String::new()
+                    },
+                    if p + 1 == self.panel_labels.len() {
+                        self.x_label.clone()
+                    } else {
+                        String::new()
+                    },
+                    self.panel_labels[p].clone(),
+                );
+                f.x_scale = self.x_scale;
+                f.y_scale = self.y_scale;
+                f.size = self.size;
+                f.curves = self
+                    .curves
+                    .iter()
+                    .filter(|c| c.panel == p)
+                    .map(|c| Curve {
+                        label: if p == 0 {
+                            c.label.clone()
+                        } else {
+                            String::new()
+                        },
+                        panel: 0,
+                        ..c.clone()
+                    })
+                    .collect();
+                f
+            })
+            .collect();
+        // The first panel carries the title: its height on top of an equal share.
+        let first = Layout::new(&sub[0], Shared::canvas((w, h / n)))?;
+        let share = (h - first.title_h) / n;
+        let heights: Vec<u32> = (0..n)
+            .map(|p| if p == 0 { share + first.title_h } else { share })
+            .collect();
+        let shared = |y_area: Option<u32>, p: usize| Shared {
+            canvas: (w, heights[p]),
+            legend_w: Some(first.legend_w),
+            y_area,
+        };
+        let mut layouts: Vec<Layout> = sub
+            .iter()
+            .enumerate()
+            .map(|(p, f)| Layout::new(f, shared(None, p)))
+            .collect::<Result<_>>()?;
+        let y_area = layouts.iter().map(|l| l.y_area).max();
+        if layouts.iter().any(|l| Some(l.y_area) != y_area) {
+            layouts = sub
+                .iter()
+                .enumerate()
+                .map(|(p, f)| Layout::new(f, shared(y_area, p)))
+                .collect::<Result<_>>()?;
+        }
+        Ok(layouts)
     }
 
     /// The caption with the notes of the drawing `r` of this figure.
@@ -1119,6 +1235,26 @@ struct Entry {
     lines: Vec<String>,
 }
 
+/// What the panels of one figure share: each panel's canvas (the figure's width, its share of
+/// the height), and when given, the legend column's width and the vertical axis label area.
+#[derive(Clone, Copy, Debug)]
+struct Shared {
+    canvas: (u32, u32),
+    legend_w: Option<u32>,
+    y_area: Option<u32>,
+}
+
+impl Shared {
+    /// A panel of the given canvas, sharing nothing.
+    fn canvas(canvas: (u32, u32)) -> Self {
+        Self {
+            canvas,
+            legend_w: None,
+            y_area: None,
+        }
+    }
+}
+
 /// Everything decided before drawing.
 struct Layout {
     /// Canvas width and height in SVG units.
@@ -1150,9 +1286,9 @@ struct Layout {
 
 impl Layout {
     /// Decide everything about the drawing of `fig`; fails if nothing can be drawn.
-    fn new(fig: &Figure) -> Result<Self> {
+    fn new(fig: &Figure, shared: Shared) -> Result<Self> {
         let err = |why: &str| fig.error(why);
-        let (width, height) = fig.size.canvas();
+        let (width, height) = shared.canvas;
         let mut notes: Vec<String> = Vec::new();
         // Zero floors from the points with two finite coordinates.
         let finite = || {
@@ -1353,7 +1489,9 @@ impl Layout {
                 0.0
             }))
             .fold(0.0, f64::max);
-        let legend_w = if legend.is_empty() && legend_more == 0 {
+        let legend_w = if let Some(w) = shared.legend_w {
+            w
+        } else if legend.is_empty() && legend_more == 0 {
             0
         } else {
             (2.0 * LEGEND_PAD + SWATCH_W + SWATCH_GAP + text_w + LEGEND_OUTER).ceil() as u32
@@ -1374,7 +1512,7 @@ impl Layout {
             let need = 1.3 * DESC_PX + 8.0 + yt.max_label_width() + (2 * TICK_LEN) as f64 + 4.0;
             (xr, yr, xt, yt, need.ceil() as u32)
         };
-        let mut y_area = 60u32;
+        let mut y_area = shared.y_area.unwrap_or(60);
         let mut attempt = axes(y_area);
         for _ in 0..4 {
             if attempt.4 <= y_area {
@@ -1552,7 +1690,7 @@ impl Layout {
         area: &DrawingArea<SVGBackend<'a>, Shift>,
     ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
     {
-        if self.legend_w == 0 {
+        if self.legend_w == 0 || (self.legend.is_empty() && self.legend_more == 0) {
             return Ok(());
         }
         let px = self.legend_px;
@@ -1953,7 +2091,7 @@ mod tests {
             Figure::new("orbit", "x", "y")
                 .equal_aspect()
                 .curve("ellipse", ellipse, Style::Line);
-        let layout = Layout::new(&fig).unwrap();
+        let layout = Layout::new(&fig, Shared::canvas(fig.size.canvas())).unwrap();
         let plot_w = (layout.width - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
         let plot_h = (layout.height - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
         let ux = (layout.x_range.1 - layout.x_range.0) / plot_w;
@@ -2098,5 +2236,39 @@ mod tests {
         let pdf = render::pdf(&svg).unwrap();
         assert!(pdf.starts_with(b"%PDF"));
         assert!(render::png("<svg", &fig.size).is_err());
+    }
+
+    #[test]
+    fn panels_share_the_horizontal_axis_and_read_back() {
+        let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.1).collect();
+        let mut fig = Figure::new("elements", "t", "").panels(["a", "e", "Ω"]);
+        for (p, f) in [1.0, 0.1, -0.01].into_iter().enumerate() {
+            fig = fig
+                .curve_in(
+                    p,
+                    "truth",
+                    t.iter().map(|&t| (t, f * t + (5.0 * t).sin() * 1e-3)),
+                    Style::Line,
+                )
+                .curve_in(p, "theory", t.iter().map(|&t| (t, f * t)), Style::Line);
+        }
+        let r = fig.render().unwrap();
+        assert!(has_text(&r.svg, "Ω") && has_text(&r.svg, "truth") && has_text(&r.svg, "elements"));
+        // One legend: two entries.
+        assert_eq!(texts(&r.svg).iter().filter(|t| *t == "truth").count(), 1);
+        let layouts = fig.layouts().unwrap();
+        assert_eq!(layouts.len(), 3);
+        assert!(layouts
+            .iter()
+            .all(|l| l.y_area == layouts[0].y_area && l.legend_w == layouts[0].legend_w));
+        let heights: u32 = layouts.iter().map(|l| l.height).sum();
+        assert!(heights <= fig.size.canvas().1);
+        let back = data::from_csv(&data::to_csv(&fig, &r, None), |_| Ok(Vec::new())).unwrap();
+        assert_eq!(back, fig);
+        assert!(Figure::new("t", "x", "")
+            .panels(["a"])
+            .curve_in(3, "lost", [(0.0, 1.0)], Style::Line)
+            .render()
+            .is_err());
     }
 }

@@ -10,7 +10,7 @@ use super::spec::{
 use crate::error::fmt_num;
 use crate::integrate::methods::Construction;
 use crate::plot::render::parse_length;
-use crate::plot::{Curve, DataFormat, Figure, Format, Size, Style};
+use crate::plot::{DataFormat, Figure, Format, Size, Style};
 use crate::systems::Invariant;
 use crate::workprecision::{sweep, Comparison, Series, Timing};
 use std::path::{Path, PathBuf};
@@ -1023,19 +1023,24 @@ impl Scene {
         Ok(self.figure_artifact("invariants", "output.invariants", fig))
     }
 
-    /// `output.elements`: the osculating elements' departure from their initial values, and a
-    /// note for the table naming the elements a run holds constant to rounding.
+    /// `output.elements`: the osculating-element histories, one panel per element on linear
+    /// axes (angles continued across 2π), every run in each panel; and a note for the table
+    /// naming the elements a run holds constant to rounding.
     fn elements(&self, runs: &[RunSpec], samples: usize) -> Result<(Artifact, String), SceneError> {
         let case = &*self.case;
         let names = case.element_names().unwrap_or(&[]);
         let mut notes = String::new();
-        let mut fig = Figure::new(
-            format!("{} — osculating elements", self.title),
-            "t",
-            "|element(t) − element(0)|",
-        )
-        .log_y();
-        let mut curves: Vec<(Curve, bool)> = Vec::new();
+        let angles: Vec<&str> = names.iter().copied().filter(|n| is_angle(n)).collect();
+        let mut caption = "Osculating elements against time, one panel each.".to_string();
+        if !angles.is_empty() {
+            caption += &format!(
+                " The angles ({}) are in radians, continued across 2π.",
+                angles.join(", ")
+            );
+        }
+        let mut fig = Figure::new(format!("{} — osculating elements", self.title), "t", "")
+            .panels(names.iter().copied())
+            .caption(caption);
         for (label, h) in self.histories(runs, "elements", samples)? {
             let els: Vec<Vec<f64>> =
                 h.q.iter()
@@ -1052,25 +1057,25 @@ impl Scene {
             let mut constant = Vec::new();
             for (j, n) in names.iter().enumerate() {
                 let e0 = els[0][j];
-                let pts: Vec<(f64, f64)> =
-                    h.t.iter()
-                        .zip(&els)
-                        .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
-                        .collect();
+                let mut prev = e0;
+                let mut value = e0;
+                let mut pts = Vec::with_capacity(h.t.len());
+                for (&t, e) in h.t.iter().zip(&els) {
+                    value += if is_angle(n) {
+                        angle_step(e[j], prev)
+                    } else {
+                        e[j] - prev
+                    };
+                    prev = e[j];
+                    pts.push((t, value));
+                }
                 // An element that a theory holds constant differs from its initial value
-                // only by the rounding of the element map (a few ulps): named, and drawn
-                // only if nothing else is.
+                // only by the rounding of the element map (a few ulps).
                 let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
-                let is_constant = pts.iter().all(|&(_, d)| d <= floor);
-                if is_constant {
+                if pts.iter().all(|&(_, v)| (v - e0).abs() <= floor) {
                     constant.push(*n);
                 }
-                let curve = Curve {
-                    label: format!("{n}: {label}"),
-                    points: pts,
-                    style: Style::Line,
-                };
-                curves.push((curve, is_constant));
+                fig = fig.curve_in(j, label.clone(), pts, Style::Line);
             }
             if !constant.is_empty() {
                 notes += &format!(
@@ -1079,13 +1084,6 @@ impl Scene {
                 );
             }
         }
-        let all_constant = curves.iter().all(|c| c.1);
-        fig.curves.extend(
-            curves
-                .into_iter()
-                .filter(|c| all_constant || !c.1)
-                .map(|c| c.0),
-        );
         Ok((
             self.figure_artifact("elements", "output.elements", fig),
             notes,
@@ -1151,15 +1149,14 @@ fn variable(name: &str) -> Option<(bool, usize)> {
     }
 }
 
-/// Differences of the angles Ω, ω and ϖ are taken modulo 2π.
-fn angle_aware_diff(name: &str, x: f64, x0: f64) -> f64 {
-    let d = x - x0;
-    if ["Ω", "ω", "ϖ"].contains(&name) {
-        (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-    } else {
-        d
-    }
-    .abs()
+/// Whether the element named `name` is an angle (Ω, ω, ϖ), continued across 2π.
+fn is_angle(name: &str) -> bool {
+    ["Ω", "ω", "ϖ"].contains(&name)
+}
+
+/// The change of an angle from `x0` to `x`, reduced to `[−π, π)`.
+fn angle_step(x: f64, x0: f64) -> f64 {
+    (x - x0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 fn ensure_parent(path: &Path) -> Result<(), String> {
