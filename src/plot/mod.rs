@@ -1,9 +1,12 @@
-//! General SVG line plots: several labelled curves on linear or logarithmic axes, with a legend
-//! beside the plotting area.
+//! Figures: labelled curves (lines, markers, or dots for sections of many points) on linear or
+//! logarithmic axes, in one panel or a column of panels sharing the horizontal axis, with a
+//! legend beside the plotting area. The library returns data; this module (feature `cli`) draws
+//! it.
 //!
 //! A [`Figure`](crate::plot::Figure) is built with a few chained calls and written with
-//! [`Figure::to_svg`](crate::plot::Figure::to_svg) (or returned as text by
-//! [`Figure::to_svg_string`](crate::plot::Figure::to_svg_string)):
+//! [`Figure::write`](crate::plot::Figure::write) — SVG, PNG and PDF at its [`Size`], the data
+//! file beside it ([`data`]) and the caption — or drawn by
+//! [`Figure::render`](crate::plot::Figure::render):
 //!
 //! ```no_run
 //! use hamilton_jacobi::plot::{Figure, Style};
@@ -17,7 +20,8 @@
 //! # Ok::<(), hamilton_jacobi::Error>(())
 //! ```
 //!
-//! The drawing is 900 × 600 pixels:
+//! The drawing is laid out on a canvas whose size follows the figure's physical size and font
+//! size ([`render`]): text keeps its size in points at any figure size.
 //!
 //! * **Legend.** The legend sits in a column to the right of the plotting area, as wide as the
 //!   longest label needs (at most a third of the figure; longer labels are wrapped onto several
@@ -34,7 +38,10 @@
 //!   legend label says how many were omitted, e.g. "(3 non-finite points omitted)".
 //! * **Zeros on a logarithmic axis.** A coordinate of exactly 0 on a logarithmic axis is drawn at
 //!   a floor: the power of ten at least one decade below the smallest positive value on that axis
-//!   (10⁻¹⁷ if there is none), and the axis title says so, e.g. "error (0 drawn at 1e−17)".
+//!   (10⁻¹⁷ if there is none), and the caption says so (the axis title stays short).
+//! * **Coinciding curves.** A line that lies within the line width of an earlier one at every
+//!   point is drawn dashed, and its legend entry and the caption say which curve it coincides
+//!   with.
 //! * **Ranges and ticks.** Ranges cover every drawable point, padded by 5 % of the span on a linear
 //!   axis and by a factor 2 on a logarithmic one; a range of a single value is widened (±10 % of
 //!   the value, ±1 if it is 0; one decade either side on a logarithmic axis). Logarithmic axes are
@@ -47,10 +54,13 @@
 //!   has the same length on both axes (on a logarithmic axis: one decade), the shorter range being
 //!   widened about its centre — for orbits and phase portraits.
 //! * **Large curves.** A curve with more than [`MAX_DRAWN_POINTS`](crate::plot::MAX_DRAWN_POINTS)
-//!   drawable points is thinned for drawing: every k-th point is kept, together with the first and
-//!   last point of every unbroken stretch. With many curves the allowance per curve is lower: the
+//!   drawable points is thinned for drawing: a line keeps the first, lowest, highest and last
+//!   point of every run of consecutive points (so that an oscillation keeps its envelope, without
+//!   aliasing), markers every k-th point. With many curves the allowance per curve is lower: the
 //!   lines of a figure share 32 000 points (at least 1 000 per curve) and its markers 6 000 (at
-//!   least 300 per curve), so that files stay below about a megabyte.
+//!   least 300 per curve), so that files stay below about a megabyte. The legend entry says how
+//!   many points are drawn, the caption how, and the data file keeps them all. Dots
+//!   ([`Style::Dots`]) are never thinned; they are drawn as one path, one dot per canvas unit.
 //! * **Errors.** A figure without a single drawable point is an error, not a blank file, as is a
 //!   range too wide to represent in floating point.
 
@@ -466,16 +476,30 @@ impl Figure {
                 f
             })
             .collect();
-        // The first panel carries the title: its height on top of an equal share.
-        let first = Layout::new(&sub[0], Shared::canvas((w, h / n)))?;
-        let share = (h - first.title_h) / n;
+        // The first panel carries the title and the legend (which may reach down beside the
+        // others), the last the horizontal axis' labels; the plots share the rest equally.
+        let legend_h = Some(f64::from(h));
+        let first = Layout::new(
+            &sub[0],
+            Shared {
+                legend_h,
+                x_labels: false,
+                ..Shared::canvas((w, h / n))
+            },
+        )?;
+        let extra = x_label_area(true) - x_label_area(false);
+        let share = h.saturating_sub(first.title_h + extra) / n;
         let heights: Vec<u32> = (0..n)
-            .map(|p| if p == 0 { share + first.title_h } else { share })
+            .map(|p| {
+                share + if p == 0 { first.title_h } else { 0 } + if p + 1 == n { extra } else { 0 }
+            })
             .collect();
         let shared = |y_area: Option<u32>, p: usize| Shared {
             canvas: (w, heights[p]),
             legend_w: Some(first.legend_w),
             y_area,
+            legend_h,
+            x_labels: p + 1 == n as usize,
         };
         let mut layouts: Vec<Layout> = sub
             .iter()
@@ -1242,6 +1266,11 @@ struct Shared {
     canvas: (u32, u32),
     legend_w: Option<u32>,
     y_area: Option<u32>,
+    /// Height the legend may take (default: the panel's).
+    legend_h: Option<f64>,
+    /// Whether the horizontal axis has tick labels and its title (panels above the last have
+    /// neither).
+    x_labels: bool,
 }
 
 impl Shared {
@@ -1251,12 +1280,25 @@ impl Shared {
             canvas,
             legend_w: None,
             y_area: None,
+            legend_h: None,
+            x_labels: true,
         }
+    }
+}
+
+/// Height of the area below the plot: tick marks, and with labels, tick labels and axis title.
+fn x_label_area(labels: bool) -> u32 {
+    if labels {
+        ((2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX).ceil() as u32
+    } else {
+        (TICK_LEN + 6) as u32
     }
 }
 
 /// Everything decided before drawing.
 struct Layout {
+    /// Whether the horizontal axis is labelled.
+    x_labels: bool,
     /// Canvas width and height in SVG units.
     width: u32,
     height: u32,
@@ -1351,14 +1393,20 @@ impl Layout {
         let marker_cap = cap(Style::markers, MARKER_BUDGET, MIN_MARKERS_PER_CURVE);
         for c in &mut curves {
             c.thin(line_cap, marker_cap);
-            let drawn = c.lines.iter().map(Vec::len).sum::<usize>()
-                + if c.style.line() { 0 } else { c.dots.len() };
+            let lone = c.segments.iter().filter(|s| s.len() == 1).count();
+            let line_drawn = c.lines.iter().map(Vec::len).sum::<usize>() + lone;
+            let (drawn, what) = if c.style.line() && line_drawn < c.drawable {
+                (
+                    line_drawn,
+                    "the line drawn through the first, lowest, highest and last of every run of \
+                     consecutive points",
+                )
+            } else if c.style.markers() && c.dots.len() < c.drawable {
+                (c.dots.len(), "markers at every k-th point")
+            } else {
+                (c.drawable, "")
+            };
             if drawn < c.drawable {
-                let what = if c.style.line() {
-                    "drawn through the first, lowest, highest and last of every run of consecutive points"
-                } else {
-                    "markers at every k-th point"
-                };
                 notes.push(format!(
                     "{}: thinned for drawing, {drawn} of {} points shown ({what}); the data file holds every point.",
                     name_of(&c.label, c.index),
@@ -1404,8 +1452,7 @@ impl Layout {
 
         // Legend: column width from the labels, font shrunk if the entries do not fit the height.
         let body_h = (height - title_h) as f64;
-        let x_area = (2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX;
-        let x_area = x_area.ceil() as u32;
+        let x_area = x_label_area(shared.x_labels);
         let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
 
         // Curves that lie within the line width of an earlier one everywhere are drawn dashed,
@@ -1437,7 +1484,7 @@ impl Layout {
                     with_note(&curves[j].label, &format!("dashed: coincides with {other}"));
             }
         }
-        let avail_h = body_h - MARGIN.0 as f64 - 10.0;
+        let avail_h = shared.legend_h.unwrap_or(body_h) - MARGIN.0 as f64 - 10.0;
         let max_text_w =
             width as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
         let labelled: Vec<usize> = (0..curves.len())
@@ -1536,6 +1583,7 @@ impl Layout {
         let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
 
         Ok(Self {
+            x_labels: shared.x_labels,
             width,
             height,
             notes,
@@ -1587,7 +1635,13 @@ impl Layout {
             .x_label_area_size(self.x_area)
             .y_label_area_size(self.y_area)
             .build_cartesian_2d(x_spec, y_spec)?;
-        let fx = |v: &f64| self.x_ticks.label(*v);
+        let fx = |v: &f64| {
+            if self.x_labels {
+                self.x_ticks.label(*v)
+            } else {
+                String::new()
+            }
+        };
         let fy = |v: &f64| self.y_ticks.label(*v);
         chart
             .configure_mesh()

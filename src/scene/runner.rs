@@ -969,12 +969,22 @@ impl Scene {
             case.energy(h.t[0], &h.q[0], &h.p[0])
                 .map_err(|e| self.err("output.energy_error", e))?
         };
-        let (scale, axis) = if h0 != 0.0 {
-            (h0.abs(), "|H(t) − H(0)| / |H(0)|")
+        let (scale, axis, caption) = if h0 != 0.0 {
+            (
+                h0.abs(),
+                "|ΔH / H₀|",
+                "Relative energy error |H(t) − H(0)| / |H(0)| along each run.",
+            )
         } else {
-            (1.0, "|H(t) − H(0)|  (H(0) = 0)")
+            (
+                1.0,
+                "|ΔH|",
+                "Energy error |H(t) − H(0)| along each run (absolute: H(0) = 0).",
+            )
         };
-        let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis).log_y();
+        let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis)
+            .log_y()
+            .caption(caption);
         for (label, h) in runs {
             let mut pts = Vec::with_capacity(h.t.len());
             for k in 0..h.t.len() {
@@ -994,9 +1004,13 @@ impl Scene {
         let mut fig = Figure::new(
             format!("{} — conserved quantities", self.title),
             "t",
-            "|I(t) − I(0)| / |I(0)|  (absolute where I(0) = 0)",
+            "|ΔI / I₀|",
         )
-        .log_y();
+        .log_y()
+        .caption(
+            "Relative change |I(t) − I(0)| / |I(0)| of each conserved quantity I along each run \
+             (absolute where I(0) = 0).",
+        );
         for (label, h) in self.histories(runs, "invariants", samples)? {
             let values: Vec<Vec<Invariant>> = (0..h.t.len())
                 .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
@@ -1128,8 +1142,20 @@ impl Scene {
                 Content::Figure(fig) => fig,
                 Content::WorkPrecision(c) => crate::plot::work_precision(&c),
             };
+            // A figure of several panels is taller: a quarter of the height more per panel.
+            let mut size = setup.size;
+            let panels = fig.panel_labels.len();
+            if panels > 1 {
+                let taller = Size {
+                    height: size.height * (1.0 + 0.25 * (panels - 1) as f64),
+                    ..size
+                };
+                if taller.check().is_ok() {
+                    size = taller;
+                }
+            }
             let written = fig
-                .size(setup.size)
+                .size(size)
                 .write(&path, &setup.formats, setup.data)
                 .map_err(|e| self.err(a.key, e))?;
             files.extend(written);
