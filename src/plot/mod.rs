@@ -4,8 +4,8 @@
 //! it.
 //!
 //! A [`Figure`](crate::plot::Figure) is built with a few chained calls and written with
-//! [`Figure::write`](crate::plot::Figure::write) — SVG, PNG and PDF at its [`Size`], the data
-//! file beside it ([`data`]) and the caption — or drawn by
+//! [`Figure::write`](crate::plot::Figure::write) — SVG, PNG and PDF at its [`Size`](crate::plot::Size), the data
+//! file beside it ([`data`](crate::plot::data)) and the caption — or drawn by
 //! [`Figure::render`](crate::plot::Figure::render):
 //!
 //! ```no_run
@@ -21,7 +21,7 @@
 //! ```
 //!
 //! The drawing is laid out on a canvas whose size follows the figure's physical size and font
-//! size ([`render`]): text keeps its size in points at any figure size.
+//! size ([`render`](crate::plot::render)): text keeps its size in points at any figure size.
 //!
 //! * **Legend.** The legend sits in a column to the right of the plotting area, as wide as the
 //!   longest label needs (at most a third of the figure; longer labels are wrapped onto several
@@ -60,7 +60,7 @@
 //!   lines of a figure share 32 000 points (at least 1 000 per curve) and its markers 6 000 (at
 //!   least 300 per curve), so that files stay below about a megabyte. The legend entry says how
 //!   many points are drawn, the caption how, and the data file keeps them all. Dots
-//!   ([`Style::Dots`]) are never thinned; they are drawn as one path, one dot per canvas unit.
+//!   ([`Style::Dots`](crate::plot::Style::Dots)) are never thinned; they are drawn as one path, one dot per canvas unit.
 //! * **Errors.** A figure without a single drawable point is an error, not a blank file, as is a
 //!   range too wide to represent in floating point.
 
