@@ -11,7 +11,8 @@ pub mod integrate;
 pub mod lagrangian;
 pub mod perturbation;
 pub mod phase;
-/// SVG line plots (linear or logarithmic axes, legend beside the plot), built on plotters.
+/// Figures (lines, markers, dots, panels; linear or logarithmic axes) in SVG, PNG and PDF, with
+/// the data behind them.
 #[cfg(feature = "cli")]
 pub mod plot;
 #[cfg(feature = "cli")]

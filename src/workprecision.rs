@@ -272,9 +272,12 @@ impl Comparison {
     }
 }
 
-/// A CSV field, quoted when it holds a comma, a quote or a newline (RFC 4180).
-pub(crate) fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
+/// A CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, a quote, a
+/// carriage return or a line feed, or begins or ends with white space (which readers would
+/// otherwise trim); as it is otherwise. The crate's one quoting rule: tables and figure data.
+pub fn csv_field(s: &str) -> String {
+    let padded = s.starts_with(char::is_whitespace) || s.ends_with(char::is_whitespace);
+    if padded || s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
         s.to_string()

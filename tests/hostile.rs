@@ -30,6 +30,7 @@ use hamilton_jacobi::phase::State;
 use hamilton_jacobi::series::{
     expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
 };
+use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Size, Style};
 use hamilton_jacobi::special::elliptic;
 use hamilton_jacobi::special::kepler_equation::{self, Conic};
 use hamilton_jacobi::special::stumpff;
@@ -1733,6 +1734,204 @@ struct Counts {
     skipped: usize,
 }
 
+/// A figure's size as the documented contract bounds it (1…40 in, 4…48 pt, 30…1200 dpi, at
+/// most 6.4·10⁷ pixels, a canvas of at least 320 × 220 units of 1/14 of the font size).
+fn size_is_valid(a: &[f64]) -> bool {
+    let (w, h, f, d) = (a[0], a[1], a[2], a[3]);
+    let inside = |v: f64, lo: f64, hi: f64| v.is_finite() && (lo..=hi).contains(&v);
+    inside(w, 1.0, 40.0)
+        && inside(h, 1.0, 40.0)
+        && inside(f, 4.0, 48.0)
+        && inside(d, 30.0, 1200.0)
+        && w * h * d * d <= 6.4e7
+        && w * 72.0 * 14.0 / f >= 320.0
+        && h * 72.0 * 14.0 / f >= 220.0
+}
+
+/// A drawn figure: SVG text that closes.
+fn drawn(r: plot::Rendered) -> Verdict {
+    if r.svg.trim_end().ends_with("</svg>") {
+        Good
+    } else {
+        Wrong("the SVG is not closed".into())
+    }
+}
+
+fn add_plots(c: &mut Vec<Call>) {
+    let size = |a: &[f64]| Size {
+        width: a[0],
+        height: a[1],
+        font_size: a[2],
+        dpi: a[3],
+    };
+    let line = || Figure::new("f", "x", "y").curve("c", [(0.0, 1.0), (1.0, 2.0)], Style::Line);
+    // Sizes: every field hostile, 0, negative, a billion pixels — refused before drawing.
+    let nominal = [3.4, 2.4, 8.0, 300.0];
+    let extra = [
+        (0, -1.0),
+        (1, 1e9),
+        (2, 1000.0),
+        (3, 1e9),
+        (0, 40.0),
+        (3, 1200.0),
+    ];
+    sweep(c, "Figure::render(size)", &nominal, &extra, move |a| {
+        judge(line().size(size(a)).render(), size_is_valid(a), drawn)
+    });
+    sweep(c, "plot::render::png", &nominal, &extra, move |a| {
+        let svg = line().to_svg_string().unwrap_or_default();
+        judge(plot::render::png(&svg, &size(a)), size_is_valid(a), |png| {
+            if png.starts_with(b"\x89PNG") {
+                Good
+            } else {
+                Wrong("not a PNG".into())
+            }
+        })
+    });
+    // Points: hostile coordinates are omitted (and noted), never drawn as garbage.
+    sweep(
+        c,
+        "Figure::render(points)",
+        &[0.0, 1e-3, 1.0, 2.0],
+        &[],
+        |a| {
+            let fig = |log: bool| {
+                let f = Figure::new("f", "x", "y").curve(
+                    "c",
+                    [(a[0], a[1]), (a[2], a[3])],
+                    Style::Line,
+                );
+                if log {
+                    f.log_y()
+                } else {
+                    f
+                }
+            };
+            all([
+                judge(fig(false).render(), true, drawn),
+                judge(fig(true).render(), true, drawn),
+                judge(
+                    Figure::new("f", "x", "y")
+                        .curve("d", [(a[0], a[1]), (a[2], a[3])], Style::Dots)
+                        .render(),
+                    true,
+                    drawn,
+                ),
+            ])
+        },
+    );
+    // Lengths with hostile numbers and units.
+    sweep(
+        c,
+        "plot::render::parse_length",
+        &[3.4, 300.0],
+        &[(0, -2.0)],
+        |a| {
+            let valid = a[0].is_finite() && a[0] > 0.0;
+            let valid_px = valid
+                && a[1].is_finite()
+                && a[1] > 0.0
+                && (a[0] / a[1]).is_finite()
+                && a[0] / a[1] > 0.0;
+            all([
+                judge(
+                    plot::render::parse_length(&format!("{}in", a[0]), a[1]),
+                    valid,
+                    |v| finite_ok("length", v),
+                ),
+                judge(
+                    plot::render::parse_length(&format!("{}px", a[0]), a[1]),
+                    valid_px,
+                    |v| finite_ok("length", v),
+                ),
+            ])
+        },
+    );
+    // Empty data, points out of every panel, text that is not a figure's data, truncated
+    // NumPy files, unwritable paths: typed errors.
+    let typed = |what: &str, r: bool| {
+        if r {
+            Typed
+        } else {
+            Wrong(format!("{what} was accepted"))
+        }
+    };
+    sized(c, "Figure::render(empty)", &[0, 1, 100_000], move |n| {
+        let nan = vec![(f64::NAN, 0.0); n];
+        all([
+            typed("no curves", Figure::new("f", "x", "y").render().is_err()),
+            typed(
+                "only NaN points",
+                Figure::new("f", "x", "y")
+                    .curve("c", nan.clone(), Style::Dots)
+                    .curve("e", [], Style::Line)
+                    .render()
+                    .is_err(),
+            ),
+            typed(
+                "a curve outside the panels",
+                Figure::new("f", "x", "")
+                    .panels(["a", "b"])
+                    .curve_in(2 + n, "c", [(0.0, 1.0)], Style::Line)
+                    .render()
+                    .is_err(),
+            ),
+        ])
+    });
+    sized(c, "plot::data::from_csv", &[0, 1, 7, 64], |n| {
+        let texts = [
+            String::new(),
+            "# hamilton-jacobi figure data\n".to_string(),
+            format!("# hamilton-jacobi figure data\n# series 0: line: c\npanel,series,label,x,y\n0,{n},c,1,2\n"),
+            "# hamilton-jacobi figure data\n# series 0: line: c\npanel,series,label,x,y\n0,0,\"c,1,2\n"
+                .to_string(),
+            format!("# hamilton-jacobi figure data\n# size: {n}in x 0in, 9pt, 150dpi\n"),
+            "# hamilton-jacobi figure data\n# points: p.npy\n".to_string(),
+        ];
+        all(texts.iter().enumerate().map(|(k, t)| {
+            let npy = plot::data::npy(&[n, 4], &vec![f64::NAN; 4 * n]);
+            let r = plot::data::from_csv(t, |_| Ok(npy[..npy.len().saturating_sub(1)].to_vec()));
+            // Only the empty series (n = 0) with a valid header may parse.
+            match r {
+                Err(_) => Typed,
+                Ok(f) if k == 1 || (k == 2 && n == 0) => {
+                    if f.render().is_err() {
+                        Typed
+                    } else {
+                        Good
+                    }
+                }
+                Ok(_) => Wrong(format!("text {k} accepted")),
+            }
+        }))
+    });
+    sized(c, "plot::data::read_npy", &[0, 9, 10, 200], move |n| {
+        let bytes = plot::data::npy(&[3, 4], &[1.0; 12]);
+        let cut = &bytes[..n.min(bytes.len() - 1)];
+        typed("a truncated NumPy file", plot::data::read_npy(cut).is_err())
+    });
+    sized(c, "Figure::write(unwritable)", &[0, 1], move |n| {
+        let stem = std::path::Path::new("/nonexistent-hj-dir/sub/figure");
+        let data = if n == 0 {
+            DataFormat::Csv
+        } else {
+            DataFormat::Npy
+        };
+        all([
+            typed(
+                "an unwritable path",
+                line()
+                    .write(stem, &[Format::Svg, Format::Png, Format::Pdf], data)
+                    .is_err(),
+            ),
+            typed(
+                "a missing data file",
+                plot::data::read(&stem.with_extension("csv")).is_err(),
+            ),
+        ])
+    });
+}
+
 fn run(call: Call) -> (String, std::result::Result<Verdict, &'static str>) {
     let (tx, rx) = mpsc::channel();
     let label = call.label;
@@ -1765,6 +1964,7 @@ fn every_entry_point_survives_hostile_input() {
     add_theories(&mut calls);
     add_brouwer(&mut calls);
     add_series(&mut calls);
+    add_plots(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())

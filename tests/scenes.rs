@@ -219,6 +219,7 @@ fn quick(out: &Path) -> RunOptions {
             max_runs: 1,
         },
         progress: false,
+        figures: Default::default(),
     }
 }
 
@@ -289,10 +290,16 @@ samples = 50
     let kl = error_of("Kahan–Li, 17 stages, order 8");
     assert!(kl < 1e-6 && kl > 1e-15, "{kl}");
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-energy-error.svg")).unwrap();
-    // The legend names the run by its label and knob (wrapped onto two lines).
+    // The legend names the run by its label and knob (wrapped onto several lines); the data
+    // file beside the figure names it in full.
     assert!(
-        svg.contains("Kahan–Li, 17 stages, order 8") && svg.contains("(400 steps)"),
-        "legend missing"
+        svg.contains("Kahan–Li,") && svg.contains("order 8") && svg.contains("(400 steps)"),
+        "legend missing: {svg}"
+    );
+    let data = std::fs::read_to_string(out.join("figures/kepler-check-energy-error.csv")).unwrap();
+    assert!(
+        data.contains("\"Kahan–Li, 17 stages, order 8 (400 steps)\""),
+        "label missing from the data: {data}"
     );
     // Every invariant the Kepler problem knows is drawn.
     let svg = std::fs::read_to_string(out.join("figures/kepler-check-invariants.svg")).unwrap();
@@ -498,7 +505,8 @@ fn readme_scene_example_is_valid() {
     let s =
         scene::parse("README.md", block, &Catalogue::builtin()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.name(), "pendulum-large");
-    assert_eq!(s.planned_outputs().len(), 6);
+    // Two tables; four figures, each as SVG and PNG with its data and caption.
+    assert_eq!(s.planned_outputs().len(), 2 + 4 * 4);
 }
 
 /// Inputs that would otherwise fail late or mean nothing are refused up front, naming the key.
@@ -573,10 +581,14 @@ samples = 20
     let s = scene::parse("c.toml", text, &Catalogue::builtin()).unwrap();
     let out = temp_dir("constant");
     let summary = s.run(&quick(&out)).unwrap();
-    assert!(out.join("figures/constant-elements-elements.svg").is_file());
+    for ext in ["svg", "png", "csv", "caption.txt"] {
+        assert!(out
+            .join(format!("figures/constant-elements-elements.{ext}"))
+            .is_file());
+    }
     let md = std::fs::read_to_string(out.join("tables/constant-elements.md")).unwrap();
     assert!(md.contains("Elements constant to rounding"), "{md}");
-    assert_eq!(summary.files.len(), 3);
+    assert_eq!(summary.files.len(), 2 + 4);
     std::fs::remove_dir_all(&out).ok();
 }
 

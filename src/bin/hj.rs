@@ -4,12 +4,21 @@
 //! * `hj list` — built-in scenes, systems and method kinds;
 //! * `hj show <name>` — the TOML of a built-in scene (a starting point for your own);
 //! * `hj run <scene.toml | built-in name>...` — run scenes;
-//! * `hj reproduce` — every built-in scene: all tables and figures the paper uses.
+//! * `hj reproduce` — every built-in scene: all tables and figures the paper uses;
+//! * `hj plot <figure.csv>...` — redraw figures from their data files.
+//!
+//! Figures are written as SVG and PNG (PDF with `--format svg,png,pdf`), each with its data
+//! (`.csv`) and caption (`.caption.txt`); `--width`, `--height`, `--font-size`, `--dpi`,
+//! `--format` and `--data` override the scenes' `[output]`.
 //!
 //! Exit codes: 0 success, 1 a run failed, 2 a bad command line or scene.
 
 use clap::{Parser, Subcommand};
-use hamilton_jacobi::scene::{self, Catalogue, MethodKind, RunOptions, Scene, SceneError};
+use hamilton_jacobi::plot;
+use hamilton_jacobi::scene::spec::{Length, OutputSpec};
+use hamilton_jacobi::scene::{
+    self, Catalogue, FigureOptions, FigureSetup, MethodKind, RunOptions, Scene, SceneError,
+};
 use hamilton_jacobi::workprecision::Timing;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -34,6 +43,39 @@ struct Cli {
     /// No progress bars.
     #[arg(long, global = true)]
     quiet: bool,
+    /// Figure width: a length with its unit (3.4in, 8.6cm, 86mm, 245pt, 1020px at --dpi) or
+    /// inches.
+    #[arg(long, global = true, allow_hyphen_values = true)]
+    width: Option<String>,
+    /// Figure height, as --width.
+    #[arg(long, global = true, allow_hyphen_values = true)]
+    height: Option<String>,
+    /// Base font size of figures in points (tick labels, legend).
+    #[arg(long, global = true, allow_hyphen_values = true)]
+    font_size: Option<f64>,
+    /// Resolution of PNG figures in dots per inch.
+    #[arg(long, global = true, allow_hyphen_values = true)]
+    dpi: Option<f64>,
+    /// Figure formats, comma-separated: svg, png, pdf (SVG is always written).
+    #[arg(long, global = true, value_delimiter = ',')]
+    format: Option<Vec<String>>,
+    /// Data beside each figure: csv (every point in the table) or npy (points in a NumPy file).
+    #[arg(long, global = true)]
+    data: Option<String>,
+}
+
+impl Cli {
+    /// The figure options given on the command line.
+    fn figures(&self) -> FigureOptions {
+        FigureOptions {
+            width: self.width.clone(),
+            height: self.height.clone(),
+            font_size: self.font_size,
+            dpi: self.dpi,
+            formats: self.format.clone(),
+            data: self.data.clone(),
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -53,6 +95,17 @@ enum Command {
     },
     /// Regenerate every table and figure the paper uses (all built-in scenes).
     Reproduce,
+    /// Redraw figures from their data files (`*.csv` written beside every figure), with the
+    /// size, font and format options given here (default: as recorded in the file).
+    Plot {
+        /// Data files of figures.
+        #[arg(required = true)]
+        data: Vec<PathBuf>,
+        /// Output file stem (one data file only): writes STEM.svg, STEM.png, …; default: the
+        /// data file's stem, beside it.
+        #[arg(long = "to")]
+        to: Option<PathBuf>,
+    },
 }
 
 enum Failure {
@@ -103,6 +156,7 @@ fn run_scenes(names: &[String], cli: &Cli) -> Result<(), Failure> {
             max_runs: 1000,
         },
         progress: !cli.quiet,
+        figures: cli.figures(),
     };
     let start = Instant::now();
     let mut written = 0;
@@ -123,6 +177,43 @@ fn run_scenes(names: &[String], cli: &Cli) -> Result<(), Failure> {
         cli.out.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// `hj plot`: redraw each figure from its data file.
+fn plot_data(files: &[PathBuf], to: Option<&PathBuf>, cli: &Cli) -> Result<(), Failure> {
+    if to.is_some() && files.len() > 1 {
+        return Err(Failure::Usage(
+            "--to names one output: give one data file".to_string(),
+        ));
+    }
+    for file in files {
+        let mut fig = plot::data::read(file)
+            .map_err(|e| Failure::Usage(format!("{}: {e}", file.display())))?;
+        // The recorded size, overridden by the command line; formats default to SVG and PNG.
+        let recorded = OutputSpec {
+            width: Some(Length::Inches(fig.size.width)),
+            height: Some(Length::Inches(fig.size.height)),
+            font_size: Some(fig.size.font_size),
+            dpi: Some(fig.size.dpi),
+            ..OutputSpec::default()
+        };
+        let setup = FigureSetup::new(&file.display().to_string(), &recorded, &cli.figures())
+            .map_err(scene_error)?;
+        fig.size = setup.size;
+        let (formats, data) = (setup.formats, setup.data);
+        let stem = match to {
+            Some(t) => t.clone(),
+            None => file.with_extension(""),
+        };
+        // Redrawn in place, the data file is rewritten with the same points.
+        let written = fig
+            .write(&stem, &formats, data)
+            .map_err(|e| Failure::Run(format!("{}: {e}", file.display())))?;
+        for w in written {
+            out(&format!("wrote {}", w.display()));
+        }
+    }
     Ok(())
 }
 
@@ -178,6 +269,7 @@ fn main() -> ExitCode {
             ))),
         },
         Some(Command::Run { scenes }) => run_scenes(scenes, &cli),
+        Some(Command::Plot { data, to }) => plot_data(data, to.as_ref(), &cli),
         Some(Command::Reproduce) => {
             let all: Vec<String> = scene::BUILTIN.iter().map(|(n, _)| n.to_string()).collect();
             run_scenes(&all, &cli)

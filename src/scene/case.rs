@@ -69,6 +69,9 @@ impl Table {
 /// How a state is drawn in a phase portrait.
 #[derive(Clone, Copy, Debug)]
 pub struct Portrait {
+    /// What the projection shows, for the figure's title: `"orbit"` for positions in the plane,
+    /// `"phase portrait"` for a coordinate and its momentum.
+    pub title: &'static str,
     /// Horizontal axis label.
     pub x_label: &'static str,
     /// Vertical axis label.
@@ -470,6 +473,7 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> HamiltonianCase<H, N> {
             reference: None,
             error_label: "final position error ‖Δq‖".into(),
             portrait: Portrait {
+                title: "phase portrait",
                 x_label: "q",
                 y_label: "p",
                 equal_aspect: false,

@@ -379,6 +379,7 @@ fn kepler(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_invariants(system_invariants::<Kepler2, 2>)
         .with_reference(reference)
         .with_portrait(Portrait {
+            title: "orbit",
             x_label: "x",
             y_label: "y",
             equal_aspect: true,
@@ -621,6 +622,7 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_stepper(kepler_splitting_stepper::<PerturbedTwoBody<J2>, 3>())
         .with_invariants(axisymmetric_invariants)
         .with_portrait(Portrait {
+            title: "orbit",
             x_label: "x",
             y_label: "y",
             equal_aspect: true,
@@ -723,6 +725,7 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         .with_stepper(exact_stepper::<HeavyTop, 3>())
         .with_invariants(system_invariants::<HeavyTop, 3>)
         .with_portrait(Portrait {
+            title: "phase portrait",
             x_label: "θ",
             y_label: "p_θ",
             equal_aspect: false,
@@ -776,6 +779,7 @@ impl Case for Gallery {
     }
     fn portrait(&self) -> Portrait {
         Portrait {
+            title: "phase portrait",
             x_label: "q",
             y_label: "p",
             equal_aspect: false,

@@ -51,7 +51,18 @@
 //! # elements = [{ method = "kahan-li17", steps = 8000 }]       # Kepler-type systems
 //! samples = 400                           # points per history: step ends of fixed-step
 //!                                         # methods, uniform times otherwise
+//! # portrait = { x = "q0", y = "p0" }     # the portrait's variables (default: the system's)
+//! width = "6.4in"                         # figure size: a number (inches) or a length with
+//! height = "4.2in"                        #   its unit: in, cm, mm, pt, px (at `dpi`)
+//! font_size = 9                           # base font size in points
+//! dpi = 150                               # PNG resolution
+//! formats = ["svg", "png"]                # any of svg, png, pdf (SVG always)
+//! data = "csv"                            # the data beside each figure: csv or npy
 //! ```
+//!
+//! Every figure `figures/<name>-<what>.svg` comes with its data, `…-<what>.csv` (every point
+//! drawn, see [`crate::plot::data`]), and its caption, `…-<what>.caption.txt`; `hj plot
+//! FILE.csv` redraws it, at another size or in another format.
 //!
 //! Every mistake is reported on one line as `file: key: what was expected`
 //! ([`SceneError`]): TOML syntax, missing keys, wrong types, unknown keys, systems or method
@@ -68,7 +79,7 @@ pub mod spec;
 
 pub use case::{Case, HamiltonianCase, History, Outcome, Table};
 pub use catalogue::{Catalogue, Params};
-pub use runner::{RunOptions, RunSummary, Scene};
+pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.

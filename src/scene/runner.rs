@@ -4,11 +4,13 @@
 use super::case::{Case, History, ADAPTIVE_MAX_STEPS};
 use super::catalogue::Catalogue;
 use super::spec::{
-    Knob, MethodKind, MethodSpec, OutputSpec, RunSpec, SceneError, SceneFile, TheoryKind,
+    Knob, Length, MethodKind, MethodSpec, OutputSpec, PortraitAxes, RunSpec, SceneError, SceneFile,
+    TheoryKind,
 };
 use crate::error::fmt_num;
 use crate::integrate::methods::Construction;
-use crate::plot::{Curve, Figure, Style};
+use crate::plot::render::parse_length;
+use crate::plot::{DataFormat, Figure, Format, Size, Style};
 use crate::systems::Invariant;
 use crate::workprecision::{sweep, Comparison, Series, Timing};
 use std::path::{Path, PathBuf};
@@ -32,6 +34,139 @@ pub struct RunOptions {
     pub timing: Timing,
     /// Show progress bars (on a terminal).
     pub progress: bool,
+    /// Figure settings that override the scene's `[output]`.
+    pub figures: FigureOptions,
+}
+
+/// Figure settings given on the command line; each one given overrides the scene's `[output]`
+/// key of the same name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FigureOptions {
+    /// Width: a length with its unit (`3.4in`, `8.6cm`, `1020px`) or inches.
+    pub width: Option<String>,
+    /// Height, as the width.
+    pub height: Option<String>,
+    /// Base font size in points.
+    pub font_size: Option<f64>,
+    /// PNG resolution in dots per inch.
+    pub dpi: Option<f64>,
+    /// Formats: `svg`, `png`, `pdf`.
+    pub formats: Option<Vec<String>>,
+    /// Data format: `csv` or `npy`.
+    pub data: Option<String>,
+}
+
+/// How a scene's figures are written: size, formats, data format.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FigureSetup {
+    /// Physical size and font size.
+    pub size: Size,
+    /// File formats (SVG first).
+    pub formats: Vec<Format>,
+    /// Format of the data beside each figure.
+    pub data: DataFormat,
+}
+
+impl FigureSetup {
+    /// The setup of `o`, with the command line's `cli` overriding it. Errors name the scene key
+    /// (`output.width`) or the option (`--width`) that gave the bad value.
+    ///
+    /// # Errors
+    /// A [`SceneError`] for a bad length, font size, resolution, format or data format, or a
+    /// size that fails [`Size::check`].
+    pub fn new(file: &str, o: &OutputSpec, cli: &FigureOptions) -> Result<Self, SceneError> {
+        let err = |key: &str, m: String| SceneError::new(file, key, m);
+        let pick = |c: bool, opt: &'static str, key: &'static str| if c { opt } else { key };
+        let mut size = Size::default();
+        let dpi_key = pick(cli.dpi.is_some(), "--dpi", "output.dpi");
+        if let Some(d) = cli.dpi.or(o.dpi) {
+            size.dpi = d;
+        }
+        let length = |key: &str, cl: &Option<String>, sc: &Option<Length>, d: f64| match (cl, sc) {
+            (Some(t), _) | (None, Some(Length::Text(t))) => {
+                parse_length(t, d).map_err(|e| err(key, e.to_string()))
+            }
+            (None, Some(Length::Inches(v))) => {
+                parse_length(&v.to_string(), d).map_err(|e| err(key, e.to_string()))
+            }
+            (None, None) => Ok(f64::NAN),
+        };
+        let wkey = pick(cli.width.is_some(), "--width", "output.width");
+        let hkey = pick(cli.height.is_some(), "--height", "output.height");
+        let w = length(wkey, &cli.width, &o.width, size.dpi)?;
+        let h = length(hkey, &cli.height, &o.height, size.dpi)?;
+        if !w.is_nan() {
+            size.width = w;
+        }
+        if !h.is_nan() {
+            size.height = h;
+        }
+        let fkey = pick(cli.font_size.is_some(), "--font-size", "output.font_size");
+        if let Some(f) = cli.font_size.or(o.font_size) {
+            size.font_size = f;
+        }
+        size.check().map_err(|e| {
+            let m = e.to_string();
+            let key = if m.contains("font") {
+                fkey
+            } else if m.contains("resolution") || m.contains("pixels") {
+                dpi_key
+            } else if m.contains("height") {
+                hkey
+            } else {
+                wkey
+            };
+            err(key, m)
+        })?;
+        let fmt_key = pick(cli.formats.is_some(), "--format", "output.formats");
+        let names = cli
+            .formats
+            .clone()
+            .or_else(|| o.formats.clone())
+            .unwrap_or_else(|| vec!["svg".into(), "png".into()]);
+        let mut formats = vec![Format::Svg];
+        for n in &names {
+            let f = Format::from_key(n.trim()).ok_or_else(|| {
+                err(
+                    fmt_key,
+                    format!("unknown format {n:?}: expected svg, png or pdf"),
+                )
+            })?;
+            if !formats.contains(&f) {
+                formats.push(f);
+            }
+        }
+        let data_key = pick(cli.data.is_some(), "--data", "output.data");
+        let data = match cli.data.as_ref().or(o.data.as_ref()) {
+            None => DataFormat::Csv,
+            Some(d) => DataFormat::from_key(d).ok_or_else(|| {
+                err(
+                    data_key,
+                    format!("unknown data format {d:?}: expected csv or npy"),
+                )
+            })?,
+        };
+        Ok(Self {
+            size,
+            formats,
+            data,
+        })
+    }
+
+    /// The files a figure at `stem` is written to, in order (see [`Figure::write`]).
+    pub fn files(&self, stem: &str) -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = self
+            .formats
+            .iter()
+            .map(|f| PathBuf::from(format!("{stem}.{}", f.ext())))
+            .collect();
+        if self.data == DataFormat::Npy {
+            v.push(PathBuf::from(format!("{stem}.npy")));
+        }
+        v.push(PathBuf::from(format!("{stem}.csv")));
+        v.push(PathBuf::from(format!("{stem}.caption.txt")));
+        v
+    }
 }
 
 /// What a run produced.
@@ -527,6 +662,18 @@ impl Scene {
         if let (Some((t1, key)), Some(period)) = (t1, case.period()) {
             check_span_work(file, key, t1 / period, &spec, &*case)?;
         }
+        FigureSetup::new(file, o, &FigureOptions::default())?;
+        if let Some(axes) = &o.portrait {
+            for (k, v) in [("x", &axes.x), ("y", &axes.y)] {
+                if variable(v).is_none() {
+                    return Err(SceneError::new(
+                        file,
+                        format!("output.portrait.{k}"),
+                        format!("expected a coordinate `q0`, `q1`, … or a momentum `p0`, `p1`, …, found {v:?}"),
+                    ));
+                }
+            }
+        }
         Ok(Self {
             file: file.to_string(),
             name,
@@ -555,12 +702,18 @@ impl Scene {
             v.push(PathBuf::from(self.table_path("md")));
             v.push(PathBuf::from(self.table_path("csv")));
         }
+        // Checked when the scene was made: the scene's own setup is valid.
+        let setup = FigureSetup::new(&self.file, o, &FigureOptions::default()).ok();
+        let figure = |v: &mut Vec<PathBuf>, stem: String| match &setup {
+            Some(s) => v.extend(s.files(&stem)),
+            None => v.push(PathBuf::from(format!("{stem}.svg"))),
+        };
         if o.work_precision {
-            v.push(PathBuf::from(self.figure_path("work-precision")));
+            figure(&mut v, self.figure_path("work-precision"));
         }
         for (list, key) in history_outputs(o) {
             if !list.is_empty() {
-                v.push(PathBuf::from(self.figure_path(&key.replace('_', "-"))));
+                figure(&mut v, self.figure_path(&key.replace('_', "-")));
             }
         }
         v
@@ -571,7 +724,7 @@ impl Scene {
     }
 
     fn figure_path(&self, what: &str) -> String {
-        format!("figures/{}-{what}.svg", self.name)
+        format!("figures/{}-{what}", self.name)
     }
 
     fn err(&self, key: impl Into<String>, e: impl std::fmt::Display) -> SceneError {
@@ -741,20 +894,65 @@ impl Scene {
     /// `output.phase_portrait`: the runs in the system's projection of phase space.
     fn phase_portrait(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
         let pr = self.case.portrait();
-        let mut fig = Figure::new(
-            format!("{} — phase portrait", self.title),
-            pr.x_label,
-            pr.y_label,
-        );
-        if pr.equal_aspect {
+        let axes = self.spec.output.portrait.clone();
+        let (what, x_label, y_label) = match &axes {
+            None => (
+                pr.title.to_string(),
+                pr.x_label.to_string(),
+                pr.y_label.to_string(),
+            ),
+            Some(PortraitAxes { x, y }) => {
+                let kinds = (x.starts_with('q'), y.starts_with('q'));
+                let what = match kinds {
+                    (true, true) => "configuration space",
+                    (false, false) => "momentum space",
+                    _ => "phase portrait",
+                };
+                (what.to_string(), x.clone(), y.clone())
+            }
+        };
+        let mut fig = Figure::new(format!("{} — {what}", self.title), x_label, y_label);
+        if axes.is_none() && pr.equal_aspect {
             fig = fig.equal_aspect();
         }
         for (label, h) in self.histories(runs, "phase_portrait", samples)? {
-            let pts: Vec<(f64, f64)> =
-                h.q.iter()
-                    .zip(&h.p)
-                    .map(|(q, p)| (pr.project)(q, p))
-                    .collect();
+            let pts: Vec<(f64, f64)> = match &axes {
+                None => {
+                    h.q.iter()
+                        .zip(&h.p)
+                        .map(|(q, p)| (pr.project)(q, p))
+                        .collect()
+                }
+                Some(a) => {
+                    let (vx, vy) = (variable(&a.x), variable(&a.y));
+                    let pick = |v: Option<(bool, usize)>, q: &[f64], p: &[f64]| match v {
+                        Some((true, i)) => q.get(i).copied(),
+                        Some((false, i)) => p.get(i).copied(),
+                        None => None,
+                    };
+                    let dim = h.q[0].len();
+                    for (k, v) in [("x", vx), ("y", vy)] {
+                        if v.is_some_and(|(_, i)| i >= dim) {
+                            return Err(self.err(
+                                format!("output.portrait.{k}"),
+                                format!(
+                                    "the system has {dim} degrees of freedom: indices 0…{}",
+                                    dim.saturating_sub(1)
+                                ),
+                            ));
+                        }
+                    }
+                    h.q.iter()
+                        .zip(&h.p)
+                        .map(|(q, p)| {
+                            (
+                                pick(vx, q, p).unwrap_or(f64::NAN),
+                                pick(vy, q, p).unwrap_or(f64::NAN),
+                            )
+                        })
+                        .collect()
+                }
+            };
             fig = fig.curve(label, pts, Style::Line);
         }
         Ok(self.figure_artifact("phase-portrait", "output.phase_portrait", fig))
@@ -771,12 +969,22 @@ impl Scene {
             case.energy(h.t[0], &h.q[0], &h.p[0])
                 .map_err(|e| self.err("output.energy_error", e))?
         };
-        let (scale, axis) = if h0 != 0.0 {
-            (h0.abs(), "|H(t) − H(0)| / |H(0)|")
+        let (scale, axis, caption) = if h0 != 0.0 {
+            (
+                h0.abs(),
+                "|ΔH / H₀|",
+                "Relative energy error |H(t) − H(0)| / |H(0)| along each run.",
+            )
         } else {
-            (1.0, "|H(t) − H(0)|  (H(0) = 0)")
+            (
+                1.0,
+                "|ΔH|",
+                "Energy error |H(t) − H(0)| along each run (absolute: H(0) = 0).",
+            )
         };
-        let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis).log_y();
+        let mut fig = Figure::new(format!("{} — energy error", self.title), "t", axis)
+            .log_y()
+            .caption(caption);
         for (label, h) in runs {
             let mut pts = Vec::with_capacity(h.t.len());
             for k in 0..h.t.len() {
@@ -796,9 +1004,13 @@ impl Scene {
         let mut fig = Figure::new(
             format!("{} — conserved quantities", self.title),
             "t",
-            "|I(t) − I(0)| / |I(0)|  (absolute where I(0) = 0)",
+            "|ΔI / I₀|",
         )
-        .log_y();
+        .log_y()
+        .caption(
+            "Relative change |I(t) − I(0)| / |I(0)| of each conserved quantity I along each run \
+             (absolute where I(0) = 0).",
+        );
         for (label, h) in self.histories(runs, "invariants", samples)? {
             let values: Vec<Vec<Invariant>> = (0..h.t.len())
                 .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
@@ -825,19 +1037,24 @@ impl Scene {
         Ok(self.figure_artifact("invariants", "output.invariants", fig))
     }
 
-    /// `output.elements`: the osculating elements' departure from their initial values, and a
-    /// note for the table naming the elements a run holds constant to rounding.
+    /// `output.elements`: the osculating-element histories, one panel per element on linear
+    /// axes (angles continued across 2π), every run in each panel; and a note for the table
+    /// naming the elements a run holds constant to rounding.
     fn elements(&self, runs: &[RunSpec], samples: usize) -> Result<(Artifact, String), SceneError> {
         let case = &*self.case;
         let names = case.element_names().unwrap_or(&[]);
         let mut notes = String::new();
-        let mut fig = Figure::new(
-            format!("{} — osculating elements", self.title),
-            "t",
-            "|element(t) − element(0)|",
-        )
-        .log_y();
-        let mut curves: Vec<(Curve, bool)> = Vec::new();
+        let angles: Vec<&str> = names.iter().copied().filter(|n| is_angle(n)).collect();
+        let mut caption = "Osculating elements against time, one panel each.".to_string();
+        if !angles.is_empty() {
+            caption += &format!(
+                " The angles ({}) are in radians, continued across 2π.",
+                angles.join(", ")
+            );
+        }
+        let mut fig = Figure::new(format!("{} — osculating elements", self.title), "t", "")
+            .panels(names.iter().copied())
+            .caption(caption);
         for (label, h) in self.histories(runs, "elements", samples)? {
             let els: Vec<Vec<f64>> =
                 h.q.iter()
@@ -854,25 +1071,25 @@ impl Scene {
             let mut constant = Vec::new();
             for (j, n) in names.iter().enumerate() {
                 let e0 = els[0][j];
-                let pts: Vec<(f64, f64)> =
-                    h.t.iter()
-                        .zip(&els)
-                        .map(|(&t, e)| (t, angle_aware_diff(n, e[j], e0)))
-                        .collect();
+                let mut prev = e0;
+                let mut value = e0;
+                let mut pts = Vec::with_capacity(h.t.len());
+                for (&t, e) in h.t.iter().zip(&els) {
+                    value += if is_angle(n) {
+                        angle_step(e[j], prev)
+                    } else {
+                        e[j] - prev
+                    };
+                    prev = e[j];
+                    pts.push((t, value));
+                }
                 // An element that a theory holds constant differs from its initial value
-                // only by the rounding of the element map (a few ulps): named, and drawn
-                // only if nothing else is.
+                // only by the rounding of the element map (a few ulps).
                 let floor = 64.0 * f64::EPSILON * e0.abs().max(1.0);
-                let is_constant = pts.iter().all(|&(_, d)| d <= floor);
-                if is_constant {
+                if pts.iter().all(|&(_, v)| (v - e0).abs() <= floor) {
                     constant.push(*n);
                 }
-                let curve = Curve {
-                    label: format!("{n}: {label}"),
-                    points: pts,
-                    style: Style::Line,
-                };
-                curves.push((curve, is_constant));
+                fig = fig.curve_in(j, label.clone(), pts, Style::Line);
             }
             if !constant.is_empty() {
                 notes += &format!(
@@ -881,13 +1098,6 @@ impl Scene {
                 );
             }
         }
-        let all_constant = curves.iter().all(|c| c.1);
-        fig.curves.extend(
-            curves
-                .into_iter()
-                .filter(|c| all_constant || !c.1)
-                .map(|c| c.0),
-        );
         Ok((
             self.figure_artifact("elements", "output.elements", fig),
             notes,
@@ -917,33 +1127,62 @@ impl Scene {
         markdown: String,
         artifacts: Vec<Artifact>,
     ) -> Result<RunSummary, SceneError> {
+        let setup = FigureSetup::new(&self.file, &self.spec.output, &opts.figures)?;
         let mut files = Vec::with_capacity(artifacts.len());
         for a in artifacts {
             let path = opts.out.join(&a.rel);
             ensure_parent(&path).map_err(|e| self.err(a.key, e))?;
-            match a.content {
-                Content::Text(text) => std::fs::write(&path, text)
-                    .map_err(|e| self.err(a.key, format!("{}: {e}", path.display())))?,
-                Content::Figure(fig) => fig.to_svg(&path).map_err(|e| self.err(a.key, e))?,
-                Content::WorkPrecision(c) => crate::plot::work_precision(&c)
-                    .to_svg(&path)
-                    .map_err(|e| self.err(a.key, e))?,
+            let fig = match a.content {
+                Content::Text(text) => {
+                    std::fs::write(&path, text)
+                        .map_err(|e| self.err(a.key, format!("{}: {e}", path.display())))?;
+                    files.push(path);
+                    continue;
+                }
+                Content::Figure(fig) => fig,
+                Content::WorkPrecision(c) => crate::plot::work_precision(&c),
+            };
+            // A figure of several panels is taller: a quarter of the height more per panel.
+            let mut size = setup.size;
+            let panels = fig.panel_labels.len();
+            if panels > 1 {
+                let taller = Size {
+                    height: size.height * (1.0 + 0.25 * (panels - 1) as f64),
+                    ..size
+                };
+                if taller.check().is_ok() {
+                    size = taller;
+                }
             }
-            files.push(path);
+            let written = fig
+                .size(size)
+                .write(&path, &setup.formats, setup.data)
+                .map_err(|e| self.err(a.key, e))?;
+            files.extend(written);
         }
         Ok(RunSummary { markdown, files })
     }
 }
 
-/// Differences of the angles Ω, ω and ϖ are taken modulo 2π.
-fn angle_aware_diff(name: &str, x: f64, x0: f64) -> f64 {
-    let d = x - x0;
-    if ["Ω", "ω", "ϖ"].contains(&name) {
-        (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-    } else {
-        d
+/// A phase-space variable by name: `q<i>` (coordinate, `true`) or `p<i>` (momentum, `false`).
+fn variable(name: &str) -> Option<(bool, usize)> {
+    let (kind, index) = name.split_at_checked(1)?;
+    let i: usize = index.parse().ok()?;
+    match kind {
+        "q" => Some((true, i)),
+        "p" => Some((false, i)),
+        _ => None,
     }
-    .abs()
+}
+
+/// Whether the element named `name` is an angle (Ω, ω, ϖ), continued across 2π.
+fn is_angle(name: &str) -> bool {
+    ["Ω", "ω", "ϖ"].contains(&name)
+}
+
+/// The change of an angle from `x0` to `x`, reduced to `[−π, π)`.
+fn angle_step(x: f64, x0: f64) -> f64 {
+    (x - x0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 fn ensure_parent(path: &Path) -> Result<(), String> {

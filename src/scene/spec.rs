@@ -350,6 +350,45 @@ pub struct OutputSpec {
     /// most `steps + 1` points), uniform times for adaptive methods (dense output) and theories.
     #[serde(default = "default_samples")]
     pub samples: usize,
+    /// The phase portrait's variables by name, `{ x = "q0", y = "p0" }` (coordinates `q0`, `q1`,
+    /// … and momenta `p0`, `p1`, …); default: the system's own projection (an orbit in the
+    /// plane for Kepler-type systems, `(θ, p_θ)` for the pendulum).
+    pub portrait: Option<PortraitAxes>,
+    /// Figure width: inches as a number, or a length with its unit (`"3.4in"`, `"8.6cm"`,
+    /// `"1020px"` at `dpi`); default 6.4 in.
+    pub width: Option<Length>,
+    /// Figure height, as `width`; default 4.2 in.
+    pub height: Option<Length>,
+    /// Base font size in points (tick labels and legend); default 9.
+    pub font_size: Option<f64>,
+    /// Resolution of PNG figures in dots per inch; default 150.
+    pub dpi: Option<f64>,
+    /// Figure formats among `svg`, `png`, `pdf` (SVG is always written); default
+    /// `["svg", "png"]`.
+    pub formats: Option<Vec<String>>,
+    /// How the data behind each figure is written: `"csv"` (every point in the table, the
+    /// default) or `"npy"` (a CSV header and the points in a NumPy file).
+    pub data: Option<String>,
+}
+
+/// `portrait = { x = "q0", y = "p0" }`: the variables of a phase portrait.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PortraitAxes {
+    /// Horizontal axis: `q<i>` or `p<i>`.
+    pub x: String,
+    /// Vertical axis: `q<i>` or `p<i>`.
+    pub y: String,
+}
+
+/// A length in a scene: inches as a number, or text with a unit (`"8.6cm"`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum Length {
+    /// Inches.
+    Inches(f64),
+    /// A number with its unit: `in`, `cm`, `mm`, `pt`, `px`.
+    Text(String),
 }
 
 impl Default for OutputSpec {
@@ -363,6 +402,13 @@ impl Default for OutputSpec {
             invariants: Vec::new(),
             elements: Vec::new(),
             samples: default_samples(),
+            portrait: None,
+            width: None,
+            height: None,
+            font_size: None,
+            dpi: None,
+            formats: None,
+            data: None,
         }
     }
 }

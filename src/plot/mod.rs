@@ -1,9 +1,12 @@
-//! General SVG line plots: several labelled curves on linear or logarithmic axes, with a legend
-//! beside the plotting area.
+//! Figures: labelled curves (lines, markers, or dots for sections of many points) on linear or
+//! logarithmic axes, in one panel or a column of panels sharing the horizontal axis, with a
+//! legend beside the plotting area. The library returns data; this module (feature `cli`) draws
+//! it.
 //!
 //! A [`Figure`](crate::plot::Figure) is built with a few chained calls and written with
-//! [`Figure::to_svg`](crate::plot::Figure::to_svg) (or returned as text by
-//! [`Figure::to_svg_string`](crate::plot::Figure::to_svg_string)):
+//! [`Figure::write`](crate::plot::Figure::write) — SVG, PNG and PDF at its [`Size`](crate::plot::Size), the data
+//! file beside it ([`data`](crate::plot::data)) and the caption — or drawn by
+//! [`Figure::render`](crate::plot::Figure::render):
 //!
 //! ```no_run
 //! use hamilton_jacobi::plot::{Figure, Style};
@@ -17,7 +20,8 @@
 //! # Ok::<(), hamilton_jacobi::Error>(())
 //! ```
 //!
-//! The drawing is 900 × 600 pixels:
+//! The drawing is laid out on a canvas whose size follows the figure's physical size and font
+//! size ([`render`](crate::plot::render)): text keeps its size in points at any figure size.
 //!
 //! * **Legend.** The legend sits in a column to the right of the plotting area, as wide as the
 //!   longest label needs (at most a third of the figure; longer labels are wrapped onto several
@@ -34,7 +38,10 @@
 //!   legend label says how many were omitted, e.g. "(3 non-finite points omitted)".
 //! * **Zeros on a logarithmic axis.** A coordinate of exactly 0 on a logarithmic axis is drawn at
 //!   a floor: the power of ten at least one decade below the smallest positive value on that axis
-//!   (10⁻¹⁷ if there is none), and the axis title says so, e.g. "error (0 drawn at 1e−17)".
+//!   (10⁻¹⁷ if there is none), and the caption says so (the axis title stays short).
+//! * **Coinciding curves.** A line that lies within the line width of an earlier one at every
+//!   point is drawn dashed, and its legend entry and the caption say which curve it coincides
+//!   with.
 //! * **Ranges and ticks.** Ranges cover every drawable point, padded by 5 % of the span on a linear
 //!   axis and by a factor 2 on a logarithmic one; a range of a single value is widened (±10 % of
 //!   the value, ±1 if it is 0; one decade either side on a logarithmic axis). Logarithmic axes are
@@ -47,17 +54,27 @@
 //!   has the same length on both axes (on a logarithmic axis: one decade), the shorter range being
 //!   widened about its centre — for orbits and phase portraits.
 //! * **Large curves.** A curve with more than [`MAX_DRAWN_POINTS`](crate::plot::MAX_DRAWN_POINTS)
-//!   drawable points is thinned for drawing: every k-th point is kept, together with the first and
-//!   last point of every unbroken stretch. With many curves the allowance per curve is lower: the
+//!   drawable points is thinned for drawing: a line keeps the first, lowest, highest and last
+//!   point of every run of consecutive points (so that an oscillation keeps its envelope, without
+//!   aliasing), markers every k-th point. With many curves the allowance per curve is lower: the
 //!   lines of a figure share 32 000 points (at least 1 000 per curve) and its markers 6 000 (at
-//!   least 300 per curve), so that files stay below about a megabyte.
+//!   least 300 per curve), so that files stay below about a megabyte. The legend entry says how
+//!   many points are drawn, the caption how, and the data file keeps them all. Dots
+//!   ([`Style::Dots`](crate::plot::Style::Dots)) are never thinned; they are drawn as one path, one dot per canvas unit.
 //! * **Errors.** A figure without a single drawable point is an error, not a blank file, as is a
 //!   range too wide to represent in floating point.
+
+pub mod data;
+pub mod render;
+
+pub use data::DataFormat;
+pub use render::{Format, Size};
 
 use crate::error::{Error, Result};
 use crate::workprecision::Comparison;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -94,10 +111,10 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Width of the drawing in pixels.
-const WIDTH: u32 = 900;
-/// Height of the drawing in pixels.
-const HEIGHT: u32 = 600;
+/// Dash and gap length of a curve drawn dashed because it coincides with an earlier one.
+const DASH: (i32, i32) = (7, 5);
+/// Diameter of the dots of [`Style::Dots`], in SVG units.
+const DOT_WIDTH: f64 = 2.2;
 /// Font family of every text.
 const FONT: &str = "sans-serif";
 /// Font sizes in SVG pixels: the title.
@@ -152,12 +169,33 @@ pub enum Style {
     LineMarkers,
     /// Markers only (a scatter plot).
     Markers,
+    /// Small round dots, one per point, never thinned: Poincaré sections and other clouds of
+    /// many points. Drawn as one path of round-capped dots of the line's width, at most one per
+    /// SVG unit of the canvas (points closer than that coincide on paper).
+    Dots,
 }
 
 impl Style {
     /// Whether the points are joined by a line.
     fn line(self) -> bool {
         matches!(self, Style::Line | Style::LineMarkers)
+    }
+
+    /// The style's key in data files: `line`, `line-markers`, `markers`, `dots`.
+    pub fn key(self) -> &'static str {
+        match self {
+            Style::Line => "line",
+            Style::LineMarkers => "line-markers",
+            Style::Markers => "markers",
+            Style::Dots => "dots",
+        }
+    }
+
+    /// The style with key `key`.
+    pub fn from_key(key: &str) -> Option<Style> {
+        [Style::Line, Style::LineMarkers, Style::Markers, Style::Dots]
+            .into_iter()
+            .find(|s| s.key() == key)
     }
 
     /// Whether a marker is drawn at every point.
@@ -184,6 +222,8 @@ pub struct Curve {
     pub points: Vec<(f64, f64)>,
     /// Line, markers or both.
     pub style: Style,
+    /// The panel the curve is drawn in (0 for a figure of one panel).
+    pub panel: usize,
 }
 
 /// A figure: title, axis titles and scales, curves. See the [module documentation](self) for how
@@ -204,6 +244,14 @@ pub struct Figure {
     pub curves: Vec<Curve>,
     /// One unit (one decade on a logarithmic axis) has the same length on both axes.
     pub equal_aspect: bool,
+    /// The caption: what the figure shows, in sentences (written beside the figure, with the
+    /// notes the drawing adds: zero floors, thinning, coinciding curves).
+    pub caption: String,
+    /// Physical size and font size.
+    pub size: Size,
+    /// Vertical axis titles of the panels, from the top, for a figure of several panels sharing
+    /// the horizontal axis (see [`Figure::panels`]); empty for one panel titled `y_label`.
+    pub panel_labels: Vec<String>,
 }
 
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
@@ -239,7 +287,22 @@ impl Figure {
             y_scale: Scale::Linear,
             curves: Vec::new(),
             equal_aspect: false,
+            caption: String::new(),
+            size: Size::default(),
+            panel_labels: Vec::new(),
         }
+    }
+
+    /// Set the caption.
+    pub fn caption(mut self, caption: impl Into<String>) -> Self {
+        self.caption = caption.into();
+        self
+    }
+
+    /// Set the size.
+    pub fn size(mut self, size: Size) -> Self {
+        self.size = size;
+        self
     }
 
     /// Make the horizontal axis logarithmic.
@@ -262,7 +325,18 @@ impl Figure {
 
     /// Add a curve.
     pub fn curve(
+        self,
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, f64)>,
+        style: Style,
+    ) -> Self {
+        self.curve_in(0, label, points, style)
+    }
+
+    /// Add a curve to panel `panel` (see [`Figure::panels`]).
+    pub fn curve_in(
         mut self,
+        panel: usize,
         label: impl Into<String>,
         points: impl IntoIterator<Item = (f64, f64)>,
         style: Style,
@@ -271,29 +345,235 @@ impl Figure {
             label: label.into(),
             points: points.into_iter().collect(),
             style,
+            panel,
         });
         self
     }
 
-    /// Write the figure as an SVG file at `path`. Nothing is written if the figure cannot be drawn
-    /// (see [`Figure::to_svg_string`]).
-    pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
-        let svg = self.to_svg_string()?;
-        std::fs::write(path, svg)
-            .map_err(|e| Error::invalid(format!("SVG file {}", path.display()), e.to_string()))
+    /// Make the figure a column of panels sharing the horizontal axis, with the given vertical
+    /// axis titles (from the top); curves go to a panel with [`Figure::curve_in`]. The title is
+    /// above the first panel, the horizontal axis title below the last, and the legend, beside
+    /// the first panel, is that of its curves (give every panel the same series, in the same
+    /// order, and they keep their colours).
+    pub fn panels<S: Into<String>>(mut self, y_labels: impl IntoIterator<Item = S>) -> Self {
+        self.panel_labels = y_labels.into_iter().map(Into::into).collect();
+        self
     }
 
-    /// The figure as SVG text. Fails if no point of any curve can be drawn, or if a range is too
-    /// wide to represent.
+    /// Write the figure as an SVG file at `path`. Nothing is written if the figure cannot be drawn
+    /// (see [`Figure::render`]).
+    ///
+    /// # Errors
+    /// As [`Figure::render`], or if the file cannot be written.
+    pub fn to_svg(&self, path: &std::path::Path) -> Result<()> {
+        let svg = self.to_svg_string()?;
+        write_file(path, svg.as_bytes())
+    }
+
+    /// The figure as SVG text (see [`Figure::render`]).
+    ///
+    /// # Errors
+    /// As [`Figure::render`].
     pub fn to_svg_string(&self) -> Result<String> {
-        let layout = Layout::new(self)?;
-        let mut out = String::new();
-        {
-            let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
-            layout.draw(&root).map_err(|e| self.error(e))?;
+        Ok(self.render()?.svg)
+    }
+
+    /// Draw the figure: the SVG, and the notes the drawing adds to the caption. Fails if the
+    /// size fails [`Size::check`], if no point of any curve can be drawn, or if a range is too
+    /// wide to represent.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the figure.
+    pub fn render(&self) -> Result<Rendered> {
+        self.size.check()?;
+        let (w, h) = self.size.canvas();
+        let layouts = self.layouts()?;
+        let mut svg = String::new();
+        let dots = {
+            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            let mut dots = String::new();
+            let mut rest = root.clone();
+            for l in &layouts {
+                let (area, below) = rest.split_vertically(l.height);
+                dots += &l.draw(&area).map_err(|e| self.error(e))?;
+                rest = below;
+            }
             root.present().map_err(|e| self.error(e))?;
+            dots
+        };
+        // The physical size; the canvas stays the view box.
+        svg = svg.replacen(
+            &format!("<svg width=\"{w}\" height=\"{h}\""),
+            &format!(
+                "<svg width=\"{}in\" height=\"{}in\"",
+                self.size.width, self.size.height
+            ),
+            1,
+        );
+        if !dots.is_empty() {
+            if let Some(end) = svg.rfind("</svg>") {
+                svg.insert_str(end, &dots);
+            }
         }
-        Ok(out)
+        Ok(Rendered {
+            svg,
+            notes: layouts.into_iter().flat_map(|l| l.notes).collect(),
+        })
+    }
+
+    /// The layouts of the panels, from the top (one for a figure of one panel). Panels share
+    /// the canvas width, the legend column and the width of the vertical axes' label area, so
+    /// that their horizontal axes line up.
+    fn layouts(&self) -> Result<Vec<Layout>> {
+        let (w, h) = self.size.canvas();
+        let n_panels = self.panel_labels.len().max(1);
+        if let Some(c) = self.curves.iter().find(|c| c.panel >= n_panels) {
+            return Err(self.error(format!(
+                "the curve {:?} is in panel {}, but the figure has {n_panels} panel(s)",
+                c.label, c.panel
+            )));
+        }
+        if self.panel_labels.len() <= 1 {
+            let mut fig = self.clone();
+            if let Some(y) = self.panel_labels.first() {
+                fig.y_label = y.clone();
+            }
+            return Ok(vec![Layout::new(&fig, Shared::canvas((w, h)))?]);
+        }
+        let n = self.panel_labels.len() as u32;
+        let sub: Vec<Figure> = (0..self.panel_labels.len())
+            .map(|p| {
+                let mut f = Figure::new(
+                    if p == 0 {
+                        self.title.clone()
+                    } else {
+                        String::new()
+                    },
+                    if p + 1 == self.panel_labels.len() {
+                        self.x_label.clone()
+                    } else {
+                        String::new()
+                    },
+                    self.panel_labels[p].clone(),
+                );
+                f.x_scale = self.x_scale;
+                f.y_scale = self.y_scale;
+                f.size = self.size;
+                f.curves = self
+                    .curves
+                    .iter()
+                    .filter(|c| c.panel == p)
+                    .map(|c| Curve {
+                        label: if p == 0 {
+                            c.label.clone()
+                        } else {
+                            String::new()
+                        },
+                        panel: 0,
+                        ..c.clone()
+                    })
+                    .collect();
+                f
+            })
+            .collect();
+        // The first panel carries the title and the legend (which may reach down beside the
+        // others), the last the horizontal axis' labels; the plots share the rest equally.
+        let legend_h = Some(f64::from(h));
+        let first = Layout::new(
+            &sub[0],
+            Shared {
+                legend_h,
+                x_labels: false,
+                ..Shared::canvas((w, h / n))
+            },
+        )?;
+        let extra = x_label_area(true) - x_label_area(false);
+        let share = h.saturating_sub(first.title_h + extra) / n;
+        let heights: Vec<u32> = (0..n)
+            .map(|p| {
+                share + if p == 0 { first.title_h } else { 0 } + if p + 1 == n { extra } else { 0 }
+            })
+            .collect();
+        let shared = |y_area: Option<u32>, p: usize| Shared {
+            canvas: (w, heights[p]),
+            legend_w: Some(first.legend_w),
+            y_area,
+            legend_h,
+            x_labels: p + 1 == n as usize,
+        };
+        let mut layouts: Vec<Layout> = sub
+            .iter()
+            .enumerate()
+            .map(|(p, f)| Layout::new(f, shared(None, p)))
+            .collect::<Result<_>>()?;
+        let y_area = layouts.iter().map(|l| l.y_area).max();
+        if layouts.iter().any(|l| Some(l.y_area) != y_area) {
+            layouts = sub
+                .iter()
+                .enumerate()
+                .map(|(p, f)| Layout::new(f, shared(y_area, p)))
+                .collect::<Result<_>>()?;
+        }
+        Ok(layouts)
+    }
+
+    /// The caption with the notes of the drawing `r` of this figure.
+    pub fn full_caption(&self, r: &Rendered) -> String {
+        let mut parts: Vec<&str> = Vec::new();
+        if !self.caption.trim().is_empty() {
+            parts.push(self.caption.trim());
+        }
+        parts.extend(r.notes.iter().map(String::as_str));
+        parts.join(" ")
+    }
+
+    /// Write the figure beside its data: `STEM.svg` and the other `formats` (`STEM.png`,
+    /// `STEM.pdf`), the data file `STEM.csv` (with the points in `STEM.npy` for
+    /// [`DataFormat::Npy`]; see [`data`]) and the caption `STEM.caption.txt`. Nothing is written if
+    /// the figure cannot be drawn. Returns the files written.
+    ///
+    /// # Errors
+    /// As [`Figure::render`], or if a file cannot be rendered or written.
+    pub fn write(
+        &self,
+        stem: &std::path::Path,
+        formats: &[Format],
+        data: DataFormat,
+    ) -> Result<Vec<std::path::PathBuf>> {
+        let r = self.render()?;
+        let mut files = Vec::new();
+        let mut put = |ext: &str, bytes: &[u8]| -> Result<()> {
+            let path = with_suffix(stem, ext);
+            write_file(&path, bytes)?;
+            files.push(path);
+            Ok(())
+        };
+        let mut formats: Vec<Format> = formats.to_vec();
+        if !formats.contains(&Format::Svg) {
+            formats.insert(0, Format::Svg);
+        }
+        for f in formats {
+            match f {
+                Format::Svg => put("svg", r.svg.as_bytes())?,
+                Format::Png => put("png", &render::png(&r.svg, &self.size)?)?,
+                Format::Pdf => put("pdf", &render::pdf(&r.svg)?)?,
+            }
+        }
+        let caption = self.full_caption(&r);
+        match data {
+            DataFormat::Csv => put("csv", data::to_csv(self, &r, None).as_bytes())?,
+            DataFormat::Npy => {
+                let npy = with_suffix(stem, "npy");
+                let name = npy
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                put("npy", &data::points_npy(self))?;
+                put("csv", data::to_csv(self, &r, Some(&name)).as_bytes())?;
+            }
+        }
+        put("caption.txt", format!("{caption}\n").as_bytes())?;
+        Ok(files)
     }
 
     /// How errors name the figure.
@@ -313,6 +593,30 @@ impl Figure {
 
 // ---------------------------------------------------------------------------------------------
 // Preparation: which points are drawn where.
+
+/// A drawn figure: the SVG, and the notes the drawing adds to the caption (zero floors of
+/// logarithmic axes, thinned curves, coinciding curves).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rendered {
+    /// The SVG text.
+    pub svg: String,
+    /// Notes for the caption, one sentence each.
+    pub notes: Vec<String>,
+}
+
+/// `stem` with `.ext` appended (a stem may contain dots: `kepler-e0.5-orbit`).
+pub(crate) fn with_suffix(stem: &std::path::Path, ext: &str) -> std::path::PathBuf {
+    let mut s = stem.as_os_str().to_os_string();
+    s.push(".");
+    s.push(ext);
+    std::path::PathBuf::from(s)
+}
+
+/// Write `bytes` to `path`, naming the file in the error.
+pub(crate) fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
+    std::fs::write(path, bytes)
+        .map_err(|e| Error::invalid(format!("file {}", path.display()), e.to_string()))
+}
 
 /// One axis: scale and, on a logarithmic axis with zeros, where the zeros go.
 #[derive(Clone, Copy, Debug)]
@@ -365,6 +669,8 @@ struct Prepared {
     lines: Vec<Vec<(f64, f64)>>,
     /// Markers to draw (thinned), or for a line the points left alone between omitted ones.
     dots: Vec<(f64, f64)>,
+    /// The curve lies within the line width of this earlier curve everywhere (drawn dashed).
+    coincides_with: Option<usize>,
 }
 
 impl Prepared {
@@ -405,18 +711,21 @@ impl Prepared {
             drawable,
             lines: Vec::new(),
             dots: Vec::new(),
+            coincides_with: None,
         }
     }
 
     /// Choose what is drawn: lines thinned to `line_cap` points, markers to `marker_cap`.
     fn thin(&mut self, line_cap: usize, marker_cap: usize) {
         if self.style.line() {
-            self.lines = thin(&self.segments, line_cap)
+            self.lines = thin_extremes(&self.segments, line_cap)
                 .into_iter()
                 .filter(|s| s.len() >= 2)
                 .collect();
         }
-        self.dots = if self.style.markers() {
+        self.dots = if self.style == Style::Dots {
+            self.segments.concat()
+        } else if self.style.markers() {
             thin(&self.segments, marker_cap).concat()
         } else {
             self.segments
@@ -431,7 +740,7 @@ impl Prepared {
     /// Radius of the dots: markers, or a dot the width of the line.
     fn dot_radius(&self) -> i32 {
         match self.style {
-            Style::Line => STROKE as i32,
+            Style::Line | Style::Dots => STROKE as i32,
             s => s.marker_radius(),
         }
     }
@@ -445,6 +754,34 @@ impl Prepared {
     fn shape(&self) -> Shape {
         SHAPES[self.index % SHAPES.len()]
     }
+}
+
+/// How notes name a curve: its label in quotes, or its number.
+fn name_of(label: &str, index: usize) -> String {
+    if label.is_empty() {
+        format!("curve {}", index + 1)
+    } else {
+        format!("\u{201c}{label}\u{201d}")
+    }
+}
+
+/// How notes name an axis: its title in quotes.
+fn quoted_axis(label: &str) -> String {
+    format!("\u{201c}{label}\u{201d}")
+}
+
+/// A label with a note in parentheses.
+fn with_note(label: &str, note: &str) -> String {
+    if label.is_empty() {
+        format!("({note})")
+    } else {
+        format!("{label} ({note})")
+    }
+}
+
+/// An SVG colour `#RRGGBB`, as plotters writes it.
+fn svg_color(c: RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
 }
 
 /// The legend label with a note on omitted points.
@@ -461,6 +798,47 @@ fn legend_label(label: &str, non_finite: usize, negative: usize) -> String {
     } else {
         format!("{label} ({note})")
     }
+}
+
+/// A line thinned to at most `max` points without losing its extremes: the points are taken in
+/// runs of `k` consecutive points (within a stretch), and of each run the first, the lowest, the
+/// highest and the last are kept, in order. The drawn line covers the full vertical range of
+/// every run, so thinning cannot alias an oscillation into spikes or gaps (the "min/max per
+/// column" decimation of time-series plotting).
+fn thin_extremes(segments: &[Vec<(f64, f64)>], max: usize) -> Vec<Vec<(f64, f64)>> {
+    let n: usize = segments.iter().map(Vec::len).sum();
+    let max = max.max(8);
+    if n <= max {
+        return segments.to_vec();
+    }
+    // At most 4 points per run, plus up to 4 for the partial run at the end of each stretch.
+    let runs = (max / 4).saturating_sub(segments.len()).max(1);
+    let k = n.div_ceil(runs).max(2);
+    segments
+        .iter()
+        .map(|seg| {
+            let mut kept: Vec<(f64, f64)> = Vec::new();
+            for run in seg.chunks(k) {
+                let last = run.len() - 1;
+                let lo = (0..run.len())
+                    .min_by(|&a, &b| run[a].1.total_cmp(&run[b].1))
+                    .unwrap_or(0);
+                let hi = (0..run.len())
+                    .max_by(|&a, &b| run[a].1.total_cmp(&run[b].1))
+                    .unwrap_or(0);
+                let mut idx = [0, lo, hi, last];
+                idx.sort_unstable();
+                let mut prev = None;
+                for i in idx {
+                    if prev != Some(i) {
+                        kept.push(run[i]);
+                        prev = Some(i);
+                    }
+                }
+            }
+            kept
+        })
+        .collect()
 }
 
 /// Every k-th point (k chosen so that at most `max` remain), plus the first and last point of
@@ -881,8 +1259,51 @@ struct Entry {
     lines: Vec<String>,
 }
 
+/// What the panels of one figure share: each panel's canvas (the figure's width, its share of
+/// the height), and when given, the legend column's width and the vertical axis label area.
+#[derive(Clone, Copy, Debug)]
+struct Shared {
+    canvas: (u32, u32),
+    legend_w: Option<u32>,
+    y_area: Option<u32>,
+    /// Height the legend may take (default: the panel's).
+    legend_h: Option<f64>,
+    /// Whether the horizontal axis has tick labels and its title (panels above the last have
+    /// neither).
+    x_labels: bool,
+}
+
+impl Shared {
+    /// A panel of the given canvas, sharing nothing.
+    fn canvas(canvas: (u32, u32)) -> Self {
+        Self {
+            canvas,
+            legend_w: None,
+            y_area: None,
+            legend_h: None,
+            x_labels: true,
+        }
+    }
+}
+
+/// Height of the area below the plot: tick marks, and with labels, tick labels and axis title.
+fn x_label_area(labels: bool) -> u32 {
+    if labels {
+        ((2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX).ceil() as u32
+    } else {
+        (TICK_LEN + 6) as u32
+    }
+}
+
 /// Everything decided before drawing.
 struct Layout {
+    /// Whether the horizontal axis is labelled.
+    x_labels: bool,
+    /// Canvas width and height in SVG units.
+    width: u32,
+    height: u32,
+    /// Notes for the caption.
+    notes: Vec<String>,
     title_lines: Vec<String>,
     title_h: u32,
     curves: Vec<Prepared>,
@@ -907,8 +1328,10 @@ struct Layout {
 
 impl Layout {
     /// Decide everything about the drawing of `fig`; fails if nothing can be drawn.
-    fn new(fig: &Figure) -> Result<Self> {
+    fn new(fig: &Figure, shared: Shared) -> Result<Self> {
         let err = |why: &str| fig.error(why);
+        let (width, height) = shared.canvas;
+        let mut notes: Vec<String> = Vec::new();
         // Zero floors from the points with two finite coordinates.
         let finite = || {
             fig.curves
@@ -970,29 +1393,52 @@ impl Layout {
         let marker_cap = cap(Style::markers, MARKER_BUDGET, MIN_MARKERS_PER_CURVE);
         for c in &mut curves {
             c.thin(line_cap, marker_cap);
+            let lone = c.segments.iter().filter(|s| s.len() == 1).count();
+            let line_drawn = c.lines.iter().map(Vec::len).sum::<usize>() + lone;
+            let (drawn, what) = if c.style.line() && line_drawn < c.drawable {
+                (
+                    line_drawn,
+                    "the line drawn through the first, lowest, highest and last of every run of \
+                     consecutive points",
+                )
+            } else if c.style.markers() && c.dots.len() < c.drawable {
+                (c.dots.len(), "markers at every k-th point")
+            } else {
+                (c.drawable, "")
+            };
+            if drawn < c.drawable {
+                notes.push(format!(
+                    "{}: thinned for drawing, {drawn} of {} points shown ({what}); the data file holds every point.",
+                    name_of(&c.label, c.index),
+                    c.drawable
+                ));
+                c.label = with_note(&c.label, &format!("{drawn} of {} points drawn", c.drawable));
+            }
         }
 
-        // Axis titles.
-        let floor_note = |m: AxisMap| {
-            format!(" (0 drawn at 1e{})", (m.floor.log10().round() as i32)).replace('-', "\u{2212}")
+        // Zero floors: a note for the caption, not the axis title.
+        let floor_note = |axis: &str, m: AxisMap| {
+            format!(
+                "Zeros of {axis} are drawn at 1e{} (logarithmic axis).",
+                (m.floor.log10().round() as i32)
+            )
+            .replace('-', "\u{2212}")
         };
-        let x_desc = if x_zero {
-            format!("{}{}", fig.x_label, floor_note(xm))
-        } else {
-            fig.x_label.clone()
-        };
-        let y_desc = if y_zero {
-            format!("{}{}", fig.y_label, floor_note(ym))
-        } else {
-            fig.y_label.clone()
-        };
+        if x_zero {
+            notes.push(floor_note(&quoted_axis(&fig.x_label), xm));
+        }
+        if y_zero {
+            notes.push(floor_note(&quoted_axis(&fig.y_label), ym));
+        }
+        let x_desc = fig.x_label.clone();
+        let y_desc = fig.y_label.clone();
 
         // Title: wrapped, at most MAX_TITLE_LINES lines (the last one cut short with "…").
-        let mut title_lines = wrap(&fig.title, WIDTH as f64 - 40.0, TITLE_PX);
+        let mut title_lines = wrap(&fig.title, width as f64 - 40.0, TITLE_PX);
         if title_lines.len() > MAX_TITLE_LINES {
             title_lines.truncate(MAX_TITLE_LINES);
             if let Some(last) = title_lines.last_mut() {
-                while !last.is_empty() && text_width(last, TITLE_PX) > WIDTH as f64 - 60.0 {
+                while !last.is_empty() && text_width(last, TITLE_PX) > width as f64 - 60.0 {
                     last.pop();
                 }
                 last.push('…');
@@ -1005,10 +1451,42 @@ impl Layout {
         };
 
         // Legend: column width from the labels, font shrunk if the entries do not fit the height.
-        let body_h = (HEIGHT - title_h) as f64;
-        let avail_h = body_h - MARGIN.0 as f64 - 10.0;
+        let body_h = (height - title_h) as f64;
+        let x_area = x_label_area(shared.x_labels);
+        let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
+
+        // Curves that lie within the line width of an earlier one everywhere are drawn dashed,
+        // and the legend and caption say so.
+        let px_per_y = plot_h / (y_range.1 - y_range.0);
+        for j in 0..curves.len() {
+            if !curves[j].style.line() || curves[j].drawable < 2 {
+                continue;
+            }
+            let same = (0..j).find(|&i| {
+                let (a, b) = (&curves[i], &curves[j]);
+                a.style.line()
+                    && a.segments.len() == b.segments.len()
+                    && a.segments.iter().zip(&b.segments).all(|(sa, sb)| {
+                        sa.len() == sb.len()
+                            && sa.iter().zip(sb).all(|(pa, pb)| {
+                                pa.0 == pb.0 && (pa.1 - pb.1).abs() * px_per_y < STROKE as f64
+                            })
+                    })
+            });
+            if let Some(i) = same {
+                let other = name_of(&curves[i].label, i);
+                notes.push(format!(
+                    "{} coincides with {other} to within the line width everywhere (drawn dashed).",
+                    name_of(&curves[j].label, j)
+                ));
+                curves[j].coincides_with = Some(i);
+                curves[j].label =
+                    with_note(&curves[j].label, &format!("dashed: coincides with {other}"));
+            }
+        }
+        let avail_h = shared.legend_h.unwrap_or(body_h) - MARGIN.0 as f64 - 10.0;
         let max_text_w =
-            WIDTH as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
+            width as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
         let labelled: Vec<usize> = (0..curves.len())
             .filter(|&i| !curves[i].label.is_empty())
             .collect();
@@ -1058,7 +1536,9 @@ impl Layout {
                 0.0
             }))
             .fold(0.0, f64::max);
-        let legend_w = if legend.is_empty() && legend_more == 0 {
+        let legend_w = if let Some(w) = shared.legend_w {
+            w
+        } else if legend.is_empty() && legend_more == 0 {
             0
         } else {
             (2.0 * LEGEND_PAD + SWATCH_W + SWATCH_GAP + text_w + LEGEND_OUTER).ceil() as u32
@@ -1066,10 +1546,7 @@ impl Layout {
 
         // Axes: label areas and ticks, iterated because the width of the y labels decides the
         // width of the plotting area, and with equal aspect the ranges depend on both sizes.
-        let x_area = (2 * TICK_LEN) as f64 + 1.25 * TICK_PX + 10.0 + 1.3 * DESC_PX;
-        let x_area = x_area.ceil() as u32;
-        let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
-        let region_w = (WIDTH - legend_w) as f64;
+        let region_w = (width - legend_w) as f64;
         let plot_w_for = |y_area: u32| (region_w - (MARGIN.2 + MARGIN.3 + y_area) as f64).max(10.0);
         let axes = |y_area: u32| {
             let plot_w = plot_w_for(y_area);
@@ -1082,7 +1559,7 @@ impl Layout {
             let need = 1.3 * DESC_PX + 8.0 + yt.max_label_width() + (2 * TICK_LEN) as f64 + 4.0;
             (xr, yr, xt, yt, need.ceil() as u32)
         };
-        let mut y_area = 60u32;
+        let mut y_area = shared.y_area.unwrap_or(60);
         let mut attempt = axes(y_area);
         for _ in 0..4 {
             if attempt.4 <= y_area {
@@ -1106,6 +1583,10 @@ impl Layout {
         let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
 
         Ok(Self {
+            x_labels: shared.x_labels,
+            width,
+            height,
+            notes,
             title_lines,
             title_h,
             curves,
@@ -1126,20 +1607,23 @@ impl Layout {
         })
     }
 
-    /// Draw title, axes, curves and legend.
+    /// Draw title, axes, curves and legend; returns the SVG of the curves drawn as dots (one
+    /// path each), to be added to the drawing.
     fn draw<'a>(
         &self,
         root: &DrawingArea<SVGBackend<'a>, Shift>,
-    ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
-    {
+    ) -> std::result::Result<
+        String,
+        DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>,
+    > {
         root.fill(&WHITE)?;
         let title_style = font(TITLE_PX).pos(Pos::new(HPos::Center, VPos::Top));
         for (i, line) in self.title_lines.iter().enumerate() {
             let y = 8 + (i as f64 * TITLE_PX * 1.25).round() as i32;
-            root.draw_text(line, &title_style, (WIDTH as i32 / 2, y))?;
+            root.draw_text(line, &title_style, (self.width as i32 / 2, y))?;
         }
         let (_, body) = root.split_vertically(self.title_h);
-        let (region, legend_area) = body.split_horizontally(WIDTH - self.legend_w);
+        let (region, legend_area) = body.split_horizontally(self.width - self.legend_w);
 
         let x_spec = TickedAxis::new(self.x_range, &self.x_ticks);
         let y_spec = TickedAxis::new(self.y_range, &self.y_ticks);
@@ -1151,7 +1635,13 @@ impl Layout {
             .x_label_area_size(self.x_area)
             .y_label_area_size(self.y_area)
             .build_cartesian_2d(x_spec, y_spec)?;
-        let fx = |v: &f64| self.x_ticks.label(*v);
+        let fx = |v: &f64| {
+            if self.x_labels {
+                self.x_ticks.label(*v)
+            } else {
+                String::new()
+            }
+        };
         let fy = |v: &f64| self.y_ticks.label(*v);
         chart
             .configure_mesh()
@@ -1182,14 +1672,37 @@ impl Layout {
             BLACK.stroke_width(1),
         ))?;
 
+        let mut dot_paths = String::new();
         for c in &self.curves {
             let color = c.color();
-            chart.draw_series(
-                c.lines
-                    .iter()
-                    .map(|s| PathElement::new(s.clone(), color.stroke_width(STROKE))),
-            )?;
+            if c.coincides_with.is_some() {
+                chart.draw_series(c.lines.iter().map(|s| {
+                    DashedPathElement::new(s.clone(), DASH.0, DASH.1, color.stroke_width(STROKE))
+                }))?;
+            } else {
+                chart.draw_series(
+                    c.lines
+                        .iter()
+                        .map(|s| PathElement::new(s.clone(), color.stroke_width(STROKE))),
+                )?;
+            }
             if c.dots.is_empty() {
+                continue;
+            }
+            if c.style == Style::Dots {
+                let mut seen = std::collections::HashSet::new();
+                let mut d = String::new();
+                for p in &c.dots {
+                    let (x, y) = chart.backend_coord(p);
+                    if seen.insert((x, y)) {
+                        d += &format!("M{x} {y}h0");
+                    }
+                }
+                dot_paths += &format!(
+                    "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{DOT_WIDTH}\" \
+                     stroke-linecap=\"round\"/>\n",
+                    svg_color(color)
+                );
                 continue;
             }
             let r = c.dot_radius();
@@ -1222,7 +1735,7 @@ impl Layout {
         }
 
         self.draw_legend(&legend_area)?;
-        Ok(())
+        Ok(dot_paths)
     }
 
     /// Draw the legend box in its column.
@@ -1231,7 +1744,7 @@ impl Layout {
         area: &DrawingArea<SVGBackend<'a>, Shift>,
     ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
     {
-        if self.legend_w == 0 {
+        if self.legend_w == 0 || (self.legend.is_empty() && self.legend_more == 0) {
             return Ok(());
         }
         let px = self.legend_px;
@@ -1264,11 +1777,22 @@ impl Layout {
             let c = &self.curves[e.curve];
             let color = c.color();
             let yc = (y + 0.5 * line_h).round() as i32;
-            if c.style.line() {
-                area.draw(&PathElement::new(
-                    vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)],
+            let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
+            if c.style.line() && c.coincides_with.is_some() {
+                area.draw(&DashedPathElement::new(
+                    swatch,
+                    DASH.0,
+                    DASH.1,
                     color.stroke_width(STROKE),
                 ))?;
+            } else if c.style.line() {
+                area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?;
+            }
+            if c.style == Style::Dots {
+                for k in 0..3 {
+                    let at = ((sx + (0.2 + 0.3 * k as f64) * SWATCH_W) as i32, yc);
+                    area.draw(&Circle::new(at, STROKE as i32, color.filled()))?;
+                }
             }
             if c.style.markers() {
                 let r = c.style.marker_radius();
@@ -1367,8 +1891,16 @@ mod tests {
         let mut exact = wp_series(&[(0.0, 2e-3), (1e-12, 1e-2)]);
         exact.label = "exact".into();
         c.push(exact);
-        let svg = work_precision(&c).to_svg_string().unwrap();
-        assert!(svg.contains("final error (0 drawn at 1e\u{2212}13)"));
+        let r = work_precision(&c).render().unwrap();
+        let svg = r.svg.clone();
+        assert!(
+            r.notes
+                .iter()
+                .any(|n| n.contains("final error") && n.contains("drawn at 1e\u{2212}13")),
+            "{:?}",
+            r.notes
+        );
+        assert!(!svg.contains("0 drawn at"));
         assert!(svg.contains("wall time [s]"));
         assert!(svg.contains("exact"));
         let path = std::env::temp_dir().join(format!("hj-wp-{}.svg", std::process::id()));
@@ -1463,18 +1995,25 @@ mod tests {
             [(0.0, 1e-3), (1e-8, 1e-4), (1e-4, 1e-5)],
             Style::LineMarkers,
         );
-        let svg = fig.to_svg_string().unwrap();
-        // Smallest positive error 1e-8: zeros are drawn a decade lower.
-        assert!(has_text(&svg, "error (0 drawn at 1e\u{2212}9)"), "{svg}");
-        assert!(has_text(&svg, "time [s]"));
-        assert!(!svg.contains("time [s] (0 drawn"));
+        let r = fig.render().unwrap();
+        // Smallest positive error 1e-8: zeros are drawn a decade lower; the caption says so.
+        assert_eq!(
+            r.notes,
+            ["Zeros of \u{201c}error\u{201d} are drawn at 1e\u{2212}9 (logarithmic axis)."]
+        );
+        assert!(has_text(&r.svg, "error"));
+        assert!(has_text(&r.svg, "time [s]"));
         // Without any positive value the floor is 1e-17.
-        let svg = Figure::new("t", "x", "y")
+        let r = Figure::new("t", "x", "y")
             .log_y()
             .curve("a", [(0.0, 0.0), (1.0, 0.0)], Style::Line)
-            .to_svg_string()
+            .render()
             .unwrap();
-        assert!(has_text(&svg, "y (0 drawn at 1e\u{2212}17)"));
+        assert!(
+            r.notes[0].contains("drawn at 1e\u{2212}17"),
+            "{:?}",
+            r.notes
+        );
         assert_eq!(zero_floor([3e-7, 2.0].into_iter()), 1e-8);
         assert_eq!(zero_floor([1e-6].into_iter()), 1e-7);
     }
@@ -1606,9 +2145,9 @@ mod tests {
             Figure::new("orbit", "x", "y")
                 .equal_aspect()
                 .curve("ellipse", ellipse, Style::Line);
-        let layout = Layout::new(&fig).unwrap();
-        let plot_w = (WIDTH - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
-        let plot_h = (HEIGHT - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
+        let layout = Layout::new(&fig, Shared::canvas(fig.size.canvas())).unwrap();
+        let plot_w = (layout.width - layout.legend_w - MARGIN.2 - MARGIN.3 - layout.y_area) as f64;
+        let plot_h = (layout.height - layout.title_h - MARGIN.0 - MARGIN.1 - layout.x_area) as f64;
         let ux = (layout.x_range.1 - layout.x_range.0) / plot_w;
         let uy = (layout.y_range.1 - layout.y_range.0) / plot_h;
         assert!((ux / uy - 1.0).abs() < 1e-9, "{ux} {uy}");
@@ -1647,5 +2186,143 @@ mod tests {
         let lines = wrap("averyveryveryveryveryveryveryverylongword", 100.0, 14.0);
         assert!(lines.len() >= 2);
         assert!(lines.iter().all(|l| text_width(l, 14.0) <= 100.0));
+    }
+
+    /// A figure with every kind of curve, thinning, zeros on a log axis and awkward labels.
+    fn busy_figure() -> Figure {
+        let long: Vec<(f64, f64)> = (0..20_000)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                (t, 1e-12 * (1.0 + t) * (1.0 + (37.0 * t).sin().abs()))
+            })
+            .collect();
+        Figure::new("busy, \"quoted\"\nand broken", "t", "|ΔE/E|")
+            .log_y()
+            .caption("A caption, with a comma.")
+            .curve("thinned, \"label\"\r\n", long.clone(), Style::Line)
+            .curve(" padded ", long, Style::Line)
+            .curve(
+                "zeros",
+                [(0.0, 0.0), (1.0, 1e-10), (2.0, f64::NAN)],
+                Style::LineMarkers,
+            )
+            .curve("dots", [(3.0, 1e-9), (4.0, 2e-9)], Style::Dots)
+            .size(Size::column())
+    }
+
+    #[test]
+    fn data_file_holds_every_point_and_redraws_the_same_svg() {
+        let fig = busy_figure();
+        let r = fig.render().unwrap();
+        // The long curves are thinned for drawing; the notes say so; the second coincides.
+        assert!(
+            r.notes.iter().any(|n| n.contains("thinned for drawing")),
+            "{:?}",
+            r.notes
+        );
+        assert!(
+            r.notes.iter().any(|n| n.contains("coincides with")),
+            "{:?}",
+            r.notes
+        );
+        assert!(
+            r.notes.iter().any(|n| n.contains("Zeros of")),
+            "{:?}",
+            r.notes
+        );
+        for format in [DataFormat::Csv, DataFormat::Npy] {
+            let dir = std::env::temp_dir().join(format!(
+                "hj-plot-data-{}-{}",
+                std::process::id(),
+                format.key()
+            ));
+            std::fs::create_dir_all(&dir).unwrap();
+            let stem = dir.join("busy.fig");
+            let files = fig.write(&stem, &[Format::Svg], format).unwrap();
+            assert!(files.iter().any(|f| f.ends_with("busy.fig.caption.txt")));
+            let back = data::read(&with_suffix(&stem, "csv")).unwrap();
+            assert_eq!(back.curves.len(), fig.curves.len());
+            for (a, b) in back.curves.iter().zip(&fig.curves) {
+                assert_eq!(a.label, b.label);
+                assert_eq!(a.style, b.style);
+                assert_eq!(a.points.len(), b.points.len());
+                for (p, q) in a.points.iter().zip(&b.points) {
+                    assert!(p.0.to_bits() == q.0.to_bits());
+                    assert!(p.1.to_bits() == q.1.to_bits() || (p.1.is_nan() && q.1.is_nan()));
+                }
+            }
+            let svg = std::fs::read_to_string(with_suffix(&stem, "svg")).unwrap();
+            assert_eq!(back.to_svg_string().unwrap(), svg);
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
+
+    #[test]
+    fn sections_of_many_points_are_one_compact_path() {
+        // A quasi-periodic cloud of 10^5 points.
+        let pts: Vec<(f64, f64)> = (0..100_000)
+            .map(|i| {
+                let a = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
+                let r = 0.2 + 0.1 * (i % 7) as f64;
+                (r * a.cos(), 0.5 * r * a.sin())
+            })
+            .collect();
+        let svg = Figure::new("section", "y", "p_y")
+            .equal_aspect()
+            .curve("orbit", pts, Style::Dots)
+            .to_svg_string()
+            .unwrap();
+        assert_eq!(svg.matches("stroke-linecap=\"round\"").count(), 1);
+        assert!(svg.len() < 2_000_000, "{}", svg.len());
+        assert!(svg.contains("width=\"6.4in\""));
+    }
+
+    #[test]
+    fn png_and_pdf_are_rendered_from_the_svg() {
+        let fig = busy_figure();
+        let svg = fig.to_svg_string().unwrap();
+        let png = render::png(&svg, &fig.size).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        // Width and height in the IHDR chunk: 3.4 in × 2.4 in at 300 dpi.
+        let w = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+        let h = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+        assert_eq!((w, h), (1020, 720));
+        let pdf = render::pdf(&svg).unwrap();
+        assert!(pdf.starts_with(b"%PDF"));
+        assert!(render::png("<svg", &fig.size).is_err());
+    }
+
+    #[test]
+    fn panels_share_the_horizontal_axis_and_read_back() {
+        let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.1).collect();
+        let mut fig = Figure::new("elements", "t", "").panels(["a", "e", "Ω"]);
+        for (p, f) in [1.0, 0.1, -0.01].into_iter().enumerate() {
+            fig = fig
+                .curve_in(
+                    p,
+                    "truth",
+                    t.iter().map(|&t| (t, f * t + (5.0 * t).sin() * 1e-3)),
+                    Style::Line,
+                )
+                .curve_in(p, "theory", t.iter().map(|&t| (t, f * t)), Style::Line);
+        }
+        let r = fig.render().unwrap();
+        assert!(has_text(&r.svg, "Ω") && has_text(&r.svg, "truth") && has_text(&r.svg, "elements"));
+        // One legend: two entries.
+        assert_eq!(texts(&r.svg).iter().filter(|t| *t == "truth").count(), 1);
+        let layouts = fig.layouts().unwrap();
+        assert_eq!(layouts.len(), 3);
+        assert!(layouts
+            .iter()
+            .all(|l| l.y_area == layouts[0].y_area && l.legend_w == layouts[0].legend_w));
+        let heights: u32 = layouts.iter().map(|l| l.height).sum();
+        assert!(heights <= fig.size.canvas().1);
+        let back = data::from_csv(&data::to_csv(&fig, &r, None), |_| Ok(Vec::new())).unwrap();
+        assert_eq!(back, fig);
+        assert!(Figure::new("t", "x", "")
+            .panels(["a"])
+            .curve_in(3, "lost", [(0.0, 1.0)], Style::Line)
+            .render()
+            .is_err());
     }
 }

@@ -1,0 +1,510 @@
+//! The data behind a figure: every point of every curve, written beside the figure so that it
+//! can be redrawn (`hj plot`) or re-plotted in another tool without re-running anything.
+//!
+//! The data file `NAME.csv` is a tidy long table (RFC 4180) after a block of comment lines that
+//! describe the figure:
+//!
+//! ```text
+//! # hamilton-jacobi figure data
+//! # title: Kepler, e = 0.5 — energy error
+//! # x: t
+//! # y: |ΔE/E|
+//! # x_scale: linear
+//! # y_scale: log
+//! # equal_aspect: false
+//! # size: 6.4in x 4.2in, 9pt, 150dpi
+//! # caption: Relative energy error …
+//! # note: Zeros of “|ΔE/E|” are drawn at 1e−17 (logarithmic axis).
+//! # series 0: line: Gauss–Legendre, 3 stages, order 6 (400 steps)
+//! panel,series,label,x,y
+//! 0,0,"Gauss–Legendre, 3 stages, order 6 (400 steps)",0,0
+//! ```
+//!
+//! One row per point, in drawing order, with every point of the curve (also those a large curve
+//! does not draw, and non-finite ones: `NaN`, `inf`); numbers are written so that they read
+//! back exactly. The header's text values escape `\` as `\\` and line breaks as `\n`, `\r`.
+//! `note` lines (what the drawing adds to the caption) are derived and ignored on reading.
+//!
+//! For large outputs ([`DataFormat::Npy`]) the points go to `NAME.npy` instead, a NumPy array
+//! of `float64` of shape `(N, 4)` with columns panel, series, x, y (NumPy format 1.0), which the CSV's
+//! header names in a `# points:` line; the CSV then holds the header only.
+
+use super::{Figure, Rendered, Scale, Size, Style};
+use crate::error::{Error, Result};
+use crate::workprecision::csv_field;
+use std::path::Path;
+
+/// How the points behind a figure are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DataFormat {
+    /// Every point in the CSV table.
+    #[default]
+    Csv,
+    /// The points in a NumPy `.npy` file beside the CSV header.
+    Npy,
+}
+
+impl DataFormat {
+    /// The format's key: `csv`, `npy`.
+    pub fn key(self) -> &'static str {
+        match self {
+            DataFormat::Csv => "csv",
+            DataFormat::Npy => "npy",
+        }
+    }
+
+    /// The format with key `key`.
+    pub fn from_key(key: &str) -> Option<Self> {
+        [DataFormat::Csv, DataFormat::Npy]
+            .into_iter()
+            .find(|f| f.key() == key)
+    }
+}
+
+/// First line of a figure's data file.
+const MAGIC: &str = "# hamilton-jacobi figure data";
+/// The column header of the table.
+const COLUMNS: &str = "panel,series,label,x,y";
+
+/// A number written so that it reads back exactly (shortest round-trip digits; scientific
+/// notation outside 10⁻⁴ … 10¹⁵).
+fn num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A header value with `\`, line feeds and carriage returns escaped.
+fn escape(s: &str) -> String {
+    s.replace('\\', "\\\\")
+        .replace('\n', "\\n")
+        .replace('\r', "\\r")
+}
+
+/// Undo [`escape`].
+fn unescape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut chars = s.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('r') => out.push('\r'),
+            Some(other) => out.push(other),
+            None => out.push('\\'),
+        }
+    }
+    out
+}
+
+fn scale_key(s: Scale) -> &'static str {
+    match s {
+        Scale::Linear => "linear",
+        Scale::Log => "log",
+    }
+}
+
+/// The figure's data file: header and (unless `npy` names the points' file) every point.
+pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
+    let mut out = String::new();
+    let mut line = |k: &str, v: &str| {
+        out.push_str(&format!("# {k}: {}\n", escape(v)));
+    };
+    line("title", &fig.title);
+    line("x", &fig.x_label);
+    line("y", &fig.y_label);
+    line("x_scale", scale_key(fig.x_scale));
+    line("y_scale", scale_key(fig.y_scale));
+    line(
+        "equal_aspect",
+        if fig.equal_aspect { "true" } else { "false" },
+    );
+    line("size", &fig.size.describe());
+    line("caption", &fig.caption);
+    for (p, y) in fig.panel_labels.iter().enumerate() {
+        line(&format!("panel {p}"), y);
+    }
+    for n in &rendered.notes {
+        line("note", n);
+    }
+    for (i, c) in fig.curves.iter().enumerate() {
+        line(
+            &format!("series {i}"),
+            &format!("{}: {}", c.style.key(), c.label),
+        );
+    }
+    if let Some(name) = npy {
+        let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
+        line(
+            "points",
+            &format!("{name} (float64, shape ({n}, 4): panel, series, x, y)"),
+        );
+    }
+    let mut out = format!("{MAGIC}\n{out}{COLUMNS}\n");
+    if npy.is_none() {
+        for (i, c) in fig.curves.iter().enumerate() {
+            let label = csv_field(&c.label);
+            for &(x, y) in &c.points {
+                out += &format!("{},{i},{label},{},{}\n", c.panel, num(x), num(y));
+            }
+        }
+    }
+    out
+}
+
+/// Every point of the figure as a NumPy array of shape `(N, 4)`: panel, series, x, y.
+pub fn points_npy(fig: &Figure) -> Vec<u8> {
+    let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
+    let mut values = Vec::with_capacity(4 * n);
+    for (i, c) in fig.curves.iter().enumerate() {
+        for &(x, y) in &c.points {
+            values.extend([c.panel as f64, i as f64, x, y]);
+        }
+    }
+    npy(&[n, 4], &values)
+}
+
+/// A NumPy `.npy` file (format version 1.0) of little-endian `float64` values in C order of
+/// the given shape: magic `\x93NUMPY`, version 1.0, the header length, the header dictionary
+/// padded with spaces to a multiple of 64 bytes, then the data (NumPy Enhancement Proposal 1).
+pub fn npy(shape: &[usize], values: &[f64]) -> Vec<u8> {
+    let dims = match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {dims}, }}");
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat(unpadded.next_multiple_of(64) - unpadded));
+    header.push('\n');
+    let mut out = Vec::with_capacity(10 + header.len() + 8 * values.len());
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// Read a `.npy` file written by [`npy`]: the shape and the values.
+///
+/// # Errors
+/// [`Error::InvalidInput`] if the bytes are not a version 1.0 `<f8` C-order array, or are
+/// truncated.
+pub fn read_npy(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>)> {
+    let bad = |why: &str| Error::invalid("NumPy file", why.to_string());
+    if bytes.len() < 10 || &bytes[..8] != b"\x93NUMPY\x01\x00" {
+        return Err(bad("not a NumPy 1.0 file"));
+    }
+    let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = bytes
+        .get(10..10 + hlen)
+        .and_then(|h| std::str::from_utf8(h).ok())
+        .ok_or_else(|| bad("truncated header"))?;
+    if !header.contains("'descr': '<f8'") || !header.contains("'fortran_order': False") {
+        return Err(bad("expected little-endian float64 in C order"));
+    }
+    let shape_text = header
+        .split("'shape': (")
+        .nth(1)
+        .and_then(|s| s.split(')').next())
+        .ok_or_else(|| bad("no shape"))?;
+    let shape: Vec<usize> = shape_text
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse::<usize>().map_err(|_| bad("bad shape")))
+        .collect::<Result<_>>()?;
+    let count = shape
+        .iter()
+        .try_fold(1usize, |a, &d| a.checked_mul(d))
+        .ok_or_else(|| bad("shape overflows"))?;
+    let data = &bytes[10 + hlen..];
+    if count.checked_mul(8) != Some(data.len()) {
+        return Err(bad("the data does not match the shape"));
+    }
+    let values = data
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+        .collect();
+    Ok((shape, values))
+}
+
+/// The records of CSV text (RFC 4180: quoted fields may hold commas, quotes doubled, line
+/// breaks); lines starting with `#` outside quotes at the start of a record are skipped.
+fn records(text: &str) -> Result<Vec<Vec<String>>> {
+    let mut out = Vec::new();
+    let mut rec: Vec<String> = Vec::new();
+    let mut field = String::new();
+    let mut chars = text.chars().peekable();
+    let mut at_start = true;
+    let mut quoted_field = false;
+    while let Some(c) = chars.next() {
+        if at_start && c == '#' {
+            for c in chars.by_ref() {
+                if c == '\n' {
+                    break;
+                }
+            }
+            continue;
+        }
+        at_start = false;
+        match c {
+            '"' if field.is_empty() && !quoted_field => {
+                quoted_field = true;
+                loop {
+                    match chars.next() {
+                        Some('"') if chars.peek() == Some(&'"') => {
+                            chars.next();
+                            field.push('"');
+                        }
+                        Some('"') => break,
+                        Some(c) => field.push(c),
+                        None => {
+                            return Err(Error::invalid("CSV data", "unterminated quoted field"))
+                        }
+                    }
+                }
+            }
+            ',' => {
+                rec.push(std::mem::take(&mut field));
+                quoted_field = false;
+            }
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\n' => {
+                rec.push(std::mem::take(&mut field));
+                out.push(std::mem::take(&mut rec));
+                quoted_field = false;
+                at_start = true;
+            }
+            c => field.push(c),
+        }
+    }
+    if !at_start {
+        rec.push(field);
+        out.push(rec);
+    }
+    Ok(out)
+}
+
+/// Read a figure back from its data file at `path` (and the `.npy` file its header names,
+/// beside it): title, axes, scales, size, caption, every curve with its style, label and
+/// points. Drawing the result gives the same SVG as the figure that wrote the file.
+///
+/// # Errors
+/// [`Error::InvalidInput`] if a file cannot be read or is not a figure's data file.
+pub fn read(path: &Path) -> Result<Figure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::invalid(format!("data file {}", path.display()), e.to_string()))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    from_csv(&text, |name| {
+        let p = dir.join(name);
+        std::fs::read(&p)
+            .map_err(|e| Error::invalid(format!("NumPy file {}", p.display()), e.to_string()))
+    })
+}
+
+/// Read a figure from the text of its data file; `npy` reads the points' file a `# points:`
+/// line names.
+///
+/// # Errors
+/// [`Error::InvalidInput`] if the text is not a figure's data file.
+pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Figure> {
+    let bad = |why: String| Error::invalid("figure data", why);
+    let mut lines = text.lines();
+    if lines.next().map(str::trim_end) != Some(MAGIC) {
+        return Err(bad(format!("expected the first line {MAGIC:?}")));
+    }
+    let mut fig = Figure::new("", "", "");
+    let mut points_file = None;
+    for l in text.lines().skip(1) {
+        let Some(rest) = l.strip_prefix("# ") else {
+            break;
+        };
+        let Some((key, value)) = rest.split_once(": ") else {
+            return Err(bad(format!("header line without `key: value`: {l:?}")));
+        };
+        let value = unescape(value.trim_end_matches('\r'));
+        let scale = |v: &str| match v {
+            "linear" => Ok(Scale::Linear),
+            "log" => Ok(Scale::Log),
+            _ => Err(bad(format!("unknown scale {v:?}"))),
+        };
+        match key {
+            "title" => fig.title = value,
+            "x" => fig.x_label = value,
+            "y" => fig.y_label = value,
+            "x_scale" => fig.x_scale = scale(&value)?,
+            "y_scale" => fig.y_scale = scale(&value)?,
+            "equal_aspect" => fig.equal_aspect = value == "true",
+            "size" => fig.size = Size::parse(&value)?,
+            "caption" => fig.caption = value,
+            "points" => {
+                let name = value.split(" (").next().unwrap_or_default().to_string();
+                points_file = Some(name);
+            }
+            k if k.starts_with("panel ") => {
+                if k[6..].parse() != Ok(fig.panel_labels.len()) {
+                    return Err(bad(format!("panel out of order in {l:?}")));
+                }
+                fig.panel_labels.push(value);
+            }
+            k if k.starts_with("series ") => {
+                let i: usize = k[7..]
+                    .parse()
+                    .map_err(|_| bad(format!("bad series number in {l:?}")))?;
+                if i != fig.curves.len() {
+                    return Err(bad(format!("series {i} out of order")));
+                }
+                let (style, label) = value
+                    .split_once(": ")
+                    .ok_or_else(|| bad(format!("expected `style: label` in {l:?}")))?;
+                let style = Style::from_key(style)
+                    .ok_or_else(|| bad(format!("unknown style {style:?}")))?;
+                fig = fig.curve(label, Vec::new(), style);
+            }
+            _ => {}
+        }
+    }
+    let mut panels: Vec<(usize, usize)> = Vec::new();
+    let mut push = |series: f64, x: f64, y: f64| -> Result<()> {
+        let i = series as usize;
+        match fig.curves.get_mut(i) {
+            Some(c) if series == i as f64 => {
+                c.points.push((x, y));
+                Ok(())
+            }
+            _ => Err(bad(format!(
+                "a point of series {series}, which the header does not name"
+            ))),
+        }
+    };
+    if let Some(name) = points_file {
+        let (shape, values) = read_npy(&npy(&name)?)?;
+        if shape.len() != 2 || shape[1] != 4 {
+            return Err(bad(format!(
+                "{name}: expected shape (N, 4), found {shape:?}"
+            )));
+        }
+        for v in values.chunks_exact(4) {
+            if !(v[0] >= 0.0 && v[0] < 1e6 && v[0].fract() == 0.0) {
+                return Err(bad(format!("{name}: not a panel number: {}", v[0])));
+            }
+            panels.push((v[1] as usize, v[0] as usize));
+            push(v[1], v[2], v[3])?;
+        }
+    } else {
+        let recs = records(text)?;
+        let mut it = recs.into_iter();
+        match it.next() {
+            Some(h) if h.join(",") == COLUMNS => {}
+            _ => return Err(bad(format!("expected the column header {COLUMNS:?}"))),
+        }
+        for (k, r) in it.enumerate() {
+            if r.len() != 5 {
+                return Err(bad(format!(
+                    "row {}: expected 5 fields, found {}",
+                    k + 1,
+                    r.len()
+                )));
+            }
+            let n = |s: &str| {
+                s.parse::<f64>()
+                    .map_err(|_| bad(format!("row {}: not a number: {s:?}", k + 1)))
+            };
+            let panel: usize = r[0]
+                .parse()
+                .map_err(|_| bad(format!("row {}: not a panel number: {:?}", k + 1, r[0])))?;
+            let series = n(&r[1])?;
+            panels.push((series as usize, panel));
+            push(series, n(&r[3])?, n(&r[4])?)?;
+        }
+    }
+    for (series, panel) in panels {
+        if let Some(c) = fig.curves.get_mut(series) {
+            c.panel = panel;
+        }
+    }
+    Ok(fig)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn npy_header_is_padded_and_reads_back() {
+        let v = [1.0, -2.5, f64::NAN, 1e-300, 3.0, 4.0];
+        let bytes = npy(&[2, 3], &v);
+        let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+        assert_eq!((10 + hlen) % 64, 0);
+        assert_eq!(bytes[10 + hlen - 1], b'\n');
+        let (shape, back) = read_npy(&bytes).unwrap();
+        assert_eq!(shape, [2, 3]);
+        assert_eq!(back.len(), 6);
+        assert!(back[2].is_nan() && back[3] == 1e-300 && back[1] == -2.5);
+        assert!(read_npy(&bytes[..bytes.len() - 1]).is_err());
+        assert!(read_npy(b"nonsense").is_err());
+        let one = npy(&[4], &[0.0; 4]);
+        assert_eq!((one.len() - 32) % 64, 0);
+        assert!(String::from_utf8_lossy(&one[10..one.len() - 32]).contains("'shape': (4,)"));
+    }
+
+    #[test]
+    fn records_follow_rfc_4180() {
+        let text = "# c\na,\"b,\"\"c\"\"\r\nd\", e \n\"\",x\r\n";
+        let r = records(text).unwrap();
+        assert_eq!(r, [vec!["a", "b,\"c\"\r\nd", " e "], vec!["", "x"]]);
+        for s in [
+            "plain",
+            "a,b",
+            "say \"hi\"",
+            "cr\rhere",
+            "lf\nhere",
+            " lead",
+            "trail ",
+        ] {
+            let line = format!("{},{}\n", csv_field(s), csv_field("z"));
+            assert_eq!(
+                records(&line).unwrap(),
+                [vec![s.to_string(), "z".into()]],
+                "{s:?}"
+            );
+        }
+        assert!(records("\"open").is_err());
+    }
+
+    #[test]
+    fn numbers_read_back_exactly() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1e-300,
+            5e-324,
+            f64::MAX,
+            -1.5e17,
+            12345.678,
+            f64::NAN,
+        ] {
+            let back: f64 = num(v).parse().unwrap();
+            assert!(
+                back.to_bits() == v.to_bits() || (v.is_nan() && back.is_nan()),
+                "{v}"
+            );
+        }
+    }
+}
