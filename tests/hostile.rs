@@ -27,10 +27,10 @@ use hamilton_jacobi::perturbation::kepler_variation::{
 use hamilton_jacobi::perturbation::lindstedt::{lindstedt_odd_force, lindstedt_pendulum};
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::phase::State;
+use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Size, Style};
 use hamilton_jacobi::series::{
     expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
 };
-use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Size, Style};
 use hamilton_jacobi::special::elliptic;
 use hamilton_jacobi::special::kepler_equation::{self, Conic};
 use hamilton_jacobi::special::stumpff;
