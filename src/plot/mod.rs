@@ -121,8 +121,8 @@ const FONT: &str = "sans-serif";
 const TITLE_PX: f64 = 20.0;
 /// Axis titles (before shrinking to fit their axis).
 const DESC_PX: f64 = 16.0;
-/// Tick labels.
-const TICK_PX: f64 = 14.0;
+/// Tick labels: the base font size of a figure maps to it.
+const TICK_PX: f64 = render::BASE_UNITS;
 /// Legend labels (before shrinking to fit the height).
 const LEGEND_PX: f64 = 14.0;
 /// Legend labels shrink no further than this.
