@@ -25,19 +25,34 @@
 //! back exactly. The header's text values escape `\` as `\\` and line breaks as `\n`, `\r`.
 //! `note` lines (what the drawing adds to the caption) are derived and ignored on reading.
 //!
-//! For large outputs ([`DataFormat::Npy`]) the points go to `NAME.npy` instead, a NumPy array
-//! of `float64` of shape `(N, 4)` with columns panel, series, x, y (NumPy format 1.0), which the CSV's
-//! header names in a `# points:` line; the CSV then holds the header only.
+//! A heat map's data file ([`Grid`](crate::plot::Grid)) names the grid in its header (`grid:
+//! NX x NY`, the edges `grid_x: A B` and `grid_y: A B`, the colour bar's title `value:` and
+//! `value_scale:`) and holds the table `x,y,value`: one row per cell, at the cell's centre, row
+//! by row from the lowest y.
+//!
+//! NumPy files: figure data of at least [`NPY_THRESHOLD`] values (points of all curves, or
+//! cells; 512 × 512) is also written to `NAME.npy`, which the header names in a `# points:` or
+//! `# cells:` line — the points as an array of `float64` of shape `(N, 4)` with columns panel,
+//! series, x, y, a grid's values as an array of shape `(ny, nx)`, row 0 the lowest y (NumPy
+//! format 1.0). With [`DataFormat::Npy`] the NumPy file is written at any size and the CSV holds
+//! the header only. A figure is read back from the CSV's table if it has one, else from the
+//! NumPy file; [`read`] given the `.npy` file reads the header beside it and the values from
+//! the NumPy file.
 
-use super::{Figure, Rendered, Scale, Size, Style};
+use super::{Figure, Grid, Rendered, Scale, Size, Style};
 use crate::error::{Error, Result};
 use crate::workprecision::csv_field;
 use std::path::Path;
 
+/// Figure data of at least this many values (points of all curves, or cells of a grid) is
+/// also written as a NumPy file: 512 × 512.
+pub const NPY_THRESHOLD: usize = 512 * 512;
+
 /// How the points behind a figure are written.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum DataFormat {
-    /// Every point in the CSV table.
+    /// Every point in the CSV table (and in a NumPy file too at [`NPY_THRESHOLD`] values or
+    /// more).
     #[default]
     Csv,
     /// The points in a NumPy `.npy` file beside the CSV header.
@@ -65,6 +80,16 @@ impl DataFormat {
 const MAGIC: &str = "# hamilton-jacobi figure data";
 /// The column header of the table.
 const COLUMNS: &str = "panel,series,label,x,y";
+/// The column header of a heat map's table.
+const GRID_COLUMNS: &str = "x,y,value";
+
+/// Number of values of the figure's data: cells of its grid, or points of its curves.
+pub fn count(fig: &Figure) -> usize {
+    match &fig.grid {
+        Some(g) => g.values.len(),
+        None => fig.curves.iter().map(|c| c.points.len()).sum(),
+    }
+}
 
 /// A number written so that it reads back exactly (shortest round-trip digits; scientific
 /// notation outside 10⁻⁴ … 10¹⁵).
@@ -109,8 +134,9 @@ fn scale_key(s: Scale) -> &'static str {
     }
 }
 
-/// The figure's data file: header and (unless `npy` names the points' file) every point.
-pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
+/// The figure's data file: the header (naming the NumPy file `npy` if given) and, if `table`,
+/// every point (or cell).
+pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>, table: bool) -> String {
     let mut out = String::new();
     let mut line = |k: &str, v: &str| {
         out.push_str(&format!("# {k}: {}\n", escape(v)));
@@ -129,6 +155,13 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
     for (p, y) in fig.panel_labels.iter().enumerate() {
         line(&format!("panel {p}"), y);
     }
+    if let Some(g) = &fig.grid {
+        line("grid", &format!("{} x {}", g.nx, g.ny));
+        line("grid_x", &format!("{} {}", num(g.x.0), num(g.x.1)));
+        line("grid_y", &format!("{} {}", num(g.y.0), num(g.y.1)));
+        line("value", &g.label);
+        line("value_scale", scale_key(g.scale));
+    }
     for n in &rendered.notes {
         line("note", n);
     }
@@ -139,14 +172,39 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
         );
     }
     if let Some(name) = npy {
-        let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
-        line(
-            "points",
-            &format!("{name} (float64, shape ({n}, 4): panel, series, x, y)"),
-        );
+        match &fig.grid {
+            Some(g) => line(
+                "cells",
+                &format!(
+                    "{name} (float64, shape ({}, {}): rows from the lowest y)",
+                    g.ny, g.nx
+                ),
+            ),
+            None => line(
+                "points",
+                &format!(
+                    "{name} (float64, shape ({}, 4): panel, series, x, y)",
+                    count(fig)
+                ),
+            ),
+        }
     }
-    let mut out = format!("{MAGIC}\n{out}{COLUMNS}\n");
-    if npy.is_none() {
+    let columns = if fig.grid.is_some() {
+        GRID_COLUMNS
+    } else {
+        COLUMNS
+    };
+    let mut out = format!("{MAGIC}\n{out}{columns}\n");
+    if table {
+        if let Some(g) = &fig.grid {
+            let xs = g.centres(true, fig.x_scale);
+            let ys = g.centres(false, fig.y_scale);
+            for (k, y) in ys.iter().enumerate() {
+                for (i, x) in xs.iter().enumerate() {
+                    out += &format!("{},{},{}\n", num(*x), num(*y), num(g.values[k * g.nx + i]));
+                }
+            }
+        }
         for (i, c) in fig.curves.iter().enumerate() {
             let label = csv_field(&c.label);
             for &(x, y) in &c.points {
@@ -155,6 +213,15 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>) -> String {
         }
     }
     out
+}
+
+/// The figure's values as a NumPy file: a grid's values of shape `(ny, nx)`, or every point
+/// (see [`points_npy`]).
+pub fn values_npy(fig: &Figure) -> Vec<u8> {
+    match &fig.grid {
+        Some(g) => npy(&[g.ny, g.nx], &g.values),
+        None => points_npy(fig),
+    }
 }
 
 /// Every point of the figure as a NumPy array of shape `(N, 4)`: panel, series, x, y.
@@ -306,14 +373,24 @@ fn records(text: &str) -> Result<Vec<Vec<String>>> {
 /// # Errors
 /// [`Error::InvalidInput`] if a file cannot be read or is not a figure's data file.
 pub fn read(path: &Path) -> Result<Figure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::invalid(format!("data file {}", path.display()), e.to_string()))?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    from_csv(&text, |name| {
-        let p = dir.join(name);
-        std::fs::read(&p)
-            .map_err(|e| Error::invalid(format!("NumPy file {}", p.display()), e.to_string()))
-    })
+    let from_npy = path.extension().is_some_and(|e| e == "npy");
+    let csv = if from_npy {
+        path.with_extension("csv")
+    } else {
+        path.to_path_buf()
+    };
+    let text = std::fs::read_to_string(&csv)
+        .map_err(|e| Error::invalid(format!("data file {}", csv.display()), e.to_string()))?;
+    let dir = csv.parent().unwrap_or(Path::new("."));
+    parse(
+        &text,
+        |name| {
+            let p = dir.join(name);
+            std::fs::read(&p)
+                .map_err(|e| Error::invalid(format!("NumPy file {}", p.display()), e.to_string()))
+        },
+        from_npy,
+    )
 }
 
 /// Read a figure from the text of its data file; `npy` reads the points' file a `# points:`
@@ -322,6 +399,12 @@ pub fn read(path: &Path) -> Result<Figure> {
 /// # Errors
 /// [`Error::InvalidInput`] if the text is not a figure's data file.
 pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Figure> {
+    parse(text, npy, false)
+}
+
+/// Read a figure from the text of its data file, its values from the NumPy file the header
+/// names if `from_npy` or if the text has no table.
+fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> Result<Figure> {
     let bad = |why: String| Error::invalid("figure data", why);
     let mut lines = text.lines();
     if lines.next().map(str::trim_end) != Some(MAGIC) {
@@ -329,6 +412,16 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
     }
     let mut fig = Figure::new("", "", "");
     let mut points_file = None;
+    let mut grid = Grid {
+        nx: 0,
+        ny: 0,
+        x: (0.0, 1.0),
+        y: (0.0, 1.0),
+        values: Vec::new(),
+        label: String::new(),
+        scale: Scale::Linear,
+    };
+    let mut has_grid = false;
     for l in text.lines().skip(1) {
         let Some(rest) = l.strip_prefix("# ") else {
             break;
@@ -351,10 +444,36 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
             "equal_aspect" => fig.equal_aspect = value == "true",
             "size" => fig.size = Size::parse(&value)?,
             "caption" => fig.caption = value,
-            "points" => {
+            "points" | "cells" => {
                 let name = value.split(" (").next().unwrap_or_default().to_string();
                 points_file = Some(name);
             }
+            "grid" => {
+                let (nx, ny) = value
+                    .split_once(" x ")
+                    .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)))
+                    .ok_or_else(|| bad(format!("expected `grid: NX x NY`, found {value:?}")))?;
+                grid.nx = nx;
+                grid.ny = ny;
+                has_grid = true;
+            }
+            "grid_x" | "grid_y" => {
+                let e: Vec<f64> = value
+                    .split_whitespace()
+                    .map(|v| v.parse::<f64>())
+                    .collect::<std::result::Result<_, _>>()
+                    .map_err(|_| bad(format!("expected two edges in {l:?}")))?;
+                let [a, b] = e[..] else {
+                    return Err(bad(format!("expected two edges in {l:?}")));
+                };
+                if key == "grid_x" {
+                    grid.x = (a, b);
+                } else {
+                    grid.y = (a, b);
+                }
+            }
+            "value" => grid.label = value,
+            "value_scale" => grid.scale = scale(&value)?,
             k if k.starts_with("panel ") => {
                 if k[6..].parse() != Ok(fig.panel_labels.len()) {
                     return Err(bad(format!("panel out of order in {l:?}")));
@@ -391,7 +510,58 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
             ))),
         }
     };
-    if let Some(name) = points_file {
+    let columns = if has_grid { GRID_COLUMNS } else { COLUMNS };
+    let mut recs = records(text)?.into_iter();
+    match recs.next() {
+        Some(h) if h.join(",") == columns => {}
+        _ => return Err(bad(format!("expected the column header {columns:?}"))),
+    }
+    let rows: Vec<Vec<String>> = recs.collect();
+    let npy_file = match (&points_file, from_npy || rows.is_empty()) {
+        (Some(name), true) => Some(name.clone()),
+        (None, true) if from_npy => {
+            return Err(bad("the data file names no NumPy file".to_string()));
+        }
+        _ => None,
+    };
+    if has_grid {
+        let n = grid.nx.checked_mul(grid.ny).unwrap_or(usize::MAX);
+        grid.values = if let Some(name) = npy_file {
+            let (shape, values) = read_npy(&npy(&name)?)?;
+            if shape != [grid.ny, grid.nx] {
+                return Err(bad(format!(
+                    "{name}: expected shape ({}, {}), found {shape:?}",
+                    grid.ny, grid.nx
+                )));
+            }
+            values
+        } else {
+            if rows.len() != n {
+                return Err(bad(format!(
+                    "{} rows for a grid of {} × {} cells",
+                    rows.len(),
+                    grid.nx,
+                    grid.ny
+                )));
+            }
+            rows.iter()
+                .enumerate()
+                .map(|(k, r)| match &r[..] {
+                    [x, y, v] if x.parse::<f64>().is_ok() && y.parse::<f64>().is_ok() => v
+                        .parse::<f64>()
+                        .map_err(|_| bad(format!("row {}: not a number: {v:?}", k + 1))),
+                    _ => Err(bad(format!(
+                        "row {}: expected three numbers x, y, value",
+                        k + 1
+                    ))),
+                })
+                .collect::<Result<_>>()?
+        };
+        grid.check().map_err(|e| bad(e.to_string()))?;
+        fig.grid = Some(grid);
+        return Ok(fig);
+    }
+    if let Some(name) = npy_file {
         let (shape, values) = read_npy(&npy(&name)?)?;
         if shape.len() != 2 || shape[1] != 4 {
             return Err(bad(format!(
@@ -406,13 +576,7 @@ pub fn from_csv(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>) -> Result<Fig
             push(v[1], v[2], v[3])?;
         }
     } else {
-        let recs = records(text)?;
-        let mut it = recs.into_iter();
-        match it.next() {
-            Some(h) if h.join(",") == COLUMNS => {}
-            _ => return Err(bad(format!("expected the column header {COLUMNS:?}"))),
-        }
-        for (k, r) in it.enumerate() {
+        for (k, r) in rows.into_iter().enumerate() {
             if r.len() != 5 {
                 return Err(bad(format!(
                     "row {}: expected 5 fields, found {}",

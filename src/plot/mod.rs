@@ -65,9 +65,11 @@
 //!   range too wide to represent in floating point.
 
 pub mod data;
+pub mod heat_map;
 pub mod render;
 
 pub use data::DataFormat;
+pub use heat_map::Grid;
 pub use render::{Format, Size};
 
 use crate::error::{Error, Result};
@@ -111,8 +113,10 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Dash and gap length of a curve drawn dashed because it coincides with an earlier one.
-const DASH: (i32, i32) = (7, 5);
+/// Dash lengths of curves drawn dashed because they coincide with an earlier curve: the k-th
+/// curve coinciding with the same earlier one takes entry `k mod 5` (odd lengths, so that no
+/// pattern of a coinciding curve is one of the palette's, whose dash lengths are even).
+const COINCIDENT_DASHES: [i32; 5] = [7, 3, 11, 5, 9];
 /// Diameter of the dots of [`Style::Dots`], in SVG units.
 const DOT_WIDTH: f64 = 2.2;
 /// Font family of every text.
@@ -252,6 +256,9 @@ pub struct Figure {
     /// Vertical axis titles of the panels, from the top, for a figure of several panels sharing
     /// the horizontal axis (see [`Figure::panels`]); empty for one panel titled `y_label`.
     pub panel_labels: Vec<String>,
+    /// The grid of a heat map, drawn as coloured cells with a colour bar (see [`heat_map`]); a
+    /// figure with a grid has no curves and one panel.
+    pub grid: Option<Grid>,
 }
 
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
@@ -290,7 +297,15 @@ impl Figure {
             caption: String::new(),
             size: Size::default(),
             panel_labels: Vec::new(),
+            grid: None,
         }
+    }
+
+    /// Make the figure a heat map of `grid` (see [`heat_map`]): its cells fill the plotting
+    /// area, which spans the grid's edges, and the colour bar stands beside it.
+    pub fn heat_map(mut self, grid: Grid) -> Self {
+        self.grid = Some(grid);
+        self
     }
 
     /// Set the caption.
@@ -464,11 +479,6 @@ impl Figure {
                     .iter()
                     .filter(|c| c.panel == p)
                     .map(|c| Curve {
-                        label: if p == 0 {
-                            c.label.clone()
-                        } else {
-                            String::new()
-                        },
                         panel: 0,
                         ..c.clone()
                     })
@@ -484,6 +494,7 @@ impl Figure {
             Shared {
                 legend_h,
                 x_labels: false,
+                panel: Some(0),
                 ..Shared::canvas((w, h / n))
             },
         )?;
@@ -500,6 +511,7 @@ impl Figure {
             y_area,
             legend_h,
             x_labels: p + 1 == n as usize,
+            panel: Some(p),
         };
         let mut layouts: Vec<Layout> = sub
             .iter()
@@ -528,9 +540,10 @@ impl Figure {
     }
 
     /// Write the figure beside its data: `STEM.svg` and the other `formats` (`STEM.png`,
-    /// `STEM.pdf`), the data file `STEM.csv` (with the points in `STEM.npy` for
-    /// [`DataFormat::Npy`]; see [`data`]) and the caption `STEM.caption.txt`. Nothing is written if
-    /// the figure cannot be drawn. Returns the files written.
+    /// `STEM.pdf`), the data file `STEM.csv` (with the values also in `STEM.npy` for
+    /// [`DataFormat::Npy`] or at [`data::NPY_THRESHOLD`] values or more; see [`data`]) and the
+    /// caption `STEM.caption.txt`. Nothing is written if the figure cannot be drawn. Returns the
+    /// files written.
     ///
     /// # Errors
     /// As [`Figure::render`], or if a file cannot be rendered or written.
@@ -560,18 +573,21 @@ impl Figure {
             }
         }
         let caption = self.full_caption(&r);
-        match data {
-            DataFormat::Csv => put("csv", data::to_csv(self, &r, None).as_bytes())?,
-            DataFormat::Npy => {
-                let npy = with_suffix(stem, "npy");
-                let name = npy
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                put("npy", &data::points_npy(self))?;
-                put("csv", data::to_csv(self, &r, Some(&name)).as_bytes())?;
-            }
+        let npy = data == DataFormat::Npy || data::count(self) >= data::NPY_THRESHOLD;
+        let name = npy.then(|| {
+            with_suffix(stem, "npy")
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        });
+        if npy {
+            put("npy", &data::values_npy(self))?;
         }
+        let table = data == DataFormat::Csv;
+        put(
+            "csv",
+            data::to_csv(self, &r, name.as_deref(), table).as_bytes(),
+        )?;
         put("caption.txt", format!("{caption}\n").as_bytes())?;
         Ok(files)
     }
@@ -620,7 +636,7 @@ pub(crate) fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
 
 /// One axis: scale and, on a logarithmic axis with zeros, where the zeros go.
 #[derive(Clone, Copy, Debug)]
-struct AxisMap {
+pub(crate) struct AxisMap {
     scale: Scale,
     floor: f64,
 }
@@ -671,6 +687,8 @@ struct Prepared {
     dots: Vec<(f64, f64)>,
     /// The curve lies within the line width of this earlier curve everywhere (drawn dashed).
     coincides_with: Option<usize>,
+    /// Dash and gap lengths of the line; `None` for a solid line.
+    dash: Option<(u32, u32)>,
 }
 
 impl Prepared {
@@ -712,6 +730,7 @@ impl Prepared {
             lines: Vec::new(),
             dots: Vec::new(),
             coincides_with: None,
+            dash: series_dash(index),
         }
     }
 
@@ -747,13 +766,41 @@ impl Prepared {
 
     /// The curve's colour.
     fn color(&self) -> RGBColor {
-        PALETTE[self.index % PALETTE.len()]
+        series_color(self.index)
     }
 
-    /// The curve's marker shape.
-    fn shape(&self) -> Shape {
-        SHAPES[self.index % SHAPES.len()]
+    /// The curve's marker: shape, and whether it is filled.
+    fn marker(&self) -> (Shape, bool) {
+        series_marker(self.index)
     }
+}
+
+/// The colour of series `i`: the palette's colours in order, cycled.
+fn series_color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// The dash pattern (dash, gap) of series `i`: solid for the first ten series; each further
+/// cycle through the palette's colours takes a dash pattern of its own, cycle `c ≥ 1` dashes of
+/// `2 + 4 · ((c − 1) mod 5)` with gaps of `3 + 2 · ⌊(c − 1) / 5⌋` units. No two series share
+/// colour and dash pattern.
+fn series_dash(i: usize) -> Option<(u32, u32)> {
+    let c = i / PALETTE.len();
+    if c == 0 {
+        return None;
+    }
+    let k = c - 1;
+    let d = 2 + 4 * (k % 5) as u32;
+    let g = 3 + 2 * u32::try_from(k / 5).unwrap_or(u32::MAX / 4).min(1000);
+    Some((d, g))
+}
+
+/// The marker of series `i`: shape `(i + c) mod 4` in cycle `c = ⌊i / 10⌋` through the
+/// palette's colours, filled in cycles 0–3, open in cycles 4–7 (and so on): no two of the first
+/// eighty series share colour, shape and fill.
+fn series_marker(i: usize) -> (Shape, bool) {
+    let c = i / PALETTE.len();
+    (SHAPES[(i + c) % SHAPES.len()], (c / SHAPES.len()) % 2 == 0)
 }
 
 /// How notes name a curve: its label in quotes, or its number.
@@ -798,6 +845,73 @@ fn legend_label(label: &str, non_finite: usize, negative: usize) -> String {
     } else {
         format!("{label} ({note})")
     }
+}
+
+/// Whether the polyline `b` lies within the line width of `a` everywhere, given the pixels per
+/// unit `px` along x and y (plot coordinates). Curves sampled at the same abscissae are compared
+/// point by point. Curves whose abscissae increase along the whole curve (functions of x, such
+/// as histories sampled at different times) are compared on common abscissae: each curve's
+/// points against the other curve interpolated linearly there, over x-ranges that agree to
+/// within the line width; a point of one curve in a gap of the other does not coincide.
+fn coincide(a: &[Vec<(f64, f64)>], b: &[Vec<(f64, f64)>], px: (f64, f64)) -> bool {
+    let tol = STROKE as f64;
+    let close = |ya: f64, yb: f64| (ya - yb).abs() * px.1 < tol;
+    if a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(sa, sb)| sa.len() == sb.len() && sa.iter().zip(sb).all(|(pa, pb)| pa.0 == pb.0))
+    {
+        return a
+            .iter()
+            .zip(b)
+            .all(|(sa, sb)| sa.iter().zip(sb).all(|(pa, pb)| close(pa.1, pb.1)));
+    }
+    let increasing = |c: &[Vec<(f64, f64)>]| {
+        let mut prev = f64::NEG_INFINITY;
+        c.iter().flatten().all(|p| {
+            let up = p.0 > prev;
+            prev = p.0;
+            up
+        })
+    };
+    let ends = |c: &[Vec<(f64, f64)>]| {
+        let first = c.first().and_then(|s| s.first()).map(|p| p.0);
+        let last = c.last().and_then(|s| s.last()).map(|p| p.0);
+        first.zip(last)
+    };
+    let (Some((a0, a1)), Some((b0, b1))) = (ends(a), ends(b)) else {
+        return false;
+    };
+    if !(increasing(a) && increasing(b))
+        || (a0 - b0).abs() * px.0 >= tol
+        || (a1 - b1).abs() * px.0 >= tol
+    {
+        return false;
+    }
+    // Every point of `c` within the line width of `d` interpolated at its abscissa (clamped to
+    // d's range, which agrees with c's to within the line width).
+    let follows = |c: &[Vec<(f64, f64)>], d: &[Vec<(f64, f64)>]| {
+        let (d0, d1) = ends(d).unwrap_or((0.0, 0.0));
+        c.iter().flatten().all(|&(x, y)| {
+            let x = x.clamp(d0, d1);
+            let Some(seg) = d.iter().find(|s| {
+                s.first().is_some_and(|p| p.0 <= x) && s.last().is_some_and(|p| p.0 >= x)
+            }) else {
+                return false;
+            };
+            let k = seg.partition_point(|p| p.0 < x);
+            let yd = match k {
+                0 => seg[0].1,
+                k if k >= seg.len() => seg[seg.len() - 1].1,
+                k => {
+                    let (p, q) = (seg[k - 1], seg[k]);
+                    p.1 + (q.1 - p.1) * (x - p.0) / (q.0 - p.0)
+                }
+            };
+            close(y, yd)
+        })
+    };
+    follows(b, a) && follows(a, b)
 }
 
 /// A line thinned to at most `max` points without losing its extremes: the points are taken in
@@ -1237,7 +1351,7 @@ fn font(px: f64) -> TextStyle<'static> {
 // Layout and drawing.
 
 /// Marker shapes, cycled through by curve index.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Shape {
     Circle,
     Square,
@@ -1271,6 +1385,9 @@ struct Shared {
     /// Whether the horizontal axis has tick labels and its title (panels above the last have
     /// neither).
     x_labels: bool,
+    /// The panel's number in a figure of several panels (`None` for a figure of one). Only the
+    /// first panel has a legend (that of every panel), and notes name the panel.
+    panel: Option<usize>,
 }
 
 impl Shared {
@@ -1282,6 +1399,7 @@ impl Shared {
             y_area: None,
             legend_h: None,
             x_labels: true,
+            panel: None,
         }
     }
 }
@@ -1324,6 +1442,8 @@ struct Layout {
     legend_more: usize,
     legend_px: f64,
     legend_w: u32,
+    /// The heat map, if the figure is one.
+    heat: Option<heat_map::Heat>,
 }
 
 impl Layout {
@@ -1358,7 +1478,11 @@ impl Layout {
             .enumerate()
             .map(|(i, c)| Prepared::new(i, c, xm, ym))
             .collect();
-        if curves.iter().all(|c| c.drawable == 0) {
+        let heat = match &fig.grid {
+            Some(g) => Some(heat_map::Heat::new(fig, g, xm, ym, &mut notes)?),
+            None => None,
+        };
+        if heat.is_none() && curves.iter().all(|c| c.drawable == 0) {
             return Err(err(if fig.curves.is_empty() {
                 "the figure has no curves"
             } else {
@@ -1373,8 +1497,13 @@ impl Layout {
             xr = (xr.0.min(x), xr.1.max(x));
             yr = (yr.0.min(y), yr.1.max(y));
         }
-        let x_range = padded(xr.0, xr.1, fig.x_scale);
-        let y_range = padded(yr.0, yr.1, fig.y_scale);
+        let (x_range, y_range) = match &heat {
+            Some(h) => (h.x, h.y),
+            None => (
+                padded(xr.0, xr.1, fig.x_scale),
+                padded(yr.0, yr.1, fig.y_scale),
+            ),
+        };
         let representable = |r: (f64, f64)| (r.1 - r.0).is_finite() && r.1 > r.0;
         if !representable(x_range) || !representable(y_range) {
             return Err(err("the range of the points is too wide to draw"));
@@ -1456,28 +1585,39 @@ impl Layout {
         let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
 
         // Curves that lie within the line width of an earlier one everywhere are drawn dashed,
-        // and the legend and caption say so.
-        let px_per_y = plot_h / (y_range.1 - y_range.0);
+        // and the legend and caption say so. The plot is at most the canvas wide: pixels per
+        // unit along x are bounded by the canvas width over the range.
+        let px = (
+            f64::from(width) / (x_range.1 - x_range.0),
+            plot_h / (y_range.1 - y_range.0),
+        );
+        let mut coinciding = vec![0usize; curves.len()];
         for j in 0..curves.len() {
             if !curves[j].style.line() || curves[j].drawable < 2 {
                 continue;
             }
             let same = (0..j).find(|&i| {
-                let (a, b) = (&curves[i], &curves[j]);
-                a.style.line()
-                    && a.segments.len() == b.segments.len()
-                    && a.segments.iter().zip(&b.segments).all(|(sa, sb)| {
-                        sa.len() == sb.len()
-                            && sa.iter().zip(sb).all(|(pa, pb)| {
-                                pa.0 == pb.0 && (pa.1 - pb.1).abs() * px_per_y < STROKE as f64
-                            })
-                    })
+                curves[i].style.line()
+                    && curves[i].coincides_with.is_none()
+                    && coincide(&curves[i].segments, &curves[j].segments, px)
             });
             if let Some(i) = same {
                 let other = name_of(&curves[i].label, i);
+                let place = if fig.y_label.is_empty() || shared.panel.is_none() {
+                    String::new()
+                } else {
+                    format!("In the panel of {}, ", quoted_axis(&fig.y_label))
+                };
+                let this = name_of(&curves[j].label, j);
                 notes.push(format!(
-                    "{} coincides with {other} to within the line width everywhere (drawn dashed).",
-                    name_of(&curves[j].label, j)
+                    "{place}{this} coincides with {other} to within the line width everywhere \
+                     (drawn dashed).",
+                ));
+                let k = coinciding[i];
+                coinciding[i] += 1;
+                curves[j].dash = Some((
+                    COINCIDENT_DASHES[k % COINCIDENT_DASHES.len()] as u32,
+                    5 + 2 * (k / COINCIDENT_DASHES.len()).min(1000) as u32,
                 ));
                 curves[j].coincides_with = Some(i);
                 curves[j].label =
@@ -1488,7 +1628,7 @@ impl Layout {
         let max_text_w =
             width as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
         let labelled: Vec<usize> = (0..curves.len())
-            .filter(|&i| !curves[i].label.is_empty())
+            .filter(|&i| !curves[i].label.is_empty() && shared.panel.unwrap_or(0) == 0)
             .collect();
         let mut legend_px = LEGEND_PX;
         let (legend, legend_more) = loop {
@@ -1538,6 +1678,8 @@ impl Layout {
             .fold(0.0, f64::max);
         let legend_w = if let Some(w) = shared.legend_w {
             w
+        } else if let Some(h) = &heat {
+            h.column_width(plot_h)
         } else if legend.is_empty() && legend_more == 0 {
             0
         } else {
@@ -1581,6 +1723,10 @@ impl Layout {
             }
         };
         let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
+        let mut heat = heat;
+        if let Some(h) = &mut heat {
+            h.block(plot_w, plot_h, &mut notes);
+        }
 
         Ok(Self {
             x_labels: shared.x_labels,
@@ -1604,6 +1750,7 @@ impl Layout {
             legend_more,
             legend_px,
             legend_w,
+            heat,
         })
     }
 
@@ -1673,12 +1820,43 @@ impl Layout {
         ))?;
 
         let mut dot_paths = String::new();
+        if let Some(h) = &self.heat {
+            // The cells over the grid lines, and the frame over the cells.
+            dot_paths += &h.cells(|x, y| chart.backend_coord(&(x, y)));
+            let (a, b) = (
+                chart.backend_coord(&(self.x_range.0, self.y_range.1)),
+                chart.backend_coord(&(self.x_range.1, self.y_range.0)),
+            );
+            dot_paths += &format!(
+                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" \
+                 stroke=\"#000000\" stroke-width=\"1\"/>\n",
+                a.0,
+                a.1,
+                b.0 - a.0,
+                b.1 - a.1
+            );
+            h.draw_bar(&legend_area, self.plot_h, DESC_PX)?;
+        }
         for c in &self.curves {
             let color = c.color();
-            if c.coincides_with.is_some() {
-                chart.draw_series(c.lines.iter().map(|s| {
-                    DashedPathElement::new(s.clone(), DASH.0, DASH.1, color.stroke_width(STROKE))
-                }))?;
+            if let Some((d, g)) = c.dash {
+                // Dashed lines as SVG dash arrays (one element per stretch), on top of the
+                // solid ones.
+                for s in &c.lines {
+                    let pts: Vec<String> = s
+                        .iter()
+                        .map(|p| {
+                            let (x, y) = chart.backend_coord(p);
+                            format!("{x},{y}")
+                        })
+                        .collect();
+                    dot_paths += &format!(
+                        "<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"{STROKE}\" \
+                         stroke-dasharray=\"{d} {g}\" points=\"{}\"/>\n",
+                        svg_color(color),
+                        pts.join(" ")
+                    );
+                }
             } else {
                 chart.draw_series(
                     c.lines
@@ -1707,12 +1885,16 @@ impl Layout {
             }
             let r = c.dot_radius();
             let pts = c.dots.iter().copied();
-            let shape = if c.style.markers() {
-                c.shape()
+            let (shape, filled) = if c.style.markers() {
+                c.marker()
             } else {
-                Shape::Circle
+                (Shape::Circle, true)
             };
-            let style = color.filled();
+            let style = if filled {
+                color.filled()
+            } else {
+                color.stroke_width(1)
+            };
             match shape {
                 Shape::Circle => chart.draw_series(
                     pts.map(|p| EmptyElement::at(p) + Circle::new((0, 0), r, style)),
@@ -1778,15 +1960,15 @@ impl Layout {
             let color = c.color();
             let yc = (y + 0.5 * line_h).round() as i32;
             let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
-            if c.style.line() && c.coincides_with.is_some() {
-                area.draw(&DashedPathElement::new(
+            match (c.style.line(), c.dash) {
+                (true, Some((d, g))) => area.draw(&DashedPathElement::new(
                     swatch,
-                    DASH.0,
-                    DASH.1,
+                    d,
+                    g,
                     color.stroke_width(STROKE),
-                ))?;
-            } else if c.style.line() {
-                area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?;
+                ))?,
+                (true, None) => area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?,
+                _ => {}
             }
             if c.style == Style::Dots {
                 for k in 0..3 {
@@ -1796,9 +1978,14 @@ impl Layout {
             }
             if c.style.markers() {
                 let r = c.style.marker_radius();
-                let style = color.filled();
+                let (shape, filled) = c.marker();
+                let style = if filled {
+                    color.filled()
+                } else {
+                    color.stroke_width(1)
+                };
                 let at = ((sx + 0.5 * SWATCH_W) as i32, yc);
-                match c.shape() {
+                match shape {
                     Shape::Circle => {
                         area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, style)))?
                     }
@@ -2317,12 +2504,185 @@ mod tests {
             .all(|l| l.y_area == layouts[0].y_area && l.legend_w == layouts[0].legend_w));
         let heights: u32 = layouts.iter().map(|l| l.height).sum();
         assert!(heights <= fig.size.canvas().1);
-        let back = data::from_csv(&data::to_csv(&fig, &r, None), |_| Ok(Vec::new())).unwrap();
+        let back = data::from_csv(&data::to_csv(&fig, &r, None, true), |_| Ok(Vec::new())).unwrap();
         assert_eq!(back, fig);
         assert!(Figure::new("t", "x", "")
             .panels(["a"])
             .curve_in(3, "lost", [(0.0, 1.0)], Style::Line)
             .render()
             .is_err());
+    }
+
+    /// A heat map of `n × m` cells of `exp(−r²)` on a logarithmic colour scale, with NaN cells.
+    fn heat_figure(nx: usize, ny: usize) -> Figure {
+        let mut v = Vec::with_capacity(nx * ny);
+        for k in 0..ny {
+            for i in 0..nx {
+                let (x, y) = (
+                    -2.0 + 4.0 * (i as f64 + 0.5) / nx as f64,
+                    -1.0 + 2.0 * (k as f64 + 0.5) / ny as f64,
+                );
+                v.push(if i == k {
+                    f64::NAN
+                } else {
+                    (-(x * x + y * y)).exp()
+                });
+            }
+        }
+        Figure::new("density", "q", "p")
+            .caption("A Gaussian bump.")
+            .heat_map(
+                Grid::new(nx, ny, (-2.0, 2.0), (-1.0, 1.0), v)
+                    .unwrap()
+                    .label("ρ(q, p)")
+                    .log(),
+            )
+            .size(Size::column())
+    }
+
+    #[test]
+    fn heat_maps_draw_cells_colour_bar_and_missing_values() {
+        let fig = heat_figure(40, 20);
+        let r = fig.render().unwrap();
+        // One path per colour; the NaN cells in light grey, said in the caption and the bar.
+        assert!(r.svg.contains("fill=\"#D9D9D9\""));
+        assert!(has_text(&r.svg, "no value"), "{:?}", texts(&r.svg));
+        assert!(has_text(&r.svg, "ρ(q, p)"));
+        assert!(
+            r.notes
+                .iter()
+                .any(|n| n.contains("20 of 800 cells have no value")),
+            "{:?}",
+            r.notes
+        );
+        // The largest value (≈ e^{-0.0025}) is the top of viridis, the smallest its bottom.
+        assert!(r.svg.contains("fill=\"#FDE725\"") && r.svg.contains("fill=\"#440154\""));
+        // Curves and heat maps do not mix; a grid of bad size is refused.
+        assert!(heat_figure(4, 4)
+            .curve("c", [(0.0, 0.0)], Style::Line)
+            .render()
+            .is_err());
+        let mut bad = heat_figure(4, 4);
+        if let Some(g) = &mut bad.grid {
+            g.values.pop();
+        }
+        assert!(bad.render().is_err());
+        // Cells beyond the plot's resolution are drawn in blocks; the caption says so.
+        let r = heat_figure(1500, 30).render().unwrap();
+        assert!(
+            r.notes.iter().any(|n| n.contains("drawn in blocks of")),
+            "{:?}",
+            r.notes
+        );
+        assert!(r.svg.len() < 1_000_000, "{}", r.svg.len());
+    }
+
+    #[test]
+    fn heat_map_data_holds_every_cell_and_redraws_the_same_svg() {
+        // Below the threshold the CSV holds every cell; at 512 × 512 a NumPy file is written too,
+        // and the figure redraws from either.
+        for (nx, ny, npy) in [(30, 20, false), (512, 512, true)] {
+            let fig = heat_figure(nx, ny);
+            let dir = std::env::temp_dir().join(format!("hj-heat-{}-{nx}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            let stem = dir.join("heat");
+            let files = fig.write(&stem, &[Format::Svg], DataFormat::Csv).unwrap();
+            assert_eq!(
+                files.iter().any(|f| f.ends_with("heat.npy")),
+                npy,
+                "{files:?}"
+            );
+            let svg = std::fs::read_to_string(with_suffix(&stem, "svg")).unwrap();
+            let csv = std::fs::read_to_string(with_suffix(&stem, "csv")).unwrap();
+            assert_eq!(
+                csv.lines().filter(|l| !l.starts_with('#')).count(),
+                1 + nx * ny
+            );
+            let mut routes = vec![with_suffix(&stem, "csv")];
+            if npy {
+                routes.push(with_suffix(&stem, "npy"));
+            }
+            for route in routes {
+                let back = data::read(&route).unwrap();
+                let (a, b) = (back.grid.as_ref().unwrap(), fig.grid.as_ref().unwrap());
+                assert_eq!(
+                    (a.nx, a.ny, a.x, a.y, &a.label, a.scale),
+                    (b.nx, b.ny, b.x, b.y, &b.label, b.scale)
+                );
+                assert!(a
+                    .values
+                    .iter()
+                    .zip(&b.values)
+                    .all(|(p, q)| p.to_bits() == q.to_bits() || (p.is_nan() && q.is_nan())));
+                assert_eq!(back.to_svg_string().unwrap(), svg, "{}", route.display());
+            }
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
+
+    #[test]
+    fn no_two_series_share_colour_and_dash() {
+        let n = 60;
+        let lines: std::collections::HashSet<_> =
+            (0..n).map(|i| (series_color(i), series_dash(i))).collect();
+        assert_eq!(lines.len(), n);
+        let markers: std::collections::HashSet<_> = (0..80)
+            .map(|i| (series_color(i), series_marker(i)))
+            .collect();
+        assert_eq!(markers.len(), 80);
+        // The first ten are solid; the eleventh repeats the first colour, dashed.
+        assert!((0..10).all(|i| series_dash(i).is_none()));
+        assert_eq!(series_color(10), series_color(0));
+        assert!(series_dash(10).is_some());
+        // Coinciding curves take dashes of odd length, never a palette pattern.
+        assert!((0..1000).filter_map(series_dash).all(|(d, _)| d % 2 == 0));
+        assert!(COINCIDENT_DASHES.iter().all(|d| d % 2 == 1));
+        // Drawn: twelve parallel lines, the last two dashed in the first two colours.
+        let mut fig = Figure::new("many", "x", "y");
+        for k in 0..12 {
+            fig = fig.curve(
+                format!("c{k}"),
+                [(0.0, k as f64), (1.0, k as f64 + 0.5)],
+                Style::Line,
+            );
+        }
+        let svg = fig.to_svg_string().unwrap();
+        assert_eq!(svg.matches("stroke-dasharray=\"2 3\"").count(), 2, "{svg}");
+    }
+
+    #[test]
+    fn coincidence_is_found_across_different_sample_times() {
+        // The same decaying curve sampled at 200 and at 1000 times, and a different one.
+        let f = |t: f64| (-t).exp();
+        let coarse: Vec<(f64, f64)> = (0..=200)
+            .map(|i| i as f64 * 0.05)
+            .map(|t| (t, f(t)))
+            .collect();
+        let fine: Vec<(f64, f64)> = (0..=1000)
+            .map(|i| i as f64 * 0.01)
+            .map(|t| (t, f(t)))
+            .collect();
+        let other: Vec<(f64, f64)> = fine.iter().map(|&(t, y)| (t, y + 0.05)).collect();
+        let r = Figure::new("t", "t", "y")
+            .curve("coarse", coarse.clone(), Style::Line)
+            .curve("fine", fine, Style::Line)
+            .curve("other", other, Style::Line)
+            .render()
+            .unwrap();
+        let said: Vec<&String> = r.notes.iter().filter(|n| n.contains("coincides")).collect();
+        assert_eq!(said.len(), 1, "{:?}", r.notes);
+        assert!(said[0].contains("\u{201c}fine\u{201d} coincides with \u{201c}coarse\u{201d}"));
+        // A curve over half the span does not coincide with one over all of it.
+        let half: Vec<(f64, f64)> = coarse.iter().copied().filter(|p| p.0 <= 5.0).collect();
+        let r = Figure::new("t", "t", "y")
+            .curve("coarse", coarse, Style::Line)
+            .curve("half", half, Style::Line)
+            .render()
+            .unwrap();
+        assert!(
+            !r.notes.iter().any(|n| n.contains("coincides")),
+            "{:?}",
+            r.notes
+        );
     }
 }

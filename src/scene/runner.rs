@@ -998,25 +998,40 @@ impl Scene {
         Ok(self.figure_artifact("energy-error", "output.energy_error", fig))
     }
 
-    /// `output.invariants`: the drift of every conserved quantity the system knows.
+    /// `output.invariants`: the drift of every conserved quantity the system knows, one panel
+    /// per quantity (titled `|ΔI/I₀|` with the quantity's name), one colour per run.
     fn invariants(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
         let case = &*self.case;
-        let mut fig = Figure::new(
-            format!("{} — conserved quantities", self.title),
-            "t",
-            "|ΔI / I₀|",
-        )
-        .log_y()
-        .caption(
-            "Relative change |I(t) − I(0)| / |I(0)| of each conserved quantity I along each run \
-             (absolute where I(0) = 0).",
-        );
+        let mut panels: Vec<String> = Vec::new();
+        let mut curves: Vec<(usize, String, Vec<(f64, f64)>)> = Vec::new();
+        let mut absolute: Vec<&str> = Vec::new();
         for (label, h) in self.histories(runs, "invariants", samples)? {
             let values: Vec<Vec<Invariant>> = (0..h.t.len())
                 .map(|k| case.invariants(h.t[k], &h.q[k], &h.p[k]))
                 .collect::<crate::Result<_>>()
                 .map_err(|e| self.err("output.invariants", e))?;
             let first = &values[0];
+            if panels.is_empty() {
+                for inv in first {
+                    let n = inv.name;
+                    panels.push(if inv.value != 0.0 {
+                        format!("|Δ{n} / {n}₀|")
+                    } else {
+                        absolute.push(n);
+                        format!("|Δ{n}|")
+                    });
+                }
+            }
+            if first.len() != panels.len() {
+                return Err(self.err(
+                    "output.invariants",
+                    format!(
+                        "the runs give {} and {} conserved quantities",
+                        panels.len(),
+                        first.len()
+                    ),
+                ));
+            }
             for (j, inv) in first.iter().enumerate() {
                 let scale = if inv.value != 0.0 {
                     inv.value.abs()
@@ -1031,8 +1046,28 @@ impl Scene {
                             (t, (x - inv.value).abs() / scale)
                         })
                         .collect();
-                fig = fig.curve(format!("{}: {label}", inv.name), pts, Style::Line);
+                curves.push((j, label.clone(), pts));
             }
+        }
+        let mut caption = "Change of each conserved quantity I along each run, one panel per \
+                           quantity: relative, |I(t) − I(0)| / |I(0)|"
+            .to_string();
+        if absolute.is_empty() {
+            caption += ".";
+        } else {
+            caption += &format!(
+                "; absolute, |I(t) − I(0)|, for {} (I(0) = 0).",
+                absolute.join(", ")
+            );
+        }
+        let mut fig = Figure::new(format!("{} — conserved quantities", self.title), "t", "")
+            .log_y()
+            .panels(panels)
+            .caption(caption);
+        // Panel by panel, the runs in the same order: one colour per run in every panel.
+        curves.sort_by_key(|c| c.0);
+        for (j, label, pts) in curves {
+            fig = fig.curve_in(j, label, pts, Style::Line);
         }
         Ok(self.figure_artifact("invariants", "output.invariants", fig))
     }
