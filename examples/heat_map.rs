@@ -6,8 +6,9 @@
 //! Verlet is symplectic: its energy error stays bounded and is of order `h²` (Hairer, Lubich &
 //! Wanner, *Geometric Numerical Integration*, 2nd ed., §IX.8). At small amplitude the pendulum
 //! is the harmonic oscillator, for which the numerical orbit conserves the modified energy
-//! `H̃ = p²/2 + (1 − h²/4) θ²/2` exactly, so the largest relative error of `H` is
-//! `(h²/4) / (1 − h²/4)` (printed against the map's bottom row). Towards the separatrix
+//! `H̃ = p²/2 + (1 − h²/4) θ²/2` exactly, so that `H(t) − H(0) = (h²/4)(θ² − θ₀²)/2` and the
+//! largest relative error is `h²/4`, reached as θ passes through 0 (printed against the map's
+//! bottom row). Towards the separatrix
 //! (`θ₀ → π`) the error grows as the motion slows near the unstable equilibrium; above
 //! `h = 2` the step leaves the stability interval of the linearised map (no cell reaches it
 //! here). Cells whose run fails are drawn as "no value".

@@ -2,7 +2,8 @@
 //! sweep of their knob and for analytic or perturbative theories at each order, on one set of axes.
 //!
 //! A [`Series`] is one method swept over its knob (steps, tolerance, order); each [`Sample`]
-//! holds the knob, the error, the best wall time over repeated runs and the [`Work`] counts. A
+//! holds the knob, the error, the best (and the slowest) wall time over repeated runs and the
+//! [`Work`] counts. A
 //! [`Comparison`] gathers series for one problem and renders them as CSV, a Markdown table and
 //! (feature `cli`) an SVG work-precision diagram with logarithmic axes.
 //!
@@ -24,6 +25,9 @@ pub struct Sample {
     pub error: f64,
     /// Fastest wall time over the repetitions, in seconds.
     pub seconds: f64,
+    /// Slowest wall time over the repetitions, in seconds (the spread of the timing; equal to
+    /// `seconds` for a single run).
+    pub slowest: f64,
     /// Work of one run.
     pub work: Work,
 }
@@ -143,13 +147,16 @@ pub fn sweep(
     let mut samples = Vec::with_capacity(knobs.len());
     for &k in knobs {
         let mut best = f64::INFINITY;
+        let mut worst: f64 = 0.0;
         let mut result = None;
         let start = Instant::now();
         let mut runs = 0;
         while runs == 0 || (start.elapsed() < timing.min_time && runs < timing.max_runs) {
             let t = Instant::now();
             let r = run(k).map_err(|e| Error::invalid(format!("{label} at {k}"), e.to_string()))?;
-            best = best.min(t.elapsed().as_secs_f64());
+            let dt = t.elapsed().as_secs_f64();
+            best = best.min(dt);
+            worst = worst.max(dt);
             result = Some(r);
             runs += 1;
         }
@@ -160,6 +167,7 @@ pub fn sweep(
             knob: k,
             error,
             seconds: best,
+            slowest: worst,
             work,
         });
     }
@@ -320,6 +328,7 @@ mod tests {
                     knob: i as f64,
                     error,
                     seconds,
+                    slowest: seconds,
                     work: Work::default(),
                 })
                 .collect(),

@@ -27,7 +27,7 @@ use hamilton_jacobi::perturbation::kepler_variation::{
 use hamilton_jacobi::perturbation::lindstedt::{lindstedt_odd_force, lindstedt_pendulum};
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::phase::State;
-use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Size, Style};
+use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Grid, Size, Style};
 use hamilton_jacobi::series::{
     expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
 };
@@ -1910,6 +1910,102 @@ fn add_plots(c: &mut Vec<Call>) {
         let cut = &bytes[..n.min(bytes.len() - 1)];
         typed("a truncated NumPy file", plot::data::read_npy(cut).is_err())
     });
+    // Heat maps: hostile edges are refused by Grid::new (or, on a logarithmic axis, by the
+    // drawing); hostile values are cells without a value; grids of bad size, and grids without
+    // a single value, are refused.
+    sweep(
+        c,
+        "Grid::new+Figure::heat_map",
+        &[0.0, 1.0, 0.1, 2.0, 0.5],
+        &[(1, -1.0), (3, 0.1)],
+        |a| {
+            let valid = a[0].is_finite() && a[1].is_finite() && a[0] < a[1];
+            let valid = valid && a[2].is_finite() && a[3].is_finite() && a[2] < a[3];
+            let grid = Grid::new(2, 2, (a[0], a[1]), (a[2], a[3]), vec![a[4], 1.0, 2.0, 3.0]);
+            judge(grid, valid, |g| {
+                let linear = Figure::new("f", "x", "y").heat_map(g.clone().label("v"));
+                let log = Figure::new("f", "x", "y")
+                    .log_x()
+                    .log_y()
+                    .heat_map(g.label("v").log());
+                all([
+                    judge(linear.render(), true, drawn),
+                    judge(log.render(), a[0] > 0.0 && a[2] > 0.0, drawn),
+                ])
+            })
+        },
+    );
+    sized(
+        c,
+        "Figure::heat_map(sizes)",
+        &[0, 1, 3, 1 << 40],
+        move |n| {
+            let fig = |g: Grid| Figure::new("f", "x", "y").heat_map(g);
+            let mut wrong = Grid::new(1, 1, (0.0, 1.0), (0.0, 1.0), vec![1.0]).unwrap();
+            wrong.nx = n;
+            wrong.ny = n.max(1);
+            all([
+                typed(
+                    "a grid of 0 columns",
+                    Grid::new(0, n, (0.0, 1.0), (0.0, 1.0), vec![1.0; n.min(4)]).is_err(),
+                ),
+                typed(
+                    "values that do not fill the grid",
+                    Grid::new(
+                        n.max(1),
+                        2,
+                        (0.0, 1.0),
+                        (0.0, 1.0),
+                        vec![1.0; 2 * n.clamp(1, 4) + 1],
+                    )
+                    .is_err(),
+                ),
+                typed(
+                    "a grid without a value",
+                    fig(Grid::new(2, 2, (0.0, 1.0), (0.0, 1.0), vec![f64::NAN; 4]).unwrap())
+                        .render()
+                        .is_err(),
+                ),
+                typed(
+                    "a grid whose size does not match its values",
+                    n == 1 || fig(wrong).render().is_err(),
+                ),
+                typed(
+                    "a heat map with curves",
+                    fig(Grid::new(1, 1, (0.0, 1.0), (0.0, 1.0), vec![1.0]).unwrap())
+                        .curve("c", [(0.0, 1.0)], Style::Line)
+                        .render()
+                        .is_err(),
+                ),
+            ])
+        },
+    );
+    // Error bands: hostile bounds are omitted from the band, never drawn as garbage; bounds
+    // that do not match the points are refused.
+    sweep(
+        c,
+        "Figure::band",
+        &[0.0, 0.5, 1.0, 1.5],
+        &[(1, 2.0)],
+        move |a| {
+            let pts = [
+                (a[0], a[1], a[2], a[3]),
+                (1.0, 0.5, 1.0, 1.5),
+                (2.0, 1.0, 2.0, 3.0),
+            ];
+            let fig = Figure::new("f", "x", "y").band("b", pts, Style::LineMarkers);
+            let mut short = fig.clone();
+            short.curves[0].band.pop();
+            all([
+                judge(fig.render(), true, drawn),
+                judge(fig.clone().log_y().render(), true, drawn),
+                typed(
+                    "bounds that do not match the points",
+                    short.render().is_err(),
+                ),
+            ])
+        },
+    );
     sized(c, "Figure::write(unwritable)", &[0, 1], move |n| {
         let stem = std::path::Path::new("/nonexistent-hj-dir/sub/figure");
         let data = if n == 0 {
@@ -1928,7 +2024,42 @@ fn add_plots(c: &mut Vec<Call>) {
                 "a missing data file",
                 plot::data::read(&stem.with_extension("csv")).is_err(),
             ),
+            typed(
+                "a NumPy file without its data file",
+                plot::data::read(&stem.with_extension("npy")).is_err(),
+            ),
+            typed(
+                "a heat map at an unwritable path",
+                Figure::new("f", "x", "y")
+                    .heat_map(Grid::new(1, 1, (0.0, 1.0), (0.0, 1.0), vec![1.0]).unwrap())
+                    .write(stem, &[Format::Svg, Format::Png], data)
+                    .is_err(),
+            ),
         ])
+    });
+    // A data file naming a NumPy file that does not match it: typed errors on either route.
+    sized(c, "plot::data::read(npy)", &[0, 1, 2], move |n| {
+        let dir = std::env::temp_dir().join(format!("hj-hostile-npy-{}-{n}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let csv = dir.join("f.csv");
+        let header = "# hamilton-jacobi figure data\n# grid: 2 x 2\n# grid_x: 0 1\n# grid_y: 0 1\n\
+                      # cells: f.npy\nx,y,value\n";
+        let _ = std::fs::write(&csv, header);
+        let shapes: [&[usize]; 3] = [&[2, 3], &[4], &[2, 2]];
+        let values = vec![f64::NAN; shapes[n].iter().product()];
+        let _ = std::fs::write(dir.join("f.npy"), plot::data::npy(shapes[n], &values));
+        let verdict = all([
+            typed("a grid of the wrong shape or without a value", {
+                let fig = plot::data::read(&csv);
+                fig.is_err() || fig.is_ok_and(|f| f.render().is_err())
+            }),
+            typed("the same through the NumPy file", {
+                let fig = plot::data::read(&dir.join("f.npy"));
+                fig.is_err() || fig.is_ok_and(|f| f.render().is_err())
+            }),
+        ]);
+        let _ = std::fs::remove_dir_all(&dir);
+        verdict
     });
 }
 

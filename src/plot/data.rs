@@ -80,6 +80,8 @@ impl DataFormat {
 const MAGIC: &str = "# hamilton-jacobi figure data";
 /// The column header of the table.
 const COLUMNS: &str = "panel,series,label,x,y";
+/// The column header of the table of a figure with error bands.
+const BAND_COLUMNS: &str = "panel,series,label,x,y,lower,upper";
 /// The column header of a heat map's table.
 const GRID_COLUMNS: &str = "x,y,value";
 
@@ -166,9 +168,10 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>, table: bool)
         line("note", n);
     }
     for (i, c) in fig.curves.iter().enumerate() {
+        let band = if c.band.is_empty() { "" } else { BAND };
         line(
             &format!("series {i}"),
-            &format!("{}: {}", c.style.key(), c.label),
+            &format!("{}{band}: {}", c.style.key(), c.label),
         );
     }
     if let Some(name) = npy {
@@ -191,6 +194,8 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>, table: bool)
     }
     let columns = if fig.grid.is_some() {
         GRID_COLUMNS
+    } else if has_bands(fig) {
+        BAND_COLUMNS
     } else {
         COLUMNS
     };
@@ -205,14 +210,30 @@ pub fn to_csv(fig: &Figure, rendered: &Rendered, npy: Option<&str>, table: bool)
                 }
             }
         }
+        let bands = has_bands(fig);
         for (i, c) in fig.curves.iter().enumerate() {
             let label = csv_field(&c.label);
-            for &(x, y) in &c.points {
-                out += &format!("{},{i},{label},{},{}\n", c.panel, num(x), num(y));
+            for (k, &(x, y)) in c.points.iter().enumerate() {
+                out += &format!("{},{i},{label},{},{}", c.panel, num(x), num(y));
+                if bands {
+                    match c.band.get(k) {
+                        Some(&(lo, hi)) => out += &format!(",{},{}", num(lo), num(hi)),
+                        None => out += ",,",
+                    }
+                }
+                out.push('\n');
             }
         }
     }
     out
+}
+
+/// Marks a series with an error band in the header (`series 0: line+band: label`).
+const BAND: &str = "+band";
+
+/// Whether a curve of the figure has an error band.
+fn has_bands(fig: &Figure) -> bool {
+    fig.curves.iter().any(|c| !c.band.is_empty())
 }
 
 /// The figure's values as a NumPy file: a grid's values of shape `(ny, nx)`, or every point
@@ -224,16 +245,22 @@ pub fn values_npy(fig: &Figure) -> Vec<u8> {
     }
 }
 
-/// Every point of the figure as a NumPy array of shape `(N, 4)`: panel, series, x, y.
+/// Every point of the figure as a NumPy array of shape `(N, 4)`: panel, series, x, y; with
+/// error bands, of shape `(N, 6)` with the lower and upper bound (NaN for curves without one).
 pub fn points_npy(fig: &Figure) -> Vec<u8> {
     let n: usize = fig.curves.iter().map(|c| c.points.len()).sum();
-    let mut values = Vec::with_capacity(4 * n);
+    let cols = if has_bands(fig) { 6 } else { 4 };
+    let mut values = Vec::with_capacity(cols * n);
     for (i, c) in fig.curves.iter().enumerate() {
-        for &(x, y) in &c.points {
+        for (k, &(x, y)) in c.points.iter().enumerate() {
             values.extend([c.panel as f64, i as f64, x, y]);
+            if cols == 6 {
+                let (lo, hi) = c.band.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
+                values.extend([lo, hi]);
+            }
         }
     }
-    npy(&[n, 4], &values)
+    npy(&[n, cols], &values)
 }
 
 /// A NumPy `.npy` file (format version 1.0) of little-endian `float64` values in C order of
@@ -422,6 +449,7 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
         scale: Scale::Linear,
     };
     let mut has_grid = false;
+    let mut banded: Vec<bool> = Vec::new();
     for l in text.lines().skip(1) {
         let Some(rest) = l.strip_prefix("# ") else {
             break;
@@ -490,19 +518,28 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
                 let (style, label) = value
                     .split_once(": ")
                     .ok_or_else(|| bad(format!("expected `style: label` in {l:?}")))?;
+                let (style, band) = match style.strip_suffix(BAND) {
+                    Some(s) => (s, true),
+                    None => (style, false),
+                };
                 let style = Style::from_key(style)
                     .ok_or_else(|| bad(format!("unknown style {style:?}")))?;
                 fig = fig.curve(label, Vec::new(), style);
+                banded.push(band);
             }
             _ => {}
         }
     }
     let mut panels: Vec<(usize, usize)> = Vec::new();
-    let mut push = |series: f64, x: f64, y: f64| -> Result<()> {
+    let bands = banded.contains(&true);
+    let mut push = |series: f64, x: f64, y: f64, band: Option<(f64, f64)>| -> Result<()> {
         let i = series as usize;
         match fig.curves.get_mut(i) {
             Some(c) if series == i as f64 => {
                 c.points.push((x, y));
+                if banded[i] {
+                    c.band.push(band.unwrap_or((f64::NAN, f64::NAN)));
+                }
                 Ok(())
             }
             _ => Err(bad(format!(
@@ -510,7 +547,14 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
             ))),
         }
     };
-    let columns = if has_grid { GRID_COLUMNS } else { COLUMNS };
+    let columns = if has_grid {
+        GRID_COLUMNS
+    } else if bands {
+        BAND_COLUMNS
+    } else {
+        COLUMNS
+    };
+    let width = if bands { 7 } else { 5 };
     let mut recs = records(text)?.into_iter();
     match recs.next() {
         Some(h) if h.join(",") == columns => {}
@@ -563,23 +607,24 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
     }
     if let Some(name) = npy_file {
         let (shape, values) = read_npy(&npy(&name)?)?;
-        if shape.len() != 2 || shape[1] != 4 {
+        let cols = width - 1;
+        if shape.len() != 2 || shape[1] != cols {
             return Err(bad(format!(
-                "{name}: expected shape (N, 4), found {shape:?}"
+                "{name}: expected shape (N, {cols}), found {shape:?}"
             )));
         }
-        for v in values.chunks_exact(4) {
+        for v in values.chunks_exact(cols) {
             if !(v[0] >= 0.0 && v[0] < 1e6 && v[0].fract() == 0.0) {
                 return Err(bad(format!("{name}: not a panel number: {}", v[0])));
             }
             panels.push((v[1] as usize, v[0] as usize));
-            push(v[1], v[2], v[3])?;
+            push(v[1], v[2], v[3], bands.then(|| (v[4], v[5])))?;
         }
     } else {
         for (k, r) in rows.into_iter().enumerate() {
-            if r.len() != 5 {
+            if r.len() != width {
                 return Err(bad(format!(
-                    "row {}: expected 5 fields, found {}",
+                    "row {}: expected {width} fields, found {}",
                     k + 1,
                     r.len()
                 )));
@@ -593,7 +638,12 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
                 .map_err(|_| bad(format!("row {}: not a panel number: {:?}", k + 1, r[0])))?;
             let series = n(&r[1])?;
             panels.push((series as usize, panel));
-            push(series, n(&r[3])?, n(&r[4])?)?;
+            let band = if bands && !(r[5].is_empty() && r[6].is_empty()) {
+                Some((n(&r[5])?, n(&r[6])?))
+            } else {
+                None
+            };
+            push(series, n(&r[3])?, n(&r[4])?, band)?;
         }
     }
     for (series, panel) in panels {

@@ -715,8 +715,11 @@ impl Heat {
         let x0 = BAR_LEFT.round() as i32;
         let x1 = (BAR_LEFT + BAR_W).round() as i32;
         let y_of = |t: f64| (top + (1.0 - t) * bar_h).round() as i32;
+        // Strips from the bottom, each reaching one unit into the next (drawn over it), so
+        // that no seam shows between them.
         for l in 0..256 {
             let (lo, hi) = (y_of(l as f64 / 256.0), y_of((l + 1) as f64 / 256.0));
+            let hi = if l < 255 { hi - 1 } else { hi };
             area.draw(&Rectangle::new([(x0, hi), (x1, lo)], colour(l).filled()))?;
         }
         area.draw(&Rectangle::new(

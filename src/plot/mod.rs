@@ -1,6 +1,6 @@
-//! Figures: labelled curves (lines, markers, or dots for sections of many points) on linear or
-//! logarithmic axes, in one panel or a column of panels sharing the horizontal axis, with a
-//! legend beside the plotting area. The library returns data; this module (feature `cli`) draws
+//! Figures: labelled curves (lines, markers, or dots for sections of many points, with error
+//! bands) on linear or logarithmic axes, in one panel or a column of panels sharing the
+//! horizontal axis, with a legend beside the plotting area; and heat maps with a colour bar. The library returns data; this module (feature `cli`) draws
 //! it.
 //!
 //! A [`Figure`](crate::plot::Figure) is built with a few chained calls and written with
@@ -29,9 +29,18 @@
 //!   Curves with an empty label have no entry. If the entries do not fit the height of the figure
 //!   the legend's font shrinks, and as a last resort the remaining entries are summarised as
 //!   "… and N more". A long title is wrapped (at most three lines).
-//! * **Colours and markers.** Curves take the colours of a ten-colour palette in order, with lines
-//!   2 pixels wide; markers cycle through circle, square, triangle and diamond, so that curves
-//!   with markers stay distinguishable in grey-scale and beyond ten curves.
+//! * **Colours, dashes and markers.** Curves take the colours of a ten-colour palette in order,
+//!   with lines 2 pixels wide: the first ten solid, each further cycle through the palette with
+//!   a dash pattern of its own, so that no two curves share colour and dash pattern. Markers
+//!   cycle through circle, square, triangle and diamond, shifted by one shape in each cycle
+//!   through the colours and open (unfilled) from the fifth cycle on, so that the first eighty
+//!   curves with markers differ in colour, shape or fill.
+//! * **Error bands.** A curve may carry a lower and an upper bound at each point
+//!   ([`Figure::band`](crate::plot::Figure::band)): the band between them is shaded in the
+//!   curve's colour under every line (a long band is thinned to its envelope), and its legend
+//!   swatch shows the shading.
+//! * **Heat maps.** A figure may instead draw a regular grid of values as coloured cells with a
+//!   colour bar ([`heat_map`](crate::plot::heat_map)).
 //! * **Points that cannot be drawn.** A point with a NaN or infinite coordinate is omitted; so is a
 //!   point with a negative coordinate on a logarithmic axis. A line is interrupted where points
 //!   were omitted (a point left alone between omitted ones is drawn as a dot), and the curve's
@@ -40,8 +49,11 @@
 //!   a floor: the power of ten at least one decade below the smallest positive value on that axis
 //!   (10⁻¹⁷ if there is none), and the caption says so (the axis title stays short).
 //! * **Coinciding curves.** A line that lies within the line width of an earlier one at every
-//!   point is drawn dashed, and its legend entry and the caption say which curve it coincides
-//!   with.
+//!   point is drawn dashed (with a dash length of its own if several coincide with the same
+//!   curve), and its legend entry and the caption say which curve it coincides with. Curves
+//!   sampled at different abscissae are compared on common abscissae when x increases along both
+//!   (each against the other interpolated linearly), so that histories sampled at different
+//!   times are recognised too.
 //! * **Ranges and ticks.** Ranges cover every drawable point, padded by 5 % of the span on a linear
 //!   axis and by a factor 2 on a logarithmic one; a range of a single value is widened (±10 % of
 //!   the value, ±1 if it is 0; one decade either side on a logarithmic axis). Logarithmic axes are
@@ -117,6 +129,8 @@ const PALETTE: [RGBColor; 10] = [
 /// curve coinciding with the same earlier one takes entry `k mod 5` (odd lengths, so that no
 /// pattern of a coinciding curve is one of the palette's, whose dash lengths are even).
 const COINCIDENT_DASHES: [i32; 5] = [7, 3, 11, 5, 9];
+/// Opacity of the shading of error bands.
+const BAND_OPACITY: f64 = 0.22;
 /// Diameter of the dots of [`Style::Dots`], in SVG units.
 const DOT_WIDTH: f64 = 2.2;
 /// Font family of every text.
@@ -228,6 +242,9 @@ pub struct Curve {
     pub style: Style,
     /// The panel the curve is drawn in (0 for a figure of one panel).
     pub panel: usize,
+    /// An error band: the lower and upper bound at each point, drawn as a shaded band in the
+    /// curve's colour under every line (empty: no band).
+    pub band: Vec<(f64, f64)>,
 }
 
 /// A figure: title, axis titles and scales, curves. See the [module documentation](self) for how
@@ -262,21 +279,44 @@ pub struct Figure {
 }
 
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
-/// one line with markers per series, legend beside the plot. Errors of exactly 0 are drawn at
-/// the plot's zero floor, which the axis title states.
+/// one line with markers per series through the fastest time of each sample, legend beside the
+/// plot; where samples were timed over several runs, a band shades the range from the fastest
+/// to the slowest run. Errors of exactly 0 are drawn at the plot's zero floor, which the
+/// caption states.
 pub fn work_precision(c: &Comparison) -> Figure {
-    c.series.iter().fold(
-        Figure::new(&c.title, &c.error_label, "wall time [s]")
-            .log_x()
-            .log_y(),
-        |f, s| {
+    let spread = c
+        .series
+        .iter()
+        .flat_map(|s| &s.samples)
+        .any(|x| x.slowest > x.seconds);
+    let fig = Figure::new(&c.title, &c.error_label, "wall time [s]")
+        .log_x()
+        .log_y();
+    let fig = if spread {
+        fig.caption(
+            "Wall time against error: the line joins the fastest of the repeated runs of each \
+             sample; the shaded band reaches up to the slowest.",
+        )
+    } else {
+        fig
+    };
+    c.series.iter().fold(fig, |f, s| {
+        if spread {
+            f.band(
+                &s.label,
+                s.samples
+                    .iter()
+                    .map(|x| (x.error, x.seconds, x.seconds, x.slowest.max(x.seconds))),
+                Style::LineMarkers,
+            )
+        } else {
             f.curve(
                 &s.label,
                 s.samples.iter().map(|x| (x.error, x.seconds)),
                 Style::LineMarkers,
             )
-        },
-    )
+        }
+    })
 }
 
 impl Figure {
@@ -361,6 +401,40 @@ impl Figure {
             points: points.into_iter().collect(),
             style,
             panel,
+            band: Vec::new(),
+        });
+        self
+    }
+
+    /// Add a curve with an error band: points `(x, lower, y, upper)`, the curve through
+    /// `(x, y)` and the band shaded between `(x, lower)` and `(x, upper)`.
+    pub fn band(
+        self,
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, f64, f64, f64)>,
+        style: Style,
+    ) -> Self {
+        self.band_in(0, label, points, style)
+    }
+
+    /// Add a curve with an error band to panel `panel` (see [`Figure::band`]).
+    pub fn band_in(
+        mut self,
+        panel: usize,
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, f64, f64, f64)>,
+        style: Style,
+    ) -> Self {
+        let (points, band) = points
+            .into_iter()
+            .map(|(x, lo, y, hi)| ((x, y), (lo, hi)))
+            .unzip();
+        self.curves.push(Curve {
+            label: label.into(),
+            points,
+            style,
+            panel,
+            band,
         });
         self
     }
@@ -689,6 +763,9 @@ struct Prepared {
     coincides_with: Option<usize>,
     /// Dash and gap lengths of the line; `None` for a solid line.
     dash: Option<(u32, u32)>,
+    /// Stretches of the error band, `(x, lower, upper)` in plot coordinates, thinned to keep
+    /// its envelope.
+    bands: Vec<Vec<(f64, f64, f64)>>,
 }
 
 impl Prepared {
@@ -721,6 +798,20 @@ impl Prepared {
         }
         let drawable = segments.iter().map(Vec::len).sum();
         let label = legend_label(&curve.label, non_finite, negative);
+        let mut bands: Vec<Vec<(f64, f64, f64)>> = Vec::new();
+        let mut current: Vec<(f64, f64, f64)> = Vec::new();
+        for (&(x, _), &(lo, hi)) in curve.points.iter().zip(&curve.band) {
+            let finite = x.is_finite() && lo.is_finite() && hi.is_finite();
+            match (finite, xm.map(x), ym.map(lo), ym.map(hi)) {
+                (true, Some(px), Some(pl), Some(ph)) => current.push((px, pl, ph)),
+                _ if !current.is_empty() => bands.push(std::mem::take(&mut current)),
+                _ => {}
+            }
+        }
+        if !current.is_empty() {
+            bands.push(current);
+        }
+        let bands = thin_band(bands, MAX_DRAWN_POINTS);
         Self {
             label,
             style: curve.style,
@@ -731,6 +822,7 @@ impl Prepared {
             dots: Vec::new(),
             coincides_with: None,
             dash: series_dash(index),
+            bands,
         }
     }
 
@@ -951,6 +1043,30 @@ fn thin_extremes(segments: &[Vec<(f64, f64)>], max: usize) -> Vec<Vec<(f64, f64)
                 }
             }
             kept
+        })
+        .collect()
+}
+
+/// An error band thinned to at most about `max` points: in runs of `k` consecutive points, the
+/// first and last abscissa of the run with the run's lowest lower and highest upper bound, so
+/// that the drawn band covers the whole band.
+fn thin_band(bands: Vec<Vec<(f64, f64, f64)>>, max: usize) -> Vec<Vec<(f64, f64, f64)>> {
+    let n: usize = bands.iter().map(Vec::len).sum();
+    if n <= max.max(4) {
+        return bands;
+    }
+    let k = n.div_ceil(max.max(4) / 2).max(2);
+    bands
+        .iter()
+        .map(|b| {
+            b.chunks(k)
+                .flat_map(|run| {
+                    let lo = run.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+                    let hi = run.iter().map(|p| p.2).fold(f64::NEG_INFINITY, f64::max);
+                    let (first, last) = (run[0].0, run[run.len() - 1].0);
+                    [(first, lo, hi), (last, lo, hi)]
+                })
+                .collect()
         })
         .collect()
 }
@@ -1472,6 +1588,18 @@ impl Layout {
         let y_zero =
             fig.y_scale == Scale::Log && finite().any(|p| p.1 == 0.0 && xm.map(p.0).is_some());
 
+        if let Some(c) = fig
+            .curves
+            .iter()
+            .find(|c| !c.band.is_empty() && c.band.len() != c.points.len())
+        {
+            return Err(err(&format!(
+                "the band of {} has {} bounds for {} points",
+                name_of(&c.label, 0),
+                c.band.len(),
+                c.points.len()
+            )));
+        }
         let mut curves: Vec<Prepared> = fig
             .curves
             .iter()
@@ -1496,6 +1624,10 @@ impl Layout {
         for &(x, y) in curves.iter().flat_map(|c| c.segments.iter().flatten()) {
             xr = (xr.0.min(x), xr.1.max(x));
             yr = (yr.0.min(y), yr.1.max(y));
+        }
+        for &(x, lo, hi) in curves.iter().flat_map(|c| c.bands.iter().flatten()) {
+            xr = (xr.0.min(x), xr.1.max(x));
+            yr = (yr.0.min(lo.min(hi)), yr.1.max(lo.max(hi)));
         }
         let (x_range, y_range) = match &heat {
             Some(h) => (h.x, h.y),
@@ -1837,6 +1969,18 @@ impl Layout {
             );
             h.draw_bar(&legend_area, self.plot_h, DESC_PX)?;
         }
+        // Error bands under every line.
+        for c in &self.curves {
+            let fill = c.color().mix(BAND_OPACITY).filled();
+            chart.draw_series(c.bands.iter().filter(|b| b.len() >= 2).map(|b| {
+                let outline: Vec<(f64, f64)> = b
+                    .iter()
+                    .map(|p| (p.0, p.1))
+                    .chain(b.iter().rev().map(|p| (p.0, p.2)))
+                    .collect();
+                Polygon::new(outline, fill)
+            }))?;
+        }
         for c in &self.curves {
             let color = c.color();
             if let Some((d, g)) = c.dash {
@@ -1960,6 +2104,13 @@ impl Layout {
             let color = c.color();
             let yc = (y + 0.5 * line_h).round() as i32;
             let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
+            if !c.bands.is_empty() {
+                let half = (0.4 * line_h).round() as i32;
+                area.draw(&Rectangle::new(
+                    [(sx as i32, yc - half), ((sx + SWATCH_W) as i32, yc + half)],
+                    color.mix(BAND_OPACITY).filled(),
+                ))?;
+            }
             match (c.style.line(), c.dash) {
                 (true, Some((d, g))) => area.draw(&DashedPathElement::new(
                     swatch,
@@ -2065,6 +2216,7 @@ mod tests {
                     knob: i as f64,
                     error,
                     seconds,
+                    slowest: seconds,
                     work: crate::integrate::Work::default(),
                 })
                 .collect(),
@@ -2394,6 +2546,15 @@ mod tests {
                 Style::LineMarkers,
             )
             .curve("dots", [(3.0, 1e-9), (4.0, 2e-9)], Style::Dots)
+            .band(
+                "band",
+                (0..6000).map(|i| {
+                    let t = i as f64 * 0.03;
+                    let y = 1e-8 * (1.0 + 0.5 * (3.0 * t).sin());
+                    (t, 0.5 * y, y, if i == 7 { f64::NAN } else { 2.0 * y })
+                }),
+                Style::Line,
+            )
             .size(Size::column())
     }
 
@@ -2433,6 +2594,12 @@ mod tests {
                 assert_eq!(a.label, b.label);
                 assert_eq!(a.style, b.style);
                 assert_eq!(a.points.len(), b.points.len());
+                assert_eq!(a.band.len(), b.band.len());
+                for (p, q) in a.band.iter().zip(&b.band) {
+                    let same =
+                        |u: f64, v: f64| u.to_bits() == v.to_bits() || (u.is_nan() && v.is_nan());
+                    assert!(same(p.0, q.0) && same(p.1, q.1));
+                }
                 for (p, q) in a.points.iter().zip(&b.points) {
                     assert!(p.0.to_bits() == q.0.to_bits());
                     assert!(p.1.to_bits() == q.1.to_bits() || (p.1.is_nan() && q.1.is_nan()));
@@ -2684,5 +2851,32 @@ mod tests {
             "{:?}",
             r.notes
         );
+    }
+
+    #[test]
+    fn error_bands_are_shaded_under_the_line() {
+        let fig = Figure::new("t", "x", "y").band(
+            "mean ± σ",
+            (0..50).map(|i| (i as f64, i as f64 - 1.0, i as f64, i as f64 + 1.0)),
+            Style::Line,
+        );
+        let r = fig.render().unwrap();
+        // One shaded polygon (and the legend's swatch), in the line's colour, translucent.
+        assert!(r.svg.matches("<polygon").count() >= 1, "{}", r.svg);
+        assert!(r.svg.contains("opacity=\"0.22\""), "{}", r.svg);
+        // The range covers the band.
+        let l = fig.layouts().unwrap();
+        assert!(l[0].y_range.0 < -1.0 && l[0].y_range.1 > 50.0);
+        // Bounds that do not match the points are refused.
+        let mut bad = fig.clone();
+        bad.curves[0].band.pop();
+        assert!(bad.render().is_err());
+        // A band of many points is thinned to its envelope.
+        let wide: Vec<Vec<(f64, f64, f64)>> = vec![(0..10_000)
+            .map(|i| (i as f64, -((i % 7) as f64), (i % 5) as f64))
+            .collect()];
+        let t = thin_band(wide, 1000);
+        assert!(t[0].len() <= 1002);
+        assert!(t[0].iter().any(|p| p.1 == -6.0) && t[0].iter().any(|p| p.2 == 4.0));
     }
 }
