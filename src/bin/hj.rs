@@ -5,7 +5,7 @@
 //! * `hj show <name>` — the TOML of a built-in scene (a starting point for your own);
 //! * `hj run <scene.toml | built-in name>...` — run scenes;
 //! * `hj reproduce` — every built-in scene: all tables and figures the paper uses;
-//! * `hj plot <figure.csv>...` — redraw figures from their data files.
+//! * `hj plot <figure.csv | figure.npy>...` — redraw figures from their data files.
 //!
 //! Figures are written as SVG and PNG (PDF with `--format svg,png,pdf`), each with its data
 //! (`.csv`) and caption (`.caption.txt`); `--width`, `--height`, `--font-size`, `--dpi`,
@@ -95,10 +95,11 @@ enum Command {
     },
     /// Regenerate every table and figure the paper uses (all built-in scenes).
     Reproduce,
-    /// Redraw figures from their data files (`*.csv` written beside every figure), with the
-    /// size, font and format options given here (default: as recorded in the file).
+    /// Redraw figures from their data files (`*.csv` written beside every figure, or the
+    /// `*.npy` beside one), with the size, font and format options given here (default: as
+    /// recorded in the file).
     Plot {
-        /// Data files of figures.
+        /// Data files of figures (`.csv`, or the `.npy` file beside one).
         #[arg(required = true)]
         data: Vec<PathBuf>,
         /// Output file stem (one data file only): writes STEM.svg, STEM.png, …; default: the

@@ -396,14 +396,12 @@ impl Figure {
         points: impl IntoIterator<Item = (f64, f64)>,
         style: Style,
     ) -> Self {
-        self.curves.push(Curve {
-            label: label.into(),
-            points: points.into_iter().collect(),
-            style,
-            panel,
-            band: Vec::new(),
-        });
-        self
+        let points = points.into_iter().map(|(x, y)| (x, f64::NAN, y, f64::NAN));
+        let mut fig = self.band_in(panel, label, points, style);
+        if let Some(c) = fig.curves.last_mut() {
+            c.band.clear();
+        }
+        fig
     }
 
     /// Add a curve with an error band: points `(x, lower, y, upper)`, the curve through
