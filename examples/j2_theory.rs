@@ -48,7 +48,7 @@ fn main() -> hamilton_jacobi::Result<()> {
             let force = J2::new(MU, j2, RADIUS)?;
             let truth = encke::truth(force, (q0, p0), &times, 1e-13);
             let error = |axis| -> hamilton_jacobi::Result<f64> {
-                let th = BrouwerLyddane::from_state_with(MU, RADIUS, j2, 0.0, &q0, &p0, axis)?;
+                let th = BrouwerLyddane::from_state_with(&force, 0.0, &q0, &p0, axis)?;
                 let mut worst = 0.0f64;
                 for (&t, q) in times.iter().zip(&truth) {
                     worst = worst.max((th.state(t)?.0 - q).norm());
@@ -58,7 +58,7 @@ fn main() -> hamilton_jacobi::Result<()> {
             let fixed = error(MeanAxis::EnergyIntegral)?;
             let plain = error(MeanAxis::FirstOrderInverse)?;
             // Cost of one evaluation: 10⁵ states at times spread over the 100 orbits.
-            let th = BrouwerLyddane::from_state(MU, RADIUS, j2, 0.0, &q0, &p0)?;
+            let th = BrouwerLyddane::from_state(&force, 0.0, &q0, &p0)?;
             let n = 100_000;
             let span = 100.0 * period;
             let (start, cpu0) = (Instant::now(), cpu_seconds());
@@ -87,9 +87,7 @@ fn main() -> hamilton_jacobi::Result<()> {
         }
     }
     if let Some(w) = BrouwerLyddane::from_osculating(
-        MU,
-        RADIUS,
-        1e-3,
+        &J2::new(MU, 1e-3, RADIUS)?,
         0.0,
         &Classical::new(2.0, 0.7, 0.5, 0.3, 0.7, 0.2)?,
     )?

@@ -652,7 +652,7 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         )
         .with_theory(
             TheoryKind::MeanElements,
-            Box::new(move |_, t| MeanElements::j2(mu, j2v, radius, 0.0, el)?.state(t)),
+            Box::new(move |_, t| MeanElements::j2(&model, 0.0, el)?.state(t)),
         );
     Ok(Box::new(case))
 }
