@@ -69,8 +69,8 @@
 use crate::phase::CanonicalPair;
 use std::f64::consts::{PI, TAU};
 
-use super::forces::J2;
 use super::canonical::{average_over_phase, PhaseAverage};
+use super::forces::J2;
 use super::ode::{ElementOde, ElementPair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
