@@ -505,8 +505,8 @@ fn readme_scene_example_is_valid() {
     let s =
         scene::parse("README.md", block, &Catalogue::builtin()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.name(), "pendulum-large");
-    // Two tables; four figures, each as SVG and PNG with its data and caption.
-    assert_eq!(s.planned_outputs().len(), 2 + 4 * 4);
+    // Two tables; five figures, each as SVG and PNG with its data and caption.
+    assert_eq!(s.planned_outputs().len(), 2 + 5 * 4);
 }
 
 /// Inputs that would otherwise fail late or mean nothing are refused up front, naming the key.
