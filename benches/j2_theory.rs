@@ -6,6 +6,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use hamilton_jacobi::perturbation::brouwer::BrouwerLyddane;
+use hamilton_jacobi::perturbation::forces::J2;
 use hamilton_jacobi::systems::kepler::elements::Classical;
 use std::hint::black_box;
 
@@ -13,8 +14,9 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("j2_theory");
     for e in [0.1, 0.7] {
         let el = Classical::new(2.0, e, 0.5, 0.3, 0.7, 0.2).unwrap();
+        let model = J2::new(1.0, 1e-3, 1.0).unwrap();
         let (q0, p0) = el.to_state(1.0).unwrap();
-        let theory = BrouwerLyddane::from_state(1.0, 1.0, 1e-3, 0.0, &q0, &p0).unwrap();
+        let theory = BrouwerLyddane::from_state(&model, 0.0, &q0, &p0).unwrap();
         // 64 times spread over 100 orbits, so that the Kepler solves see every anomaly.
         let span = 100.0 * std::f64::consts::TAU * 8f64.sqrt();
         let times: Vec<f64> = (0..64).map(|k| span * (k as f64 + 0.37) / 64.0).collect();
@@ -28,7 +30,7 @@ fn bench(c: &mut Criterion) {
             })
         });
         g.bench_function(BenchmarkId::new("from_state", e), |b| {
-            b.iter(|| BrouwerLyddane::from_state(1.0, 1.0, 1e-3, 0.0, black_box(&q0), &p0).unwrap())
+            b.iter(|| BrouwerLyddane::from_state(&model, 0.0, black_box(&q0), &p0).unwrap())
         });
     }
     g.finish();

@@ -83,14 +83,14 @@ fn main() -> Result<()> {
     let first = times.iter().take_while(|&&t| t <= period).count();
     let (t_first, o_first) = (&times[..first], &osc[..first]);
     let mean = MeanElements::from_osculating_arc(MU, t_first, o_first, |m| {
-        let r = j2_secular_rates(MU, J2_VALUE, RADIUS, m.a, m.e, m.i)?;
+        let r = j2_secular_rates(&model, m.a, m.e, m.i)?;
         Ok([0.0, 0.0, 0.0, r.raan, r.argp, r.mean_anomaly])
     })?;
     let m = *mean.elements();
     let n_bar = (MU / m.a.powi(3)).sqrt();
 
     // Rates: theory, averaged equations, fit.
-    let th = j2_secular_rates(MU, J2_VALUE, RADIUS, m.a, m.e, m.i)?;
+    let th = j2_secular_rates(&model, m.a, m.e, m.i)?;
     let sol = ClassicalSolution::new(MU, 0.0)?;
     let g = sol.constants(&m, 0.0)?;
     let clock = Instant::now();

@@ -281,7 +281,7 @@ fn j2_theories() -> Result<()> {
         &[1.0],
         Timing::default(),
         |_| {
-            let mean = MeanElements::j2(mu, j2v, radius, 0.0, el)?;
+            let mean = MeanElements::j2(&model, 0.0, el)?;
             let (q, _) = mean.state(t1)?;
             Ok(((q - reference).norm(), Default::default()))
         },

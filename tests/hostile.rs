@@ -860,7 +860,8 @@ fn add_orbits(c: &mut Vec<Call>) {
                 && (0.0..1.0).contains(&a[4])
                 && (0.0..=PI).contains(&a[5]);
             judge(
-                j2_secular_rates(a[0], a[1], a[2], a[3], a[4], a[5]),
+                J2::new(a[0], a[1], a[2])
+                    .and_then(|model| j2_secular_rates(&model, a[3], a[4], a[5])),
                 valid,
                 |r| {
                     let n = (a[0] / a[3]).sqrt() / a[3];
@@ -2241,11 +2242,13 @@ fn add_brouwer(c: &mut Vec<Call>) {
                 && (0.0..=PI).contains(&a[5])
                 && a[1].abs() * (a[2] / p).powi(2) <= brouwer::MAX_SMALL_PARAMETER;
             judge(
-                brouwer::brouwer_secular_rates(a[0], a[1], a[2], a[3], a[4], a[5]),
+                J2::new(a[0], a[1], a[2])
+                    .and_then(|m| brouwer::brouwer_secular_rates(&m, a[3], a[4], a[5])),
                 valid,
                 |r| {
                     // First order plus a bound on the second: |Δ| ≤ 60 n γ₂'².
-                    let first = j2_secular_rates(a[0], a[1], a[2], a[3], a[4], a[5]);
+                    let first = J2::new(a[0], a[1], a[2])
+                        .and_then(|model| j2_secular_rates(&model, a[3], a[4], a[5]));
                     match first {
                         Err(_) => finite_ok("Ω̇", r.raan),
                         Ok(f) => {
@@ -2285,7 +2288,9 @@ fn add_brouwer(c: &mut Vec<Call>) {
             judge(
                 brouwer::mean_to_osculating(a[0], a[1], a[2], &el),
                 valid,
-                |osc| match brouwer::osculating_to_mean(a[0], a[1], a[2], &osc) {
+                |osc| match J2::new(a[0], a[2], a[1])
+                    .and_then(|m| brouwer::osculating_to_mean(&m, &osc))
+                {
                     Ok(back) => lyddane_near("mean → osc → mean", &el, &back, 1e-9),
                     Err(_) => finite_ok("osculating a", osc.a),
                 },
@@ -2306,7 +2311,7 @@ fn add_brouwer(c: &mut Vec<Call>) {
         |a| {
             let (el, valid) = theory_elements(a);
             judge(
-                brouwer::osculating_to_mean(a[0], a[1], a[2], &el),
+                J2::new(a[0], a[2], a[1]).and_then(|m| brouwer::osculating_to_mean(&m, &el)),
                 valid,
                 |mean| match brouwer::mean_to_osculating(a[0], a[1], a[2], &mean) {
                     Ok(osc) => lyddane_near("osc → mean → osc", &el, &osc, 1e-9),
@@ -2324,7 +2329,8 @@ fn add_brouwer(c: &mut Vec<Call>) {
             let (r, v) = (v3(&a[3..6]), v3(&a[6..9]));
             let valid = fin(&a[..9]) && a[0] > 0.0 && a[1] > 0.0 && r.norm() > 0.0;
             judge(
-                brouwer::BrouwerLyddane::from_state(a[0], a[1], a[2], 0.0, &r, &v),
+                J2::new(a[0], a[2], a[1])
+                    .and_then(|m| brouwer::BrouwerLyddane::from_state(&m, 0.0, &r, &v)),
                 valid,
                 |th| {
                     judge(th.state(a[9]), a[9].is_finite(), |(q, p)| {
@@ -2348,7 +2354,8 @@ fn add_brouwer(c: &mut Vec<Call>) {
         |a| {
             let (el, valid) = theory_elements(&a[..9]);
             judge(
-                brouwer::BrouwerLyddane::from_mean(a[0], a[1], a[2], 0.0, &el),
+                J2::new(a[0], a[2], a[1])
+                    .and_then(|m| brouwer::BrouwerLyddane::from_mean(&m, 0.0, &el)),
                 valid,
                 |th| {
                     judge(th.mean_elements(a[9]), a[9].is_finite(), |m| {

@@ -124,7 +124,9 @@ fn averaged_planetary_equations_give_brouwer_rates() {
                     (avg, raan_dot, varpi_dot - raan_dot, r.1[2] - varpi_dot)
                 }
             };
-            let th = j2_secular_rates(MU, J2_VALUE, RADIUS, a, e, i).unwrap();
+            let th = J2::new(MU, J2_VALUE, RADIUS)
+                .and_then(|model| j2_secular_rates(&model, a, e, i))
+                .unwrap();
             let p = a * (1.0 - e * e);
             let scale = th.mean_motion * J2_VALUE * (RADIUS / p).powi(2);
             let d = [
@@ -409,7 +411,9 @@ fn singular_classical_elements_are_refused_equinoctial_fine() {
         // And its secular rates exist: Ω̇ + ω̇ = ϖ̇ shows up as the rotation of (h, k), which at
         // e = 0 vanishes; λ̇₀ is finite.
         let avg = secular_rates(&esol, &eode, &ge, 64).unwrap();
-        let th = j2_secular_rates(MU, J2_VALUE, RADIUS, 1.2, e, i).unwrap();
+        let th = J2::new(MU, J2_VALUE, RADIUS)
+            .and_then(|model| j2_secular_rates(&model, 1.2, e, i))
+            .unwrap();
         // At e = 0, λ̇ − n = Ω̇ + ω̇ + Ṁ − n.
         if e == 0.0 {
             let lam = th.raan + th.argp + th.mean_anomaly;
@@ -438,14 +442,22 @@ fn singular_classical_elements_are_refused_equinoctial_fine() {
     assert!(ode.rhs(0.0, &bad_e.0, &bad_e.1).is_err());
     let nan = (V3::new(f64::NAN, 0.1, 0.5), V3::zeros());
     assert!(ode.rhs(0.0, &nan.0, &nan.1).is_err());
-    assert!(j2_secular_rates(1.0, 1e-3, 1.0, 1.0, 1.0, 0.5).is_err());
-    assert!(j2_secular_rates(1.0, 1e-3, 1.0, 1.0, 0.1, 4.0).is_err());
-    assert!(j2_secular_rates(1.0, 1e-3, 0.0, 1.0, 0.1, 0.5).is_err());
+    assert!(J2::new(1.0, 1e-3, 1.0)
+        .and_then(|model| j2_secular_rates(&model, 1.0, 1.0, 0.5))
+        .is_err());
+    assert!(J2::new(1.0, 1e-3, 1.0)
+        .and_then(|model| j2_secular_rates(&model, 1.0, 0.1, 4.0))
+        .is_err());
+    assert!(J2::new(1.0, 1e-3, 0.0)
+        .and_then(|model| j2_secular_rates(&model, 1.0, 0.1, 0.5))
+        .is_err());
     assert!(secular_rates(&sol, &ode, &bad, 64).is_err());
     assert!(secular_rates(&sol, &ode, &g, 3).is_err());
     let hyper = Classical::new(-2.0, 1.5, 0.5, 0.0, 0.0, 0.1).unwrap();
     assert!(sol.constants(&hyper, 0.0).is_err());
-    assert!(MeanElements::j2(MU, J2_VALUE, RADIUS, 0.0, hyper).is_err());
+    assert!(J2::new(MU, J2_VALUE, RADIUS)
+        .and_then(|model| MeanElements::j2(&model, 0.0, hyper))
+        .is_err());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -569,7 +581,8 @@ fn mean_elements_over_1000_orbits() {
     let osc = osculating_along(&el, &times, 1e-13);
     let els: Vec<Classical> = osc.iter().map(|x| x.2).collect();
     let mean = MeanElements::from_osculating_arc(MU, &times, &els, |m| {
-        let r = j2_secular_rates(MU, J2_VALUE, RADIUS, m.a, m.e, m.i)?;
+        let r = J2::new(MU, J2_VALUE, RADIUS)
+            .and_then(|model| j2_secular_rates(&model, m.a, m.e, m.i))?;
         Ok([0.0, 0.0, 0.0, r.raan, r.argp, r.mean_anomaly])
     })
     .unwrap();
@@ -659,7 +672,9 @@ fn delaunay_canonical_elements_give_the_same_theory() {
     let map = DelaunayElements::new(MU, 0.0).unwrap();
     let k_ham = AsHamiltonian(j2());
     let (alpha, beta) = map.constants(&el, 0.0).unwrap();
-    let th = j2_secular_rates(MU, J2_VALUE, RADIUS, el.a, el.e, el.i).unwrap();
+    let th = J2::new(MU, J2_VALUE, RADIUS)
+        .and_then(|model| j2_secular_rates(&model, el.a, el.e, el.i))
+        .unwrap();
     let p = el.a * (1.0 - el.e * el.e);
     let n = (MU / el.a.powi(3)).sqrt();
     let kscale = n * J2_VALUE * (RADIUS / p).powi(2);
@@ -806,7 +821,9 @@ fn equatorial_problem_is_the_invariant_plane_and_its_apsides_turn_at_the_secular
     let p = mean_a * (1.0 - mean_e * mean_e);
     let n = mean_a.powf(-1.5);
     let closed = 1.5 * n * j2v / (p * p);
-    let brouwer = j2_secular_rates(1.0, j2v, 1.0, mean_a, mean_e, 0.0).unwrap();
+    let brouwer = J2::new(1.0, j2v, 1.0)
+        .and_then(|model| j2_secular_rates(&model, mean_a, mean_e, 0.0))
+        .unwrap();
     let rate = brouwer.raan + brouwer.argp;
     println!(
         "mean a = {mean_a:.6}, e = {mean_e:.6}; apsidal rate: measured {slope:.6e}, \

@@ -62,7 +62,7 @@ fn max(v: &[f64]) -> f64 {
 
 fn theory(j2: f64, el: &Classical, axis: MeanAxis) -> BrouwerLyddane {
     let (q0, p0) = el.to_state(MU).unwrap();
-    BrouwerLyddane::from_state_with(MU, RADIUS, j2, 0.0, &q0, &p0, axis).unwrap()
+    BrouwerLyddane::from_state_with(&J2::new(MU, j2, RADIUS).unwrap(), 0.0, &q0, &p0, axis).unwrap()
 }
 
 /// The targets of the brief over 100 orbits (4 samples per orbit): position error ≤ 1e−5 at
@@ -190,7 +190,7 @@ fn secular_rates_are_brouwers() {
         (1.3, 0.01, 1.9, 2e-3),
         (3.0, 0.4, 0.1, -5e-4),
     ] {
-        let r = brouwer_secular_rates(MU, j2, RADIUS, a, e, i).unwrap();
+        let r = brouwer_secular_rates(&J2::new(MU, j2, RADIUS).unwrap(), a, e, i).unwrap();
         let n = (MU / (a * a * a)).sqrt();
         let eta = ((1.0 - e) * (1.0 + e)).sqrt();
         let p = a * eta * eta;
@@ -230,7 +230,9 @@ fn secular_rates_are_brouwers() {
         assert!((r.mean_motion + r.mean_anomaly - ldot).abs() < tol);
         assert!((r.argp - gdot).abs() < tol, "{} {}", r.argp, gdot);
         assert!((r.raan - hdot).abs() < tol);
-        let first = j2_secular_rates(MU, j2, RADIUS, a, e, i).unwrap();
+        let first = J2::new(MU, j2, RADIUS)
+            .and_then(|model| j2_secular_rates(&model, a, e, i))
+            .unwrap();
         let bound = 60.0 * n * gp * gp;
         for (x, y) in [
             (r.raan, first.raan),
@@ -253,7 +255,7 @@ fn mean_osculating_round_trip() {
                 let m = -3.0 + 0.8 * k as f64;
                 let mean = Classical::new(2.0, e, i, 0.3, 0.7, m).unwrap();
                 let osc = mean_to_osculating(MU, RADIUS, 1e-3, &mean).unwrap();
-                let back = osculating_to_mean(MU, RADIUS, 1e-3, &osc).unwrap();
+                let back = osculating_to_mean(&J2::new(MU, 1e-3, RADIUS).unwrap(), &osc).unwrap();
                 let (q1, v1) = mean.to_state(MU).unwrap();
                 let (q2, v2) = back.to_state(MU).unwrap();
                 assert!((q1 - q2).norm() < 1e-13, "{:e}", (q1 - q2).norm());
@@ -334,7 +336,7 @@ fn bad_input_is_refused_and_perigee_is_a_warning() {
     // e ≥ 1.
     let (q, _) = initial(0.1).to_state(MU).unwrap();
     let v = V3::new(0.0, 2.0, 0.0);
-    assert!(BrouwerLyddane::from_state(MU, RADIUS, 1e-3, 0.0, &q, &v).is_err());
+    assert!(BrouwerLyddane::from_state(&J2::new(MU, 1e-3, RADIUS).unwrap(), 0.0, &q, &v).is_err());
     let hyper = Classical::new(-2.0, 1.5, 0.5, 0.0, 0.0, 0.1).unwrap();
     assert!(mean_to_osculating(MU, RADIUS, 1e-3, &hyper).is_err());
     // J₂(R/p)² above the bound.

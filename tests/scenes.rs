@@ -505,8 +505,8 @@ fn readme_scene_example_is_valid() {
     let s =
         scene::parse("README.md", block, &Catalogue::builtin()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.name(), "pendulum-large");
-    // Two tables; four figures, each as SVG and PNG with its data and caption.
-    assert_eq!(s.planned_outputs().len(), 2 + 4 * 4);
+    // Two tables; five figures, each as SVG and PNG with its data and caption.
+    assert_eq!(s.planned_outputs().len(), 2 + 5 * 4);
 }
 
 /// Inputs that would otherwise fail late or mean nothing are refused up front, naming the key.
@@ -770,4 +770,72 @@ fn messages_print_extreme_magnitudes_in_exponent_notation() {
     // Moderate magnitudes print as written.
     let e = error_of(&KEPLER.replace("eccentricity = 0.5", "eccentricity = 1.5"));
     assert_names(&e, "system.eccentricity", &["found 1.5"]);
+}
+
+/// The J2 theory scene: the Brouwer–Lyddane position error stays within the theory's bound
+/// `≤ 1e−5` over 100 orbits (a = 2, e = 0.1, i = 0.5, J₂ = 10⁻³); the first-order mean elements,
+/// without periodic terms, are off by `O(J₂ a)` and grow; each curve's last point is the table's
+/// final error of that run (two routes: the reference's dense output against the reference
+/// state at the end).
+#[test]
+fn j2_theory_scene_draws_the_position_error_of_each_run() {
+    let text = scene::BUILTIN
+        .iter()
+        .find(|(n, _)| *n == "j2-theory")
+        .unwrap()
+        .1;
+    let s = scene::parse("j2-theory", text, &Catalogue::builtin()).unwrap();
+    let out = temp_dir("j2-theory");
+    s.run(&quick(&out)).unwrap();
+    let table = std::fs::read_to_string(out.join("tables/j2-theory.csv")).unwrap();
+    let header = csv_fields(table.lines().next().unwrap());
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let final_error = |label: &str, knob: &str| -> f64 {
+        table
+            .lines()
+            .skip(1)
+            .map(csv_fields)
+            .find(|r| r[0] == label && r[col("knob")].contains(knob))
+            .unwrap_or_else(|| panic!("{label} {knob} missing from {table}"))[col("error")]
+        .parse()
+        .unwrap()
+    };
+    let data = std::fs::read_to_string(out.join("figures/j2-theory-position-error.csv")).unwrap();
+    let curve = |label: &str| -> Vec<(f64, f64)> {
+        data.lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(csv_fields)
+            .filter(|r| r[2] == label)
+            .map(|r| (r[3].parse().unwrap(), r[4].parse().unwrap()))
+            .collect()
+    };
+    let theory = curve("Brouwer–Lyddane theory (J2)");
+    assert_eq!(theory.len(), 1000, "every sample but t = 0");
+    let worst = theory.iter().map(|p| p.1).fold(0.0, f64::max);
+    assert!(worst < 1e-5 && worst > 0.0, "{worst:e}");
+    let mean = curve("mean elements (secular J2)");
+    assert!(mean.last().unwrap().1 > 1e-3, "{:?}", mean.last());
+    for (label, knob, curve_label) in [
+        (
+            "Brouwer–Lyddane theory (J2)",
+            "",
+            "Brouwer–Lyddane theory (J2)",
+        ),
+        (
+            "Dormand–Prince, 12 stages, order 8",
+            "1e-8",
+            "Dormand–Prince, 12 stages, order 8 (rtol 1e-8)",
+        ),
+    ] {
+        let last = *curve(curve_label).last().unwrap();
+        let want = final_error(label, knob);
+        // The same runs and the same reference integration: equal up to the CSV round trip.
+        assert!(
+            (last.1 - want).abs() <= 1e-12 * want,
+            "{curve_label}: {:e} vs {want:e}",
+            last.1
+        );
+    }
+    std::fs::remove_dir_all(&out).ok();
 }

@@ -148,18 +148,12 @@ pub fn secular_hamiltonian<D: DualNum<f64> + Copy>(
 /// To first order they are [`j2_secular_rates`].
 ///
 /// # Errors
-/// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`,
+/// Non-finite input, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`,
 /// `|J₂|(R/p)² > MAX_SMALL_PARAMETER`.
-pub fn brouwer_secular_rates(
-    mu: f64,
-    j2: f64,
-    radius: f64,
-    a: f64,
-    e: f64,
-    i: f64,
-) -> Result<J2SecularRates> {
+pub fn brouwer_secular_rates(model: &J2, a: f64, e: f64, i: f64) -> Result<J2SecularRates> {
+    let (j2, radius) = (model.j2(), model.radius());
     // The domain of the first-order rates, and n.
-    let n = j2_secular_rates(mu, j2, radius, a, e, i)?.mean_motion;
+    let n = j2_secular_rates(model, a, e, i)?.mean_motion;
     check_small_parameter(j2, radius, a, e)?;
     let (_, grad) = scaled_secular(radius / a, j2, e, i);
     let rates = J2SecularRates {
@@ -532,12 +526,8 @@ fn wrap(x: f64) -> f64 {
 /// # Errors
 /// As [`mean_to_osculating`] at the osculating and at every iterated element set;
 /// [`Error::NotConverged`] past the iteration limit.
-pub fn osculating_to_mean(
-    mu: f64,
-    radius: f64,
-    j2: f64,
-    osculating: &Classical,
-) -> Result<Classical> {
+pub fn osculating_to_mean(model: &J2, osculating: &Classical) -> Result<Classical> {
+    let (mu, j2, radius) = (model.mu(), model.j2(), model.radius());
     check_mean(mu, radius, j2, osculating)?;
     let x = to_lyddane(osculating);
     let mut y = x;
@@ -583,9 +573,7 @@ pub fn osculating_to_mean(
 /// from mean elements directly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BrouwerLyddane {
-    mu: f64,
-    radius: f64,
-    j2: f64,
+    model: J2,
     epoch: f64,
     mean: Classical,
     /// `(l̇, ġ, ḣ)`.
@@ -602,7 +590,8 @@ impl BrouwerLyddane {
     ///
     /// # Errors
     /// As [`mean_to_osculating`]; a non-finite epoch.
-    pub fn from_mean(mu: f64, radius: f64, j2: f64, epoch: f64, mean: &Classical) -> Result<Self> {
+    pub fn from_mean(model: &J2, epoch: f64, mean: &Classical) -> Result<Self> {
+        let (mu, j2, radius) = (model.mu(), model.j2(), model.radius());
         check_mean(mu, radius, j2, mean)?;
         finite("epoch t₀", epoch)?;
         let n = orbit::mean_motion(mu, mean.a)?;
@@ -614,9 +603,7 @@ impl BrouwerLyddane {
             warnings.push(TheoryWarning::PerigeeInsideBody { perigee, radius });
         }
         let theory = Self {
-            mu,
-            radius,
-            j2,
+            model: *model,
             epoch,
             mean: *mean,
             rates: [n * grad[0], n * grad[1], n * grad[2]],
@@ -640,34 +627,21 @@ impl BrouwerLyddane {
     ///
     /// # Errors
     /// As [`BrouwerLyddane::from_state`].
-    pub fn from_osculating(
-        mu: f64,
-        radius: f64,
-        j2: f64,
-        epoch: f64,
-        osculating: &Classical,
-    ) -> Result<Self> {
-        check_mean(mu, radius, j2, osculating)?;
-        let (r, v) = osculating.to_state(mu)?;
-        Self::from_state_with(mu, radius, j2, epoch, &r, &v, MeanAxis::EnergyIntegral)
+    pub fn from_osculating(model: &J2, epoch: f64, osculating: &Classical) -> Result<Self> {
+        check_mean(model.mu(), model.radius(), model.j2(), osculating)?;
+        let (r, v) = osculating.to_state(model.mu())?;
+        Self::from_state_with(model, epoch, &r, &v, MeanAxis::EnergyIntegral)
     }
 
     /// The theory from the osculating state `(r, v)` at `epoch`, the mean semi-major axis fixed
     /// by the energy integral ([`MeanAxis::EnergyIntegral`]).
     ///
     /// # Errors
-    /// Non-finite input, `μ ≤ 0`, `R ≤ 0`; a state that is not an ellipse (`e ≥ 1`); the domain
+    /// Non-finite input; a state that is not an ellipse (`e ≥ 1`); the domain
     /// errors of [`mean_to_osculating`] and [`osculating_to_mean`]; [`Error::NotConverged`] if the
     /// energy equation has no root near the iterated `L''`.
-    pub fn from_state(
-        mu: f64,
-        radius: f64,
-        j2: f64,
-        epoch: f64,
-        r: &Vector3<f64>,
-        v: &Vector3<f64>,
-    ) -> Result<Self> {
-        Self::from_state_with(mu, radius, j2, epoch, r, v, MeanAxis::EnergyIntegral)
+    pub fn from_state(model: &J2, epoch: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result<Self> {
+        Self::from_state_with(model, epoch, r, v, MeanAxis::EnergyIntegral)
     }
 
     /// As [`BrouwerLyddane::from_state`], with the mean semi-major axis fixed as `axis` says.
@@ -675,17 +649,13 @@ impl BrouwerLyddane {
     /// # Errors
     /// As [`BrouwerLyddane::from_state`].
     pub fn from_state_with(
-        mu: f64,
-        radius: f64,
-        j2: f64,
+        model: &J2,
         epoch: f64,
         r: &Vector3<f64>,
         v: &Vector3<f64>,
         axis: MeanAxis,
     ) -> Result<Self> {
-        let mu = positive("gravitational parameter μ", mu)?;
-        let radius = positive("reference radius R", radius)?;
-        let j2 = finite("J₂", j2)?;
+        let (mu, j2, radius) = (model.mu(), model.j2(), model.radius());
         finite("epoch t₀", epoch)?;
         let osc = state_to_classical(mu, r, v)?;
         if osc.e >= 1.0 {
@@ -695,26 +665,17 @@ impl BrouwerLyddane {
                 "[0, 1)",
             ));
         }
-        let mut mean = osculating_to_mean(mu, radius, j2, &osc)?;
+        let mut mean = osculating_to_mean(model, &osc)?;
         if axis == MeanAxis::EnergyIntegral {
-            let energy = 0.5 * v.norm_squared() - mu / r.norm()
-                + J2::new(mu, j2, radius)?.disturbing_function(0.0, r);
+            let energy = 0.5 * v.norm_squared() - mu / r.norm() + model.disturbing_function(0.0, r);
             mean.a = energy_axis(mu, radius, j2, energy, &mean)?;
         }
-        Self::from_mean(mu, radius, j2, epoch, &mean)
+        Self::from_mean(model, epoch, &mean)
     }
 
-    /// `μ`.
-    pub fn mu(&self) -> f64 {
-        self.mu
-    }
-    /// `R`.
-    pub fn radius(&self) -> f64 {
-        self.radius
-    }
-    /// `J₂`.
-    pub fn j2(&self) -> f64 {
-        self.j2
+    /// The `J₂` model (`μ`, `J₂`, `R`) the theory solves.
+    pub fn model(&self) -> &J2 {
+        &self.model
     }
     /// The epoch `t₀` of the mean elements.
     pub fn epoch(&self) -> f64 {
@@ -797,7 +758,7 @@ impl BrouwerLyddane {
     /// As [`BrouwerLyddane::mean_elements`].
     pub fn state(&self, t: f64) -> Result<CanonicalPair<3>> {
         let (osc, ea) = self.osculating_with_anomaly(t)?;
-        osc.state_at_anomaly(self.mu, Conic::Elliptic, ea)
+        osc.state_at_anomaly(self.model.mu(), Conic::Elliptic, ea)
     }
 }
 

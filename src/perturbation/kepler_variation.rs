@@ -70,6 +70,7 @@ use crate::phase::CanonicalPair;
 use std::f64::consts::{PI, TAU};
 
 use super::canonical::{average_over_phase, PhaseAverage};
+use super::forces::J2;
 use super::ode::{ElementOde, ElementPair};
 use super::variation::{DisturbingFunction, GeneralSolution, PlanetaryEquations};
 use crate::error::{all_finite, finite, positive, Error, Result};
@@ -324,26 +325,18 @@ pub struct J2SecularRates {
     pub mean_motion: f64,
 }
 
-/// The closed-form first-order `J₂` secular rates for `μ, J₂, R` at `(a, e, i)` (elliptic).
+/// The closed-form first-order `J₂` secular rates of the `model` (`μ, J₂, R`) at `(a, e, i)`
+/// (elliptic).
 ///
 /// `k = n J₂ (R/p)²` is formed as `n·J₂·R²/(a²(1 − e²)²)` from the binary mantissas and
 /// exponents of its factors, so no intermediate overflows or underflows. A rate that underflows is returned as its correctly rounded value (0 or
 /// subnormal); one that overflows is refused.
 ///
 /// # Errors
-/// Non-finite input, `μ ≤ 0`, `R ≤ 0`, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`; the errors of
+/// Non-finite input, `a ≤ 0`, `e ∉ [0, 1)`, `i ∉ [0, π]`; the errors of
 /// [`orbit::mean_motion`]; [`Error::OutOfDomain`] when a rate overflows.
-pub fn j2_secular_rates(
-    mu: f64,
-    j2: f64,
-    radius: f64,
-    a: f64,
-    e: f64,
-    i: f64,
-) -> Result<J2SecularRates> {
-    let mu = positive("gravitational parameter μ", mu)?;
-    let j2 = finite("J₂", j2)?;
-    let radius = positive("reference radius R", radius)?;
+pub fn j2_secular_rates(model: &J2, a: f64, e: f64, i: f64) -> Result<J2SecularRates> {
+    let (mu, j2, radius) = (model.mu(), model.j2(), model.radius());
     let a = positive("semi-major axis a", a)?;
     let e = finite("eccentricity e", e)?;
     if !(0.0..1.0).contains(&e) {
@@ -427,11 +420,12 @@ impl MeanElements {
         })
     }
 
-    /// The closed-form first-order `J₂` rates ([`j2_secular_rates`]) at the mean elements.
-    pub fn j2(mu: f64, j2: f64, radius: f64, epoch: f64, elements: Classical) -> Result<Self> {
-        let r = j2_secular_rates(mu, j2, radius, elements.a, elements.e, elements.i)?;
+    /// The closed-form first-order `J₂` rates of the `model` ([`j2_secular_rates`]) at the mean
+    /// elements.
+    pub fn j2(model: &J2, epoch: f64, elements: Classical) -> Result<Self> {
+        let r = j2_secular_rates(model, elements.a, elements.e, elements.i)?;
         Self::new(
-            mu,
+            model.mu(),
             epoch,
             elements,
             [0.0, 0.0, 0.0, r.raan, r.argp, r.mean_anomaly],

@@ -390,7 +390,7 @@ impl Figure {
 
     /// Add a curve to panel `panel` (see [`Figure::panels`]).
     pub fn curve_in(
-        mut self,
+        self,
         panel: usize,
         label: impl Into<String>,
         points: impl IntoIterator<Item = (f64, f64)>,

@@ -105,6 +105,13 @@ pub trait Case {
     fn integrated_reference_rtol(&self) -> Option<f64> {
         None
     }
+    /// The reference solution's coordinates at `times` (ascending, within the prepared span): the
+    /// closed-form reference where the case has one, the dense output of the DOP853 reference
+    /// run otherwise.
+    ///
+    /// # Errors
+    /// Failures of the reference; times it cannot reach.
+    fn reference_coordinates(&self, times: &[f64]) -> Result<Vec<Vec<f64>>>;
     /// One run of `kind` at `knob` to the prepared end time.
     ///
     /// # Errors
@@ -164,7 +171,7 @@ pub trait Case {
     }
 }
 
-/// Records the state at uniformly spaced times from dense output.
+/// Records the state at given times from dense output.
 pub struct Sampler<const N: usize> {
     times: Vec<f64>,
     next: usize,
@@ -176,13 +183,20 @@ impl<const N: usize> Sampler<N> {
     /// Sample at `t0 + k (t1 − t0)/samples`, `k = 0..=samples`.
     pub fn uniform(t0: f64, t1: f64, samples: usize) -> Self {
         let n = samples.max(1);
-        let times = (0..=n)
-            .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
-            .collect();
+        Self::at(
+            (0..=n)
+                .map(|k| t0 + (t1 - t0) * (k as f64 / n as f64))
+                .collect(),
+        )
+    }
+
+    /// Sample at `times`, which run in the direction of integration (a time the run never
+    /// reaches is not sampled).
+    pub fn at(times: Vec<f64>) -> Self {
         Self {
-            times,
             next: 0,
-            states: Vec::with_capacity(n + 1),
+            states: Vec::with_capacity(times.len()),
+            times,
         }
     }
 }
@@ -628,6 +642,42 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
 
     fn integrated_reference_rtol(&self) -> Option<f64> {
         self.reference.is_none().then_some(REFERENCE_RTOL)
+    }
+
+    fn reference_coordinates(&self, times: &[f64]) -> Result<Vec<Vec<f64>>> {
+        if let Some(r) = &self.reference {
+            return times
+                .iter()
+                .map(|&t| Ok(r(t)?.0 .0.as_slice().to_vec()))
+                .collect();
+        }
+        let t1 = self.end()?.0;
+        if times.windows(2).any(|w| !(w[0] <= w[1]))
+            || times.iter().any(|t| !(0.0..=t1).contains(t))
+        {
+            return Err(Error::invalid(
+                "reference times",
+                format!("expected ascending times in [0, {t1:e}]"),
+            ));
+        }
+        let tight = Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
+        let mut sampler = Sampler::at(times.to_vec());
+        integrate(&self.problem(t1)?, &tight, &mut sampler)?;
+        if sampler.states.len() != times.len() {
+            return Err(Error::invalid(
+                "reference times",
+                format!(
+                    "the reference run reached {} of {} sample times",
+                    sampler.states.len(),
+                    times.len()
+                ),
+            ));
+        }
+        Ok(sampler
+            .states
+            .iter()
+            .map(|s| s.q.as_slice().to_vec())
+            .collect())
     }
 
     fn reference_note(&self) -> String {

@@ -21,6 +21,7 @@ use crate::hamilton_jacobi::action_angle::ActionAngle;
 use crate::hamilton_jacobi::central::RadialMotion;
 use crate::integrate::{integrate, Dop853, Problem};
 use crate::nalgebra::{SVector, Vector3};
+use crate::perturbation::brouwer::BrouwerLyddane;
 use crate::perturbation::forces::{PerturbedTwoBody, J2};
 use crate::perturbation::kepler_variation::{planetary_equations, ClassicalSolution, MeanElements};
 use crate::perturbation::lindstedt::lindstedt_pendulum;
@@ -652,7 +653,13 @@ fn j2_orbit(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
         )
         .with_theory(
             TheoryKind::MeanElements,
-            Box::new(move |_, t| MeanElements::j2(mu, j2v, radius, 0.0, el)?.state(t)),
+            Box::new(move |_, t| MeanElements::j2(&model, 0.0, el)?.state(t)),
+        )
+        .with_theory(
+            TheoryKind::BrouwerLyddane,
+            // From the initial state each time: the cost includes the osculating → mean
+            // conversion.
+            Box::new(move |_, t| BrouwerLyddane::from_state(&model, 0.0, &q0, &p0)?.state(t)),
         );
     Ok(Box::new(case))
 }
@@ -774,6 +781,12 @@ impl Case for Gallery {
     fn energy(&self, _t: f64, _q: &[f64], _p: &[f64]) -> Result<f64> {
         Err(Error::invalid(
             "energy",
+            "the transformation gallery has no motion",
+        ))
+    }
+    fn reference_coordinates(&self, _times: &[f64]) -> Result<Vec<Vec<f64>>> {
+        Err(Error::invalid(
+            "reference solution",
             "the transformation gallery has no motion",
         ))
     }

@@ -47,6 +47,7 @@
 //! # Histories name methods the scene runs (a `[[method]]` kind), each with its own knob value.
 //! phase_portrait = [{ method = "exact", steps = 4000 }]       # figures/<name>-phase-portrait.svg
 //! energy_error = [{ method = "verlet-kdk", steps = 4000 }]        # figures/<name>-energy-error.svg
+//! position_error = [{ method = "dop853", rtol = 1e-8 }]           # figures/<name>-position-error.svg
 //! invariants = [{ method = "rk4", steps = 4000 }]             # figures/<name>-invariants.svg
 //! # elements = [{ method = "kahan-li17", steps = 8000 }]       # Kepler-type systems
 //! samples = 400                           # points per history: step ends of fixed-step
@@ -83,7 +84,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 12] = [
+pub const BUILTIN: [(&str, &str); 13] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -109,6 +110,7 @@ pub const BUILTIN: [(&str, &str); 12] = [
         include_str!("builtin/pendulum-near-separatrix.toml"),
     ),
     ("j2-orbit", include_str!("builtin/j2-orbit.toml")),
+    ("j2-theory", include_str!("builtin/j2-theory.toml")),
     ("heavy-top", include_str!("builtin/heavy-top.toml")),
     (
         "transformation-gallery",

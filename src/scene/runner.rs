@@ -488,10 +488,11 @@ fn check_span_work(
 }
 
 /// The history outputs of a scene with their keys.
-fn history_outputs(o: &OutputSpec) -> [(&[RunSpec], &'static str); 4] {
+fn history_outputs(o: &OutputSpec) -> [(&[RunSpec], &'static str); 5] {
     [
         (&o.phase_portrait, "phase_portrait"),
         (&o.energy_error, "energy_error"),
+        (&o.position_error, "position_error"),
         (&o.invariants, "invariants"),
         (&o.elements, "elements"),
     ]
@@ -776,6 +777,9 @@ impl Scene {
         if !o.energy_error.is_empty() {
             artifacts.push(self.energy_error(&o.energy_error, o.samples)?);
         }
+        if !o.position_error.is_empty() {
+            artifacts.push(self.position_error(&o.position_error, o.samples)?);
+        }
         if !o.invariants.is_empty() {
             artifacts.push(self.invariants(&o.invariants, o.samples)?);
         }
@@ -996,6 +1000,38 @@ impl Scene {
             fig = fig.curve(label, pts, Style::Line);
         }
         Ok(self.figure_artifact("energy-error", "output.energy_error", fig))
+    }
+
+    /// `output.position_error`: `|q(t) − q_ref(t)|` along the runs, `t > 0` (every run starts at
+    /// the reference's initial state).
+    fn position_error(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
+        let key = "output.position_error";
+        let caption = format!(
+            "Distance |q(t) − q_ref(t)| from the reference solution along each run, t > 0 \
+             ({}).",
+            self.case.reference_note()
+        );
+        let mut fig = Figure::new(format!("{} — position error", self.title), "t", "|Δq|")
+            .log_y()
+            .caption(caption);
+        for (label, h) in self.histories(runs, "position_error", samples)? {
+            let reference = self
+                .case
+                .reference_coordinates(&h.t)
+                .map_err(|e| self.err(key, e))?;
+            let pts: Vec<(f64, f64)> =
+                h.t.iter()
+                    .zip(&h.q)
+                    .zip(&reference)
+                    .filter(|((&t, _), _)| t > 0.0)
+                    .map(|((&t, q), r)| {
+                        let d2: f64 = q.iter().zip(r).map(|(a, b)| (a - b) * (a - b)).sum();
+                        (t, d2.sqrt())
+                    })
+                    .collect();
+            fig = fig.curve(label, pts, Style::Line);
+        }
+        Ok(self.figure_artifact("position-error", key, fig))
     }
 
     /// `output.invariants`: the drift of every conserved quantity the system knows, one panel

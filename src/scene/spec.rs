@@ -62,6 +62,8 @@ pub enum TheoryKind {
     OsculatingElements,
     /// Mean elements with first-order secular rates.
     MeanElements,
+    /// Brouwer–Lyddane theory: second-order secular rates, first-order periodic terms.
+    BrouwerLyddane,
 }
 
 /// A theory, described once: its key in scene files, its label in tables and legends, what it
@@ -81,7 +83,7 @@ pub struct TheoryInfo {
 }
 
 /// Every theory, in the order of [`TheoryKind`]'s variants (`THEORIES[k as usize].kind == k`).
-pub const THEORIES: [TheoryInfo; 5] = [
+pub const THEORIES: [TheoryInfo; 6] = [
     TheoryInfo {
         kind: TheoryKind::HamiltonJacobi,
         key: "hamilton-jacobi",
@@ -116,6 +118,14 @@ pub const THEORIES: [TheoryInfo; 5] = [
         key: "mean-elements",
         label: "mean elements (secular J2)",
         description: "mean elements, first-order secular rates (J2 orbit)",
+        knob: Knob::None,
+    },
+    TheoryInfo {
+        kind: TheoryKind::BrouwerLyddane,
+        key: "brouwer-lyddane",
+        label: "Brouwer–Lyddane theory (J2)",
+        description: "Brouwer–Lyddane theory: second-order secular rates, first-order \
+                      short- and long-period terms closed in e (J2 orbit)",
         knob: Knob::None,
     },
 ];
@@ -339,6 +349,9 @@ pub struct OutputSpec {
     /// Relative energy error against time (log axis) of these runs.
     #[serde(default)]
     pub energy_error: Vec<RunSpec>,
+    /// Distance `|q(t) − q_ref(t)|` of these runs from the reference solution (log axis).
+    #[serde(default)]
+    pub position_error: Vec<RunSpec>,
     /// Drift of every conserved quantity the system knows (energy, angular momenta,
     /// Runge–Lenz vector, …) along these runs (log axis).
     #[serde(default)]
@@ -399,6 +412,7 @@ impl Default for OutputSpec {
             work_precision: false,
             phase_portrait: Vec::new(),
             energy_error: Vec::new(),
+            position_error: Vec::new(),
             invariants: Vec::new(),
             elements: Vec::new(),
             samples: default_samples(),
