@@ -2,7 +2,7 @@
 //! sweep of their knob and for analytic or perturbative theories at each order, on one set of axes.
 //!
 //! A [`Series`] is one method swept over its knob (steps, tolerance, order); each [`Sample`]
-//! holds the knob, the error, the best (and the slowest) wall time over repeated runs and the
+//! holds the knob, the error, the best (and the median) wall time over repeated runs and the
 //! [`Work`] counts. A
 //! [`Comparison`] gathers series for one problem and renders them as CSV, a Markdown table and
 //! (feature `cli`) an SVG work-precision diagram with logarithmic axes.
@@ -25,9 +25,9 @@ pub struct Sample {
     pub error: f64,
     /// Fastest wall time over the repetitions, in seconds.
     pub seconds: f64,
-    /// Slowest wall time over the repetitions, in seconds (the spread of the timing; equal to
-    /// `seconds` for a single run).
-    pub slowest: f64,
+    /// Median wall time over the repetitions, in seconds (with `seconds`, the spread of the
+    /// timing; equal to `seconds` for a single run).
+    pub median: f64,
     /// Work of one run.
     pub work: Work,
 }
@@ -147,7 +147,7 @@ pub fn sweep(
     let mut samples = Vec::with_capacity(knobs.len());
     for &k in knobs {
         let mut best = f64::INFINITY;
-        let mut worst: f64 = 0.0;
+        let mut times: Vec<f64> = Vec::new();
         let mut result = None;
         let start = Instant::now();
         let mut runs = 0;
@@ -156,7 +156,7 @@ pub fn sweep(
             let r = run(k).map_err(|e| Error::invalid(format!("{label} at {k}"), e.to_string()))?;
             let dt = t.elapsed().as_secs_f64();
             best = best.min(dt);
-            worst = worst.max(dt);
+            times.push(dt);
             result = Some(r);
             runs += 1;
         }
@@ -167,7 +167,10 @@ pub fn sweep(
             knob: k,
             error,
             seconds: best,
-            slowest: worst,
+            median: {
+                times.sort_by(f64::total_cmp);
+                times.get(times.len() / 2).copied().unwrap_or(best)
+            },
             work,
         });
     }
@@ -328,7 +331,7 @@ mod tests {
                     knob: i as f64,
                     error,
                     seconds,
-                    slowest: seconds,
+                    median: seconds,
                     work: Work::default(),
                 })
                 .collect(),

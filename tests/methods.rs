@@ -150,7 +150,9 @@ fn scene_kinds_are_the_table_entries() {
     unique.sort_unstable();
     unique.dedup();
     assert_eq!(unique.len(), keys.len(), "{keys:?}");
-    assert_eq!(keys.len(), METHODS.len() + 5);
+    // The integrators and the six theories (Hamilton–Jacobi, normal form, Lindstedt, osculating
+    // and mean elements, Brouwer–Lyddane).
+    assert_eq!(keys.len(), METHODS.len() + 6);
     let e = MethodKind::try_from("gauss-3".to_string()).unwrap_err();
     for info in &METHODS {
         assert!(e.contains(info.key), "{e}");

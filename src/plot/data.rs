@@ -569,7 +569,7 @@ fn parse(text: &str, npy: impl Fn(&str) -> Result<Vec<u8>>, from_npy: bool) -> R
         _ => None,
     };
     if has_grid {
-        let n = grid.nx.checked_mul(grid.ny).unwrap_or(usize::MAX);
+        let n = grid.nx.saturating_mul(grid.ny);
         grid.values = if let Some(name) = npy_file {
             let (shape, values) = read_npy(&npy(&name)?)?;
             if shape != [grid.ny, grid.nx] {

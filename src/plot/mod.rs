@@ -130,7 +130,7 @@ const PALETTE: [RGBColor; 10] = [
 /// pattern of a coinciding curve is one of the palette's, whose dash lengths are even).
 const COINCIDENT_DASHES: [i32; 5] = [7, 3, 11, 5, 9];
 /// Opacity of the shading of error bands.
-const BAND_OPACITY: f64 = 0.22;
+const BAND_OPACITY: f64 = 0.15;
 /// Diameter of the dots of [`Style::Dots`], in SVG units.
 const DOT_WIDTH: f64 = 2.2;
 /// Font family of every text.
@@ -281,21 +281,21 @@ pub struct Figure {
 /// The work-precision diagram of a [`Comparison`]: error (x, log) against wall time (y, log),
 /// one line with markers per series through the fastest time of each sample, legend beside the
 /// plot; where samples were timed over several runs, a band shades the range from the fastest
-/// to the slowest run. Errors of exactly 0 are drawn at the plot's zero floor, which the
+/// run to the median. Errors of exactly 0 are drawn at the plot's zero floor, which the
 /// caption states.
 pub fn work_precision(c: &Comparison) -> Figure {
     let spread = c
         .series
         .iter()
         .flat_map(|s| &s.samples)
-        .any(|x| x.slowest > x.seconds);
+        .any(|x| x.median > x.seconds);
     let fig = Figure::new(&c.title, &c.error_label, "wall time [s]")
         .log_x()
         .log_y();
     let fig = if spread {
         fig.caption(
             "Wall time against error: the line joins the fastest of the repeated runs of each \
-             sample; the shaded band reaches up to the slowest.",
+             sample; the shaded band reaches up to their median.",
         )
     } else {
         fig
@@ -306,7 +306,7 @@ pub fn work_precision(c: &Comparison) -> Figure {
                 &s.label,
                 s.samples
                     .iter()
-                    .map(|x| (x.error, x.seconds, x.seconds, x.slowest.max(x.seconds))),
+                    .map(|x| (x.error, x.seconds, x.seconds, x.median.max(x.seconds))),
                 Style::LineMarkers,
             )
         } else {
@@ -890,7 +890,10 @@ fn series_dash(i: usize) -> Option<(u32, u32)> {
 /// eighty series share colour, shape and fill.
 fn series_marker(i: usize) -> (Shape, bool) {
     let c = i / PALETTE.len();
-    (SHAPES[(i + c) % SHAPES.len()], (c / SHAPES.len()) % 2 == 0)
+    (
+        SHAPES[(i + c) % SHAPES.len()],
+        (c / SHAPES.len()).is_multiple_of(2),
+    )
 }
 
 /// How notes name a curve: its label in quotes, or its number.
@@ -2214,7 +2217,7 @@ mod tests {
                     knob: i as f64,
                     error,
                     seconds,
-                    slowest: seconds,
+                    median: seconds,
                     work: crate::integrate::Work::default(),
                 })
                 .collect(),
@@ -2861,7 +2864,7 @@ mod tests {
         let r = fig.render().unwrap();
         // One shaded polygon (and the legend's swatch), in the line's colour, translucent.
         assert!(r.svg.matches("<polygon").count() >= 1, "{}", r.svg);
-        assert!(r.svg.contains("opacity=\"0.22\""), "{}", r.svg);
+        assert!(r.svg.contains("opacity=\"0.15\""), "{}", r.svg);
         // The range covers the band.
         let l = fig.layouts().unwrap();
         assert!(l[0].y_range.0 < -1.0 && l[0].y_range.1 > 50.0);

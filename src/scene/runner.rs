@@ -503,7 +503,7 @@ enum Content {
     /// A text file (Markdown, CSV).
     Text(String),
     /// A figure, written as SVG.
-    Figure(Figure),
+    Figure(Box<Figure>),
     /// The work-precision diagram of a sweep, written as SVG.
     WorkPrecision(Comparison),
 }
@@ -891,7 +891,7 @@ impl Scene {
         Artifact {
             rel: self.figure_path(what),
             key,
-            content: Content::Figure(fig),
+            content: Content::Figure(Box::new(fig)),
         }
     }
 
@@ -1039,7 +1039,9 @@ impl Scene {
     fn invariants(&self, runs: &[RunSpec], samples: usize) -> Result<Artifact, SceneError> {
         let case = &*self.case;
         let mut panels: Vec<String> = Vec::new();
-        let mut curves: Vec<(usize, String, Vec<(f64, f64)>)> = Vec::new();
+        // (panel, legend label, points) of every curve.
+        type Drift = (usize, String, Vec<(f64, f64)>);
+        let mut curves: Vec<Drift> = Vec::new();
         let mut absolute: Vec<&str> = Vec::new();
         for (label, h) in self.histories(runs, "invariants", samples)? {
             let values: Vec<Vec<Invariant>> = (0..h.t.len())
@@ -1210,7 +1212,7 @@ impl Scene {
                     files.push(path);
                     continue;
                 }
-                Content::Figure(fig) => fig,
+                Content::Figure(fig) => *fig,
                 Content::WorkPrecision(c) => crate::plot::work_precision(&c),
             };
             // A figure of several panels is taller: a quarter of the height more per panel.
