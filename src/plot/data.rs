@@ -25,7 +25,7 @@
 //! back exactly. The header's text values escape `\` as `\\` and line breaks as `\n`, `\r`.
 //! `note` lines (what the drawing adds to the caption) are derived and ignored on reading.
 //!
-//! A heat map's data file ([`Grid`](crate::plot::Grid)) names the grid in its header (`grid:
+//! A heat map's data file ([`Grid`]) names the grid in its header (`grid:
 //! NX x NY`, the edges `grid_x: A B` and `grid_y: A B`, the colour bar's title `value:` and
 //! `value_scale:`) and holds the table `x,y,value`: one row per cell, at the cell's centre, row
 //! by row from the lowest y.
