@@ -33,6 +33,7 @@
 //!   terms, mean ↔ osculating elements, the osculating state at any time.
 
 pub mod brouwer;
+pub mod birkhoff;
 pub mod canonical;
 pub mod forces;
 pub mod gauss_variational;
