@@ -1063,4 +1063,291 @@ mod n_dof {
         ]);
         assert!((b - want).amax() < 1e-12);
     }
+
+    // ------------------------------------------------------------------------------------------
+    // Hénon–Heiles: the 1:1 resonant (Gustavson) normal form against frequency analysis.
+    // ------------------------------------------------------------------------------------------
+
+    use hamilton_jacobi::integrate::{
+        integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, Samples, StepView,
+    };
+    use hamilton_jacobi::perturbation::birkhoff::BirkhoffNormalForm;
+
+    /// `H = ½(p_x² + p_y² + x² + y²) + x²y − y³/3` (Hénon & Heiles 1964).
+    pub struct HenonHeiles;
+    impl Hamiltonian<2> for HenonHeiles {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+            p: &SVector<D, 2>,
+        ) -> D {
+            let (x, y) = (q[0], q[1]);
+            (p[0] * p[0] + p[1] * p[1] + x * x + y * y) * 0.5 + x * x * y - y * y * y * (1.0 / 3.0)
+        }
+    }
+
+    /// The flow of `K − L` in the real normal coordinates, `L = I₁ + I₂ = H₂`. In a 1:1 resonant
+    /// form every kept monomial commutes with `L`, so the flow of `K` is the flow of `K − L`
+    /// followed by the rotation of both modes by the angle `t` (the flow of `L`): the fast
+    /// rotation is factored out exactly and the integration sees only the slow motion.
+    struct NormalFlow<'a>(&'a BirkhoffNormalForm);
+    impl FirstOrderSystem<2> for NormalFlow<'_> {
+        fn field(
+            &self,
+            _t: f64,
+            q: &SVector<f64, 2>,
+            p: &SVector<f64, 2>,
+        ) -> Result<(SVector<f64, 2>, SVector<f64, 2>), Error> {
+            let f = self.0.normal_form_field(&[q[0], q[1], p[0], p[1]])?;
+            Ok((
+                Vector2::new(f[0] - p[0], f[1] - p[1]),
+                Vector2::new(f[2] + q[0], f[3] + q[1]),
+            ))
+        }
+    }
+
+    /// Records the unwrapped phase of mode 2, `φ₂ = arg(Q₂ − iP₂)`, at every step end and the
+    /// upward crossings of `I₁ = (Q₁² + P₁²)/2` through `level` (bisection on the dense output).
+    struct Reduced {
+        level: f64,
+        phase: f64,
+        last_angle: f64,
+        crossings: Vec<(f64, f64)>,
+        i1_min: f64,
+        i1_max: f64,
+    }
+    fn i1(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
+        0.5 * (q[0] * q[0] + p[0] * p[0])
+    }
+    fn angle2(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
+        (-p[1]).atan2(q[1])
+    }
+    fn wrap(d: f64) -> f64 {
+        (d + PI).rem_euclid(2.0 * PI) - PI
+    }
+    impl Observer<2> for Reduced {
+        fn start(&mut self, s: &hamilton_jacobi::State<2>) {
+            self.last_angle = angle2(&s.q, &s.p);
+            self.phase = self.last_angle;
+        }
+        fn step(&mut self, st: &StepView<'_, 2>) -> Control {
+            let (a, b) = (st.prev, st.next);
+            let (ga, gb) = (i1(&a.q, &a.p) - self.level, i1(&b.q, &b.p) - self.level);
+            let ib = i1(&b.q, &b.p);
+            self.i1_min = self.i1_min.min(ib);
+            self.i1_max = self.i1_max.max(ib);
+            if ga < 0.0 && gb >= 0.0 {
+                let (mut lo, mut hi) = (a.t, b.t);
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    let s = st.dense.at(mid);
+                    if i1(&s.q, &s.p) - self.level < 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let s = st.dense.at(lo);
+                let ph = self.phase + wrap(angle2(&s.q, &s.p) - self.last_angle);
+                self.crossings.push((lo, ph));
+            }
+            let ang = angle2(&b.q, &b.p);
+            self.phase += wrap(ang - self.last_angle);
+            self.last_angle = ang;
+            Control::Continue
+        }
+    }
+
+    /// `(ν_fast, ν_slow)` of the torus through the normal coordinates `w'` of the normal form:
+    /// the period `T_s` of the reduced motion (successive upward crossings of the mid level of
+    /// `I₁`) and the advance of the angle `φ₂` over it.
+    fn normal_form_frequencies(nf: &BirkhoffNormalForm, w: &[f64]) -> (f64, f64) {
+        let flow = NormalFlow(nf);
+        let dop = Dop853::new(1e-14, 1e-16).unwrap().with_max_steps(10_000_000).unwrap();
+        let q = Vector2::new(w[0], w[1]);
+        let p = Vector2::new(w[2], w[3]);
+        let mut probe = Reduced {
+            level: f64::INFINITY,
+            phase: 0.0,
+            last_angle: 0.0,
+            crossings: Vec::new(),
+            i1_min: f64::INFINITY,
+            i1_max: f64::NEG_INFINITY,
+        };
+        let mut span = 4000.0;
+        integrate(&Problem::new(&flow, 0.0, q, p, span).unwrap(), &dop, &mut probe).unwrap();
+        let level = 0.5 * (probe.i1_min + probe.i1_max);
+        let obs = loop {
+            let mut obs = Reduced {
+                level,
+                crossings: Vec::new(),
+                ..probe
+            };
+            integrate(&Problem::new(&flow, 0.0, q, p, span).unwrap(), &dop, &mut obs).unwrap();
+            if obs.crossings.len() >= 3 || span > 1e5 {
+                break obs;
+            }
+            span *= 2.0;
+        };
+        let c = &obs.crossings;
+        assert!(c.len() >= 3, "reduced motion: {} crossings in t ≤ {span}", c.len());
+        let (t0, p0) = c[0];
+        let (t1, p1) = c[c.len() - 1];
+        let ts = (t1 - t0) / (c.len() - 1) as f64;
+        // φ₂ of the flow of K is φ₂ of the flow of K − L plus t.
+        (1.0 + (p1 - p0) / (t1 - t0), 2.0 * PI / ts)
+    }
+
+    /// The frequency of the largest line of `f(t)` in `[lo, hi]` by Laskar's frequency analysis:
+    /// `|⟨f, e^{iνt}⟩|` with the Hann window, maximised by golden-section search after a scan.
+    fn frequency_analysis(t: &[f64], f: &[(f64, f64)], lo: f64, hi: f64) -> f64 {
+        let tt = t[t.len() - 1] - t[0];
+        let win: Vec<f64> = t
+            .iter()
+            .map(|&ti| 1.0 - (2.0 * PI * (ti - t[0]) / tt).cos())
+            .collect();
+        let amp = |nu: f64| -> f64 {
+            let (mut re, mut im) = (0.0, 0.0);
+            for ((&ti, &(a, b)), &w) in t.iter().zip(f).zip(&win) {
+                let (s, c) = (nu * ti).sin_cos();
+                // (a + ib) e^{−iνt}
+                re += w * (a * c + b * s);
+                im += w * (b * c - a * s);
+            }
+            re * re + im * im
+        };
+        let scan = 200;
+        let mut best = (lo, 0.0);
+        for k in 0..=scan {
+            let nu = lo + (hi - lo) * k as f64 / scan as f64;
+            let a = amp(nu);
+            if a > best.1 {
+                best = (nu, a);
+            }
+        }
+        let step = (hi - lo) / scan as f64;
+        let (mut a, mut b) = (best.0 - step, best.0 + step);
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+        let (mut f1, mut f2) = (amp(x1), amp(x2));
+        for _ in 0..90 {
+            if f1 > f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = amp(x1);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = amp(x2);
+            }
+            if b - a < 1e-14 {
+                break;
+            }
+        }
+        0.5 * (a + b)
+    }
+
+    /// `(ν_fast, ν_slow)` of the true orbit from `(x, y, p_x, p_y)` by frequency analysis over
+    /// `span`: the line of `y − i p_y` near `fast` and the line of `x² + p_x²` near `slow`.
+    fn measured_frequencies(z0: [f64; 4], span: f64, fast: f64, slow: f64) -> (f64, f64) {
+        let dop = Dop853::new(1e-14, 1e-16).unwrap().with_max_steps(50_000_000).unwrap();
+        let count = (span / 0.25).ceil() as usize;
+        let mut samples = Samples::uniform(0.0, span, count).unwrap();
+        let problem = Problem::new(
+            &HenonHeiles,
+            0.0,
+            Vector2::new(z0[0], z0[1]),
+            Vector2::new(z0[2], z0[3]),
+            span,
+        )
+        .unwrap();
+        integrate(&problem, &dop, &mut samples).unwrap();
+        let t: Vec<f64> = samples.states.iter().map(|s| s.t).collect();
+        let fy: Vec<(f64, f64)> = samples.states.iter().map(|s| (s.q[1], -s.p[1])).collect();
+        let mean = samples
+            .states
+            .iter()
+            .map(|s| s.q[0] * s.q[0] + s.p[0] * s.p[0])
+            .sum::<f64>()
+            / t.len() as f64;
+        let fx: Vec<(f64, f64)> = samples
+            .states
+            .iter()
+            .map(|s| (s.q[0] * s.q[0] + s.p[0] * s.p[0] - mean, 0.0))
+            .collect();
+        let nf = frequency_analysis(&t, &fy, fast - 0.4 * slow, fast + 0.4 * slow);
+        let ns = frequency_analysis(&t, &fx, 0.6 * slow, 1.4 * slow);
+        (nf, ns)
+    }
+
+    /// Initial state on `x = 0` at energy `e`: `(0, y, p_x, p_y)` with `p_x > 0` from the energy.
+    fn on_x0(e: f64, y: f64, py: f64) -> [f64; 4] {
+        let px2 = 2.0 * e - py * py - y * y + 2.0 * y * y * y / 3.0;
+        assert!(px2 > 0.0);
+        [0.0, y, px2.sqrt(), py]
+    }
+
+    /// Frequency errors `(fast, slow)` of the degree-`degree` resonant form for the orbit `z0`,
+    /// the true frequencies measured over ≥ `periods` slow periods.
+    fn frequency_errors(degrees: &[usize], z0: [f64; 4], periods: f64) -> Vec<(usize, f64, f64)> {
+        let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+        let mut out = Vec::new();
+        let mut measured = None;
+        for &degree in degrees {
+            let nf = normal_form(
+                &HenonHeiles,
+                0.0,
+                &eq,
+                degree,
+                NormalFormKind::Resonant(vec![vec![1, -1]]),
+            )
+            .unwrap();
+            let w = nf.linear_coordinates(&z0).unwrap();
+            let wn = nf.to_normal_flow(&w).unwrap();
+            let clock = std::time::Instant::now();
+            let (pf, ps) = normal_form_frequencies(&nf, &wn);
+            let t_nf = clock.elapsed();
+            let (mf, ms) = *measured.get_or_insert_with(|| {
+                measured_frequencies(z0, periods * 2.0 * PI / ps, pf, ps)
+            });
+            eprintln!(
+                "  degree {degree}: normal-form frequencies {pf:.12} {ps:.12} ({t_nf:?}), \
+                 measured {mf:.12} {ms:.12} (total {:?})",
+                clock.elapsed()
+            );
+            out.push((degree, (pf - mf).abs(), (ps - ms).abs()));
+        }
+        out
+    }
+
+    /// Named orbits at E = 0.01 on `x = 0` (`(y, p_y)`), regular and away from the separatrix of
+    /// the reduced 1:1 system.
+    const ORBITS_E001: [(&str, f64, f64); 3] = [
+        ("y = 0, p_y = 0", 0.0, 0.0),
+        ("y = 0.05, p_y = 0", 0.05, 0.0),
+        ("y = −0.06, p_y = 0.05", -0.06, 0.05),
+    ];
+
+    #[test]
+    fn henon_heiles_resonant_form_frequencies_at_e_001() {
+        for (name, y, py) in ORBITS_E001 {
+            let z0 = on_x0(0.01, y, py);
+            let errs = frequency_errors(&[8, 10], z0, 55.0);
+            for (degree, ef, es) in &errs {
+                eprintln!("{name}: degree {degree}: fast error {ef:.2e}, slow error {es:.2e}");
+            }
+            let (_, ef8, es8) = errs[0];
+            let (_, ef10, es10) = errs[1];
+            assert!(ef8.max(es8) <= 3e-7, "{name}: degree 8 {ef8:e} {es8:e}");
+            assert!(ef10.max(es10) <= 1e-8, "{name}: degree 10 {ef10:e} {es10:e}");
+        }
+    }
 }

@@ -200,10 +200,21 @@ impl PhasePolynomial {
     /// The gradient `∂f/∂ζ` at `ζ`.
     pub fn gradient(&self, z: &[C64]) -> Vec<C64> {
         let nv = self.table.variables();
-        let mut g = vec![C64::new(0.0, 0.0); nv];
-        let mut alpha = vec![0u32; nv];
+        let k = self.table.degree();
+        let zero = C64::new(0.0, 0.0);
+        let powers: Vec<Vec<C64>> = z
+            .iter()
+            .map(|&zi| {
+                let mut p = vec![C64::new(1.0, 0.0); k + 1];
+                for j in 1..=k {
+                    p[j] = p[j - 1] * zi;
+                }
+                p
+            })
+            .collect();
+        let mut g = vec![zero; nv];
         for (i, &c) in self.c.iter().enumerate() {
-            if c == C64::new(0.0, 0.0) {
+            if c == zero {
                 continue;
             }
             let e = self.table.exps(i);
@@ -211,14 +222,11 @@ impl PhasePolynomial {
                 if e[v] == 0 {
                     continue;
                 }
-                for (a, &ej) in alpha.iter_mut().zip(e) {
-                    *a = u32::from(ej);
-                }
-                alpha[v] -= 1;
                 let mut m = c * f64::from(e[v]);
-                for (w, &aw) in alpha.iter().enumerate() {
-                    if aw > 0 {
-                        m *= z[w].powu(aw);
+                for (w, &ew) in e.iter().enumerate() {
+                    let p = if w == v { ew - 1 } else { ew };
+                    if p > 0 {
+                        m *= powers[w][p as usize];
                     }
                 }
                 *gv += m;
@@ -582,6 +590,81 @@ fn null_space(a: DMatrix<C64>, tol: f64) -> Vec<DVector<C64>> {
     out
 }
 
+/// A basis of the elliptic eigenspace `E_{iω}` (columns `v`) diagonal for the Hermitian Krein
+/// form `K` (matrix `kh` in the basis `v`): pairs `(κ, v_k)` with `K(v_k, v_l) = κ_k δ_kl`.
+///
+/// When `K` is definite (in particular for a repeated frequency of one signature, where every
+/// `K`-orthonormal basis is valid) the basis is built by `K`-Gram–Schmidt from the projections of
+/// the coordinate directions `e_{q_k} + i e_{p_k}`, so that each normal mode follows the user's
+/// coordinates where the splitting is free; otherwise `K` is diagonalised.
+fn krein_basis(
+    kh: &DMatrix<C64>,
+    v: &[DVector<C64>],
+    n: usize,
+    dim: usize,
+) -> Result<Vec<(f64, DVector<C64>)>> {
+    let m = v.len();
+    let se = kh.clone().symmetric_eigen();
+    let kmax = se.eigenvalues.amax();
+    if se.eigenvalues.iter().any(|k| k.abs() <= 1e-12 * kmax.max(1e-300)) || kmax == 0.0 {
+        return Err(Error::invalid(
+            "quadratic part of H",
+            "elliptic eigenspace with a degenerate Krein form (non-semisimple)",
+        ));
+    }
+    let to_vec = |a: &DVector<C64>| -> DVector<C64> {
+        let mut out = DVector::<C64>::zeros(dim);
+        for (b, vb) in v.iter().enumerate() {
+            out += vb * a[b];
+        }
+        out
+    };
+    let definite = se.eigenvalues.iter().all(|&k| k > 0.0) || se.eigenvalues.iter().all(|&k| k < 0.0);
+    if !definite || m == 1 {
+        return Ok((0..m)
+            .map(|k| {
+                let a = se.eigenvectors.column(k).into_owned();
+                (se.eigenvalues[k], to_vec(&a))
+            })
+            .collect());
+    }
+    let sign = if se.eigenvalues[0] > 0.0 { 1.0 } else { -1.0 };
+    // Candidates: coefficients (in the basis v, least squares) of e_{q_k} + i e_{p_k}.
+    let vm = DMatrix::<C64>::from_fn(dim, m, |r, c| v[c][r]);
+    let pinv = vm.clone().pseudo_inverse(1e-12).map_err(|e| Error::invalid("eigenspace", e))?;
+    let mut cands: Vec<DVector<C64>> = (0..n)
+        .flat_map(|k| {
+            [1.0, -1.0].map(|sg| {
+                let mut e = DVector::<C64>::zeros(dim);
+                e[k] = C64::new(1.0, 0.0);
+                e[n + k] = C64::new(0.0, sg);
+                &pinv * e
+            })
+        })
+        .collect();
+    // Complete with the eigenvectors of K (never needed when the candidates span).
+    for k in 0..m {
+        cands.push(se.eigenvectors.column(k).into_owned());
+    }
+    let kin = |a: &DVector<C64>, b: &DVector<C64>| -> C64 { (a.adjoint() * kh * b)[(0, 0)] };
+    let mut basis: Vec<DVector<C64>> = Vec::new();
+    for c in cands {
+        if basis.len() == m {
+            break;
+        }
+        let mut a = c;
+        for b in &basis {
+            let proj = kin(b, &a) / kin(b, b);
+            a -= b * proj;
+        }
+        let nk = kin(&a, &a).re * sign;
+        if nk > 1e-6 * kmax {
+            basis.push(a / C64::new(nk.sqrt(), 0.0));
+        }
+    }
+    Ok(basis.iter().map(|a| (sign, to_vec(a))).collect())
+}
+
 /// The real symplectic normal form of `H₂ = ½ zᵀ A z` (`A` the `2N × 2N` symmetric Hessian,
 /// blocks `[[H_qq, H_qp], [H_pq, H_pp]]`): see the module documentation.
 ///
@@ -670,19 +753,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
                 omega_form(&v[a].conjugate(), &v[b], n) / C64::new(0.0, 2.0)
             });
             let kh = (&kmat + kmat.adjoint()) * C64::new(0.5, 0.0);
-            let se = kh.symmetric_eigen();
-            for k in 0..mult {
-                let kappa = se.eigenvalues[k];
-                if kappa.abs() <= 1e-12 {
-                    return Err(Error::invalid(
-                        "quadratic part of H",
-                        format!("elliptic eigenvalue {mu:.6e}: degenerate Krein form"),
-                    ));
-                }
-                let mut vk = DVector::<C64>::zeros(dim);
-                for (b, vb) in v.iter().enumerate() {
-                    vk += vb * se.eigenvectors[(b, k)];
-                }
+            for (kappa, vk) in krein_basis(&kh, &v, n, dim)? {
                 let sc = 1.0 / (2.0 * kappa.abs()).sqrt();
                 let (freq, vk) = if kappa > 0.0 {
                     (mu.im, vk * C64::new(sc, 0.0))
@@ -744,6 +815,17 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
             }
         }
     }
+    // Order the blocks of one kind by the coordinate each mostly moves (the user's order).
+    let dominant = |u: &DVector<f64>, w: &DVector<f64>| -> usize {
+        (0..n)
+            .max_by(|&a, &b| {
+                let wt = |k: usize| u[k] * u[k] + u[n + k] * u[n + k] + w[k] * w[k] + w[n + k] * w[n + k];
+                wt(a).total_cmp(&wt(b)).then(b.cmp(&a))
+            })
+            .unwrap_or(0)
+    };
+    hyper.sort_by_key(|(_, u, w)| dominant(u, w));
+    ellip.sort_by_key(|(_, u, w)| dominant(u, w));
     let count = hyper.len() + ellip.len() + 2 * saddle.len();
     if count != n {
         return Err(Error::invalid(
@@ -1395,6 +1477,24 @@ impl BirkhoffNormalForm {
     /// As [`Self::to_normal`].
     pub fn to_normal_flow(&self, w: &[f64]) -> Result<Vec<f64>> {
         self.flow(w, false)
+    }
+
+    /// Hamilton's equations of the normal form `K` in the real normal coordinates
+    /// `w' = (Q', P')`: `(Q̇', Ṗ') = (∂K/∂P', −∂K/∂Q')`.
+    ///
+    /// # Errors
+    /// A point of the wrong length or not finite; a non-finite value.
+    pub fn normal_form_field(&self, w: &[f64]) -> Result<Vec<f64>> {
+        self.check_point(w)?;
+        let n = self.n;
+        let z = self.complex_of_normal(w);
+        let g = self.normal.gradient(&z);
+        let zdot: Vec<C64> = (0..2 * n)
+            .map(|i| if i < n { g[n + i] } else { -g[i - n] })
+            .collect();
+        let out = self.normal_of_complex(&zdot);
+        all_finite("normal-form vector field", &out)?;
+        Ok(out)
     }
 
     /// `K` at the real normal coordinates `w'`.
