@@ -112,7 +112,53 @@ pub const MAX_SYMPLECTIC_DEFECT: f64 = 1e-9;
 #[derive(Clone, Debug)]
 pub struct PhasePolynomial {
     table: Arc<Monomials>,
+    address: Arc<Address>,
     c: Vec<C64>,
+}
+
+/// Largest dense address table (entries) of [`Address`].
+const MAX_DENSE_ADDRESS: usize = 1 << 22;
+
+/// Additive monomial codes `code(α) = Σ α_k (K + 1)^k` and, when small enough, the dense table
+/// `code → graded index` (so that the address of a product is a sum of codes and one load).
+#[derive(Debug)]
+struct Address {
+    codes: Vec<usize>,
+    unit: Vec<usize>,
+    dense: Option<Vec<u32>>,
+}
+
+impl Address {
+    fn new(table: &Monomials) -> Self {
+        let nv = table.variables();
+        let radix = table.degree() + 1;
+        let mut unit = Vec::with_capacity(nv);
+        let mut u = 1usize;
+        let mut size = Some(1usize);
+        for _ in 0..nv {
+            unit.push(u);
+            u = u.saturating_mul(radix);
+            size = size.and_then(|s| s.checked_mul(radix));
+        }
+        let codes: Vec<usize> = (0..table.len())
+            .map(|i| {
+                table
+                    .exps(i)
+                    .iter()
+                    .zip(&unit)
+                    .map(|(&e, &w)| usize::from(e).saturating_mul(w))
+                    .fold(0usize, usize::saturating_add)
+            })
+            .collect();
+        let dense = size.filter(|&s| s <= MAX_DENSE_ADDRESS).map(|s| {
+            let mut d = vec![u32::MAX; s];
+            for (i, &c) in codes.iter().enumerate() {
+                d[c] = i as u32;
+            }
+            d
+        });
+        Self { codes, unit, dense }
+    }
 }
 
 impl PhasePolynomial {
@@ -120,7 +166,17 @@ impl PhasePolynomial {
     pub fn zero(table: &Arc<Monomials>) -> Self {
         Self {
             table: table.clone(),
+            address: Arc::new(Address::new(table)),
             c: vec![C64::new(0.0, 0.0); table.len()],
+        }
+    }
+
+    /// The zero polynomial on the tables of `self`.
+    fn zero_like(&self) -> Self {
+        Self {
+            table: self.table.clone(),
+            address: self.address.clone(),
+            c: vec![C64::new(0.0, 0.0); self.table.len()],
         }
     }
 
@@ -148,7 +204,7 @@ impl PhasePolynomial {
 
     /// The homogeneous part of degree `d`.
     pub fn part(&self, d: usize) -> Self {
-        let mut out = Self::zero(&self.table);
+        let mut out = self.zero_like();
         for i in self.table.of_degree(d) {
             out.c[i] = self.c[i];
         }
@@ -235,45 +291,88 @@ impl PhasePolynomial {
         g
     }
 
+    /// The nonzero terms grouped by degree (`out[d]` = graded indices of degree `d`).
+    fn by_degree(&self) -> Vec<Vec<usize>> {
+        let k = self.table.degree();
+        (0..=k)
+            .map(|d| {
+                self.table
+                    .of_degree(d)
+                    .filter(|&i| self.c[i] != C64::new(0.0, 0.0))
+                    .collect()
+            })
+            .collect()
+    }
+
     /// `{self, g}` keeping degrees `≤ max_degree`.
     pub fn bracket(&self, g: &Self, max_degree: usize) -> Self {
         let n = self.dof();
         let nv = 2 * n;
-        let mut out = Self::zero(&self.table);
-        let nz = |p: &Self| -> Vec<(usize, usize)> {
-            (0..p.c.len())
-                .filter(|&i| p.c[i] != C64::new(0.0, 0.0))
-                .map(|i| (i, p.table.degree_of(i).unwrap_or(0)))
-                .collect()
-        };
-        let fa = nz(self);
-        let gb = nz(g);
-        let mut gamma = vec![0u32; nv];
-        for &(i, di) in &fa {
-            if di == 0 {
-                continue;
-            }
-            let ei = self.table.exps(i);
-            let ci = self.c[i];
-            for &(j, dj) in &gb {
-                if dj == 0 || di + dj - 2 > max_degree {
-                    continue;
-                }
-                let ej = g.table.exps(j);
-                for v in 0..n {
-                    let t = f64::from(ei[v]) * f64::from(ej[n + v])
-                        - f64::from(ei[n + v]) * f64::from(ej[v]);
-                    if t == 0.0 {
+        let mut out = self.zero_like();
+        let fa = self.by_degree();
+        let gb = g.by_degree();
+        if let Some(dense) = &self.address.dense {
+            let codes = &self.address.codes;
+            let unit = &self.address.unit;
+            for (df, fterms) in fa.iter().enumerate().skip(1) {
+                for (dg, gterms) in gb.iter().enumerate().skip(1) {
+                    if df + dg - 2 > max_degree || fterms.is_empty() || gterms.is_empty() {
                         continue;
                     }
-                    // The product monomial α + β − e_{x_v} − e_{y_v}.
-                    for (k, gk) in gamma.iter_mut().enumerate() {
-                        *gk = u32::from(ei[k]) + u32::from(ej[k]);
+                    for &i in fterms {
+                        let ei = self.table.exps(i);
+                        let ci = self.c[i];
+                        for &j in gterms {
+                            let ej = g.table.exps(j);
+                            let cij = ci * g.c[j];
+                            let sum = codes[i] + codes[j];
+                            for v in 0..n {
+                                let t = f64::from(ei[v]) * f64::from(ej[n + v])
+                                    - f64::from(ei[n + v]) * f64::from(ej[v]);
+                                if t != 0.0 {
+                                    let idx = dense[sum - unit[v] - unit[n + v]];
+                                    out.c[idx as usize] += cij * t;
+                                }
+                            }
+                        }
                     }
-                    gamma[v] -= 1;
-                    gamma[n + v] -= 1;
-                    if let Some(idx) = self.table.index_of(&gamma) {
-                        out.c[idx] += ci * g.c[j] * t;
+                }
+            }
+            return out;
+        }
+        let mut base = vec![0u32; nv];
+        for (df, fterms) in fa.iter().enumerate().skip(1) {
+            for (dg, gterms) in gb.iter().enumerate().skip(1) {
+                if df + dg - 2 > max_degree || fterms.is_empty() || gterms.is_empty() {
+                    continue;
+                }
+                for &i in fterms {
+                    let ei = self.table.exps(i);
+                    let ci = self.c[i];
+                    for &j in gterms {
+                        let ej = g.table.exps(j);
+                        let mut init = false;
+                        for v in 0..n {
+                            let t = f64::from(ei[v]) * f64::from(ej[n + v])
+                                - f64::from(ei[n + v]) * f64::from(ej[v]);
+                            if t == 0.0 {
+                                continue;
+                            }
+                            if !init {
+                                for (k, b) in base.iter_mut().enumerate() {
+                                    *b = u32::from(ei[k]) + u32::from(ej[k]);
+                                }
+                                init = true;
+                            }
+                            // The product monomial α + β − e_{x_v} − e_{y_v}.
+                            base[v] -= 1;
+                            base[n + v] -= 1;
+                            if let Some(idx) = self.table.index_of(&base) {
+                                out.c[idx] += ci * g.c[j] * t;
+                            }
+                            base[v] += 1;
+                            base[n + v] += 1;
+                        }
                     }
                 }
             }
@@ -947,8 +1046,8 @@ pub struct BirkhoffNormalForm {
     hamiltonian: PhasePolynomial,
     normal: PhasePolynomial,
     generators: Vec<PhasePolynomial>,
-    old_from_new: Vec<PhasePolynomial>,
-    new_from_old: Vec<PhasePolynomial>,
+    /// `(old_from_new, new_from_old)`: the coordinate series, built on first use.
+    maps: std::sync::OnceLock<(Vec<PhasePolynomial>, Vec<PhasePolynomial>)>,
     quadratic_defect: f64,
     reality_defect: f64,
 }
@@ -1159,7 +1258,7 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
     let mut generators = Vec::with_capacity(degree.saturating_sub(2));
     let mut kvec = vec![0i32; N];
     for sdeg in 3..=degree {
-        let mut chi = PhasePolynomial::zero(&table);
+        let mut chi = hc.zero_like();
         for i in table.of_degree(sdeg) {
             let c = cur.c[i];
             if c == C64::new(0.0, 0.0) {
@@ -1199,27 +1298,6 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
         }
         generators.push(chi);
     }
-    // Coordinate changes to degree K − 1.
-    let mut old_from_new = Vec::with_capacity(2 * N);
-    let mut new_from_old = Vec::with_capacity(2 * N);
-    for v in 0..2 * N {
-        let mut unit = vec![0u32; 2 * N];
-        unit[v] = 1;
-        let mut f = PhasePolynomial::zero(&table);
-        if let Some(i) = table.index_of(&unit) {
-            f.c[i] = C64::new(1.0, 0.0);
-        }
-        let mut o = f.clone();
-        for (k, chi) in generators.iter().enumerate() {
-            o = o.lie_exp(chi, k + 3, degree - 1, 1.0);
-        }
-        let mut nw = f;
-        for (k, chi) in generators.iter().enumerate().rev() {
-            nw = nw.lie_exp(chi, k + 3, degree - 1, -1.0);
-        }
-        old_from_new.push(o);
-        new_from_old.push(nw);
-    }
     let t_inv = linear.t.clone().try_inverse().ok_or_else(|| {
         Error::invalid("complexification", "singular (internal construction)")
     })?;
@@ -1235,8 +1313,7 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
         hamiltonian: hc,
         normal: cur,
         generators,
-        old_from_new,
-        new_from_old,
+        maps: std::sync::OnceLock::new(),
         quadratic_defect,
         reality_defect: 0.0,
     };
@@ -1328,6 +1405,36 @@ impl BirkhoffNormalForm {
         self.reality_defect
     }
 
+    /// The coordinate series `(ζ_old(ζ_new), ζ_new(ζ_old))` to degree `K − 1`, built on first use.
+    fn maps(&self) -> &(Vec<PhasePolynomial>, Vec<PhasePolynomial>) {
+        self.maps.get_or_init(|| {
+            let n = self.n;
+            let table = self.normal.table.clone();
+            let degree = self.degree;
+            let mut old_from_new = Vec::with_capacity(2 * n);
+            let mut new_from_old = Vec::with_capacity(2 * n);
+            for v in 0..2 * n {
+                let mut unit = vec![0u32; 2 * n];
+                unit[v] = 1;
+                let mut f = self.normal.zero_like();
+                if let Some(i) = table.index_of(&unit) {
+                    f.c[i] = C64::new(1.0, 0.0);
+                }
+                let mut o = f.clone();
+                for (k, chi) in self.generators.iter().enumerate() {
+                    o = o.lie_exp(chi, k + 3, degree - 1, 1.0);
+                }
+                let mut nw = f;
+                for (k, chi) in self.generators.iter().enumerate().rev() {
+                    nw = nw.lie_exp(chi, k + 3, degree - 1, -1.0);
+                }
+                old_from_new.push(o);
+                new_from_old.push(nw);
+            }
+            (old_from_new, new_from_old)
+        })
+    }
+
     /// `ζ` of the real normal coordinates `w = (Q, P)`.
     fn complex_of_normal(&self, w: &[f64]) -> Vec<C64> {
         let wc = DVector::<C64>::from_iterator(w.len(), w.iter().map(|&x| C64::new(x, 0.0)));
@@ -1386,7 +1493,7 @@ impl BirkhoffNormalForm {
     /// # Errors
     /// A point of the wrong length or not finite; a non-finite image.
     pub fn to_normal(&self, w: &[f64]) -> Result<Vec<f64>> {
-        self.apply(&self.new_from_old, w)
+        self.apply(&self.maps().1, w)
     }
 
     /// The old linear normal coordinates `w` of the new coordinates `w'`, by the truncated series.
@@ -1394,7 +1501,7 @@ impl BirkhoffNormalForm {
     /// # Errors
     /// As [`Self::to_normal`].
     pub fn from_normal(&self, w: &[f64]) -> Result<Vec<f64>> {
-        self.apply(&self.old_from_new, w)
+        self.apply(&self.maps().0, w)
     }
 
     /// Flow of one generator for time `sign`, by the 4-stage Gauss collocation method (order
