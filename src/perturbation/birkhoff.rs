@@ -225,7 +225,48 @@ impl PhasePolynomial {
     }
 
     /// The value at the complex point `ζ`.
-    pub fn eval(&self, z: &[C64]) -> C64 {
+    ///
+    /// # Errors
+    /// A point of the wrong length or with a non-finite entry; a non-finite value.
+    pub fn eval(&self, z: &[C64]) -> Result<C64> {
+        self.check_complex_point(z)?;
+        let v = self.eval_unchecked(z);
+        finite("polynomial value (re)", v.re)?;
+        finite("polynomial value (im)", v.im)?;
+        Ok(v)
+    }
+
+    /// The gradient `∂f/∂ζ` at `ζ`.
+    ///
+    /// # Errors
+    /// As [`Self::eval`].
+    pub fn gradient(&self, z: &[C64]) -> Result<Vec<C64>> {
+        self.check_complex_point(z)?;
+        let g = self.gradient_unchecked(z);
+        if g.iter().any(|c| !(c.re.is_finite() && c.im.is_finite())) {
+            return Err(Error::NonFinite {
+                what: "polynomial gradient".into(),
+                value: f64::NAN,
+            });
+        }
+        Ok(g)
+    }
+
+    fn check_complex_point(&self, z: &[C64]) -> Result<()> {
+        if z.len() != self.table.variables() {
+            return Err(Error::invalid(
+                "evaluation point",
+                format!("{} entries, the polynomial has {} variables", z.len(), self.table.variables()),
+            ));
+        }
+        for c in z {
+            finite("evaluation point (re)", c.re)?;
+            finite("evaluation point (im)", c.im)?;
+        }
+        Ok(())
+    }
+
+    fn eval_unchecked(&self, z: &[C64]) -> C64 {
         let k = self.table.degree();
         let powers: Vec<Vec<C64>> = z
             .iter()
@@ -253,8 +294,7 @@ impl PhasePolynomial {
         sum
     }
 
-    /// The gradient `∂f/∂ζ` at `ζ`.
-    pub fn gradient(&self, z: &[C64]) -> Vec<C64> {
+    fn gradient_unchecked(&self, z: &[C64]) -> Vec<C64> {
         let nv = self.table.variables();
         let k = self.table.degree();
         let zero = C64::new(0.0, 0.0);
@@ -492,10 +532,17 @@ fn newton<H: Hamiltonian<N>, const N: usize>(
         let converged = small_step || gn_new == 0.0 || (gn_new >= gn && gn_new < 1e-12 * scale);
         gn = gn_new;
         if converged {
-            return Ok(Some((z, gn, it + 1)));
+            return Ok(resolved(h, t, &z, gn).then_some((z, gn, it + 1)));
         }
     }
-    Ok((gn < 1e-10 * (1.0 + z.norm())).then_some((z, gn, max_iter)))
+    Ok(resolved(h, t, &z, gn).then_some((z, gn, max_iter)))
+}
+
+/// Whether `|∇H(z)| ≤ 1e−10 max(1, ‖∇²H(z)‖_max)`: the gradient vanishes on the scale of the
+/// curvature (far from the origin, where the rounding of `z` itself moves `∇H` by more, no
+/// equilibrium is resolved).
+fn resolved<H: Hamiltonian<N>, const N: usize>(h: &H, t: f64, z: &DVector<f64>, gn: f64) -> bool {
+    phase_hessian_dense(h, t, z).is_ok_and(|a| gn <= 1e-10 * a.amax().max(1.0))
 }
 
 struct GradientSquared<'a, H, const N: usize> {
@@ -520,7 +567,7 @@ impl<H: Hamiltonian<N>, const N: usize> argmin::core::CostFunction for GradientS
 ///
 /// # Errors
 /// [`Error::NonFinite`] for a non-finite guess or time; [`Error::NotConverged`] when neither
-/// route reaches `|∇H| ≤ 1e−10 (1 + |z|)`.
+/// route reaches `|∇H| ≤ 1e−10 max(1, ‖∇²H‖_max)`.
 pub fn equilibrium<H: Hamiltonian<N>, const N: usize>(
     h: &H,
     t: f64,
@@ -781,8 +828,20 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     }
     all_finite("Hessian of H", hessian.as_slice())?;
     let n = dim / 2;
-    let norm = hessian.amax().max(1.0);
-    if (hessian - hessian.transpose()).amax() > 1e-10 * norm {
+    // Work on A/‖A‖ (eigenvectors are unchanged, eigenvalues scale): no overflow for any
+    // finite A.
+    let scale = hessian.amax();
+    if scale == 0.0 {
+        return Err(Error::invalid(
+            "quadratic part of H",
+            "the Hessian is zero: every frequency is zero, no normal form",
+        ));
+    }
+    let hessian = &(hessian / scale);
+    if !hessian.iter().all(|x| x.is_finite()) {
+        return Err(Error::invalid("Hessian of H", "not representable after scaling"));
+    }
+    if (hessian - hessian.transpose()).amax() > 1e-10 {
         return Err(Error::invalid("Hessian of H", "not symmetric"));
     }
     // M = J A.
@@ -925,6 +984,21 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     };
     hyper.sort_by_key(|(_, u, w)| dominant(u, w));
     ellip.sort_by_key(|(_, u, w)| dominant(u, w));
+    for h in &mut hyper {
+        h.0 *= scale;
+    }
+    for e in &mut ellip {
+        e.0 *= scale;
+    }
+    for sd in &mut saddle {
+        sd.0 *= scale;
+    }
+    if hyper.iter().map(|h| h.0).chain(ellip.iter().map(|e| e.0)).chain(saddle.iter().flat_map(|s| [s.0.re, s.0.im])).any(|x| !x.is_finite() || x == 0.0) {
+        return Err(Error::invalid(
+            "quadratic part of H",
+            "a frequency overflows or underflows f64",
+        ));
+    }
     let count = hyper.len() + ellip.len() + 2 * saddle.len();
     if count != n {
         return Err(Error::invalid(
@@ -1319,7 +1393,7 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
     };
     let probe: Vec<f64> = (0..2 * N).map(|i| 0.1 / (1.0 + i as f64)).collect();
     let zeta = nf.complex_of_normal(&probe);
-    nf.reality_defect = nf.normal.eval(&zeta).im.abs();
+    nf.reality_defect = nf.normal.eval_unchecked(&zeta).im.abs();
     Ok(nf)
 }
 
@@ -1481,7 +1555,7 @@ impl BirkhoffNormalForm {
     fn apply(&self, maps: &[PhasePolynomial], w: &[f64]) -> Result<Vec<f64>> {
         self.check_point(w)?;
         let z = self.complex_of_normal(w);
-        let image: Vec<C64> = maps.iter().map(|m| m.eval(&z)).collect();
+        let image: Vec<C64> = maps.iter().map(|m| m.eval_unchecked(&z)).collect();
         let out = self.normal_of_complex(&image);
         all_finite("image of the near-identity map", &out)?;
         Ok(out)
@@ -1509,7 +1583,7 @@ impl BirkhoffNormalForm {
     fn flow_one(&self, chi: &PhasePolynomial, z: &mut [C64], sign: f64, steps: usize) {
         let n = self.n;
         let field = |z: &[C64]| -> Vec<C64> {
-            let g = chi.gradient(z);
+            let g = chi.gradient_unchecked(z);
             // ẋ = ∂χ/∂y, ẏ = −∂χ/∂x
             (0..2 * n)
                 .map(|i| {
@@ -1595,7 +1669,7 @@ impl BirkhoffNormalForm {
         self.check_point(w)?;
         let n = self.n;
         let z = self.complex_of_normal(w);
-        let g = self.normal.gradient(&z);
+        let g = self.normal.gradient_unchecked(&z);
         let zdot: Vec<C64> = (0..2 * n)
             .map(|i| if i < n { g[n + i] } else { -g[i - n] })
             .collect();
@@ -1611,7 +1685,7 @@ impl BirkhoffNormalForm {
     pub fn normal_form_value(&self, w: &[f64]) -> Result<f64> {
         self.check_point(w)?;
         let z = self.complex_of_normal(w);
-        finite("normal-form value", self.normal.eval(&z).re)
+        finite("normal-form value", self.normal.eval_unchecked(&z).re)
     }
 
     /// For [`NormalFormKind::Birkhoff`]: `K` as a polynomial in the actions `I_j` (degree `⌊K/2⌋`),
