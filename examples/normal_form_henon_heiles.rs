@@ -11,15 +11,29 @@ use std::time::Instant;
 
 struct HenonHeiles;
 impl Hamiltonian<2> for HenonHeiles {
-    fn hamiltonian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+        p: &SVector<D, 2>,
+    ) -> D {
         let (x, y) = (q[0], q[1]);
         (p[0] * p[0] + p[1] * p[1] + x * x + y * y) * 0.5 + x * x * y - y * y * y * (1.0 / 3.0)
     }
 }
 
 fn main() -> hamilton_jacobi::Result<()> {
-    let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::new(0.1, -0.1), &Vector2::zeros())?;
-    println!("equilibrium q = {:?}, |∇H| = {:e}", eq.q.as_slice(), eq.gradient_norm);
+    let eq = equilibrium(
+        &HenonHeiles,
+        0.0,
+        &Vector2::new(0.1, -0.1),
+        &Vector2::zeros(),
+    )?;
+    println!(
+        "equilibrium q = {:?}, |∇H| = {:e}",
+        eq.q.as_slice(),
+        eq.gradient_norm
+    );
     let resonance = NormalFormKind::Resonant(vec![vec![1, -1]]);
     println!("degree  time        ‖K_K‖        remainder(ρ=0.05)  remainder(ρ=0.1)  optimal degree at ρ=0.3");
     for degree in [4usize, 6, 8, 10, 12, 14, 16, 20, 24] {

@@ -824,9 +824,9 @@ mod n_dof {
         assert!(nf.reality_defect() < 1e-15);
         let k = nf.action_polynomial().unwrap();
         assert_eq!(k.coefficient(&[0]).unwrap(), -1.0);
-        for m in 1..=10usize {
+        for (m, em) in exact.iter().enumerate().skip(1) {
             let got = k.coefficient(&[m as u32]).unwrap();
-            let want = exact[m].f64();
+            let want = em.f64();
             // Each coefficient is a sum of O(m) Lie terms: a few ulps per degree.
             let tol = 4.0 * EPS * m as f64 * want.abs();
             assert!(
@@ -933,11 +933,22 @@ mod n_dof {
             let w = [0.02, -0.01, 0.015, 0.005];
             let there = nf.from_normal_flow(&w).unwrap();
             let back = nf.to_normal_flow(&there).unwrap();
-            let err = w.iter().zip(&back).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let err = w
+                .iter()
+                .zip(&back)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
             assert!(err < 1e-15, "flow round trip {err:e}");
             let series = nf.from_normal(&w).unwrap();
-            let diff = series.iter().zip(&there).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            assert!(diff < 10.0 * 0.03f64.powi(degree as i32), "series vs flow {diff:e}");
+            let diff = series
+                .iter()
+                .zip(&there)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                diff < 10.0 * 0.03f64.powi(degree as i32),
+                "series vs flow {diff:e}"
+            );
         }
     }
 
@@ -967,8 +978,13 @@ mod n_dof {
         let mu = 0.012_150_585_609_624;
         let h = Cr3bp(mu);
         let guess_x = 0.8;
-        let eq = equilibrium(&h, 0.0, &Vector3::new(guess_x, 0.0, 0.0), &Vector3::new(0.0, guess_x, 0.0))
-            .unwrap();
+        let eq = equilibrium(
+            &h,
+            0.0,
+            &Vector3::new(guess_x, 0.0, 0.0),
+            &Vector3::new(0.0, guess_x, 0.0),
+        )
+        .unwrap();
         let gamma = 1.0 - mu - eq.q[0];
         // Euler's quintic for L1: γ⁵ − (3 − μ)γ⁴ + (3 − 2μ)γ³ − μγ² + 2μγ − μ = 0.
         let quintic = gamma.powi(5) - (3.0 - mu) * gamma.powi(4) + (3.0 - 2.0 * mu) * gamma.powi(3)
@@ -1167,7 +1183,10 @@ mod n_dof {
     /// `I₁`) and the advance of the angle `φ₂` over it.
     fn normal_form_frequencies(nf: &BirkhoffNormalForm, w: &[f64]) -> (f64, f64) {
         let flow = NormalFlow(nf);
-        let dop = Dop853::new(1e-14, 1e-16).unwrap().with_max_steps(10_000_000).unwrap();
+        let dop = Dop853::new(1e-14, 1e-16)
+            .unwrap()
+            .with_max_steps(10_000_000)
+            .unwrap();
         let q = Vector2::new(w[0], w[1]);
         let p = Vector2::new(w[2], w[3]);
         let mut probe = Reduced {
@@ -1179,7 +1198,12 @@ mod n_dof {
             i1_max: f64::NEG_INFINITY,
         };
         let mut span = 4000.0;
-        integrate(&Problem::new(&flow, 0.0, q, p, span).unwrap(), &dop, &mut probe).unwrap();
+        integrate(
+            &Problem::new(&flow, 0.0, q, p, span).unwrap(),
+            &dop,
+            &mut probe,
+        )
+        .unwrap();
         let level = 0.5 * (probe.i1_min + probe.i1_max);
         let obs = loop {
             let mut obs = Reduced {
@@ -1187,14 +1211,23 @@ mod n_dof {
                 crossings: Vec::new(),
                 ..probe
             };
-            integrate(&Problem::new(&flow, 0.0, q, p, span).unwrap(), &dop, &mut obs).unwrap();
+            integrate(
+                &Problem::new(&flow, 0.0, q, p, span).unwrap(),
+                &dop,
+                &mut obs,
+            )
+            .unwrap();
             if obs.crossings.len() >= 3 || span > 1e5 {
                 break obs;
             }
             span *= 2.0;
         };
         let c = &obs.crossings;
-        assert!(c.len() >= 3, "reduced motion: {} crossings in t ≤ {span}", c.len());
+        assert!(
+            c.len() >= 3,
+            "reduced motion: {} crossings in t ≤ {span}",
+            c.len()
+        );
         let (t0, p0) = c[0];
         let (t1, p1) = c[c.len() - 1];
         let ts = (t1 - t0) / (c.len() - 1) as f64;
@@ -1258,7 +1291,10 @@ mod n_dof {
     /// `(ν_fast, ν_slow)` of the true orbit from `(x, y, p_x, p_y)` by frequency analysis over
     /// `span`: the line of `y − i p_y` near `fast` and the line of `x² + p_x²` near `slow`.
     fn measured_frequencies(z0: [f64; 4], span: f64, fast: f64, slow: f64) -> (f64, f64) {
-        let dop = Dop853::new(1e-14, 1e-16).unwrap().with_max_steps(50_000_000).unwrap();
+        let dop = Dop853::new(1e-14, 1e-16)
+            .unwrap()
+            .with_max_steps(50_000_000)
+            .unwrap();
         let count = (span / 0.25).ceil() as usize;
         let mut samples = Samples::uniform(0.0, span, count).unwrap();
         let problem = Problem::new(
@@ -1315,9 +1351,8 @@ mod n_dof {
             let clock = std::time::Instant::now();
             let (pf, ps) = normal_form_frequencies(&nf, &wn);
             let t_nf = clock.elapsed();
-            let (mf, ms) = *measured.get_or_insert_with(|| {
-                measured_frequencies(z0, periods * 2.0 * PI / ps, pf, ps)
-            });
+            let (mf, ms) = *measured
+                .get_or_insert_with(|| measured_frequencies(z0, periods * 2.0 * PI / ps, pf, ps));
             eprintln!(
                 "  degree {degree}: normal-form frequencies {pf:.12} {ps:.12} ({t_nf:?}), \
                  measured {mf:.12} {ms:.12} (total {:?})",
@@ -1347,7 +1382,45 @@ mod n_dof {
             let (_, ef8, es8) = errs[0];
             let (_, ef10, es10) = errs[1];
             assert!(ef8.max(es8) <= 3e-7, "{name}: degree 8 {ef8:e} {es8:e}");
-            assert!(ef10.max(es10) <= 1e-8, "{name}: degree 10 {ef10:e} {es10:e}");
+            assert!(
+                ef10.max(es10) <= 1e-8,
+                "{name}: degree 10 {ef10:e} {es10:e}"
+            );
+        }
+    }
+
+    /// At E = 1/12 the resonant series is asymptotic: the frequency error against the degree has
+    /// a minimum (the optimal degree) between 10 and 20.
+    ///
+    /// Not met yet: for the orbit `y = 0.1, p_y = 0` the error decreases slowly through degree 22
+    /// (2.0e−4 at 10, 1.2e−4 at 14, 7.0e−5 at 22), so no minimum is seen below 20.
+    #[test]
+    #[ignore = "open acceptance item: no error minimum between degrees 10 and 20 at E = 1/12 yet"]
+    fn henon_heiles_optimal_degree_at_e_one_twelfth() {
+        let degrees: Vec<usize> = (4..=22).step_by(2).collect();
+        for (name, y, py) in [
+            ("y = 0.1, p_y = 0", 0.1, 0.0),
+            ("y = −0.1, p_y = 0.1", -0.1, 0.1),
+        ] {
+            let z0 = on_x0(1.0 / 12.0, y, py);
+            let errs = frequency_errors(&degrees, z0, 50.0);
+            let mut best = (0, f64::INFINITY);
+            for (degree, ef, es) in &errs {
+                let e = ef.max(*es);
+                eprintln!("E = 1/12, {name}: degree {degree}: error {e:.3e} (fast {ef:.2e}, slow {es:.2e})");
+                if e < best.1 {
+                    best = (*degree, e);
+                }
+            }
+            eprintln!(
+                "E = 1/12, {name}: optimal degree {} (error {:.3e})",
+                best.0, best.1
+            );
+            assert!(
+                (10..=20).contains(&best.0),
+                "{name}: optimal degree {}",
+                best.0
+            );
         }
     }
 }

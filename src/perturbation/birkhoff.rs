@@ -256,7 +256,11 @@ impl PhasePolynomial {
         if z.len() != self.table.variables() {
             return Err(Error::invalid(
                 "evaluation point",
-                format!("{} entries, the polynomial has {} variables", z.len(), self.table.variables()),
+                format!(
+                    "{} entries, the polynomial has {} variables",
+                    z.len(),
+                    self.table.variables()
+                ),
             ));
         }
         for c in z {
@@ -605,11 +609,7 @@ pub fn equilibrium<H: Hamiltonian<N>, const N: usize>(
             iterations: 4000,
             residual: f64::NAN,
         })?;
-    let best = res
-        .state()
-        .best_param
-        .clone()
-        .unwrap_or_else(|| z0.clone());
+    let best = res.state().best_param.clone().unwrap_or_else(|| z0.clone());
     match newton(h, t, &best, 50)? {
         Some((z, gn, it)) => Ok(pack(z, gn, it, true)),
         None => {
@@ -698,7 +698,7 @@ impl LinearNormalForm {
     pub fn complexification(&self) -> &DMatrix<C64> {
         &self.t
     }
-    /// Whether degree of freedom `j` is hyperbolic (or part of a complex saddle).
+    /// Whether degree of freedom `j` is elliptic.
     fn is_elliptic(&self, j: usize) -> bool {
         self.blocks
             .iter()
@@ -706,11 +706,7 @@ impl LinearNormalForm {
     }
 }
 
-fn omega_form<T: nalgebra::ComplexField>(
-    u: &DVector<T>,
-    v: &DVector<T>,
-    n: usize,
-) -> T {
+fn omega_form<T: nalgebra::ComplexField>(u: &DVector<T>, v: &DVector<T>, n: usize) -> T {
     // uᵀ J v = Σ u_i v_{n+i} − u_{n+i} v_i
     let mut s = T::zero();
     for i in 0..n {
@@ -752,7 +748,12 @@ fn krein_basis(
     let m = v.len();
     let se = kh.clone().symmetric_eigen();
     let kmax = se.eigenvalues.amax();
-    if se.eigenvalues.iter().any(|k| k.abs() <= 1e-12 * kmax.max(1e-300)) || kmax == 0.0 {
+    if se
+        .eigenvalues
+        .iter()
+        .any(|k| k.abs() <= 1e-12 * kmax.max(1e-300))
+        || kmax == 0.0
+    {
         return Err(Error::invalid(
             "quadratic part of H",
             "elliptic eigenspace with a degenerate Krein form (non-semisimple)",
@@ -765,7 +766,8 @@ fn krein_basis(
         }
         out
     };
-    let definite = se.eigenvalues.iter().all(|&k| k > 0.0) || se.eigenvalues.iter().all(|&k| k < 0.0);
+    let definite =
+        se.eigenvalues.iter().all(|&k| k > 0.0) || se.eigenvalues.iter().all(|&k| k < 0.0);
     if !definite || m == 1 {
         return Ok((0..m)
             .map(|k| {
@@ -777,7 +779,10 @@ fn krein_basis(
     let sign = if se.eigenvalues[0] > 0.0 { 1.0 } else { -1.0 };
     // Candidates: coefficients (in the basis v, least squares) of e_{q_k} + i e_{p_k}.
     let vm = DMatrix::<C64>::from_fn(dim, m, |r, c| v[c][r]);
-    let pinv = vm.clone().pseudo_inverse(1e-12).map_err(|e| Error::invalid("eigenspace", e))?;
+    let pinv = vm
+        .clone()
+        .pseudo_inverse(1e-12)
+        .map_err(|e| Error::invalid("eigenspace", e))?;
     let mut cands: Vec<DVector<C64>> = (0..n)
         .flat_map(|k| {
             [1.0, -1.0].map(|sg| {
@@ -820,10 +825,14 @@ fn krein_basis(
 /// [`Error::IllConditioned`] when `S` fails the symplectic check.
 pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     let dim = hessian.nrows();
-    if dim == 0 || dim % 2 != 0 || hessian.ncols() != dim {
+    if dim == 0 || !dim.is_multiple_of(2) || hessian.ncols() != dim {
         return Err(Error::invalid(
             "Hessian of H",
-            format!("{}×{}: need a square matrix of even size", dim, hessian.ncols()),
+            format!(
+                "{}×{}: need a square matrix of even size",
+                dim,
+                hessian.ncols()
+            ),
         ));
     }
     all_finite("Hessian of H", hessian.as_slice())?;
@@ -839,7 +848,10 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     }
     let hessian = &(hessian / scale);
     if !hessian.iter().all(|x| x.is_finite()) {
-        return Err(Error::invalid("Hessian of H", "not representable after scaling"));
+        return Err(Error::invalid(
+            "Hessian of H",
+            "not representable after scaling",
+        ));
     }
     if (hessian - hessian.transpose()).amax() > 1e-10 {
         return Err(Error::invalid("Hessian of H", "not symmetric"));
@@ -977,7 +989,9 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     let dominant = |u: &DVector<f64>, w: &DVector<f64>| -> usize {
         (0..n)
             .max_by(|&a, &b| {
-                let wt = |k: usize| u[k] * u[k] + u[n + k] * u[n + k] + w[k] * w[k] + w[n + k] * w[n + k];
+                let wt = |k: usize| {
+                    u[k] * u[k] + u[n + k] * u[n + k] + w[k] * w[k] + w[n + k] * w[n + k]
+                };
                 wt(a).total_cmp(&wt(b)).then(b.cmp(&a))
             })
             .unwrap_or(0)
@@ -993,7 +1007,13 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     for sd in &mut saddle {
         sd.0 *= scale;
     }
-    if hyper.iter().map(|h| h.0).chain(ellip.iter().map(|e| e.0)).chain(saddle.iter().flat_map(|s| [s.0.re, s.0.im])).any(|x| !x.is_finite() || x == 0.0) {
+    if hyper
+        .iter()
+        .map(|h| h.0)
+        .chain(ellip.iter().map(|e| e.0))
+        .chain(saddle.iter().flat_map(|s| [s.0.re, s.0.im]))
+        .any(|x| !x.is_finite() || x == 0.0)
+    {
         return Err(Error::invalid(
             "quadratic part of H",
             "a frequency overflows or underflows f64",
@@ -1070,7 +1090,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
         jm[(n + i, i)] = -1.0;
     }
     let defect = (s.transpose() * &jm * &s - &jm).amax();
-    if !(defect <= MAX_SYMPLECTIC_DEFECT) {
+    if defect.is_nan() || defect > MAX_SYMPLECTIC_DEFECT {
         return Err(Error::IllConditioned {
             what: "symplectic normal form of the quadratic part (SᵀJS − J)".into(),
             at: format!("eigenvalues {lambda:?}"),
@@ -1309,7 +1329,11 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
         }
         sc.polynomial(h.hamiltonian(Series::constant(t), &q, &p))
     })??
-    .check_finite(&format!("the equilibrium q = {:?}, p = {:?}", eq.q.as_slice(), eq.p.as_slice()))?;
+    .check_finite(&format!(
+        "the equilibrium q = {:?}, p = {:?}",
+        eq.q.as_slice(),
+        eq.p.as_slice()
+    ))?;
     let mut hc = complexify(&real, &linear.t, &table);
     // The quadratic part is Σ λ_j x_j y_j up to rounding: record the defect, set it exactly.
     let mut quadratic_defect = 0.0f64;
@@ -1372,9 +1396,10 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
         }
         generators.push(chi);
     }
-    let t_inv = linear.t.clone().try_inverse().ok_or_else(|| {
-        Error::invalid("complexification", "singular (internal construction)")
-    })?;
+    let t_inv =
+        linear.t.clone().try_inverse().ok_or_else(|| {
+            Error::invalid("complexification", "singular (internal construction)")
+        })?;
     // Reality: a real H gives K with the symmetry of the complexification; report the imaginary
     // part of K at a sample real point as the reality defect.
     let mut nf = BirkhoffNormalForm {
@@ -1688,10 +1713,9 @@ impl BirkhoffNormalForm {
         finite("normal-form value", self.normal.eval_unchecked(&z).re)
     }
 
-    /// For [`NormalFormKind::Birkhoff`]: `K` as a polynomial in the actions `I_j` (degree `⌊K/2⌋`),
-    /// `I_j = (Q_j² + P_j²)/2` on elliptic degrees of freedom (`= −i x_j y_j` with
-    /// `x_j y_j = −i I_j`… precisely `x_j y_j = −i I_j`), `I_j = Q_j P_j = x_j y_j` on hyperbolic
-    /// ones. Every kept monomial `x^a y^a` is `Π (x_j y_j)^{a_j}`.
+    /// For [`NormalFormKind::Birkhoff`]: `K` as a polynomial in the actions `I_j` (degree `⌊K/2⌋`):
+    /// `I_j = (Q_j² + P_j²)/2 = i x_j y_j` on elliptic degrees of freedom, `I_j = Q_j P_j = x_j y_j`
+    /// on hyperbolic ones; every kept monomial `x^a y^a` is `Π_j (x_j y_j)^{a_j}`.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for another kind of normal form (its `K` depends on angles).
