@@ -4,23 +4,10 @@
 //!
 //! Run with `cargo run --release --example normal_form_henon_heiles`.
 
-use hamilton_jacobi::nalgebra::{SVector, Vector2};
+use hamilton_jacobi::nalgebra::Vector2;
 use hamilton_jacobi::perturbation::birkhoff::{equilibrium, normal_form, NormalFormKind};
-use hamilton_jacobi::{DualNum, Hamiltonian};
+use hamilton_jacobi::systems::HenonHeiles;
 use std::time::Instant;
-
-struct HenonHeiles;
-impl Hamiltonian<2> for HenonHeiles {
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        let (x, y) = (q[0], q[1]);
-        (p[0] * p[0] + p[1] * p[1] + x * x + y * y) * 0.5 + x * x * y - y * y * y * (1.0 / 3.0)
-    }
-}
 
 fn main() -> hamilton_jacobi::Result<()> {
     let eq = equilibrium(

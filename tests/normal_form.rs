@@ -1089,19 +1089,7 @@ mod n_dof {
     };
     use hamilton_jacobi::perturbation::birkhoff::BirkhoffNormalForm;
 
-    /// `H = ½(p_x² + p_y² + x² + y²) + x²y − y³/3` (Hénon & Heiles 1964).
-    pub struct HenonHeiles;
-    impl Hamiltonian<2> for HenonHeiles {
-        fn hamiltonian<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            q: &SVector<D, 2>,
-            p: &SVector<D, 2>,
-        ) -> D {
-            let (x, y) = (q[0], q[1]);
-            (p[0] * p[0] + p[1] * p[1] + x * x + y * y) * 0.5 + x * x * y - y * y * y * (1.0 / 3.0)
-        }
-    }
+    use hamilton_jacobi::systems::HenonHeiles;
 
     /// The flow of `K − L` in the real normal coordinates, `L = I₁ + I₂ = H₂`. In a 1:1 resonant
     /// form every kept monomial commutes with `L`, so the flow of `K` is the flow of `K − L`

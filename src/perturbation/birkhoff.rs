@@ -355,35 +355,9 @@ impl PhasePolynomial {
         let mut out = self.zero_like();
         let fa = self.by_degree();
         let gb = g.by_degree();
-        if let Some(dense) = &self.address.dense {
-            let codes = &self.address.codes;
-            let unit = &self.address.unit;
-            for (df, fterms) in fa.iter().enumerate().skip(1) {
-                for (dg, gterms) in gb.iter().enumerate().skip(1) {
-                    if df + dg - 2 > max_degree || fterms.is_empty() || gterms.is_empty() {
-                        continue;
-                    }
-                    for &i in fterms {
-                        let ei = self.table.exps(i);
-                        let ci = self.c[i];
-                        for &j in gterms {
-                            let ej = g.table.exps(j);
-                            let cij = ci * g.c[j];
-                            let sum = codes[i] + codes[j];
-                            for v in 0..n {
-                                let t = f64::from(ei[v]) * f64::from(ej[n + v])
-                                    - f64::from(ei[n + v]) * f64::from(ej[v]);
-                                if t != 0.0 {
-                                    let idx = dense[sum - unit[v] - unit[n + v]];
-                                    out.c[idx as usize] += cij * t;
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            return out;
-        }
+        let codes = &self.address.codes;
+        let unit = &self.address.unit;
+        let dense = self.address.dense.as_deref();
         let mut base = vec![0u32; nv];
         for (df, fterms) in fa.iter().enumerate().skip(1) {
             for (dg, gterms) in gb.iter().enumerate().skip(1) {
@@ -392,30 +366,33 @@ impl PhasePolynomial {
                 }
                 for &i in fterms {
                     let ei = self.table.exps(i);
-                    let ci = self.c[i];
                     for &j in gterms {
                         let ej = g.table.exps(j);
-                        let mut init = false;
+                        let cij = self.c[i] * g.c[j];
                         for v in 0..n {
                             let t = f64::from(ei[v]) * f64::from(ej[n + v])
                                 - f64::from(ei[n + v]) * f64::from(ej[v]);
                             if t == 0.0 {
                                 continue;
                             }
-                            if !init {
-                                for (k, b) in base.iter_mut().enumerate() {
-                                    *b = u32::from(ei[k]) + u32::from(ej[k]);
+                            // The product monomial α + β − e_{x_v} − e_{y_v}: by its additive
+                            // code when the dense table exists, else by its exponents.
+                            let idx = match dense {
+                                Some(d) => {
+                                    Some(d[codes[i] + codes[j] - unit[v] - unit[n + v]] as usize)
                                 }
-                                init = true;
+                                None => {
+                                    for (k, b) in base.iter_mut().enumerate() {
+                                        *b = u32::from(ei[k]) + u32::from(ej[k]);
+                                    }
+                                    base[v] -= 1;
+                                    base[n + v] -= 1;
+                                    self.table.index_of(&base)
+                                }
+                            };
+                            if let Some(idx) = idx {
+                                out.c[idx] += cij * t;
                             }
-                            // The product monomial α + β − e_{x_v} − e_{y_v}.
-                            base[v] -= 1;
-                            base[n + v] -= 1;
-                            if let Some(idx) = self.table.index_of(&base) {
-                                out.c[idx] += ci * g.c[j] * t;
-                            }
-                            base[v] += 1;
-                            base[n + v] += 1;
                         }
                     }
                 }
