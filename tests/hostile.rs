@@ -2080,6 +2080,233 @@ fn run(call: Call) -> (String, std::result::Result<Verdict, &'static str>) {
     }
 }
 
+/// `H = p²/2 − g cos q`, the pendulum with a hostile parameter.
+struct GPendulum(f64);
+impl Hamiltonian<1> for GPendulum {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 1>,
+        p: &SVector<D, 1>,
+    ) -> D {
+        p[0] * p[0] * 0.5 - q[0].cos() * self.0
+    }
+}
+
+fn add_normal_forms(c: &mut Vec<Call>) {
+    use hamilton_jacobi::nalgebra::DMatrix;
+    use hamilton_jacobi::perturbation::birkhoff::{
+        equilibrium, linear_normal_form, normal_form, Block, NormalFormKind,
+    };
+    let v1 = |x: f64| SVector::<f64, 1>::new(x);
+    sweep(
+        c,
+        "birkhoff::equilibrium",
+        &[1.0, 0.2, -0.1],
+        &[(0, -1.0), (1, 3.0), (0, 0.0)],
+        move |a| {
+            judge(
+                equilibrium(&GPendulum(a[0]), 0.0, &v1(a[1]), &v1(a[2])),
+                fin(a),
+                |e| {
+                    // ∇H = (g sin q, p) must vanish (relative to the scale of g).
+                    let g = (a[0] * e.q[0].sin()).abs() / a[0].abs().max(1e-300);
+                    all([
+                        near("sin q at the equilibrium", g, 0.0, 1e-10),
+                        near("p at the equilibrium", e.p[0], 0.0, 1e-10),
+                    ])
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "birkhoff::normal_form(pendulum)",
+        &[1.0],
+        &[(0, -1.0), (0, 1e300), (0, 1e-300)],
+        move |a| {
+            let eq = equilibrium(&GPendulum(a[0]), 0.0, &v1(0.0), &v1(0.0));
+            judge(eq, fin(a), |eq| {
+                judge(
+                    normal_form(&GPendulum(a[0]), 0.0, &eq, 8, NormalFormKind::Birkhoff),
+                    a[0] != 0.0,
+                    |nf| {
+                        judge(nf.action_polynomial(), true, |k| {
+                            // g > 0: K = −g + √g J − J²/16 + … (elliptic, J = (Q² + P²)/2);
+                            // g < 0: K = −g + √|g| I + … (hyperbolic, I = QP).
+                            let w = k.coefficient(&[1]).unwrap();
+                            let h2 = k.coefficient(&[2]).unwrap();
+                            let r = a[0].abs().sqrt();
+                            all([
+                                near("√|g|", w, r, 1e-13 * r),
+                                if a[0] > 0.0 {
+                                    near("h₂", h2, -1.0 / 16.0, 1e-14)
+                                } else {
+                                    near("h₂", h2, 1.0 / 16.0, 1e-14)
+                                },
+                            ])
+                        })
+                    },
+                )
+            })
+        },
+    );
+    sized(
+        c,
+        "birkhoff::normal_form(degree)",
+        &[0, 2, 3, 12, 65, usize::MAX],
+        move |n| {
+            let eq = equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+            judge(
+                normal_form(&GPendulum(1.0), 0.0, &eq, n, NormalFormKind::Birkhoff),
+                (3..=64).contains(&n),
+                |nf| {
+                    judge(nf.action_polynomial(), true, |k| {
+                        near("ω", k.coefficient(&[1]).unwrap(), 1.0, 1e-15)
+                    })
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "birkhoff::linear_normal_form",
+        &[2.0, 0.5, 1.0],
+        &[(1, 3.0), (0, 0.0), (1, 1e300)],
+        |a| {
+            let m = DMatrix::from_row_slice(2, 2, &[a[0], a[1], a[1], a[2]]);
+            // Eigenvalues ±√(b² − ac) of J A, computed on A/max|A| (no overflow).
+            let sc = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let det = (a[0] / sc) * (a[2] / sc) - (a[1] / sc) * (a[1] / sc);
+            judge(
+                linear_normal_form(&m),
+                fin(a) && sc > 0.0 && det != 0.0,
+                |lin| {
+                    let want = sc * det.abs().sqrt();
+                    let got = match lin.blocks()[0] {
+                        Block::Elliptic { frequency, .. } => frequency.abs(),
+                        Block::Hyperbolic { rate, .. } => rate,
+                        Block::ComplexSaddle { .. } => f64::NAN,
+                    };
+                    all([
+                        near("frequency", got, want, 1e-12 * want),
+                        near("SᵀJS − J", lin.symplectic_defect(), 0.0, 1e-12),
+                    ])
+                },
+            )
+        },
+    );
+    // The maps and diagnostics of one normal form at hostile points and amplitudes.
+    let eqp = equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+    let nf =
+        Arc::new(normal_form(&GPendulum(1.0), 0.0, &eqp, 8, NormalFormKind::Birkhoff).unwrap());
+    let n1 = Arc::clone(&nf);
+    sweep(
+        c,
+        "BirkhoffNormalForm::maps",
+        &[0.1, -0.05],
+        &[(0, 1e3), (1, 1e200)],
+        move |a| {
+            let small = fin(a) && a.iter().all(|x| x.abs() < 0.5);
+            all([
+                judge(n1.to_normal(a), fin(a), |w| {
+                    judge(n1.from_normal(&w), true, |b| {
+                        if small {
+                            near(
+                                "series round trip",
+                                (b[0] - a[0]).abs() + (b[1] - a[1]).abs(),
+                                0.0,
+                                1e-5,
+                            )
+                        } else {
+                            finite_ok("series round trip", b[0] + b[1])
+                        }
+                    })
+                }),
+                judge(n1.from_normal_flow(a), fin(a), |w| {
+                    judge(n1.to_normal_flow(&w), true, |b| {
+                        if small {
+                            near(
+                                "flow round trip",
+                                (b[0] - a[0]).abs() + (b[1] - a[1]).abs(),
+                                0.0,
+                                1e-13,
+                            )
+                        } else {
+                            finite_ok("flow round trip", b[0] + b[1])
+                        }
+                    })
+                }),
+                judge(n1.normal_form_value(a), fin(a), |k| finite_ok("K", k)),
+                judge(n1.normal_form_field(a), fin(a), |f| {
+                    finite_ok("K field", f[0] + f[1])
+                }),
+                judge(n1.linear_coordinates(a), fin(a), |w| {
+                    finite_ok("w", w[0] + w[1])
+                }),
+                judge(n1.phase_point(a), fin(a), |z| finite_ok("z", z[0] + z[1])),
+                judge(n1.symplectic_defect(a), fin(a), |d| {
+                    if small {
+                        near("symplectic defect", d, 0.0, 1e-3)
+                    } else {
+                        finite_ok("symplectic defect", d)
+                    }
+                }),
+            ])
+        },
+    );
+    let n2 = Arc::clone(&nf);
+    sweep(
+        c,
+        "BirkhoffNormalForm::remainder+diagnostics",
+        &[0.05],
+        &[(0, -1.0), (0, 1e3)],
+        move |a| {
+            all([
+                judge(
+                    n2.remainder(&GPendulum(1.0), 0.0, a[0], 16),
+                    fin(a) && a[0] > 0.0,
+                    |r| {
+                        if a[0] <= 0.1 {
+                            // Degree 8: remainder O(ρ¹⁰) for the even pendulum.
+                            near("remainder", r, 0.0, 1e-9)
+                        } else {
+                            finite_ok("remainder", r)
+                        }
+                    },
+                ),
+                judge(n2.diagnostics(a[0]), fin(a) && a[0] > 0.0, |d| {
+                    finite_ok(
+                        "generator term",
+                        d.generator_terms.iter().map(|t| t.1).sum(),
+                    )
+                }),
+            ])
+        },
+    );
+    let n3 = Arc::clone(&nf);
+    sweep(
+        c,
+        "PhasePolynomial::eval+gradient",
+        &[0.1, 0.2, 0.0, -0.1],
+        &[(0, 1e300)],
+        move |a| {
+            let z = [
+                hamilton_jacobi::nalgebra::Complex::new(a[0], a[1]),
+                hamilton_jacobi::nalgebra::Complex::new(a[2], a[3]),
+            ];
+            all([
+                judge(n3.normal_form().eval(&z), fin(a), |v| {
+                    finite_ok("K(ζ)", v.re + v.im)
+                }),
+                judge(n3.normal_form().gradient(&z), fin(a), |g| {
+                    finite_ok("∇K(ζ)", g[0].re + g[1].im)
+                }),
+            ])
+        },
+    );
+}
+
 #[test]
 fn every_entry_point_survives_hostile_input() {
     let mut calls = Vec::new();
@@ -2093,6 +2320,7 @@ fn every_entry_point_survives_hostile_input() {
     add_orbits(&mut calls);
     add_methods(&mut calls);
     add_lifts_and_steps(&mut calls);
+    add_normal_forms(&mut calls);
     add_theories(&mut calls);
     add_brouwer(&mut calls);
     add_series(&mut calls);

@@ -667,3 +667,748 @@ fn normal_form_coefficients_against_exact_rationals_at_every_order() {
         t0.elapsed().as_secs_f64()
     );
 }
+
+// =============================================================================================
+// Normal forms in N degrees of freedom from the user's Hamiltonian (perturbation::birkhoff).
+// =============================================================================================
+
+mod n_dof {
+    use hamilton_jacobi::nalgebra::{DMatrix, SVector, Vector1, Vector2, Vector3};
+    use hamilton_jacobi::perturbation::birkhoff::{
+        equilibrium, linear_normal_form, normal_form, Block, NormalFormKind,
+    };
+    use hamilton_jacobi::special::elliptic::complete_k_from_complementary;
+    use hamilton_jacobi::{DualNum, Error, Hamiltonian};
+    use std::f64::consts::PI;
+
+    const EPS: f64 = f64::EPSILON;
+
+    /// `H = p²/2 − cos q`.
+    struct Pendulum;
+    impl Hamiltonian<1> for Pendulum {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 1>,
+            p: &SVector<D, 1>,
+        ) -> D {
+            p[0] * p[0] * 0.5 - q[0].cos()
+        }
+    }
+
+    /// `H = (p² + q²)/2 + q⁴/4`.
+    struct Duffing;
+    impl Hamiltonian<1> for Duffing {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 1>,
+            p: &SVector<D, 1>,
+        ) -> D {
+            let q2 = q[0] * q[0];
+            (p[0] * p[0] + q2) * 0.5 + q2 * q2 * 0.25
+        }
+    }
+
+    /// Exact rationals on i128 (reduced; every operation checked).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    struct Q(i128, i128);
+    fn gcd(a: i128, b: i128) -> i128 {
+        let (mut a, mut b) = (a.abs(), b.abs());
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a.max(1)
+    }
+    impl Q {
+        fn new(n: i128, d: i128) -> Q {
+            let g = gcd(n, d) * d.signum();
+            Q(n / g, d / g)
+        }
+        fn int(n: i128) -> Q {
+            Q(n, 1)
+        }
+        fn add(self, o: Q) -> Q {
+            let g = gcd(self.1, o.1);
+            let l = (self.1 / g).checked_mul(o.1).unwrap();
+            let n = self
+                .0
+                .checked_mul(l / self.1)
+                .unwrap()
+                .checked_add(o.0.checked_mul(l / o.1).unwrap())
+                .unwrap();
+            Q::new(n, l)
+        }
+        fn neg(self) -> Q {
+            Q(-self.0, self.1)
+        }
+        fn mul(self, o: Q) -> Q {
+            let g1 = gcd(self.0, o.1);
+            let g2 = gcd(o.0, self.1);
+            Q::new(
+                (self.0 / g1).checked_mul(o.0 / g2).unwrap(),
+                (self.1 / g2).checked_mul(o.1 / g1).unwrap(),
+            )
+        }
+        fn f64(self) -> f64 {
+            self.0 as f64 / self.1 as f64
+        }
+    }
+    fn series_mul(a: &[Q], b: &[Q]) -> Vec<Q> {
+        let n = a.len();
+        let mut out = vec![Q::int(0); n];
+        for i in 0..n {
+            for j in 0..n - i {
+                out[i + j] = out[i + j].add(a[i].mul(b[j]));
+            }
+        }
+        out
+    }
+
+    /// `h(J) = E + 1` of the pendulum to `J^m`, by reverting the exact action
+    /// `J = (8/π)[E(k) − (1 − k²)K(k)] = 4 Σ_j (b_j − a_j + a_{j−1}) k^{2j}`, `h = 2k²`,
+    /// `2K/π = Σ a_j k^{2j}`, `a_j = (C(2j, j)/4^j)²`, `2E/π = Σ b_j k^{2j}`, `b_j = −a_j/(2j − 1)`
+    /// (DLMF 19.5.1–2), in exact rational arithmetic.
+    fn pendulum_energy_series(m: usize) -> Vec<Q> {
+        let mut a = vec![Q::int(1)];
+        for j in 1..=m {
+            // C(2j, j)/4^j = C(2j−2, j−1)/4^{j−1} · (2j − 1)/(2j)
+            let r = Q::new(2 * j as i128 - 1, 2 * j as i128);
+            let prev = a[j - 1];
+            // a_j = (c_j)², c_j = c_{j−1} r
+            a.push(prev.mul(r).mul(r));
+        }
+        let b: Vec<Q> = (0..=m)
+            .map(|j| {
+                if j == 0 {
+                    Q::int(1)
+                } else {
+                    a[j].mul(Q::new(-1, 2 * j as i128 - 1))
+                }
+            })
+            .collect();
+        // J(h) = Σ c_j h^j, c_j = 4 (b_j − a_j + a_{j−1}) / 2^j
+        let mut c = vec![Q::int(0); m + 1];
+        for j in 1..=m {
+            c[j] = Q::int(4)
+                .mul(b[j].add(a[j].neg()).add(a[j - 1]))
+                .mul(Q::new(1, 1i128 << j));
+        }
+        assert_eq!(c[1], Q::int(1));
+        // Reversion h(J) = Σ d_k J^k: [J^k] Σ_j c_j h^j = 0 for k ≥ 2.
+        let mut d = vec![Q::int(0); m + 1];
+        d[1] = Q::int(1);
+        for k in 2..=m {
+            let mut pow = d.clone();
+            let mut s = Q::int(0);
+            for cj in c.iter().take(k + 1).skip(2) {
+                pow = series_mul(&pow, &d);
+                s = s.add(cj.mul(pow[k]));
+            }
+            d[k] = s.neg();
+        }
+        d
+    }
+
+    #[test]
+    fn pendulum_birkhoff_matches_exact_rational_reversion_through_j10() {
+        let exact = pendulum_energy_series(10);
+        // The closed forms quoted in the theory (−1/16, −1/256, −5/8192, …).
+        assert_eq!(exact[2], Q::new(-1, 16));
+        assert_eq!(exact[3], Q::new(-1, 256));
+        assert_eq!(exact[4], Q::new(-5, 8192));
+        assert_eq!(exact[7], Q::new(-527, 67108864));
+        let eq = equilibrium(&Pendulum, 0.0, &Vector1::new(0.3), &Vector1::new(-0.2)).unwrap();
+        assert!(eq.q[0].abs() < 1e-15 && eq.p[0].abs() < 1e-15);
+        let nf = normal_form(&Pendulum, 0.0, &eq, 20, NormalFormKind::Birkhoff).unwrap();
+        assert!(nf.reality_defect() < 1e-15);
+        let k = nf.action_polynomial().unwrap();
+        assert_eq!(k.coefficient(&[0]).unwrap(), -1.0);
+        for (m, em) in exact.iter().enumerate().skip(1) {
+            let got = k.coefficient(&[m as u32]).unwrap();
+            let want = em.f64();
+            // Each coefficient is a sum of O(m) Lie terms: a few ulps per degree.
+            let tol = 4.0 * EPS * m as f64 * want.abs();
+            assert!(
+                (got - want).abs() <= tol,
+                "J^{m}: {got:e} vs {want:e} ({:.1} ulp)",
+                (got - want).abs() / (EPS * want.abs())
+            );
+        }
+    }
+
+    /// Duffing `q̈ + q + q³ = 0`: `ω = π √(1 + A²) / (2 K(k))`, `k² = A²/(2(1 + A²))`.
+    fn duffing_exact_frequency(amp: f64) -> f64 {
+        let k2 = amp * amp / (2.0 * (1.0 + amp * amp));
+        let kk = complete_k_from_complementary((1.0 - k2).sqrt()).unwrap();
+        PI * (1.0 + amp * amp).sqrt() / (2.0 * kk)
+    }
+
+    #[test]
+    fn duffing_frequency_amplitude_series_against_elliptic_period() {
+        let eq = equilibrium(&Duffing, 0.0, &Vector1::new(0.0), &Vector1::new(0.0)).unwrap();
+        for degree in [8usize, 12, 16] {
+            let nf = normal_form(&Duffing, 0.0, &eq, degree, NormalFormKind::Birkhoff).unwrap();
+            let k = nf.action_polynomial().unwrap();
+            let kc: Vec<f64> = (0..=degree / 2)
+                .map(|m| k.coefficient(&[m as u32]).unwrap())
+                .collect();
+            for amp in [0.05f64, 0.1, 0.2] {
+                let energy = 0.5 * amp * amp + 0.25 * amp.powi(4);
+                // Solve K(I) = E by Newton, then ω = K'(I).
+                let kval = |i: f64| kc.iter().rev().fold(0.0, |acc, c| acc * i + c);
+                let kder = |i: f64| {
+                    (1..kc.len())
+                        .rev()
+                        .fold(0.0, |acc, m| acc * i + m as f64 * kc[m])
+                };
+                let mut i = energy;
+                for _ in 0..50 {
+                    i -= (kval(i) - energy) / kder(i);
+                }
+                let w = kder(i);
+                let exact = duffing_exact_frequency(amp);
+                // Tolerance from the truncation: the first omitted term of ω(I), estimated by
+                // the last kept one times the ratio of the last two (geometric tail), ×10.
+                let nlast = kc.len() - 1;
+                let tlast = (nlast as f64 * kc[nlast] * i.powi(nlast as i32 - 1)).abs();
+                let tprev = ((nlast - 1) as f64 * kc[nlast - 1] * i.powi(nlast as i32 - 2)).abs();
+                let tol = 10.0 * tlast * (tlast / tprev) + 8.0 * EPS;
+                assert!(
+                    (w - exact).abs() <= tol,
+                    "K = {degree}, A = {amp}: ω = {w} vs {exact}, err {:e} > {tol:e}",
+                    (w - exact).abs()
+                );
+            }
+        }
+    }
+
+    /// Two oscillators with frequencies 1 and √2 and a cubic coupling.
+    struct Coupled;
+    impl Hamiltonian<2> for Coupled {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+            p: &SVector<D, 2>,
+        ) -> D {
+            let w2 = 2f64.sqrt();
+            (p[0] * p[0] + q[0] * q[0]) * 0.5
+                + (p[1] * p[1] + q[1] * q[1] * (w2 * w2)) * 0.5
+                + q[0] * q[0] * q[1]
+                + q[1] * q[1] * q[1] * 0.3
+        }
+    }
+
+    fn slope(x: &[f64], y: &[f64]) -> f64 {
+        let n = x.len() as f64;
+        let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
+        let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
+        let mx = lx.iter().sum::<f64>() / n;
+        let my = ly.iter().sum::<f64>() / n;
+        let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
+        let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
+        sxy / sxx
+    }
+
+    #[test]
+    fn remainder_of_degree_k_form_scales_as_rho_to_k_plus_one() {
+        let eq = equilibrium(&Coupled, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+        for degree in [3usize, 4, 5, 6] {
+            let nf = normal_form(&Coupled, 0.0, &eq, degree, NormalFormKind::Birkhoff).unwrap();
+            let rhos = [0.01, 0.014, 0.02, 0.028, 0.04];
+            let rem: Vec<f64> = rhos
+                .iter()
+                .map(|&r| nf.remainder(&Coupled, 0.0, r, 200).unwrap())
+                .collect();
+            let s = slope(&rhos, &rem);
+            eprintln!("degree {degree}: remainder slope {s:.3} ({rem:?})");
+            assert!(
+                (s - (degree as f64 + 1.0)).abs() < 0.25,
+                "degree {degree}: slope {s} vs {}",
+                degree + 1
+            );
+            // The exact generator flow is symplectic to rounding; the truncated series only to
+            // O(ρ^{K−1}).
+            let w = [0.02, -0.01, 0.015, 0.005];
+            let there = nf.from_normal_flow(&w).unwrap();
+            let back = nf.to_normal_flow(&there).unwrap();
+            let err = w
+                .iter()
+                .zip(&back)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-15, "flow round trip {err:e}");
+            let series = nf.from_normal(&w).unwrap();
+            let diff = series
+                .iter()
+                .zip(&there)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                diff < 10.0 * 0.03f64.powi(degree as i32),
+                "series vs flow {diff:e}"
+            );
+        }
+    }
+
+    /// Circular restricted three-body problem in the rotating frame (n = 1, primaries at
+    /// `(−μ, 0, 0)` and `(1 − μ, 0, 0)`).
+    struct Cr3bp(f64);
+    impl Hamiltonian<3> for Cr3bp {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 3>,
+            p: &SVector<D, 3>,
+        ) -> D {
+            let mu = self.0;
+            let (x, y, z) = (q[0], q[1], q[2]);
+            let r1 = ((x + mu) * (x + mu) + y * y + z * z).sqrt();
+            let r2 = ((x - (1.0 - mu)) * (x - (1.0 - mu)) + y * y + z * z).sqrt();
+            (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) * 0.5 + y * p[0]
+                - x * p[1]
+                - r1.recip() * (1.0 - mu)
+                - r2.recip() * mu
+        }
+    }
+
+    #[test]
+    fn cr3bp_l1_linear_frequencies_and_centre_manifold() {
+        let mu = 0.012_150_585_609_624;
+        let h = Cr3bp(mu);
+        let guess_x = 0.8;
+        let eq = equilibrium(
+            &h,
+            0.0,
+            &Vector3::new(guess_x, 0.0, 0.0),
+            &Vector3::new(0.0, guess_x, 0.0),
+        )
+        .unwrap();
+        let gamma = 1.0 - mu - eq.q[0];
+        // Euler's quintic for L1: γ⁵ − (3 − μ)γ⁴ + (3 − 2μ)γ³ − μγ² + 2μγ − μ = 0.
+        let quintic = gamma.powi(5) - (3.0 - mu) * gamma.powi(4) + (3.0 - 2.0 * mu) * gamma.powi(3)
+            - mu * gamma * gamma
+            + 2.0 * mu * gamma
+            - mu;
+        assert!(quintic.abs() < 1e-14, "quintic residual {quintic:e}");
+        let c2 = (mu + (1.0 - mu) * gamma.powi(3) / (1.0 - gamma).powi(3)) / gamma.powi(3);
+        let disc = (9.0 * c2 * c2 - 8.0 * c2).sqrt();
+        let lambda = ((c2 - 2.0 + disc) / 2.0).sqrt();
+        let omega_p = ((2.0 - c2 + disc) / 2.0).sqrt();
+        let omega_v = c2.sqrt();
+        let nf = normal_form(&h, 0.0, &eq, 6, NormalFormKind::CentreManifold).unwrap();
+        let lin = nf.linear();
+        assert!(lin.symplectic_defect() < 1e-12);
+        let mut freqs = Vec::new();
+        let mut rates = Vec::new();
+        for b in lin.blocks() {
+            match *b {
+                Block::Elliptic { frequency, .. } => freqs.push(frequency.abs()),
+                Block::Hyperbolic { rate, .. } => rates.push(rate),
+                Block::ComplexSaddle { .. } => panic!("no complex saddle at L1"),
+            }
+        }
+        freqs.sort_by(f64::total_cmp);
+        assert_eq!(rates.len(), 1);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+        assert!(close(rates[0], lambda), "λ {} vs {lambda}", rates[0]);
+        assert!(close(freqs[0], omega_v.min(omega_p)), "{freqs:?}");
+        assert!(close(freqs[1], omega_v.max(omega_p)), "{freqs:?}");
+        // Centre manifold: no monomial of K with unequal hyperbolic exponents survives.
+        let k = nf.normal_form();
+        let table = k.monomials();
+        for i in 0..table.len() {
+            let e = table.exponents(i).unwrap();
+            if e[0] != e[3] {
+                assert_eq!(k.coefficients()[i].norm(), 0.0, "{e:?}");
+            }
+        }
+        // … and the reduction is a valid normal form: remainder O(ρ⁷).
+        let r1 = nf.remainder(&h, 0.0, 0.01, 100).unwrap();
+        let r2 = nf.remainder(&h, 0.0, 0.02, 100).unwrap();
+        let s = (r2 / r1).log2();
+        assert!((s - 7.0).abs() < 0.5, "slope {s} ({r1:e}, {r2:e})");
+    }
+
+    #[test]
+    fn linear_normal_form_refuses_jordan_blocks_and_zero_frequencies() {
+        // H = p²/2 (free particle): eigenvalue 0 in a Jordan block.
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 0.0, 0.0, 1.0]);
+        let e = linear_normal_form(&a).unwrap_err();
+        assert!(matches!(e, Error::InvalidInput { .. }), "{e}");
+        // Two oscillators in 1:1 with a gyroscopic coupling making a Jordan block:
+        // H = ω(q₂p₁ − q₁p₂) + ½(q₁² + q₂²)… use the standard non-semisimple 1:−1 form
+        // H = −ω(q₁p₂ − q₂p₁) + ½(q₁² + q₂²) (Meyer–Hall–Offin §4.7, N = ½(q₁²+q₂²)).
+        let w = 1.0;
+        #[rustfmt::skip]
+        let a = DMatrix::from_row_slice(4, 4, &[
+            1.0, 0.0, 0.0, w,
+            0.0, 1.0, -w, 0.0,
+            0.0, -w, 0.0, 0.0,
+            w, 0.0, 0.0, 0.0,
+        ]);
+        let e = linear_normal_form(&a).unwrap_err();
+        assert!(e.to_string().contains("Jordan"), "{e}");
+        // A complex saddle: H = a(q₁p₁ + q₂p₂) − b(q₁p₂ − q₂p₁).
+        let (ar, bi) = (0.3, 0.7);
+        #[rustfmt::skip]
+        let a = DMatrix::from_row_slice(4, 4, &[
+            0.0, 0.0, ar, -bi,
+            0.0, 0.0, bi, ar,
+            ar, bi, 0.0, 0.0,
+            -bi, ar, 0.0, 0.0,
+        ]);
+        let lin = linear_normal_form(&a).unwrap();
+        assert!(lin.symplectic_defect() < 1e-13);
+        match lin.blocks()[0] {
+            Block::ComplexSaddle { re, im, .. } => {
+                assert!((re - ar).abs() < 1e-13 && (im - bi).abs() < 1e-13);
+            }
+            b => panic!("{b:?}"),
+        }
+        // The transformed quadratic form is the normal block: Sᵀ A S.
+        let s = lin.symplectic_matrix();
+        let b = s.transpose() * &a * s;
+        #[rustfmt::skip]
+        let want = DMatrix::from_row_slice(4, 4, &[
+            0.0, 0.0, ar, -bi,
+            0.0, 0.0, bi, ar,
+            ar, bi, 0.0, 0.0,
+            -bi, ar, 0.0, 0.0,
+        ]);
+        assert!((b - want).amax() < 1e-12);
+    }
+
+    // ------------------------------------------------------------------------------------------
+    // Hénon–Heiles: the 1:1 resonant (Gustavson) normal form against frequency analysis.
+    // ------------------------------------------------------------------------------------------
+
+    use hamilton_jacobi::integrate::{
+        integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, Samples, StepView,
+    };
+    use hamilton_jacobi::perturbation::birkhoff::BirkhoffNormalForm;
+
+    use hamilton_jacobi::systems::HenonHeiles;
+
+    /// The flow of `K − L` in the real normal coordinates, `L = I₁ + I₂ = H₂`. In a 1:1 resonant
+    /// form every kept monomial commutes with `L`, so the flow of `K` is the flow of `K − L`
+    /// followed by the rotation of both modes by the angle `t` (the flow of `L`): the fast
+    /// rotation is factored out exactly and the integration sees only the slow motion.
+    struct NormalFlow<'a>(&'a BirkhoffNormalForm);
+    impl FirstOrderSystem<2> for NormalFlow<'_> {
+        fn field(
+            &self,
+            _t: f64,
+            q: &SVector<f64, 2>,
+            p: &SVector<f64, 2>,
+        ) -> Result<(SVector<f64, 2>, SVector<f64, 2>), Error> {
+            let f = self.0.normal_form_field(&[q[0], q[1], p[0], p[1]])?;
+            Ok((
+                Vector2::new(f[0] - p[0], f[1] - p[1]),
+                Vector2::new(f[2] + q[0], f[3] + q[1]),
+            ))
+        }
+    }
+
+    /// Records the unwrapped phase of mode 2, `φ₂ = arg(Q₂ − iP₂)`, at every step end and the
+    /// upward crossings of `I₁ = (Q₁² + P₁²)/2` through `level` (bisection on the dense output).
+    struct Reduced {
+        level: f64,
+        phase: f64,
+        last_angle: f64,
+        crossings: Vec<(f64, f64)>,
+        i1_min: f64,
+        i1_max: f64,
+    }
+    fn i1(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
+        0.5 * (q[0] * q[0] + p[0] * p[0])
+    }
+    fn angle2(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
+        (-p[1]).atan2(q[1])
+    }
+    fn wrap(d: f64) -> f64 {
+        (d + PI).rem_euclid(2.0 * PI) - PI
+    }
+    impl Observer<2> for Reduced {
+        fn start(&mut self, s: &hamilton_jacobi::State<2>) {
+            self.last_angle = angle2(&s.q, &s.p);
+            self.phase = self.last_angle;
+        }
+        fn step(&mut self, st: &StepView<'_, 2>) -> Control {
+            let (a, b) = (st.prev, st.next);
+            let (ga, gb) = (i1(&a.q, &a.p) - self.level, i1(&b.q, &b.p) - self.level);
+            let ib = i1(&b.q, &b.p);
+            self.i1_min = self.i1_min.min(ib);
+            self.i1_max = self.i1_max.max(ib);
+            if ga < 0.0 && gb >= 0.0 {
+                let (mut lo, mut hi) = (a.t, b.t);
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    let s = st.dense.at(mid);
+                    if i1(&s.q, &s.p) - self.level < 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let s = st.dense.at(lo);
+                let ph = self.phase + wrap(angle2(&s.q, &s.p) - self.last_angle);
+                self.crossings.push((lo, ph));
+            }
+            let ang = angle2(&b.q, &b.p);
+            self.phase += wrap(ang - self.last_angle);
+            self.last_angle = ang;
+            Control::Continue
+        }
+    }
+
+    /// `(ν_fast, ν_slow)` of the torus through the normal coordinates `w'` of the normal form:
+    /// the period `T_s` of the reduced motion (successive upward crossings of the mid level of
+    /// `I₁`) and the advance of the angle `φ₂` over it.
+    fn normal_form_frequencies(nf: &BirkhoffNormalForm, w: &[f64]) -> (f64, f64) {
+        let flow = NormalFlow(nf);
+        let dop = Dop853::new(1e-14, 1e-16)
+            .unwrap()
+            .with_max_steps(10_000_000)
+            .unwrap();
+        let q = Vector2::new(w[0], w[1]);
+        let p = Vector2::new(w[2], w[3]);
+        let mut probe = Reduced {
+            level: f64::INFINITY,
+            phase: 0.0,
+            last_angle: 0.0,
+            crossings: Vec::new(),
+            i1_min: f64::INFINITY,
+            i1_max: f64::NEG_INFINITY,
+        };
+        let mut span = 4000.0;
+        integrate(
+            &Problem::new(&flow, 0.0, q, p, span).unwrap(),
+            &dop,
+            &mut probe,
+        )
+        .unwrap();
+        let level = 0.5 * (probe.i1_min + probe.i1_max);
+        let obs = loop {
+            let mut obs = Reduced {
+                level,
+                crossings: Vec::new(),
+                ..probe
+            };
+            integrate(
+                &Problem::new(&flow, 0.0, q, p, span).unwrap(),
+                &dop,
+                &mut obs,
+            )
+            .unwrap();
+            if obs.crossings.len() >= 3 || span > 1e5 {
+                break obs;
+            }
+            span *= 2.0;
+        };
+        let c = &obs.crossings;
+        assert!(
+            c.len() >= 3,
+            "reduced motion: {} crossings in t ≤ {span}",
+            c.len()
+        );
+        let (t0, p0) = c[0];
+        let (t1, p1) = c[c.len() - 1];
+        let ts = (t1 - t0) / (c.len() - 1) as f64;
+        // φ₂ of the flow of K is φ₂ of the flow of K − L plus t.
+        (1.0 + (p1 - p0) / (t1 - t0), 2.0 * PI / ts)
+    }
+
+    /// The frequency of the largest line of `f(t)` in `[lo, hi]` by Laskar's frequency analysis:
+    /// `|⟨f, e^{iνt}⟩|` with the Hann window, maximised by golden-section search after a scan.
+    fn frequency_analysis(t: &[f64], f: &[(f64, f64)], lo: f64, hi: f64) -> f64 {
+        let tt = t[t.len() - 1] - t[0];
+        let win: Vec<f64> = t
+            .iter()
+            .map(|&ti| 1.0 - (2.0 * PI * (ti - t[0]) / tt).cos())
+            .collect();
+        let amp = |nu: f64| -> f64 {
+            let (mut re, mut im) = (0.0, 0.0);
+            for ((&ti, &(a, b)), &w) in t.iter().zip(f).zip(&win) {
+                let (s, c) = (nu * ti).sin_cos();
+                // (a + ib) e^{−iνt}
+                re += w * (a * c + b * s);
+                im += w * (b * c - a * s);
+            }
+            re * re + im * im
+        };
+        let scan = 200;
+        let mut best = (lo, 0.0);
+        for k in 0..=scan {
+            let nu = lo + (hi - lo) * k as f64 / scan as f64;
+            let a = amp(nu);
+            if a > best.1 {
+                best = (nu, a);
+            }
+        }
+        let step = (hi - lo) / scan as f64;
+        let (mut a, mut b) = (best.0 - step, best.0 + step);
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+        let (mut f1, mut f2) = (amp(x1), amp(x2));
+        for _ in 0..90 {
+            if f1 > f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = amp(x1);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = amp(x2);
+            }
+            if b - a < 1e-14 {
+                break;
+            }
+        }
+        0.5 * (a + b)
+    }
+
+    /// `(ν_fast, ν_slow)` of the true orbit from `(x, y, p_x, p_y)` by frequency analysis over
+    /// `span`: the line of `y − i p_y` near `fast` and the line of `x² + p_x²` near `slow`.
+    fn measured_frequencies(z0: [f64; 4], span: f64, fast: f64, slow: f64) -> (f64, f64) {
+        let dop = Dop853::new(1e-14, 1e-16)
+            .unwrap()
+            .with_max_steps(50_000_000)
+            .unwrap();
+        let count = (span / 0.25).ceil() as usize;
+        let mut samples = Samples::uniform(0.0, span, count).unwrap();
+        let problem = Problem::new(
+            &HenonHeiles,
+            0.0,
+            Vector2::new(z0[0], z0[1]),
+            Vector2::new(z0[2], z0[3]),
+            span,
+        )
+        .unwrap();
+        integrate(&problem, &dop, &mut samples).unwrap();
+        let t: Vec<f64> = samples.states.iter().map(|s| s.t).collect();
+        let fy: Vec<(f64, f64)> = samples.states.iter().map(|s| (s.q[1], -s.p[1])).collect();
+        let mean = samples
+            .states
+            .iter()
+            .map(|s| s.q[0] * s.q[0] + s.p[0] * s.p[0])
+            .sum::<f64>()
+            / t.len() as f64;
+        let fx: Vec<(f64, f64)> = samples
+            .states
+            .iter()
+            .map(|s| (s.q[0] * s.q[0] + s.p[0] * s.p[0] - mean, 0.0))
+            .collect();
+        let nf = frequency_analysis(&t, &fy, fast - 0.4 * slow, fast + 0.4 * slow);
+        let ns = frequency_analysis(&t, &fx, 0.6 * slow, 1.4 * slow);
+        (nf, ns)
+    }
+
+    /// Initial state on `x = 0` at energy `e`: `(0, y, p_x, p_y)` with `p_x > 0` from the energy.
+    fn on_x0(e: f64, y: f64, py: f64) -> [f64; 4] {
+        let px2 = 2.0 * e - py * py - y * y + 2.0 * y * y * y / 3.0;
+        assert!(px2 > 0.0);
+        [0.0, y, px2.sqrt(), py]
+    }
+
+    /// Frequency errors `(fast, slow)` of the degree-`degree` resonant form for the orbit `z0`,
+    /// the true frequencies measured over ≥ `periods` slow periods.
+    fn frequency_errors(degrees: &[usize], z0: [f64; 4], periods: f64) -> Vec<(usize, f64, f64)> {
+        let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+        let mut out = Vec::new();
+        let mut measured = None;
+        for &degree in degrees {
+            let nf = normal_form(
+                &HenonHeiles,
+                0.0,
+                &eq,
+                degree,
+                NormalFormKind::Resonant(vec![vec![1, -1]]),
+            )
+            .unwrap();
+            let w = nf.linear_coordinates(&z0).unwrap();
+            let wn = nf.to_normal_flow(&w).unwrap();
+            let clock = std::time::Instant::now();
+            let (pf, ps) = normal_form_frequencies(&nf, &wn);
+            let t_nf = clock.elapsed();
+            let (mf, ms) = *measured
+                .get_or_insert_with(|| measured_frequencies(z0, periods * 2.0 * PI / ps, pf, ps));
+            eprintln!(
+                "  degree {degree}: normal-form frequencies {pf:.12} {ps:.12} ({t_nf:?}), \
+                 measured {mf:.12} {ms:.12} (total {:?})",
+                clock.elapsed()
+            );
+            out.push((degree, (pf - mf).abs(), (ps - ms).abs()));
+        }
+        out
+    }
+
+    /// Named orbits at E = 0.01 on `x = 0` (`(y, p_y)`), regular and away from the separatrix of
+    /// the reduced 1:1 system.
+    const ORBITS_E001: [(&str, f64, f64); 3] = [
+        ("y = 0, p_y = 0", 0.0, 0.0),
+        ("y = 0.05, p_y = 0", 0.05, 0.0),
+        ("y = −0.06, p_y = 0.05", -0.06, 0.05),
+    ];
+
+    #[test]
+    fn henon_heiles_resonant_form_frequencies_at_e_001() {
+        for (name, y, py) in ORBITS_E001 {
+            let z0 = on_x0(0.01, y, py);
+            let errs = frequency_errors(&[8, 10], z0, 55.0);
+            for (degree, ef, es) in &errs {
+                eprintln!("{name}: degree {degree}: fast error {ef:.2e}, slow error {es:.2e}");
+            }
+            let (_, ef8, es8) = errs[0];
+            let (_, ef10, es10) = errs[1];
+            assert!(ef8.max(es8) <= 3e-7, "{name}: degree 8 {ef8:e} {es8:e}");
+            assert!(
+                ef10.max(es10) <= 1e-8,
+                "{name}: degree 10 {ef10:e} {es10:e}"
+            );
+        }
+    }
+
+    /// At E = 1/12 the resonant series is asymptotic: the frequency error against the degree has
+    /// a minimum (the optimal degree) between 10 and 20.
+    ///
+    /// Not met yet: for the orbit `y = 0.1, p_y = 0` the error decreases slowly through degree 22
+    /// (2.0e−4 at 10, 1.2e−4 at 14, 7.0e−5 at 22), so no minimum is seen below 20.
+    #[test]
+    #[ignore = "open acceptance item: no error minimum between degrees 10 and 20 at E = 1/12 yet"]
+    fn henon_heiles_optimal_degree_at_e_one_twelfth() {
+        let degrees: Vec<usize> = (4..=22).step_by(2).collect();
+        for (name, y, py) in [
+            ("y = 0.1, p_y = 0", 0.1, 0.0),
+            ("y = −0.1, p_y = 0.1", -0.1, 0.1),
+        ] {
+            let z0 = on_x0(1.0 / 12.0, y, py);
+            let errs = frequency_errors(&degrees, z0, 50.0);
+            let mut best = (0, f64::INFINITY);
+            for (degree, ef, es) in &errs {
+                let e = ef.max(*es);
+                eprintln!("E = 1/12, {name}: degree {degree}: error {e:.3e} (fast {ef:.2e}, slow {es:.2e})");
+                if e < best.1 {
+                    best = (*degree, e);
+                }
+            }
+            eprintln!(
+                "E = 1/12, {name}: optimal degree {} (error {:.3e})",
+                best.0, best.1
+            );
+            assert!(
+                (10..=20).contains(&best.0),
+                "{name}: optimal degree {}",
+                best.0
+            );
+        }
+    }
+}

@@ -24,6 +24,10 @@
 //!   crate's adaptive integrator ([`Dop853`](crate::integrate::Dop853) runs any
 //!   [`FirstOrderSystem`](crate::integrate::FirstOrderSystem)), and [`ode`] also has classical RK4
 //!   with a Richardson error estimate for fixed-step runs.
+//! * [`birkhoff`]: normal forms of the user's Hamiltonian about an equilibrium in `N` degrees of
+//!   freedom — the equilibrium, the real symplectic normal form of the quadratic part, Birkhoff,
+//!   resonant (Gustavson) and centre-manifold normal forms by Lie transforms, the near-identity
+//!   map (truncated series and exact generator flow) and convergence diagnostics.
 //! * [`normal_form`]: the Lie-series normal form of a perturbed oscillator to any order (the
 //!   frequency–amplitude series and the near-identity transformation), with a convergence
 //!   warning near the separatrix; [`lindstedt`]: the Lindstedt–Poincaré expansion that
@@ -32,6 +36,7 @@
 //!   non-singular variables: second-order secular rates, first-order long- and short-period
 //!   terms, mean ↔ osculating elements, the osculating state at any time.
 
+pub mod birkhoff;
 pub mod brouwer;
 pub mod canonical;
 pub mod forces;

@@ -1,0 +1,34 @@
+//! The 1:1 resonant (Gustavson) normal form of the Hénon–Heiles Hamiltonian to degree 16 and 24
+//! (construction of `K` and the Lie generators; the coordinate series are built on first use).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use hamilton_jacobi::nalgebra::Vector2;
+use hamilton_jacobi::perturbation::birkhoff::{equilibrium, normal_form, NormalFormKind};
+use hamilton_jacobi::systems::HenonHeiles;
+use std::hint::black_box;
+
+fn bench(c: &mut Criterion) {
+    let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+    let mut g = c.benchmark_group("normal_form_henon_heiles");
+    g.sample_size(10);
+    for degree in [16usize, 24] {
+        g.bench_with_input(BenchmarkId::from_parameter(degree), &degree, |b, &k| {
+            b.iter(|| {
+                black_box(
+                    normal_form(
+                        &HenonHeiles,
+                        0.0,
+                        &eq,
+                        k,
+                        NormalFormKind::Resonant(vec![vec![1, -1]]),
+                    )
+                    .unwrap(),
+                )
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
