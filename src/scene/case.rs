@@ -652,8 +652,12 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
                 .collect();
         }
         let t1 = self.end()?.0;
-        if times.windows(2).any(|w| !(w[0] <= w[1]))
-            || times.iter().any(|t| !(0.0..=t1).contains(t))
+        if times.windows(2).any(|w| {
+            matches!(
+                w[0].partial_cmp(&w[1]),
+                None | Some(std::cmp::Ordering::Greater)
+            )
+        }) || times.iter().any(|t| !(0.0..=t1).contains(t))
         {
             return Err(Error::invalid(
                 "reference times",

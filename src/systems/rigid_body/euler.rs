@@ -12,9 +12,9 @@
 //! Symmetry*, 2nd ed., §15.3).
 
 use super::inertia::InertiaTensor;
-use super::rotation::{check_chart, euler313_matrix};
+use super::rotation::{chart_value, chart_vector_field, check_chart, euler313_matrix};
 use crate::error::{all_finite, finite, positive, Error, Result};
-use crate::hamiltonian::{checked_vector_field, Hamiltonian};
+use crate::hamiltonian::Hamiltonian;
 use crate::phase::check_phase;
 use crate::systems::{Invariant, Invariants};
 use nalgebra::{Matrix3, SVector, Vector3};
@@ -240,9 +240,7 @@ impl Hamiltonian<3> for FreeRigidBody {
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
     fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        finite("H", self.hamiltonian(t, q, p))
+        chart_value(self, t, q, p)
     }
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
@@ -252,9 +250,7 @@ impl Hamiltonian<3> for FreeRigidBody {
         q: &SVector<f64, 3>,
         p: &SVector<f64, 3>,
     ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        checked_vector_field(self, t, q, p)
+        chart_vector_field(self, t, q, p)
     }
 }
 

@@ -84,7 +84,11 @@ impl EulerPoinsot {
         let inversions = (order[0] > order[1]) as u32
             + (order[0] > order[2]) as u32
             + (order[1] > order[2]) as u32;
-        let parity = if inversions % 2 == 0 { 1.0 } else { -1.0 };
+        let parity = if inversions.is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
         let (i1, i2, i3) = (m[order[0]], m[order[1]], m[order[2]]);
         let x = Vector3::from_fn(|j, _| parity * pi0[order[j]]);
         // Scale to avoid overflow of the squares.

@@ -19,6 +19,8 @@
 //! `≈ 1/|sin θ|`.
 
 use crate::error::{all_finite, finite, Error, Result};
+use crate::hamiltonian::{checked_vector_field, Hamiltonian};
+use crate::phase::check_phase;
 use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
 use num_dual::DualNum;
 
@@ -39,6 +41,33 @@ pub fn check_chart(theta: f64) -> Result<f64> {
         });
     }
     Ok(s)
+}
+
+/// `H(t, q, p)` of a Hamiltonian in 3-1-3 angles `q = (φ, θ, ψ)`, with non-finite input and the
+/// chart singularity ([`check_chart`]) refused.
+pub(crate) fn chart_value<H: Hamiltonian<3>>(
+    h: &H,
+    t: f64,
+    q: &SVector<f64, 3>,
+    p: &SVector<f64, 3>,
+) -> Result<f64> {
+    check_phase(t, q, p)?;
+    check_chart(q[1])?;
+    finite("H", h.hamiltonian(t, q, p))
+}
+
+/// Hamilton's equations of a Hamiltonian in 3-1-3 angles, with non-finite input and the chart
+/// singularity ([`check_chart`]) refused.
+#[allow(clippy::type_complexity)]
+pub(crate) fn chart_vector_field<H: Hamiltonian<3>>(
+    h: &H,
+    t: f64,
+    q: &SVector<f64, 3>,
+    p: &SVector<f64, 3>,
+) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
+    check_phase(t, q, p)?;
+    check_chart(q[1])?;
+    checked_vector_field(h, t, q, p)
 }
 
 /// The matrix `B(θ, ψ)` of the 3-1-3 kinematics, `ω = B (φ̇, θ̇, ψ̇)` (module docs), for any

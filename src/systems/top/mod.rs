@@ -3,10 +3,10 @@
 
 pub mod motion;
 
-use super::rigid_body::check_chart;
+use super::rigid_body::rotation::{chart_value, chart_vector_field, check_chart};
 use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::{checked_vector_field, Hamiltonian};
+use crate::hamiltonian::Hamiltonian;
 use crate::lagrangian::{Natural, NaturalSystem};
 use crate::phase::check_phase;
 use nalgebra::{SMatrix, SVector};
@@ -273,9 +273,7 @@ impl Hamiltonian<3> for HeavyTop {
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
     fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        finite("H", self.hamiltonian(t, q, p))
+        chart_value(self, t, q, p)
     }
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
@@ -285,9 +283,7 @@ impl Hamiltonian<3> for HeavyTop {
         q: &SVector<f64, 3>,
         p: &SVector<f64, 3>,
     ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        checked_vector_field(self, t, q, p)
+        chart_vector_field(self, t, q, p)
     }
 }
 
