@@ -13,11 +13,12 @@ use hamilton_jacobi::hamilton_jacobi::{
     RadialMotion,
 };
 use hamilton_jacobi::implicit::{lift_root, lift_scalar_root};
+use hamilton_jacobi::integrate::coefficients::YOSHIDA3;
 use hamilton_jacobi::integrate::{
-    integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, MethodInfo, Problem, Rk4,
-    Splitting,
+    integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, LiePoisson, MethodInfo,
+    Problem, Rk4, Splitting,
 };
-use hamilton_jacobi::nalgebra::{SMatrix, SVector, Vector3};
+use hamilton_jacobi::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
 use hamilton_jacobi::perturbation::brouwer;
 use hamilton_jacobi::perturbation::forces::{LinearDrag, NoForce, PerturbedTwoBody, J2};
@@ -39,6 +40,11 @@ use hamilton_jacobi::systems::kepler::elements::{
 };
 use hamilton_jacobi::systems::kepler::{self, orbit};
 use hamilton_jacobi::systems::pendulum_exact::{self, PendulumMotion};
+use hamilton_jacobi::systems::rigid_body::{
+    euler313_body_rates, euler313_from_quaternion, euler313_rates, euler_jacobian, euler_rhs,
+    gyroscopic_moment, intermediate_axis_growth_rate, koenig_t, quaternion_from_euler313,
+    rod_kinetic_energy, EulerPoinsot, FreeRigidBody, InertiaTensor,
+};
 use hamilton_jacobi::systems::top::motion;
 use hamilton_jacobi::systems::{
     BeadOnHoop, ExactFlow, HarmonicOscillator, HeavyTop, Kepler2, Kepler3, Pendulum, Projectile,
@@ -1758,6 +1764,456 @@ fn drawn(r: plot::Rendered) -> Verdict {
     }
 }
 
+/// Relative agreement `|got − want| ≤ tol·max(|want|, tiny)`.
+fn near_rel(what: &str, got: f64, want: f64, tol: f64) -> Verdict {
+    near(what, got, want, tol * want.abs().max(f64::MIN_POSITIVE))
+}
+
+fn add_rigid_bodies(c: &mut Vec<Call>) {
+    sweep(
+        c,
+        "InertiaTensor::solid_sphere",
+        &[2.0, 0.5],
+        &[(0, -1.0), (1, 1e200)],
+        |a| {
+            judge(
+                InertiaTensor::solid_sphere(a[0], a[1]),
+                fin(a) && a[0] > 0.0 && a[1] > 0.0,
+                |i| near_rel("I", i.matrix()[(0, 0)], 0.4 * a[0] * a[1] * a[1], 4.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::cuboid",
+        &[2.0, 0.5, 1.0, 1.5],
+        &[(1, -1.0), (3, 1e200)],
+        |a| {
+            let valid = fin(a) && a.iter().all(|&x| x > 0.0);
+            judge(InertiaTensor::cuboid(a[0], a[1], a[2], a[3]), valid, |i| {
+                near_rel(
+                    "I_zz",
+                    i.matrix()[(2, 2)],
+                    a[0] / 12.0 * (a[1] * a[1] + a[2] * a[2]),
+                    8.0 * EPS,
+                )
+            })
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::solid_cylinder",
+        &[2.0, 0.5, 1.0],
+        &[(2, -1.0)],
+        |a| {
+            let valid = fin(a) && a.iter().all(|&x| x > 0.0);
+            judge(
+                InertiaTensor::solid_cylinder(a[0], a[1], a[2]),
+                valid,
+                |i| {
+                    near_rel(
+                        "I_zz",
+                        i.matrix()[(2, 2)],
+                        0.5 * a[0] * a[1] * a[1],
+                        4.0 * EPS,
+                    )
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::principal",
+        &[1.0, 2.0, 3.0],
+        &[(2, 3.5), (0, -1.0)],
+        |a| {
+            let (x, y, z) = (a[0], a[1], a[2]);
+            let valid = fin(a)
+                && x >= 0.0
+                && y >= 0.0
+                && z >= 0.0
+                && x <= y + z
+                && y <= x + z
+                && z <= x + y;
+            judge(
+                InertiaTensor::principal(Vector3::new(x, y, z)),
+                valid || fin(a),
+                |i| {
+                    all([
+                        near("I11", i.matrix()[(0, 0)], x, 0.0),
+                        near("I22", i.matrix()[(1, 1)], y, 0.0),
+                        near("I33", i.matrix()[(2, 2)], z, 0.0),
+                    ])
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::of_point_masses",
+        &[1.5, 0.3, -0.4, 0.5],
+        &[(0, -1.0)],
+        |a| {
+            let x = Vector3::new(a[1], a[2], a[3]);
+            judge(
+                InertiaTensor::of_point_masses(&[(a[0], x)]),
+                fin(a) && a[0] > 0.0,
+                |i| {
+                    near_rel(
+                        "trace",
+                        i.matrix().trace(),
+                        2.0 * a[0] * x.norm_squared(),
+                        8.0 * EPS,
+                    )
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::parallel_axis",
+        &[2.0, 0.3, -0.4, 0.5],
+        &[(0, -1.0)],
+        |a| {
+            let s = InertiaTensor::solid_sphere(1.0, 1.0).unwrap();
+            let d = Vector3::new(a[1], a[2], a[3]);
+            judge(s.parallel_axis(a[0], &d), fin(a) && a[0] > 0.0, |i| {
+                near_rel(
+                    "trace",
+                    i.matrix().trace(),
+                    1.2 + 2.0 * a[0] * d.norm_squared(),
+                    8.0 * EPS,
+                )
+            })
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::kinetic_energy",
+        &[0.3, -1.2, 0.8],
+        &[],
+        |a| {
+            let i = InertiaTensor::principal(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let w = Vector3::new(a[0], a[1], a[2]);
+            let want = 0.5 * (a[0] * a[0] + 2.0 * a[1] * a[1] + 3.0 * a[2] * a[2]);
+            judge(i.kinetic_energy(&w), fin(a), |t| {
+                near_rel("T", t, want, 8.0 * EPS)
+            })
+        },
+    );
+    sweep(
+        c,
+        "InertiaTensor::angular_momentum",
+        &[0.3, -1.2, 0.8],
+        &[],
+        |a| {
+            let i = InertiaTensor::principal(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            judge(
+                i.angular_momentum(&Vector3::new(a[0], a[1], a[2])),
+                fin(a),
+                |l| near_rel("L3", l[2], 3.0 * a[2], 2.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "rod_kinetic_energy",
+        &[3.0, 1.0, -0.5],
+        &[(0, -1.0)],
+        |a| {
+            let (u, v) = (Vector3::new(a[1], 0.0, 0.0), Vector3::new(a[2], 0.0, 0.0));
+            let want = a[0] / 6.0 * (a[1] * a[1] + a[1] * a[2] + a[2] * a[2]);
+            judge(
+                rod_kinetic_energy(a[0], &u, &v),
+                fin(a) && a[0] > 0.0,
+                |t| near_rel("T", t, want, 16.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "koenig_t",
+        &[2.0, 1.5, 0.25],
+        &[(0, -1.0), (2, -1.0)],
+        |a| {
+            let v = Vector3::new(a[1], 0.0, 0.0);
+            let want = 0.5 * a[0] * a[1] * a[1] + a[2];
+            judge(
+                koenig_t(a[0], &v, a[2]),
+                fin(a) && a[0] > 0.0 && a[2] >= 0.0,
+                |t| near_rel("T", t, want, 8.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "euler313_body_rates",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[(1, 0.0)],
+        |a| {
+            let (q, r) = (
+                Vector3::new(a[0], a[1], a[2]),
+                Vector3::new(a[3], a[4], a[5]),
+            );
+            judge(euler313_body_rates(&q, &r), fin(a), |w| {
+                // |ω|² = φ̇² + θ̇² + ψ̇² + 2φ̇ψ̇ cos θ (the metric BᵀB), scaled by max |rate|.
+                let sc = r.amax().max(f64::MIN_POSITIVE);
+                let (r, w) = (r / sc, w / sc);
+                let want = r.norm_squared() + 2.0 * r[0] * r[2] * a[1].cos();
+                near(
+                    "|ω|²/s²",
+                    w.norm_squared(),
+                    want,
+                    64.0 * EPS * r.norm_squared(),
+                )
+            })
+        },
+    );
+    sweep(
+        c,
+        "euler313_rates",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[(1, 0.0), (1, PI), (1, 1e-300)],
+        |a| {
+            let (q, w) = (
+                Vector3::new(a[0], a[1], a[2]),
+                Vector3::new(a[3], a[4], a[5]),
+            );
+            judge(euler313_rates(&q, &w), fin(a), |r| {
+                let sc = r.amax().max(f64::MIN_POSITIVE);
+                match euler313_body_rates(&q, &(r / sc)) {
+                    Ok(back) => near(
+                        "ω round trip",
+                        (back - w / sc).amax(),
+                        0.0,
+                        1e-12 * (w / sc).amax().max(1e-300) / a[1].sin().abs().min(1.0),
+                    ),
+                    Err(e) => Wrong(format!("round trip failed: {e}")),
+                }
+            })
+        },
+    );
+    sweep(c, "quaternion_from_euler313", &[0.3, 1.1, -2.0], &[], |a| {
+        let q = Vector3::new(a[0], a[1], a[2]);
+        judge(quaternion_from_euler313(&q), fin(a), |u| {
+            near(
+                "r33",
+                u.to_rotation_matrix()[(2, 2)],
+                a[1].cos(),
+                1e-15 * 8.0 * (1.0 + a.iter().fold(0.0f64, |m, x| m.max(x.abs())) * EPS * 1e16),
+            )
+        })
+    });
+    sweep(
+        c,
+        "euler313_from_quaternion",
+        &[0.9, 0.1, -0.3, 0.2],
+        &[(1, 0.0)],
+        |a| {
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(a[0], a[1], a[2], a[3]));
+            judge(
+                euler313_from_quaternion(&q),
+                fin(a),
+                |e| match quaternion_from_euler313(&e) {
+                    Ok(q2) => near("angle", q.angle_to(&q2), 0.0, 1e-12),
+                    Err(err) => Wrong(format!("{err}")),
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "euler_rhs",
+        &[0.3, -1.2, 0.8, 0.5, 0.1, -0.2],
+        &[],
+        |a| {
+            let i = InertiaTensor::principal(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let (w, m) = (
+                Vector3::new(a[0], a[1], a[2]),
+                Vector3::new(a[3], a[4], a[5]),
+            );
+            judge(euler_rhs(&i, &m, &w), fin(a), |wd| {
+                // I ω̇ + ω × Iω − M, everything divided by the largest term's scale.
+                let sc = (m.amax() + 3.0 * w.amax() * w.amax()).max(f64::MIN_POSITIVE);
+                let gyro = w.cross(&(i.matrix() * w)) / sc;
+                let res = i.matrix() * (wd / sc) + gyro - m / sc;
+                near("residual/scale", res.amax(), 0.0, 64.0 * EPS)
+            })
+        },
+    );
+    sweep(c, "euler_jacobian", &[0.3, -1.2, 0.8], &[], |a| {
+        let i = InertiaTensor::principal(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+        judge(
+            euler_jacobian(&i, &Vector3::zeros(), &Vector3::new(a[0], a[1], a[2])),
+            fin(a),
+            |j| {
+                // ∂ω̇₁/∂ω₂ = (I₂ − I₃)ω₃/I₁.
+                near("J12", j[(0, 1)], -a[2], 4.0 * EPS * a[2].abs())
+            },
+        )
+    });
+    sweep(
+        c,
+        "intermediate_axis_growth_rate",
+        &[1.0, 2.0, 3.0, 1.0],
+        &[(0, -1.0)],
+        |a| {
+            let valid = fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] > 0.0;
+            judge(
+                intermediate_axis_growth_rate(&Vector3::new(a[0], a[1], a[2]), a[3]),
+                valid,
+                |l| {
+                    let naive = a[3] * a[3] * (a[1] - a[0]) * (a[2] - a[1]) / (a[0] * a[2]);
+                    if naive.is_finite() && naive > 1e-300 && naive < 1e300 {
+                        near_rel("λ²", l * l, naive, 64.0 * EPS)
+                    } else {
+                        finite_ok("λ", l)
+                    }
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "gyroscopic_moment",
+        &[0.01, 1000.0, 0.1],
+        &[(0, -1.0)],
+        |a| {
+            judge(
+                gyroscopic_moment(a[0], a[1], a[2]),
+                fin(a) && a[0] > 0.0,
+                |m| near_rel("M", m, a[0] * a[1] * a[2], 2.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "FreeRigidBody::new",
+        &[1.0, 2.0, 3.0],
+        &[(2, 4.0), (0, -1.0)],
+        |a| {
+            let valid = fin(a)
+                && a.iter().all(|&x| x > 0.0)
+                && a[2] <= a[0] + a[1]
+                && a[0] <= a[1] + a[2]
+                && a[1] <= a[0] + a[2];
+            judge(
+                FreeRigidBody::new(Vector3::new(a[0], a[1], a[2])),
+                valid || fin(a),
+                |b| near("I1", b.moments()[0], a[0], 0.0),
+            )
+        },
+    );
+    sweep(
+        c,
+        "FreeRigidBody::hamiltonian",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[(1, 0.0), (1, PI)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let (q, p) = (
+                SVector::from([a[0], a[1], a[2]]),
+                SVector::from([a[3], a[4], a[5]]),
+            );
+            judge(
+                b.value(0.0, &q, &p)
+                    .and_then(|h| Ok((h, b.vector_field(0.0, &q, &p)?))),
+                fin(a),
+                |(h, (qd, _))| {
+                    // Euler's theorem for a form quadratic in p: p·∂H/∂p = 2H.
+                    near_rel("p·q̇", p.dot(&qd), 2.0 * h, 1e-10)
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "FreeRigidBody::invariants",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[(1, 0.0)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let (q, p) = (
+                SVector::from([a[0], a[1], a[2]]),
+                SVector::from([a[3], a[4], a[5]]),
+            );
+            judge(
+                hamilton_jacobi::systems::Invariants::invariants(&b, 0.0, &q, &p),
+                fin(a),
+                |inv| {
+                    // |Π|² ≥ p_ψ² and ≥ p_φ² (components of the angular momentum).
+                    let l2 = inv[1].value;
+                    if l2 + 1e-12 * l2 >= p[2] * p[2] && l2 + 1e-12 * l2 >= p[0] * p[0] {
+                        Good
+                    } else {
+                        Wrong(format!("|Π|² = {l2:e} < a component²"))
+                    }
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "FreeRigidBody::momenta",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[],
+        |a| {
+            let (q, pi) = (
+                SVector::from([a[0], a[1], a[2]]),
+                Vector3::new(a[3], a[4], a[5]),
+            );
+            judge(FreeRigidBody::momenta(&q, &pi), fin(a), |p| {
+                near_rel("p_ψ", p[2], pi[2], 0.0)
+            })
+        },
+    );
+    sweep(
+        c,
+        "EulerPoinsot::momentum_at",
+        &[0.4, 0.3, 1.5, 7.0],
+        &[(3, 1e300), (3, -1e20)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let pi0 = Vector3::new(a[0], a[1], a[2]);
+            let r = EulerPoinsot::new(&b, &pi0).and_then(|ep| ep.momentum_at(a[3]));
+            judge(r, fin(a), |x| {
+                let sc = pi0.amax().max(f64::MIN_POSITIVE);
+                let (pi0, x) = (pi0 / sc, x / sc);
+                let (e0, e) = (b.energy_generic(&pi0), b.energy_generic(&x));
+                all([
+                    near_rel("|Π|²", x.norm_squared(), pi0.norm_squared(), 1e-13),
+                    near_rel("E", e, e0, 1e-13),
+                ])
+            })
+        },
+    );
+    sweep(c, "EulerPoinsot::period", &[0.4, 0.3, 1.5], &[], |a| {
+        let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+        let pi0 = Vector3::new(a[0], a[1], a[2]);
+        let r = EulerPoinsot::new(&b, &pi0).and_then(|ep| Ok((ep.period()?, ep)));
+        judge(r, fin(a), |(t, ep)| match ep.momentum_at(t) {
+            Ok(x) => near("Π(T) − Π(0)", (x - pi0).amax(), 0.0, 1e-11 * pi0.amax()),
+            Err(_) => Good,
+        })
+    });
+    sweep(
+        c,
+        "LiePoisson::run",
+        &[0.4, 0.3, 1.5, 0.05],
+        &[(3, 1e300)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let pi0 = Vector3::new(a[0], a[1], a[2]);
+            let m = LiePoisson::composition(&b, &YOSHIDA3).unwrap();
+            judge(
+                m.run(&pi0, a[3], 100, |_, _| {}),
+                fin(a) && a[3] != 0.0,
+                |x| near_rel("|Π|²", x.norm_squared(), pi0.norm_squared(), 1e-13),
+            )
+        },
+    );
+}
+
 fn add_plots(c: &mut Vec<Call>) {
     let size = |a: &[f64]| Size {
         width: a[0],
@@ -2325,6 +2781,7 @@ fn every_entry_point_survives_hostile_input() {
     add_brouwer(&mut calls);
     add_series(&mut calls);
     add_plots(&mut calls);
+    add_rigid_bodies(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())

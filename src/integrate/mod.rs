@@ -31,6 +31,7 @@ pub mod coefficients;
 pub mod dop853;
 pub mod exact;
 pub mod gauss;
+pub mod lie_poisson;
 pub mod methods;
 pub mod observers;
 pub mod rk4;
@@ -43,6 +44,7 @@ pub use any::{AnyMethod, GeneralMethod};
 pub use dop853::Dop853;
 pub use exact::ExactStep;
 pub use gauss::{Gauss, ImplicitMidpoint};
+pub use lie_poisson::LiePoisson;
 pub use methods::{MethodInfo, METHODS};
 pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,

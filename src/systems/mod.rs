@@ -8,6 +8,7 @@
 //! | [`Kepler2`], [`Kepler3`] | 2, 3 | universal-variable flow, every conic; element sets ([`kepler`]; Ardema 10.2–10.3) |
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral [Ardema 8.2]) |
+//! | [`FreeRigidBody`] | 3 | Euler–Poinsot: the body angular momentum in Jacobi elliptic functions ([`rigid_body::euler_poinsot`]) [Landau & Lifshitz §37] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
@@ -21,6 +22,7 @@ pub mod kepler;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
+pub mod rigid_body;
 pub mod top;
 
 pub use bead::BeadOnHoop;
@@ -30,6 +32,7 @@ pub use henon_heiles::HenonHeiles;
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
+pub use rigid_body::FreeRigidBody;
 pub use top::{HeavyTop, SteadyPrecession};
 
 /// A named conserved quantity and its value at a phase point.

@@ -3,9 +3,10 @@
 
 pub mod motion;
 
+use super::rigid_body::rotation::{chart_value, chart_vector_field, check_chart};
 use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
-use crate::hamiltonian::{checked_vector_field, Hamiltonian};
+use crate::hamiltonian::Hamiltonian;
 use crate::lagrangian::{Natural, NaturalSystem};
 use crate::phase::check_phase;
 use nalgebra::{SMatrix, SVector};
@@ -53,22 +54,6 @@ pub struct SteadyPrecession {
     pub fast: Option<f64>,
     /// The slow rate `[γ − √(γ² − 2β cos θ₀)]/(2 cos θ₀) = β/[γ + √(γ² − 2β cos θ₀)]`.
     pub slow: f64,
-}
-
-/// Refuse angles where the 3-1-3 chart is singular (`|sin θ| ≤ 2⁻⁵²`).
-pub(crate) fn check_chart(theta: f64) -> Result<f64> {
-    let theta = finite("nutation angle θ", theta)?;
-    let s = theta.sin();
-    if s.abs() <= f64::EPSILON {
-        return Err(Error::Singular {
-            what: "3-1-3 Euler-angle chart (mass matrix, det = I²J sin²θ)".into(),
-            at: format!(
-                "θ = {theta} (sin θ = {s:e}): the precession and spin axes coincide on the vertical"
-            ),
-            rcond: s * s,
-        });
-    }
-    Ok(s)
 }
 
 /// Require a nutation angle `θ ∈ (0, π)`, the range of the 3-1-3 chart's `θ`
@@ -288,9 +273,7 @@ impl Hamiltonian<3> for HeavyTop {
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
     fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        finite("H", self.hamiltonian(t, q, p))
+        chart_value(self, t, q, p)
     }
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
@@ -300,9 +283,7 @@ impl Hamiltonian<3> for HeavyTop {
         q: &SVector<f64, 3>,
         p: &SVector<f64, 3>,
     ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        check_phase(t, q, p)?;
-        check_chart(q[1])?;
-        checked_vector_field(self, t, q, p)
+        chart_vector_field(self, t, q, p)
     }
 }
 

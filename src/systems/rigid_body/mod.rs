@@ -1,0 +1,23 @@
+//! Rigid bodies [Ardema ch. 11; Hamel art. 242]: inertia tensors and kinetic energy
+//! ([`inertia`]), attitude by 3-1-3 Euler angles and unit quaternions ([`rotation`]), Euler's
+//! equations and the free body in canonical form ([`euler`]), and the Euler–Poinsot exact flow
+//! of its angular momentum ([`euler_poinsot`]).
+//!
+//! The Lie–Poisson integrator of the free body lives with the integrators
+//! ([`crate::integrate::lie_poisson`]).
+
+pub mod euler;
+pub mod euler_poinsot;
+pub mod inertia;
+pub mod rotation;
+
+pub use euler::{
+    euler_jacobian, euler_rhs, euler_rhs_generic, gyroscopic_moment, intermediate_axis_growth_rate,
+    FreeRigidBody,
+};
+pub use euler_poinsot::{EulerPoinsot, Regime};
+pub use inertia::{koenig_t, rod_kinetic_energy, InertiaTensor, PrincipalAxes};
+pub use rotation::{
+    check_chart, euler313_body_rates, euler313_from_quaternion, euler313_matrix, euler313_rates,
+    euler313_rotation_matrix, quaternion_from_euler313,
+};

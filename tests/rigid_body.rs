@@ -1,0 +1,660 @@
+//! Rigid bodies against independent oracles: inertia tensors of point masses and Simpson's rule,
+//! the 3-1-3 kinematics against the AD derivative of the rotation matrix, the canonical free
+//! body against Euler's equations, the Euler–Poinsot flow against DOP853 at rtol 1e-13, the
+//! intermediate-axis instability (SPEC T30) and the gyroscopic moment (SPEC T15), and the
+//! Lie–Poisson integrator's Casimir, energy and order.
+
+use hamilton_jacobi::integrate::coefficients::YOSHIDA3;
+use hamilton_jacobi::integrate::{
+    integrate, Dop853, FirstOrderSystem, Fixed, Gauss, LiePoisson, Problem,
+};
+use hamilton_jacobi::nalgebra::{Matrix3, Rotation3, SVector, UnitQuaternion, Vector3};
+use hamilton_jacobi::num_dual::Dual64;
+use hamilton_jacobi::systems::rigid_body::{
+    euler313_body_rates, euler313_from_quaternion, euler313_rates, euler313_rotation_matrix,
+    euler_jacobian, euler_rhs, gyroscopic_moment, intermediate_axis_growth_rate, koenig_t,
+    quaternion_from_euler313, rod_kinetic_energy, EulerPoinsot, FreeRigidBody, InertiaTensor,
+    Regime,
+};
+use hamilton_jacobi::systems::{HeavyTop, Invariants};
+use hamilton_jacobi::{Error, Hamiltonian, Result};
+
+fn max_abs(v: &Vector3<f64>) -> f64 {
+    v.amax()
+}
+
+// ------------------------------------------------------------------------------------------
+// Inertia and kinetic energy (M1)
+// ------------------------------------------------------------------------------------------
+
+fn masses() -> Vec<(f64, Vector3<f64>)> {
+    vec![
+        (1.0, Vector3::new(0.3, -0.2, 0.5)),
+        (2.0, Vector3::new(-0.7, 0.4, 0.1)),
+        (0.5, Vector3::new(0.2, 0.9, -0.6)),
+        (1.5, Vector3::new(-0.1, -0.8, -0.3)),
+    ]
+}
+
+#[test]
+fn parallel_axis_matches_point_masses_about_another_point() {
+    let ms = masses();
+    let m: f64 = ms.iter().map(|(m, _)| m).sum();
+    let g = ms.iter().map(|(mi, x)| x * *mi).sum::<Vector3<f64>>() / m;
+    let about_g: Vec<_> = ms.iter().map(|(mi, x)| (*mi, x - g)).collect();
+    let i_g = InertiaTensor::of_point_masses(&about_g).unwrap();
+    // The tensor about the origin, from which the mass centre lies at g.
+    let i_o = InertiaTensor::of_point_masses(&ms).unwrap();
+    let shifted = i_g.parallel_axis(m, &g).unwrap();
+    assert!((shifted.matrix() - i_o.matrix()).abs().max() < 1e-14);
+}
+
+#[test]
+fn kinetic_energy_and_koenig_match_the_sum_over_particles() {
+    let ms = masses();
+    let m: f64 = ms.iter().map(|(m, _)| m).sum();
+    let g = ms.iter().map(|(mi, x)| x * *mi).sum::<Vector3<f64>>() / m;
+    let about_g: Vec<_> = ms.iter().map(|(mi, x)| (*mi, x - g)).collect();
+    let i_g = InertiaTensor::of_point_masses(&about_g).unwrap();
+    let omega = Vector3::new(0.4, -1.3, 0.7);
+    let v_g = Vector3::new(2.0, -0.5, 0.25);
+    // Σ ½ m |v_G + ω × ρ|².
+    let direct: f64 = about_g
+        .iter()
+        .map(|(mi, r)| 0.5 * mi * (v_g + omega.cross(r)).norm_squared())
+        .sum();
+    let t_rel = i_g.kinetic_energy(&omega).unwrap();
+    let rel: f64 = about_g
+        .iter()
+        .map(|(mi, r)| 0.5 * mi * omega.cross(r).norm_squared())
+        .sum();
+    assert!((t_rel - rel).abs() < 1e-15 * rel.max(1.0) * 4.0);
+    let t = koenig_t(m, &v_g, t_rel).unwrap();
+    assert!((t - direct).abs() < 1e-14 * direct);
+    let l = i_g.angular_momentum(&omega).unwrap();
+    let l_direct: Vector3<f64> = about_g
+        .iter()
+        .map(|(mi, r)| r.cross(&(omega.cross(r))) * *mi)
+        .sum();
+    assert!((l - l_direct).amax() < 1e-14 * l_direct.amax());
+}
+
+#[test]
+fn rod_kinetic_energy_matches_simpsons_rule() {
+    // v(s) is linear in s, |v|² quadratic: Simpson's rule is exact.
+    let (m, u, v) = (
+        3.0,
+        Vector3::new(1.0, -2.0, 0.5),
+        Vector3::new(-0.3, 0.8, 2.2),
+    );
+    let mid = (u + v) * 0.5;
+    let simpson = 0.5 * m * (u.norm_squared() + 4.0 * mid.norm_squared() + v.norm_squared()) / 6.0;
+    let t = rod_kinetic_energy(m, &u, &v).unwrap();
+    assert!((t - simpson).abs() < 4.0 * f64::EPSILON * t);
+    // A rod rotating about one end: T = ½ (mℓ²/3) ω².
+    let (l, w) = (2.0, 1.5);
+    let t = rod_kinetic_energy(m, &Vector3::zeros(), &Vector3::new(0.0, l * w, 0.0)).unwrap();
+    assert!((t - 0.5 * m * l * l / 3.0 * w * w).abs() < 1e-15 * t * 4.0);
+}
+
+#[test]
+fn standard_bodies_against_point_mass_sums() {
+    // Eight equal masses at the corners of a box: I = m(b² + c²) etc. per the corner sum.
+    let (a, b, c) = (0.6, 1.0, 1.4);
+    let mut corners = Vec::new();
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                corners.push((0.25, Vector3::new(sx * a / 2.0, sy * b / 2.0, sz * c / 2.0)));
+            }
+        }
+    }
+    let i = InertiaTensor::of_point_masses(&corners).unwrap();
+    // Total mass 2, all at the corners: diag(2(b² + c²)/4, …).
+    let want = Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b) * 0.5;
+    assert!((i.matrix().diagonal() - want).amax() < 1e-15 * 8.0);
+    // The solid cuboid by a midpoint sum over 40³ cells (error O(h²)).
+    let n = 40;
+    let mut cells = Vec::new();
+    for ix in 0..n {
+        for iy in 0..n {
+            for iz in 0..n {
+                let f = |k: usize, e: f64| ((k as f64 + 0.5) / n as f64 - 0.5) * e;
+                cells.push((
+                    2.0 / (n * n * n) as f64,
+                    Vector3::new(f(ix, a), f(iy, b), f(iz, c)),
+                ));
+            }
+        }
+    }
+    let sum = InertiaTensor::of_point_masses(&cells).unwrap();
+    let cuboid = InertiaTensor::cuboid(2.0, a, b, c).unwrap();
+    // Midpoint rule: each ∫x² loses e²/(12 n²) per unit mass.
+    assert!((sum.matrix() - cuboid.matrix()).abs().max() < 2.0 * 2.0 * 1.4 * 1.4 / (12.0 * 1600.0));
+    let cyl = InertiaTensor::solid_cylinder(2.0, 0.5, 3.0).unwrap();
+    assert!((cyl.matrix()[(2, 2)] - 0.25).abs() < 1e-16);
+    assert!((cyl.matrix()[(0, 0)] - 2.0 * (0.75 + 9.0) / 12.0).abs() < 1e-15);
+}
+
+fn check_frame(i: &InertiaTensor) {
+    let pa = i.principal_axes();
+    let a = pa.axes;
+    assert!((a.transpose() * a - Matrix3::identity()).abs().max() < 1e-14);
+    assert!((a.determinant() - 1.0).abs() < 1e-14);
+    let back = a * Matrix3::from_diagonal(&pa.moments) * a.transpose();
+    assert!((back - i.matrix()).abs().max() < 1e-14 * i.matrix().abs().max() * 4.0);
+    assert!(pa.moments[0] <= pa.moments[1] && pa.moments[1] <= pa.moments[2]);
+}
+
+#[test]
+fn principal_axes_generic_sphere_and_symmetric_top() {
+    let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+    let d = Vector3::new(1.0, 2.0, 3.0);
+    let i = InertiaTensor::new(r * Matrix3::from_diagonal(&d) * r.transpose()).unwrap();
+    check_frame(&i);
+    let pa = i.principal_axes();
+    assert!((pa.moments - d).amax() < 1e-14);
+    for k in 0..3 {
+        let c = pa.axes.column(k).dot(&r.column(k)).abs();
+        assert!((c - 1.0).abs() < 1e-14, "axis {k}: |cos| = {c}");
+    }
+    // Sphere: three equal moments, the coordinate frame.
+    let s = InertiaTensor::solid_sphere(2.0, 0.5).unwrap();
+    let pa = s.principal_axes();
+    assert_eq!(pa.axes, Matrix3::identity());
+    assert!((pa.moments - Vector3::from_element(0.2)).amax() < 1e-16);
+    // Symmetric top (cylinder) turned: the figure axis is the distinct one.
+    let cyl = InertiaTensor::solid_cylinder(1.0, 1.0, 0.5).unwrap();
+    let i = InertiaTensor::new(r * cyl.matrix() * r.transpose()).unwrap();
+    check_frame(&i);
+    let pa = i.principal_axes();
+    // Oblate: the axial moment ½ is the largest.
+    assert!((pa.axes.column(2).dot(&r.column(2)).abs() - 1.0).abs() < 1e-14);
+    // The same frame for tiny perturbations that keep the degeneracy within rounding.
+    let again = InertiaTensor::new(i.matrix() * (1.0 + f64::EPSILON))
+        .unwrap()
+        .principal_axes();
+    assert!((again.axes - pa.axes).abs().max() < 1e-12);
+    // Prolate top: the distinct axis is the smallest moment.
+    let rod = InertiaTensor::solid_cylinder(1.0, 0.1, 2.0).unwrap();
+    let i = InertiaTensor::new(r * rod.matrix() * r.transpose()).unwrap();
+    check_frame(&i);
+    assert!((i.principal_axes().axes.column(0).dot(&r.column(2)).abs() - 1.0).abs() < 1e-14);
+}
+
+#[test]
+fn non_physical_tensors_are_refused() {
+    assert!(InertiaTensor::principal(Vector3::new(1.0, 1.0, 3.0)).is_err());
+    assert!(InertiaTensor::principal(Vector3::new(-1.0, 1.0, 1.0)).is_err());
+    assert!(InertiaTensor::new(Matrix3::new(1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)).is_err());
+    assert!(InertiaTensor::new(Matrix3::zeros()).is_err());
+}
+
+// ------------------------------------------------------------------------------------------
+// Euler angles and quaternions (M29, X9)
+// ------------------------------------------------------------------------------------------
+
+#[test]
+fn body_rates_match_the_derivative_of_the_rotation_matrix() {
+    for (angles, rates) in [
+        (Vector3::new(0.3, 1.1, -2.0), Vector3::new(0.7, -0.4, 1.9)),
+        (Vector3::new(-2.5, 2.9, 0.4), Vector3::new(-1.2, 0.3, 0.05)),
+        (Vector3::new(1.0, 1e-3, 0.5), Vector3::new(0.2, 0.1, -0.3)),
+    ] {
+        // R(t) along the line angles + t·rates; Rᵀ Ṙ = [ω]× by forward AD.
+        let a: SVector<Dual64, 3> = SVector::from_fn(|i, _| Dual64::new(angles[i], rates[i]));
+        let r = euler313_rotation_matrix(&a);
+        let re = r.map(|x| x.re);
+        let dr = r.map(|x| x.eps);
+        let w = re.transpose() * dr;
+        let oracle = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+        assert!((w + w.transpose()).abs().max() < 1e-14);
+        let omega = euler313_body_rates(&angles, &rates).unwrap();
+        assert!((omega - oracle).amax() < 1e-14, "{omega:?} vs {oracle:?}");
+        let back = euler313_rates(&angles, &omega).unwrap();
+        let tol = 1e-15 * 8.0 / angles[1].sin().abs();
+        assert!((back - rates).amax() < tol, "{back:?} vs {rates:?}");
+    }
+}
+
+#[test]
+fn gimbal_lock_is_a_typed_error_naming_the_chart() {
+    for theta in [0.0, std::f64::consts::PI] {
+        let e = euler313_rates(&Vector3::new(0.1, theta, 0.2), &Vector3::new(1.0, 0.0, 0.0))
+            .unwrap_err();
+        match e {
+            Error::Singular { what, .. } => assert!(what.contains("3-1-3"), "{what}"),
+            other => panic!("{other:?}"),
+        }
+        let q = quaternion_from_euler313(&Vector3::new(0.3, theta, 0.4)).unwrap();
+        assert!(matches!(
+            euler313_from_quaternion(&q),
+            Err(Error::Singular { .. })
+        ));
+    }
+    // The forward kinematics stay defined at the singularity.
+    let w =
+        euler313_body_rates(&Vector3::new(0.1, 0.0, 0.2), &Vector3::new(1.0, 2.0, 3.0)).unwrap();
+    assert!(w.iter().all(|x| x.is_finite()));
+}
+
+#[test]
+fn quaternions_and_euler_angles_convert_both_ways() {
+    for angles in [
+        Vector3::new(0.3, 1.1, -2.0),
+        Vector3::new(-2.5, 2.9, 0.4),
+        Vector3::new(3.0, 1e-6, -3.0),
+        Vector3::new(-0.2, std::f64::consts::PI - 1e-7, 1.0),
+    ] {
+        let q = quaternion_from_euler313(&angles).unwrap();
+        // The quaternion's rotation is the product of the three elementary rotations.
+        let r = euler313_rotation_matrix(&angles);
+        assert!((q.to_rotation_matrix().into_inner() - r).abs().max() < 1e-15 * 4.0);
+        let back = euler313_from_quaternion(&q).unwrap();
+        let q2 = quaternion_from_euler313(&back).unwrap();
+        assert!(q.angle_to(&q2) < 1e-15 * 8.0);
+        let tol = 1e-15 * 8.0 / angles[1].sin();
+        assert!((back - angles).amax() < tol, "{back:?} vs {angles:?}");
+    }
+    let q = UnitQuaternion::from_euler_angles(0.2, -0.4, 0.9);
+    let a = euler313_from_quaternion(&q).unwrap();
+    assert!(q.angle_to(&quaternion_from_euler313(&a).unwrap()) < 1e-15 * 8.0);
+}
+
+// ------------------------------------------------------------------------------------------
+// Euler's equations and the canonical free body (M32)
+// ------------------------------------------------------------------------------------------
+
+const I123: [f64; 3] = [1.0, 2.0, 3.0];
+
+fn body() -> FreeRigidBody {
+    FreeRigidBody::new(Vector3::from(I123)).unwrap()
+}
+
+#[test]
+fn canonical_free_body_reproduces_eulers_equations() {
+    let b = body();
+    let inertia = InertiaTensor::principal(*b.moments()).unwrap();
+    for (q, p) in [
+        ([0.3, 1.1, -2.0], [0.7, -0.4, 1.9]),
+        ([-2.5, 2.9, 0.4], [-1.2, 0.3, 0.05]),
+        ([1.0, 0.2, 0.5], [0.2, 0.1, -0.3]),
+    ] {
+        let (q, p) = (SVector::from(q), SVector::from(p));
+        let (qd, pd) = b.vector_field(0.0, &q, &p).unwrap();
+        // dΠ/dt along Hamilton's flow, by AD of Π(q, p) in the direction (q̇, ṗ).
+        let qq: SVector<Dual64, 3> = SVector::from_fn(|i, _| Dual64::new(q[i], qd[i]));
+        let pp: SVector<Dual64, 3> = SVector::from_fn(|i, _| Dual64::new(p[i], pd[i]));
+        let pi_d = FreeRigidBody::body_momentum_generic(&qq, &pp);
+        let pi = pi_d.map(|x| x.re);
+        let dpi = pi_d.map(|x| x.eps);
+        let omega = pi.component_div(b.moments());
+        // Newton–Euler form: I ω̇ = −ω × Iω.
+        let wdot = euler_rhs(&inertia, &Vector3::zeros(), &omega).unwrap();
+        let want = wdot.component_mul(b.moments());
+        assert!(
+            (dpi - want).amax() < 1e-13 * want.amax().max(1.0),
+            "{dpi:?} vs {want:?}"
+        );
+        assert!((b.euler_field(&pi).unwrap() - want).amax() < 1e-14 * want.amax().max(1.0));
+        // The angular velocity from the Euler-angle rates q̇ = ∂H/∂p is ω = I⁻¹Π.
+        let w = euler313_body_rates(&q, &qd).unwrap();
+        assert!((w - omega).amax() < 1e-14 * omega.amax());
+        // p = BᵀΠ inverts Π(q, p).
+        let p2 = FreeRigidBody::momenta(&q, &pi).unwrap();
+        assert!((p2 - p).amax() < 1e-14);
+    }
+}
+
+#[test]
+fn symmetric_free_body_is_the_heavy_top_without_gravity() {
+    // H_top − mgℓ cos θ with (I, J) = (2, 0.7) against the free body with (2, 2, 0.7).
+    let top = HeavyTop::new(2.0, 0.7, 0.3).unwrap();
+    let b = FreeRigidBody::new(Vector3::new(2.0, 2.0, 0.7)).unwrap();
+    let (q, p) = (
+        SVector::from([0.4, 0.9, -1.3]),
+        SVector::from([1.1, -0.6, 0.8]),
+    );
+    let h_top = top.value(0.0, &q, &p).unwrap() - 0.3 * q[1].cos();
+    let h = b.value(0.0, &q, &p).unwrap();
+    assert!((h - h_top).abs() < 1e-15 * 4.0 * h);
+}
+
+#[test]
+fn eulers_equations_with_a_general_tensor_conserve_energy_and_momentum() {
+    let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+    let i = InertiaTensor::new(
+        r * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)) * r.transpose(),
+    )
+    .unwrap();
+    let w = Vector3::new(0.3, -1.2, 0.8);
+    let wd = euler_rhs(&i, &Vector3::zeros(), &w).unwrap();
+    // d(½ωᵀIω)/dt = ωᵀIω̇ = 0, d|Iω|²/dt = 2(Iω)·(Iω̇) = 0.
+    assert!(w.dot(&(i.matrix() * wd)).abs() < 1e-14);
+    assert!((i.matrix() * w).dot(&(i.matrix() * wd)).abs() < 1e-14);
+    // With a moment: I ω̇ = M − ω × Iω.
+    let m = Vector3::new(0.5, 0.1, -0.2);
+    let wd = euler_rhs(&i, &m, &w).unwrap();
+    let res = i.matrix() * wd + w.cross(&(i.matrix() * w)) - m;
+    assert!(res.amax() < 1e-14);
+}
+
+// ------------------------------------------------------------------------------------------
+// Euler–Poinsot
+// ------------------------------------------------------------------------------------------
+
+/// Euler's equations `Π̇ = Π × I⁻¹Π` as a first-order system (Π in the first block).
+struct EulerEquations(FreeRigidBody);
+
+impl FirstOrderSystem<3> for EulerEquations {
+    fn field(
+        &self,
+        _t: f64,
+        q: &SVector<f64, 3>,
+        _p: &SVector<f64, 3>,
+    ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
+        Ok((self.0.euler_field(q)?, SVector::zeros()))
+    }
+}
+
+/// DOP853 at rtol = atol = 1e-13 (SPEC's oracle).
+fn dop853_reference(b: &FreeRigidBody, pi0: &Vector3<f64>, t: f64) -> Vector3<f64> {
+    dop853_at(b, pi0, t, 1e-13)
+}
+
+fn dop853_at(b: &FreeRigidBody, pi0: &Vector3<f64>, t: f64, rtol: f64) -> Vector3<f64> {
+    let sys = EulerEquations(*b);
+    let problem = Problem::new(&sys, 0.0, *pi0, SVector::zeros(), t).unwrap();
+    let m = Dop853::new(rtol, rtol).unwrap();
+    integrate(&problem, &m, &mut ()).unwrap().last.q
+}
+
+#[test]
+fn euler_poinsot_agrees_with_dop853_in_both_regimes_and_every_axis_order() {
+    let b = body();
+    let cases = [
+        (Vector3::new(0.4, 0.3, 1.5), Regime::AboutMajorAxis),
+        (Vector3::new(1.2, -0.8, -0.3), Regime::AboutMinorAxis),
+        (Vector3::new(-0.5, 0.9, -2.0), Regime::AboutMajorAxis),
+        (Vector3::new(-1.0, 0.1, 0.2), Regime::AboutMinorAxis),
+    ];
+    for (pi0, regime) in cases {
+        for moments in [
+            Vector3::new(1.0, 2.0, 3.0),
+            Vector3::new(3.0, 1.0, 2.0),
+            Vector3::new(2.0, 1.0, 3.0),
+        ] {
+            let b = FreeRigidBody::new(moments).unwrap();
+            let ep = EulerPoinsot::new(&b, &pi0).unwrap();
+            // The relabelled bodies check the relabelling of the axes; their periods are longer
+            // (up to 49 time units), and over 30 of them DOP853 at 1e-13 itself drifts by a few
+            // 1e-11: their oracle runs at 1e-14, over up to 11.5 periods.
+            let (rtol, times) = if moments == Vector3::new(1.0, 2.0, 3.0) {
+                assert_eq!(ep.regime(), regime);
+                (1e-13, &[0.37, 3.0, 11.5, 30.25][..])
+            } else {
+                (1e-14, &[0.37, 3.0, 11.5][..])
+            };
+            let period = ep.period().unwrap();
+            // Tens of periods.
+            for &n in times {
+                let t = n * period;
+                let exact = ep.momentum_at(t).unwrap();
+                let reference = dop853_at(&b, &pi0, t, rtol);
+                let err = max_abs(&(exact - reference));
+                assert!(
+                    err < 1e-11 * pi0.norm(),
+                    "{pi0:?} {moments:?} t = {t}: {err:e}"
+                );
+            }
+        }
+    }
+    let _ = b;
+}
+
+#[test]
+fn euler_poinsot_period_returns_the_initial_state() {
+    let b = body();
+    for pi0 in [Vector3::new(0.4, 0.3, 1.5), Vector3::new(1.2, -0.8, -0.3)] {
+        let ep = EulerPoinsot::new(&b, &pi0).unwrap();
+        let t = ep.period().unwrap();
+        // The DOP853 state after one period 4K/λ is the initial one.
+        let back = dop853_reference(&b, &pi0, t);
+        assert!((back - pi0).amax() < 1e-12, "{:e}", (back - pi0).amax());
+        // … and not after three quarters of it.
+        assert!((dop853_reference(&b, &pi0, 0.75 * t) - pi0).amax() > 1e-2);
+        // Energy and |Π|² of the exact flow.
+        let x = ep.momentum_at(7.3 * t).unwrap();
+        let e = |v: &Vector3<f64>| b.energy_generic(v);
+        assert!((e(&x) - e(&pi0)).abs() < 1e-14 * 8.0 * e(&pi0));
+        assert!((x.norm_squared() - pi0.norm_squared()).abs() < 1e-14 * 8.0 * pi0.norm_squared());
+    }
+}
+
+#[test]
+fn separatrix_closed_form_and_steady_rotations() {
+    // I = (3, 4, 6), Π₁ = Π₃ = 1: L² − 2EI₂ = Π₃²(I₃ − I₂)/I₃ − Π₁²(I₂ − I₁)/I₁ = 0 exactly.
+    let b = FreeRigidBody::new(Vector3::new(3.0, 4.0, 6.0)).unwrap();
+    for pi0 in [Vector3::new(1.0, 0.3, 1.0), Vector3::new(-1.0, -0.2, 1.0)] {
+        let ep = EulerPoinsot::new(&b, &pi0).unwrap();
+        assert_eq!(ep.regime(), Regime::Separatrix);
+        assert!(matches!(ep.period(), Err(Error::Separatrix { .. })));
+        for t in [0.5, 2.0, 6.0, -3.0] {
+            let exact = ep.momentum_at(t).unwrap();
+            let reference = dop853_reference(&b, &pi0, t);
+            assert!(
+                (exact - reference).amax() < 1e-11,
+                "t = {t}: {:e}",
+                (exact - reference).amax()
+            );
+        }
+        // Approaches the unstable rotation about the intermediate axis.
+        let far = ep.momentum_at(400.0).unwrap();
+        assert!(far[0].abs() < 1e-6 && (far[1].abs() - pi0.norm()).abs() < 1e-10);
+    }
+    for pi0 in [
+        Vector3::new(0.0, 0.0, 2.0),
+        Vector3::new(0.0, -1.0, 0.0),
+        Vector3::new(3.0, 0.0, 0.0),
+        Vector3::zeros(),
+    ] {
+        let ep = EulerPoinsot::new(&body(), &pi0).unwrap();
+        assert_eq!(ep.regime(), Regime::Steady);
+        assert_eq!(ep.momentum_at(123.0).unwrap(), pi0);
+    }
+    // Axisymmetric body: Π̇₁ = −ν Π₂, Π̇₂ = ν Π₁ with ν = (1/I₁ − 1/I₃)Π₃ (Euler's equations).
+    let sym = FreeRigidBody::new(Vector3::new(1.0, 1.0, 1.5)).unwrap();
+    let pi0 = Vector3::new(0.6, 0.0, 1.2);
+    let ep = EulerPoinsot::new(&sym, &pi0).unwrap();
+    let rate = (1.0 - 1.0 / 1.5) * 1.2;
+    let t = 5.0;
+    let x = ep.momentum_at(t).unwrap();
+    let want = Vector3::new(0.6 * (rate * t).cos(), 0.6 * (rate * t).sin(), 1.2);
+    assert!((x - want).amax() < 1e-14, "{x:?} vs {want:?}");
+}
+
+#[test]
+fn canonical_flow_by_gauss_legendre_matches_euler_poinsot() {
+    // The canonical free body integrated by a crate integrator, its Π compared with the exact flow.
+    let b = body();
+    let (q0, pi0) = (SVector::from([0.2, 1.0, 0.3]), Vector3::new(0.4, 0.3, 1.5));
+    let p0 = FreeRigidBody::momenta(&q0, &pi0).unwrap();
+    let t1 = 10.0;
+    let problem = Problem::new(&b, 0.0, q0, p0, t1).unwrap();
+    let run = integrate(
+        &problem,
+        &Fixed::new(Gauss::<3>::new().unwrap(), 2000).unwrap(),
+        &mut (),
+    )
+    .unwrap();
+    let pi = FreeRigidBody::body_momentum(&run.last.q, &run.last.p).unwrap();
+    let exact = EulerPoinsot::new(&b, &pi0)
+        .unwrap()
+        .momentum_at(t1)
+        .unwrap();
+    assert!((pi - exact).amax() < 1e-10, "{:e}", (pi - exact).amax());
+    let inv = b.invariants(t1, &run.last.q, &run.last.p).unwrap();
+    assert!((inv[1].value - pi0.norm_squared()).abs() < 1e-12);
+}
+
+// ------------------------------------------------------------------------------------------
+// T30, T15
+// ------------------------------------------------------------------------------------------
+
+#[test]
+fn t30_intermediate_axis_growth_rate() {
+    let moments = Vector3::from(I123);
+    let lambda = intermediate_axis_growth_rate(&moments, 1.0).unwrap();
+    assert!((lambda - 0.577350269).abs() < 1e-9);
+    assert!((lambda - 1.0 / 3f64.sqrt()).abs() < 1e-15);
+    // From the AD Jacobian of Euler's equations at ω = (0, Ω, 0).
+    let inertia = InertiaTensor::principal(moments).unwrap();
+    let j = euler_jacobian(&inertia, &Vector3::zeros(), &Vector3::new(0.0, 1.0, 0.0)).unwrap();
+    let mut ev: Vec<f64> = j.complex_eigenvalues().iter().map(|z| z.re).collect();
+    ev.sort_by(f64::total_cmp);
+    assert!(
+        (ev[2] - lambda).abs() < 1e-14 && (ev[0] + lambda).abs() < 1e-14 && ev[1].abs() < 1e-14
+    );
+    // Stable axes: no growth.
+    assert_eq!(
+        intermediate_axis_growth_rate(&Vector3::new(2.0, 1.0, 3.0), 1.0).unwrap(),
+        0.0
+    );
+    // Log-slope d ln|ω₁|/dt = ω̇₁/ω₁ at t = 6 from ω(0) = (1e-6, 1, 0).
+    let b = body();
+    let w0 = Vector3::new(1e-6, 1.0, 0.0);
+    let pi = dop853_reference(&b, &w0.component_mul(&moments), 6.0);
+    let w = pi.component_div(&moments);
+    let wd = euler_rhs(&inertia, &Vector3::zeros(), &w).unwrap();
+    let slope = wd[0] / w[0];
+    assert!((slope - 0.576220).abs() < 5e-7, "{slope}");
+    assert!((slope - lambda * (6.0 * lambda).tanh()).abs() < 1e-6);
+}
+
+#[test]
+fn t15_gyroscopic_moment() {
+    assert!((gyroscopic_moment(0.01, 1000.0, 0.1).unwrap() - 1.0).abs() < 1e-15);
+    // As Euler's equations [SPEC M32]: the spin axis e₃ held horizontal and turned about the
+    // vertical ẑ at Ω while the body spins at ω_s about e₃. In body axes ẑ = (cos ω_s t,
+    // −sin ω_s t, 0), ω = Ωẑ + ω_s e₃ and ω̇ = Ω dẑ/dt; the moment J ω_s Ω along ẑ × e₃ is the one
+    // Euler's equations need.
+    let (j, i, spin, prec) = (0.01, 0.005, 1000.0, 0.1);
+    let inertia = InertiaTensor::principal(Vector3::new(i, i, j)).unwrap();
+    let m = gyroscopic_moment(j, spin, prec).unwrap();
+    for t in [0.0, 1e-3, 0.37] {
+        let (s, c) = (spin * t).sin_cos();
+        let z = Vector3::new(c, -s, 0.0);
+        let omega = z * prec + Vector3::new(0.0, 0.0, spin);
+        let omega_dot = Vector3::new(-s, -c, 0.0) * (prec * spin);
+        let moment = z.cross(&Vector3::z()) * m;
+        let wd = euler_rhs(&inertia, &moment, &omega).unwrap();
+        assert!(
+            (wd - omega_dot).amax() < 1e-10 * omega_dot.amax(),
+            "{wd:?} vs {omega_dot:?}"
+        );
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Lie–Poisson
+// ------------------------------------------------------------------------------------------
+
+#[test]
+fn lie_poisson_conserves_the_casimir_to_rounding_and_bounds_energy() {
+    let b = body();
+    let pi0 = Vector3::new(0.4, 0.3, 1.5);
+    let c0 = pi0.norm_squared();
+    let e0 = b.energy_generic(&pi0);
+    for m in [
+        LiePoisson::strang(&b),
+        LiePoisson::composition(&b, &YOSHIDA3).unwrap(),
+    ] {
+        let mut max_drift: f64 = 0.0;
+        let (mut e_first, mut e_second): (f64, f64) = (0.0, 0.0);
+        let n = 100_000;
+        m.run(&pi0, 0.05, n, |k, x| {
+            max_drift = max_drift.max((x.norm_squared() - c0).abs() / c0);
+            let de = (b.energy_generic(x) - e0).abs() / e0;
+            if k <= n / 2 {
+                e_first = e_first.max(de);
+            } else {
+                e_second = e_second.max(de);
+            }
+        })
+        .unwrap();
+        assert!(
+            max_drift <= 1e-13,
+            "order {}: Casimir drift {max_drift:e}",
+            m.order()
+        );
+        // Bounded: no growth from the first half of the run to the second.
+        assert!(
+            e_second < 1.5 * e_first && e_first < 1e-2,
+            "{e_first:e} {e_second:e}"
+        );
+    }
+}
+
+/// Error of `steps` Lie–Poisson steps over `periods` Euler–Poinsot periods.
+fn lie_poisson_error(
+    m: &LiePoisson,
+    b: &FreeRigidBody,
+    pi0: &Vector3<f64>,
+    periods: f64,
+    per: usize,
+) -> f64 {
+    let ep = EulerPoinsot::new(b, pi0).unwrap();
+    let t = periods * ep.period().unwrap();
+    let steps = (periods * per as f64) as usize;
+    let x = m.run(pi0, t / steps as f64, steps, |_, _| {}).unwrap();
+    (x - ep.momentum_at(t).unwrap()).amax()
+}
+
+#[test]
+fn lie_poisson_order_against_euler_poinsot() {
+    let b = body();
+    let pi0 = Vector3::new(0.4, 0.3, 1.5);
+    let strang = LiePoisson::strang(&b);
+    let y4 = LiePoisson::composition(&b, &YOSHIDA3).unwrap();
+    for (m, per, periods) in [(&strang, 400, 100.0), (&y4, 100, 100.0)] {
+        let e1 = lie_poisson_error(m, &b, &pi0, periods, per);
+        let e2 = lie_poisson_error(m, &b, &pi0, periods, 2 * per);
+        let order = (e1 / e2).log2();
+        eprintln!(
+            "order {}: errors {e1:e} {e2:e}, observed {order:.3}",
+            m.order()
+        );
+        assert!(
+            (order - m.order() as f64).abs() < 0.1,
+            "observed order {order}"
+        );
+    }
+}
+
+#[cfg(feature = "slow-tests")]
+#[test]
+fn lie_poisson_error_over_ten_thousand_periods() {
+    let b = body();
+    let pi0 = Vector3::new(0.4, 0.3, 1.5);
+    let strang = LiePoisson::strang(&b);
+    let y4 = LiePoisson::composition(&b, &YOSHIDA3).unwrap();
+    for (m, per) in [(&strang, 4000), (&y4, 400)] {
+        let e1 = lie_poisson_error(m, &b, &pi0, 1e4, per);
+        let e2 = lie_poisson_error(m, &b, &pi0, 1e4, 2 * per);
+        let order = (e1 / e2).log2();
+        eprintln!(
+            "1e4 periods, order {}: errors {e1:e} {e2:e}, observed {order:.3}",
+            m.order()
+        );
+        assert!(
+            (order - m.order() as f64).abs() < 0.1,
+            "observed order {order}"
+        );
+    }
+}
+
+#[test]
+fn lie_poisson_rejects_a_splitting_sequence() {
+    use hamilton_jacobi::integrate::coefficients::VERLET_KDK;
+    assert!(LiePoisson::composition(&body(), &VERLET_KDK).is_err());
+}
