@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! core        error, phase, ad, vector_space, implicit, special, series
-//! mechanics   hamiltonian, lagrangian, brackets
+//! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation
 //! harness     workprecision
@@ -31,7 +31,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "series",
         ],
     ),
-    ("mechanics", &["hamiltonian", "lagrangian", "brackets"]),
+    ("mechanics", &["hamiltonian", "lagrangian", "brackets", "constraints"]),
     ("models", &["systems"]),
     (
         "methods",

@@ -8,26 +8,35 @@
 //! | [`Kepler2`], [`Kepler3`] | 2, 3 | universal-variable flow, every conic; element sets ([`kepler`]; Ardema 10.2–10.3) |
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral [Ardema 8.2]) |
+//! | [`ChaplyginSleigh`] | 3, one non-holonomic constraint | force-free closed form [Hamel art. 238] |
+//! | [`TwoWheeledCart`] | 5, three constraints (one integrable) | — [Hamel art. 239] |
+//! | [`RollingDisk`] | 5, two non-holonomic constraints | — (upright stability threshold) [Hamel art. 244] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
 use nalgebra::SVector;
 
 mod bead;
+mod cart;
 mod central;
 mod harmonic;
 pub mod kepler;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
+mod rolling_disk;
+mod sleigh;
 pub mod top;
 
 pub use bead::BeadOnHoop;
+pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
+pub use rolling_disk::RollingDisk;
+pub use sleigh::ChaplyginSleigh;
 pub use top::{HeavyTop, SteadyPrecession};
 
 /// A named conserved quantity and its value at a phase point.
