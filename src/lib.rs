@@ -10,6 +10,7 @@ pub mod hamiltonian;
 pub mod implicit;
 pub mod integrate;
 pub mod lagrangian;
+pub mod nonholonomic;
 pub mod perturbation;
 pub mod phase;
 /// Figures (lines, markers, dots, panels; linear or logarithmic axes) in SVG, PNG and PDF, with

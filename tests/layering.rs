@@ -5,7 +5,7 @@
 //! core        error, phase, ad, vector_space, implicit, special, series
 //! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
-//! methods     transform, hamilton_jacobi, integrate, perturbation
+//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -35,7 +35,13 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("models", &["systems"]),
     (
         "methods",
-        &["transform", "hamilton_jacobi", "integrate", "perturbation"],
+        &[
+            "transform",
+            "hamilton_jacobi",
+            "integrate",
+            "perturbation",
+            "nonholonomic",
+        ],
     ),
     ("harness", &["workprecision"]),
     ("front end", &["plot", "scene", "bin"]),

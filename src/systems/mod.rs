@@ -11,6 +11,9 @@
 //! | [`ChaplyginSleigh`] | 3, one non-holonomic constraint | force-free closed form [Hamel art. 238] |
 //! | [`TwoWheeledCart`] | 5, three constraints (one integrable) | — [Hamel art. 239] |
 //! | [`RollingDisk`] | 5, two non-holonomic constraints | — (upright stability threshold) [Hamel art. 244] |
+//! | [`Gearing`], [`GearingInTime`] | 2, one rheonomic constraint | `½(I₁f² + I₂)φ̇₂²` conserved [Hamel art. 240] |
+//! | [`HamelVelocityParameters`] | 2 (holonomic, non-holonomic ω) | `ω₁ = c sech ct`, `ω₂ = −c tanh ct` [Hamel art. 241] |
+//! | [`ConeConstraint`] | 3, constraint non-linear in ẋ | closed form up to the vertex [Hamel art. 249] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
@@ -19,6 +22,8 @@ use nalgebra::SVector;
 mod bead;
 mod cart;
 mod central;
+mod cone_constraint;
+mod gearing;
 mod harmonic;
 pub mod kepler;
 mod pendulum;
@@ -27,10 +32,13 @@ mod projectile;
 mod rolling_disk;
 mod sleigh;
 pub mod top;
+mod velocity_parameters;
 
 pub use bead::BeadOnHoop;
 pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
+pub use cone_constraint::ConeConstraint;
+pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
@@ -38,6 +46,7 @@ pub use projectile::Projectile;
 pub use rolling_disk::RollingDisk;
 pub use sleigh::ChaplyginSleigh;
 pub use top::{HeavyTop, SteadyPrecession};
+pub use velocity_parameters::HamelVelocityParameters;
 
 /// A named conserved quantity and its value at a phase point.
 #[derive(Clone, Debug, PartialEq)]
