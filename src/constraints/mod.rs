@@ -118,7 +118,9 @@ pub const RANK_TOLERANCE: f64 = 1e-10;
 
 /// The rows of `g` that depend on the rows before them (modified Gram–Schmidt, twice): row `i` is
 /// dependent when its component orthogonal to the independent rows before it has norm at most
-/// `tol · scale[i]` (`scale[i]` defaults to the norm of row `i`; a zero row is dependent).
+/// `tol · scale[i]` (`scale[i]` defaults to the norm of row `i`); a zero row, or one whose
+/// entries all lie below `MIN_POSITIVE/ε ≈ 10⁻²⁹²` (where they no longer carry full precision),
+/// is dependent.
 pub fn dependent_rows<const K: usize, const N: usize>(
     g: &SMatrix<f64, K, N>,
     scale: Option<&[f64; K]>,
@@ -136,7 +138,9 @@ pub fn dependent_rows<const K: usize, const N: usize>(
             }
         }
         let n = v.norm();
-        if !(n > tol * reference) || n == 0.0 {
+        // Entries below MIN_POSITIVE/ε carry less than full precision (subnormal range).
+        let tiny = row.amax() < f64::MIN_POSITIVE / f64::EPSILON;
+        if !(n > tol * reference) || n == 0.0 || tiny {
             dependent.push(i);
         } else {
             basis.push(v / n);

@@ -48,8 +48,11 @@ impl ConeConstraint {
                 "before the cone's vertex, ẋ₃(0) + K t/2 > 0",
             ));
         }
+        let w3 = finite("ẋ₃(t)", w3)?;
         let s = w3 / v3;
-        Ok(SVector::from([v0[0] * s, v0[1] * s, w3]))
+        let v = SVector::from([v0[0] * s, v0[1] * s, w3]);
+        crate::error::all_finite("ẋ(t)", v.as_slice())?;
+        Ok(v)
     }
 }
 

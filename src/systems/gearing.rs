@@ -52,11 +52,10 @@ impl Gearing {
     /// [`Error::NonFinite`] for NaN/∞ input or output.
     pub fn free_rate(&self, rate0: f64, t: f64) -> Result<f64> {
         let (rate0, t) = (finite("φ̇₂(0)", rate0)?, finite("t", t)?);
-        let k = |f: f64| self.i1 * f * f + self.i2;
-        finite(
-            "φ̇₂",
-            rate0 * (k(self.f0) / k(self.ratio(t))).sqrt(),
-        )
+        // √(I₁f² + I₂) = √I₁ · hypot(f, √(I₂/I₁)), free of overflow.
+        let c = (self.i2 / self.i1).sqrt();
+        let root = |f: f64| f.hypot(c);
+        finite("φ̇₂", rate0 * (root(self.f0) / root(self.ratio(t))))
     }
 }
 
