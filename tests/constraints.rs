@@ -3,8 +3,8 @@
 //! constraint matrices (X7).
 
 use hamilton_jacobi::constraints::{
-    check_rank, classify, form_integrability_residuals, hamel_coefficients, integrable_combinations,
-    Differentiated, HolonomicConstraints, PfaffianConstraints,
+    check_rank, classify, form_integrability_residuals, hamel_coefficients,
+    integrable_combinations, Differentiated, HolonomicConstraints, PfaffianConstraints,
 };
 use hamilton_jacobi::nalgebra::{SMatrix, SVector};
 use hamilton_jacobi::systems::{ChaplyginSleigh, RollingDisk, TwoWheeledCart};
@@ -45,7 +45,11 @@ impl PfaffianConstraints<3, 1> for T38 {
 fn t38_single_form_tests() {
     let y = SVector::from([0.3, -0.7, 1.1]);
     // Residual of the triple (0, 1, 2) is −A·curl A: +1 for the contact form and the knife edge.
-    for (form, want) in [(T38::Contact, 1.0), (T38::KnifeEdge, 1.0), (T38::Line(0.4), 0.0)] {
+    for (form, want) in [
+        (T38::Contact, 1.0),
+        (T38::KnifeEdge, 1.0),
+        (T38::Line(0.4), 0.0),
+    ] {
         let r = form_integrability_residuals(&form, 0, 0.0, &y).unwrap();
         let main = r.iter().find(|(k, _)| *k == (0, 1, 2)).unwrap().1;
         assert!((main - want).abs() < 1e-15, "{main} vs {want}");
@@ -61,7 +65,12 @@ fn t38_single_form_tests() {
     assert_eq!(line.count(), 1);
     let f = &line.forms[0];
     assert!((f[0] - 1.0).abs() < 1e-14 && (f[1] + 0.4).abs() < 1e-14 && f[2].abs() < 1e-14);
-    assert_eq!(integrable_combinations(&T38::Contact, 0.0, &y).unwrap().count(), 0);
+    assert_eq!(
+        integrable_combinations(&T38::Contact, 0.0, &y)
+            .unwrap()
+            .count(),
+        0
+    );
     // The blade: non-holonomic with only three coordinates.
     let blade = ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap();
     assert_eq!(integrable_combinations(&blade, 0.0, &y).unwrap().count(), 0);
@@ -96,7 +105,11 @@ fn t18_cart_has_exactly_one_integrable_combination() {
     let class = classify(&cart, &[(0.0, SVector::from([0.1, -0.3, 0.7, 1.2, -0.4]))]).unwrap();
     assert!(class.catastatic && class.scleronomic && !class.holonomic);
     assert_eq!(
-        (class.integrable, class.degrees_of_freedom, class.coordinates),
+        (
+            class.integrable,
+            class.degrees_of_freedom,
+            class.coordinates
+        ),
         (1, 2, 4)
     );
 }
@@ -115,7 +128,11 @@ fn m70_rolling_disk_has_no_integrable_combination() {
 struct VariableLength;
 
 impl HolonomicConstraints<2, 1> for VariableLength {
-    fn position_constraint<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 2>) -> SVector<D, 1> {
+    fn position_constraint<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 2>,
+    ) -> SVector<D, 1> {
         let l = t * 0.5 + 1.0;
         SVector::from([q[0] * q[0] + q[1] * q[1] - l * l])
     }
@@ -174,8 +191,8 @@ fn m64_hamel_coefficients_of_the_blade_and_the_cart() {
     let b = &h.beta;
     assert!((b[0][(1, 2)] - 1.0).abs() < 1e-15 && (b[0][(2, 1)] + 1.0).abs() < 1e-15);
     assert!((b[1][(2, 0)] - 1.0).abs() < 1e-15 && (b[1][(0, 2)] + 1.0).abs() < 1e-15);
-    for mu in 0..3 {
-        assert!((b[mu] + b[mu].transpose()).amax() < 1e-15);
+    for bm in b.iter() {
+        assert!((bm + bm.transpose()).amax() < 1e-15);
     }
     assert!(b[2].amax() == 0.0); // ϑ₃ = θ is a true coordinate
 }

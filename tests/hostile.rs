@@ -2257,6 +2257,9 @@ mod constrained {
         ChaplyginSleigh, ConeConstraint, Gearing, RollingDisk, TwoWheeledCart,
     };
 
+    /// Accelerations of the sleigh at `(ϑ, v, ϑ̇)`.
+    type Accel = fn(f64, f64, f64) -> Result<SVector<f64, 3>>;
+
     fn sleigh() -> ChaplyginSleigh {
         ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap()
     }
@@ -2267,7 +2270,12 @@ mod constrained {
 
     /// Relative closeness with a scale.
     fn rel(what: &str, got: f64, want: f64, scale: f64) -> Verdict {
-        near(what, got, want, 1e-11 * (scale.abs() + want.abs() + f64::MIN_POSITIVE))
+        near(
+            what,
+            got,
+            want,
+            1e-11 * (scale.abs() + want.abs() + f64::MIN_POSITIVE),
+        )
     }
 
     /// The sleigh's force-free reduced equations `v̇ = s ϑ̇²`, `ϑ̈ = −m s v ϑ̇/I_B` (m = 2,
@@ -2284,25 +2292,41 @@ mod constrained {
     }
 
     pub(super) fn add(c: &mut Vec<Call>) {
-        sweep(c, "ChaplyginSleigh::new", &[2.0, 0.5, 1.0], &[(2, 0.5), (0, -1.0)], |a| {
-            let valid = fin(a) && a[0] > 0.0 && a[2] > a[0] * a[1] * a[1];
-            judge(ChaplyginSleigh::new(a[0], a[1], a[2]), valid, |_| Good)
-        });
+        sweep(
+            c,
+            "ChaplyginSleigh::new",
+            &[2.0, 0.5, 1.0],
+            &[(2, 0.5), (0, -1.0)],
+            |a| {
+                let valid = fin(a) && a[0] > 0.0 && a[2] > a[0] * a[1] * a[1];
+                judge(ChaplyginSleigh::new(a[0], a[1], a[2]), valid, |_| Good)
+            },
+        );
         sweep(c, "ChaplyginSleigh::with_forces", &[0.7, -0.2], &[], |a| {
             judge(sleigh().with_forces(a[0], a[1]), fin(a), |_| Good)
         });
-        sweep(c, "ChaplyginSleigh::free_motion", &[1.0, 0.5], &[(0, -1.0), (1, -3.0)], |a| {
-            judge(sleigh().free_motion(a[0], a[1]), fin(a) && a[0] > 0.0, |(v, w, _)| {
-                // Energy m v² + I_B ϑ̇² = m v₀², relative to m v₀² (unscaled for a subnormal v₀,
-                // where the ratios carry no precision and the squares underflow to zero).
-                if a[0] < f64::MIN_POSITIVE {
-                    near("energy", 2.0 * v * v + w * w, 2.0 * a[0] * a[0], 0.0)
-                } else {
-                    let e = (v / a[0]).powi(2) + 0.5 * (w / a[0]).powi(2);
-                    near("energy / (m v₀²)", e, 1.0, 1e-12)
-                }
-            })
-        });
+        sweep(
+            c,
+            "ChaplyginSleigh::free_motion",
+            &[1.0, 0.5],
+            &[(0, -1.0), (1, -3.0)],
+            |a| {
+                judge(
+                    sleigh().free_motion(a[0], a[1]),
+                    fin(a) && a[0] > 0.0,
+                    |(v, w, _)| {
+                        // Energy m v² + I_B ϑ̇² = m v₀², relative to m v₀² (unscaled for a subnormal v₀,
+                        // where the ratios carry no precision and the squares underflow to zero).
+                        if a[0] < f64::MIN_POSITIVE {
+                            near("energy", 2.0 * v * v + w * w, 2.0 * a[0] * a[0], 0.0)
+                        } else {
+                            let e = (v / a[0]).powi(2) + 0.5 * (w / a[0]).powi(2);
+                            near("energy / (m v₀²)", e, 1.0, 1e-12)
+                        }
+                    },
+                )
+            },
+        );
         sweep(
             c,
             "TwoWheeledCart::new",
@@ -2310,23 +2334,47 @@ mod constrained {
             &[(2, 0.0), (5, -1.0)],
             |a| {
                 let valid = fin(a) && [0, 2, 3, 4, 5].iter().all(|&i| a[i] > 0.0);
-                judge(TwoWheeledCart::new(a[0], a[1], a[2], a[3], a[4], a[5]), valid, |_| Good)
+                judge(
+                    TwoWheeledCart::new(a[0], a[1], a[2], a[3], a[4], a[5]),
+                    valid,
+                    |_| Good,
+                )
             },
         );
-        sweep(c, "TwoWheeledCart::with_forces", &[1.0, 0.5, 0.3], &[], |a| {
-            judge(cart().with_forces(a[0], a[1], a[2]), fin(a), |_| Good)
-        });
-        sweep(c, "RollingDisk::disk+critical_speed", &[1.0, 1.0, 9.81], &[(2, -1.0)], |a| {
-            let r = RollingDisk::disk(a[0], a[1], a[2]).and_then(|d| d.critical_speed());
-            judge(r, fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] >= 0.0, |v| {
-                let want = (a[2] * a[1] / 3.0).sqrt();
-                near("v_c", v, want, 1e-14 * want + f64::MIN_POSITIVE)
-            })
-        });
-        sweep(c, "RollingDisk::new", &[1.0, 1.0, 0.25, 0.5, 9.81], &[(3, 0.0)], |a| {
-            let valid = fin(a) && a[..4].iter().all(|&x| x > 0.0);
-            judge(RollingDisk::new(a[0], a[1], a[2], a[3], a[4]), valid, |_| Good)
-        });
+        sweep(
+            c,
+            "TwoWheeledCart::with_forces",
+            &[1.0, 0.5, 0.3],
+            &[],
+            |a| judge(cart().with_forces(a[0], a[1], a[2]), fin(a), |_| Good),
+        );
+        sweep(
+            c,
+            "RollingDisk::disk+critical_speed",
+            &[1.0, 1.0, 9.81],
+            &[(2, -1.0)],
+            |a| {
+                let r = RollingDisk::disk(a[0], a[1], a[2]).and_then(|d| d.critical_speed());
+                judge(r, fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] >= 0.0, |v| {
+                    let want = (a[2] * a[1] / 3.0).sqrt();
+                    near("v_c", v, want, 1e-14 * want + f64::MIN_POSITIVE)
+                })
+            },
+        );
+        sweep(
+            c,
+            "RollingDisk::new",
+            &[1.0, 1.0, 0.25, 0.5, 9.81],
+            &[(3, 0.0)],
+            |a| {
+                let valid = fin(a) && a[..4].iter().all(|&x| x > 0.0);
+                judge(
+                    RollingDisk::new(a[0], a[1], a[2], a[3], a[4]),
+                    valid,
+                    |_| Good,
+                )
+            },
+        );
         sweep(c, "RollingDisk::energy", &[0.3, 1.5, 0.2], &[], |a| {
             let d = RollingDisk::hoop(1.0, 1.0, 9.81).unwrap();
             let q = SVector::from([0.0, 0.0, 0.0, a[0], 0.0]);
@@ -2341,24 +2389,36 @@ mod constrained {
                 near("φ̇₂", w, want, 1e-14 * want.abs() + 1e-323)
             })
         });
-        sweep(c, "ConeConstraint::velocity", &[0.6, 0.8, 1.0, 0.1], &[(3, 0.3), (2, -1.0)], |a| {
-            let cone = ConeConstraint::new(-9.81).unwrap();
-            let v0 = SVector::from([a[0], a[1], a[2]]);
-            let valid = fin(a) && a[2] > 0.0 && a[2] - 4.905 * a[3] > 0.0;
-            judge(cone.velocity(&v0, a[3]), valid, |v| {
-                rel("ẋ₃", v[2], a[2] - 4.905 * a[3], a[2])
-            })
-        });
-        sweep(c, "integrable_combinations", &[0.3, 0.1, -0.3, 0.7, 1.2, -0.4], &[], |a| {
-            let q = SVector::from([a[1], a[2], a[3], a[4], a[5]]);
-            judge(integrable_combinations(&cart(), a[0], &q), fin(a), |r| {
-                if r.count() == 1 && (r.forms[0][3] - 0.2 / 0.6).abs() < 1e-10 {
-                    Good
-                } else {
-                    Wrong(format!("{r:?}"))
-                }
-            })
-        });
+        sweep(
+            c,
+            "ConeConstraint::velocity",
+            &[0.6, 0.8, 1.0, 0.1],
+            &[(3, 0.3), (2, -1.0)],
+            |a| {
+                let cone = ConeConstraint::new(-9.81).unwrap();
+                let v0 = SVector::from([a[0], a[1], a[2]]);
+                let valid = fin(a) && a[2] > 0.0 && a[2] - 4.905 * a[3] > 0.0;
+                judge(cone.velocity(&v0, a[3]), valid, |v| {
+                    rel("ẋ₃", v[2], a[2] - 4.905 * a[3], a[2])
+                })
+            },
+        );
+        sweep(
+            c,
+            "integrable_combinations",
+            &[0.3, 0.1, -0.3, 0.7, 1.2, -0.4],
+            &[],
+            |a| {
+                let q = SVector::from([a[1], a[2], a[3], a[4], a[5]]);
+                judge(integrable_combinations(&cart(), a[0], &q), fin(a), |r| {
+                    if r.count() == 1 && (r.forms[0][3] - 0.2 / 0.6).abs() < 1e-10 {
+                        Good
+                    } else {
+                        Wrong(format!("{r:?}"))
+                    }
+                })
+            },
+        );
         sweep(c, "classify", &[0.3, 0.1, -0.3, 0.7, 1.2, -0.4], &[], |a| {
             let q = SVector::from([a[1], a[2], a[3], a[4], a[5]]);
             judge(classify(&cart(), &[(a[0], q)]), fin(a), |r| {
@@ -2369,30 +2429,56 @@ mod constrained {
                 }
             })
         });
-        sweep(c, "form_integrability_residuals", &[0.0, 0.3, -0.2, 0.77], &[], |a| {
-            let q = SVector::from([a[1], a[2], a[3]]);
-            judge(form_integrability_residuals(&sleigh(), 0, a[0], &q), fin(a), |r| {
-                near("−A·curl A of the knife edge", r[0].1, 1.0, 1e-15)
-            })
-        });
+        sweep(
+            c,
+            "form_integrability_residuals",
+            &[0.0, 0.3, -0.2, 0.77],
+            &[],
+            |a| {
+                let q = SVector::from([a[1], a[2], a[3]]);
+                judge(
+                    form_integrability_residuals(&sleigh(), 0, a[0], &q),
+                    fin(a),
+                    |r| near("−A·curl A of the knife edge", r[0].1, 1.0, 1e-15),
+                )
+            },
+        );
         sweep(c, "hamel_coefficients", &[0.3, -0.2, 0.77], &[], |a| {
             let q = SVector::from([a[0], a[1], a[2]]);
             judge(hamel_coefficients(&sleigh(), &q), fin(a), |h| {
                 near("β₁^{23}", h.beta[0][(1, 2)], 1.0, 1e-15)
             })
         });
-        sweep(c, "quasi_velocities", &[0.4, 0.9, -0.6, 1e-12], &[(3, -1.0)], |a| {
-            let q = SVector::from([0.0, 0.0, a[0]]);
-            let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
-            judge(quasi_velocities(&sleigh(), &q, &qd, a[3]), fin(a) && a[3] >= 0.0, |w| {
-                all([rel("v", w[1], a[1], a[1]), rel("ϑ̇", w[2], a[2], a[2])])
-            })
-        });
-        sweep(c, "check_velocities", &[0.4, 0.9, -0.6, 1e-12], &[(3, -1.0)], |a| {
-            let q = SVector::from([0.0, 0.0, a[0]]);
-            let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
-            judge(check_velocities(&sleigh(), 0.0, &q, &qd, a[3]), fin(a) && a[3] >= 0.0, |_| Good)
-        });
+        sweep(
+            c,
+            "quasi_velocities",
+            &[0.4, 0.9, -0.6, 1e-12],
+            &[(3, -1.0)],
+            |a| {
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
+                judge(
+                    quasi_velocities(&sleigh(), &q, &qd, a[3]),
+                    fin(a) && a[3] >= 0.0,
+                    |w| all([rel("v", w[1], a[1], a[1]), rel("ϑ̇", w[2], a[2], a[2])]),
+                )
+            },
+        );
+        sweep(
+            c,
+            "check_velocities",
+            &[0.4, 0.9, -0.6, 1e-12],
+            &[(3, -1.0)],
+            |a| {
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
+                judge(
+                    check_velocities(&sleigh(), 0.0, &q, &qd, a[3]),
+                    fin(a) && a[3] >= 0.0,
+                    |_| Good,
+                )
+            },
+        );
         sweep(c, "velocity_jet", &[0.4, 0.9, -0.6], &[], |a| {
             let q = SVector::from([0.0, 0.0, a[0]]);
             let qd = SVector::from([a[1], 0.0, a[2]]);
@@ -2401,15 +2487,15 @@ mod constrained {
                 rel("rate", j.rate[0], -a[1] * a[0].cos() * a[2], a[1] * a[2])
             })
         });
-        let sl = |name: &'static str, f: fn(f64, f64, f64) -> Result<SVector<f64, 3>>| {
-            (name, f)
-        };
-        let accel: [(&str, fn(f64, f64, f64) -> Result<SVector<f64, 3>>); 4] = [
+        let sl = |name: &'static str, f: fn(f64, f64, f64) -> Result<SVector<f64, 3>>| (name, f);
+        let accel: [(&str, Accel); 4] = [
             sl("Constrained::multiplier_accelerations", |th, v, w| {
                 let s = sleigh();
                 let q = SVector::from([0.0, 0.0, th]);
                 let qd = SVector::from([v * th.cos(), v * th.sin(), w]);
-                Constrained::new(s, s).multiplier_accelerations(0.0, &q, &qd).map(|m| m.qddot)
+                Constrained::new(s, s)
+                    .multiplier_accelerations(0.0, &q, &qd)
+                    .map(|m| m.qddot)
             }),
             sl("Constrained::embedded_accelerations", |th, v, w| {
                 let s = sleigh();
@@ -2427,54 +2513,85 @@ mod constrained {
                 let s = sleigh();
                 let q = SVector::from([0.0, 0.0, th]);
                 let om = SVector::from([0.0, v, w]);
-                BoltzmannHamel::new(s, s).quasi_accelerations(0.0, &q, &om).map(|wd| {
-                    // As accelerations in (x, y, ϑ) along the straight direction: v̇ e + …
-                    let (sn, c) = th.sin_cos();
-                    SVector::from([wd[1] * c, wd[1] * sn, wd[2]])
-                })
+                BoltzmannHamel::new(s, s)
+                    .quasi_accelerations(0.0, &q, &om)
+                    .map(|wd| {
+                        // As accelerations in (x, y, ϑ) along the straight direction: v̇ e + …
+                        let (sn, c) = th.sin_cos();
+                        SVector::from([wd[1] * c, wd[1] * sn, wd[2]])
+                    })
             }),
         ];
         for (name, f) in accel {
             sweep(c, name, &[0.4, 0.9, -0.6], &[], move |a| {
-                judge(f(a[0], a[1], a[2]), fin(a), |qdd| sleigh_check(a[0], a[1], a[2], &qdd))
+                judge(f(a[0], a[1], a[2]), fin(a), |qdd| {
+                    sleigh_check(a[0], a[1], a[2], &qdd)
+                })
             });
         }
-        sweep(c, "GibbsAppell::quasi_accelerations", &[0.4, 0.9, -0.6], &[], |a| {
-            let s = sleigh();
-            let q = SVector::from([0.0, 0.0, a[0]]);
-            let om = SVector::from([0.0, a[1], a[2]]);
-            let r = GibbsAppell::new(s, s).quasi_accelerations(0.0, &q, &om);
-            judge(r, fin(a), |wd| {
-                let scale = a[2] * a[2] + (a[1] * a[2]).abs() + a[1] * a[1];
-                all([
-                    rel("v̇", wd[1], 0.5 * a[2] * a[2], scale),
-                    rel("ϑ̈", wd[2], -a[1] * a[2], scale),
-                ])
-            })
-        });
-        sweep(c, "Constrained::project_velocities", &[0.4, 0.9, 0.3, -0.6], &[], |a| {
-            let s = sleigh();
-            let q = SVector::from([0.0, 0.0, a[0]]);
-            let qd = SVector::from([a[1], a[2], a[3]]);
-            judge(Constrained::new(s, s).project_velocities(0.0, &q, &qd), fin(a), |v| {
-                let lateral = v[1] * a[0].cos() - v[0] * a[0].sin();
-                near("lateral velocity", lateral, 0.0, 1e-14 * (v.amax() + f64::MIN_POSITIVE))
-            })
-        });
-        sweep(c, "Constrained::integrate", &[1.0, 0.0, 0.1], &[(2, 0.3), (2, -0.2)], |a| {
-            // The cone constraint from ẋ = (0.6, 0.8, 1)·scale, from t₀ to t₁.
-            let cone = ConeConstraint::new(-9.81).unwrap();
-            let sys = Constrained::new(cone, cone);
-            let v0 = SVector::from([0.6, 0.8, 1.0]) * a[0];
-            let r = Dop853::new(1e-10, 1e-12).and_then(|m| {
-                sys.integrate(&m, a[1], SVector::zeros(), v0, a[2], 1e-12, &mut ())
-            });
-            let span = a[2] - a[1];
-            let valid = fin(a) && a[0] > 0.0 && span != 0.0 && a[0] - 4.905 * span > 0.0;
-            judge(r, valid, |rep| {
-                let want = a[0] - 4.905 * span;
-                rel("ẋ₃(t₁)", rep.last.p[2], want, a[0] + 4.905 * span.abs())
-            })
-        });
+        sweep(
+            c,
+            "GibbsAppell::quasi_accelerations",
+            &[0.4, 0.9, -0.6],
+            &[],
+            |a| {
+                let s = sleigh();
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let om = SVector::from([0.0, a[1], a[2]]);
+                let r = GibbsAppell::new(s, s).quasi_accelerations(0.0, &q, &om);
+                judge(r, fin(a), |wd| {
+                    let scale = a[2] * a[2] + (a[1] * a[2]).abs() + a[1] * a[1];
+                    all([
+                        rel("v̇", wd[1], 0.5 * a[2] * a[2], scale),
+                        rel("ϑ̈", wd[2], -a[1] * a[2], scale),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "Constrained::project_velocities",
+            &[0.4, 0.9, 0.3, -0.6],
+            &[],
+            |a| {
+                let s = sleigh();
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let qd = SVector::from([a[1], a[2], a[3]]);
+                judge(
+                    Constrained::new(s, s).project_velocities(0.0, &q, &qd),
+                    fin(a),
+                    |v| {
+                        let lateral = v[1] * a[0].cos() - v[0] * a[0].sin();
+                        near(
+                            "lateral velocity",
+                            lateral,
+                            0.0,
+                            1e-14 * (v.amax() + f64::MIN_POSITIVE),
+                        )
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "Constrained::integrate",
+            &[1.0, 0.0, 0.1],
+            &[(2, 0.3), (2, -0.2)],
+            |a| {
+                // The cone constraint from ẋ = (0.6, 0.8, 1)·scale, from t₀ to t₁.
+                let cone = ConeConstraint::new(-9.81).unwrap();
+                let sys = Constrained::new(cone, cone);
+                let v0 = SVector::from([0.6, 0.8, 1.0]) * a[0];
+                let r = Dop853::new(1e-10, 1e-12).and_then(|m| {
+                    sys.integrate(&m, a[1], SVector::zeros(), v0, a[2], 1e-12, &mut ())
+                });
+                let span = a[2] - a[1];
+                let valid = fin(a) && a[0] > 0.0 && span != 0.0 && a[0] - 4.905 * span > 0.0;
+                judge(r, valid, |rep| {
+                    let want = a[0] - 4.905 * span;
+                    rel("ẋ₃(t₁)", rep.last.p[2], want, a[0] + 4.905 * span.abs())
+                })
+            },
+        );
     }
 }

@@ -31,7 +31,10 @@ const LAYERS: &[(&str, &[&str])] = &[
             "series",
         ],
     ),
-    ("mechanics", &["hamiltonian", "lagrangian", "brackets", "constraints"]),
+    (
+        "mechanics",
+        &["hamiltonian", "lagrangian", "brackets", "constraints"],
+    ),
     ("models", &["systems"]),
     (
         "methods",

@@ -41,7 +41,10 @@ fn run<S: FirstOrderSystem<N>, const N: usize>(
 }
 
 fn close(a: f64, b: f64, tol: f64, what: &str) {
-    assert!((a - b).abs() <= tol, "{what}: {a:.15e} vs {b:.15e} (tol {tol:e})");
+    assert!(
+        (a - b).abs() <= tol,
+        "{what}: {a:.15e} vs {b:.15e} (tol {tol:e})"
+    );
 }
 
 #[test]
@@ -109,7 +112,12 @@ fn t16_reduced_equations_with_forces_and_multiplier_sign() {
     // lateral (n = (−sin ϑ, cos ϑ)) momentum balance m(ÿ cos ϑ − ẍ sin ϑ) + m s ϑ̈ = −λ.
     let (s, c) = th.sin_cos();
     let lateral_acc = m.qddot[1] * c - m.qddot[0] * s;
-    close(2.0 * (lateral_acc + 0.5 * m.qddot[2]), -m.lambda[0], 1e-13, "λ");
+    close(
+        2.0 * (lateral_acc + 0.5 * m.qddot[2]),
+        -m.lambda[0],
+        1e-13,
+        "λ",
+    );
 }
 
 fn cart() -> TwoWheeledCart {
@@ -144,9 +152,19 @@ fn t18_cart_multipliers_against_boltzmann_hamel() {
     close(0.05 * m.qddot[4] + 0.2 * m.lambda[2], 0.0, 1e-13, "λ₃");
     let emb = mult.embedded_accelerations(10.0, &q1, &qd1).unwrap();
     let g = GibbsAppell::new(cart, cart)
-        .quasi_accelerations(10.0, &q1, &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap())
+        .quasi_accelerations(
+            10.0,
+            &q1,
+            &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap(),
+        )
         .unwrap();
-    let b = bh.quasi_accelerations(10.0, &q1, &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap()).unwrap();
+    let b = bh
+        .quasi_accelerations(
+            10.0,
+            &q1,
+            &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap(),
+        )
+        .unwrap();
     for i in 0..5 {
         close(emb[i], m.qddot[i], 1e-12, "embedding vs multipliers");
         close(g[i], b[i], 1e-12, "Gibbs–Appell vs Boltzmann–Hamel");
@@ -158,11 +176,23 @@ fn t20_hamel_velocity_parameters() {
     let s = HamelVelocityParameters;
     let c = 1.3;
     let bh = BoltzmannHamel::new(s, s);
-    let (_, w) = run(&bh, 0.0, SVector::from([0.4, -0.2]), SVector::from([c, 0.0]), 3.0);
+    let (_, w) = run(
+        &bh,
+        0.0,
+        SVector::from([0.4, -0.2]),
+        SVector::from([c, 0.0]),
+        3.0,
+    );
     close(w[0], 0.0526074146611510, 1e-10, "ω₁");
     close(w[1], -1.29893512537104, 1e-10, "ω₂");
     let ga = GibbsAppell::new(s, s);
-    let (_, w2) = run(&ga, 0.0, SVector::from([0.4, -0.2]), SVector::from([c, 0.0]), 3.0);
+    let (_, w2) = run(
+        &ga,
+        0.0,
+        SVector::from([0.4, -0.2]),
+        SVector::from([c, 0.0]),
+        3.0,
+    );
     close(w2[0], w[0], 1e-10, "Gibbs–Appell ω₁");
     close(w2[1], w[1], 1e-10, "Gibbs–Appell ω₂");
     // Lagrange's equations in q (Hamiltonian form by the Legendre transform), q̇(0) = B ω(0).
@@ -208,14 +238,23 @@ fn t19_gearing_and_the_substitution_trap() {
     // Boltzmann–Hamel with time adjoined.
     let gt = GearingInTime(g);
     let bh = BoltzmannHamel::new(gt, gt);
-    let (q, w) = run(&bh, 0.0, SVector::zeros(), SVector::from([0.0, 1.0, 1.0]), 1.0);
+    let (q, w) = run(
+        &bh,
+        0.0,
+        SVector::zeros(),
+        SVector::from([0.0, 1.0, 1.0]),
+        1.0,
+    );
     close(w[1], want, 1e-10, "Boltzmann–Hamel");
     close(q[2], 1.0, 1e-12, "time coordinate");
     // The substituted T* is refused for this non-integrable (rheonomic) constraint, with the reason.
     let samples = [SVector::from([0.0, 0.0, 0.5])];
     match BoltzmannHamel::from_substituted(Substituted, gt, &samples) {
         Err(Error::InvalidInput { reason, .. }) => {
-            assert!(reason.contains("not integrable") && reason.contains("β_0^{21}"), "{reason}")
+            assert!(
+                reason.contains("not integrable") && reason.contains("β_0^{21}"),
+                "{reason}"
+            )
         }
         other => panic!("{other:?}"),
     }
@@ -236,14 +275,14 @@ fn t21_cone_constraint_multiplier_gauss_and_vertex() {
     let q0 = SVector::zeros();
     let m = sys.multiplier_accelerations(0.0, &q0, &v0).unwrap();
     let want = [-2.943, -3.924, -4.905];
-    for i in 0..3 {
-        close(m.qddot[i], want[i], 1e-13, "ẍ(0)");
+    for (i, w) in want.iter().enumerate() {
+        close(m.qddot[i], *w, 1e-13, "ẍ(0)");
     }
     close(m.lambda[0], k / 4.0, 1e-14, "λ = K/(4ẋ₃) (crate sign)");
     // Gauss's principle minimised by argmin agrees, and its minimum is Z = ½|ẍ − F|².
     let g = gauss_accelerations(&sys, 0.0, &q0, &v0).unwrap();
-    for i in 0..3 {
-        close(g.qddot[i], want[i], 1e-12, "Gauss ẍ(0)");
+    for (i, w) in want.iter().enumerate() {
+        close(g.qddot[i], *w, 1e-12, "Gauss ẍ(0)");
     }
     let z = 0.5 * (2.943f64.powi(2) + 3.924f64.powi(2) + (-4.905f64 - k).powi(2));
     close(g.z, z, 1e-12, "Z");
@@ -264,13 +303,18 @@ fn t21_cone_constraint_multiplier_gauss_and_vertex() {
         Error::RankDeficient { rows, t, what, .. } => {
             assert_eq!(rows, vec![0]);
             assert!(what.contains("∂g/∂q̇"), "{what}");
-            println!("T21 stop at t = {t:.15} (t* = {tstar:.15}, error {:e})", t - tstar);
+            println!(
+                "T21 stop at t = {t:.15} (t* = {tstar:.15}, error {:e})",
+                t - tstar
+            );
             close(t, tstar, 1e-9, "stop time");
         }
         e => panic!("{e:?}"),
     }
     // Before the vertex the run completes.
-    assert!(sys.integrate(&dop(), 0.0, q0, v0, 0.2, 1e-12, &mut ()).is_ok());
+    assert!(sys
+        .integrate(&dop(), 0.0, q0, v0, 0.2, 1e-12, &mut ())
+        .is_ok());
 }
 
 #[test]
@@ -279,7 +323,9 @@ fn inadmissible_velocities_are_refused_with_the_residual_or_projected() {
     let sys = Constrained::new(cart, cart);
     let q0 = SVector::from([0.0, 0.0, 0.3, 0.0, 0.0]);
     let bad = SVector::from([0.5, 0.1, 0.2, 2.0, 3.0]);
-    let err = sys.integrate(&dop(), 0.0, q0, bad, 1.0, 1e-12, &mut ()).unwrap_err();
+    let err = sys
+        .integrate(&dop(), 0.0, q0, bad, 1.0, 1e-12, &mut ())
+        .unwrap_err();
     let (b, _) = cart.forms(0.0, &q0);
     let g = b * bad;
     match err {
@@ -292,17 +338,31 @@ fn inadmissible_velocities_are_refused_with_the_residual_or_projected() {
     }
     let fixed = sys.project_velocities(0.0, &q0, &bad).unwrap();
     assert!((b * fixed).amax() < 1e-14);
-    assert!(sys.integrate(&dop(), 0.0, q0, fixed, 0.1, 1e-12, &mut ()).is_ok());
+    assert!(sys
+        .integrate(&dop(), 0.0, q0, fixed, 0.1, 1e-12, &mut ())
+        .is_ok());
     // The least-kinetic-energy correction: a-orthogonal to every admissible velocity.
     let a = cart.mass_matrix(0.0, &q0, &fixed).unwrap();
     let admissible = SVector::from([0.3f64.cos(), 0.3f64.sin(), 0.0, 5.0, 5.0]);
     assert!((b * admissible).amax() < 1e-15);
-    close(((fixed - bad).transpose() * a * admissible)[0], 0.0, 1e-13, "orthogonality");
+    close(
+        ((fixed - bad).transpose() * a * admissible)[0],
+        0.0,
+        1e-13,
+        "orthogonality",
+    );
     // Non-linear constraint (T21): projection by Newton.
     let cone = ConeConstraint::new(-9.81).unwrap();
     let cs = Constrained::new(cone, cone);
-    let v = cs.project_velocities(0.0, &SVector::zeros(), &SVector::from([0.6, 0.8, 1.2])).unwrap();
-    close(v[2] * v[2] - v[0] * v[0] - v[1] * v[1], 0.0, 1e-14, "cone residual");
+    let v = cs
+        .project_velocities(0.0, &SVector::zeros(), &SVector::from([0.6, 0.8, 1.2]))
+        .unwrap();
+    close(
+        v[2] * v[2] - v[0] * v[0] - v[1] * v[1],
+        0.0,
+        1e-14,
+        "cone residual",
+    );
 }
 
 /// `L = ½ẋ²` in `(x, y)`: the mass matrix is singular (no `ẏ` term).
@@ -310,14 +370,26 @@ fn inadmissible_velocities_are_refused_with_the_residual_or_projected() {
 struct Degenerate;
 
 impl Lagrangian<2> for Degenerate {
-    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 2>,
+        v: &SVector<D, 2>,
+    ) -> D {
         v[0] * v[0] * 0.5
     }
 }
 
 impl PfaffianConstraints<2, 1> for Degenerate {
-    fn forms<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> (SMatrix<D, 1, 2>, SVector<D, 1>) {
-        (SMatrix::from_row_slice(&[q[0], D::one()]), SVector::from([D::zero()]))
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+    ) -> (SMatrix<D, 1, 2>, SVector<D, 1>) {
+        (
+            SMatrix::from_row_slice(&[q[0], D::one()]),
+            SVector::from([D::zero()]),
+        )
     }
 }
 
@@ -325,7 +397,11 @@ impl PfaffianConstraints<2, 1> for Degenerate {
 fn singular_mass_matrix_names_the_configuration() {
     let sys = Constrained::new(Degenerate, Degenerate);
     let err = sys
-        .multiplier_accelerations(0.0, &SVector::from([0.25, 1.5]), &SVector::from([1.0, -0.25]))
+        .multiplier_accelerations(
+            0.0,
+            &SVector::from([0.25, 1.5]),
+            &SVector::from([1.0, -0.25]),
+        )
         .unwrap_err();
     match err {
         Error::Singular { what, at, .. } => {
@@ -352,9 +428,17 @@ impl Observer<5> for MaxLean {
 #[test]
 fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
     let disk = RollingDisk::disk(1.0, 1.0, 9.81).unwrap();
-    close(disk.critical_speed().unwrap(), 1.80831413200251, 1e-13, "v_c disk");
     close(
-        RollingDisk::hoop(1.0, 1.0, 9.81).unwrap().critical_speed().unwrap(),
+        disk.critical_speed().unwrap(),
+        1.80831413200251,
+        1e-13,
+        "v_c disk",
+    );
+    close(
+        RollingDisk::hoop(1.0, 1.0, 9.81)
+            .unwrap()
+            .critical_speed()
+            .unwrap(),
         1.56604597633658,
         1e-13,
         "v_c hoop",
@@ -366,7 +450,15 @@ fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
         let qd0 = SVector::from([v, 0.0, 0.0, 0.0, v]);
         let mut obs = MaxLean(0.0);
         let r = mult
-            .integrate(&Dop853::new(1e-10, 1e-12).unwrap(), 0.0, q0, qd0, 10.0, 1e-14, &mut obs)
+            .integrate(
+                &Dop853::new(1e-10, 1e-12).unwrap(),
+                0.0,
+                q0,
+                qd0,
+                10.0,
+                1e-14,
+                &mut obs,
+            )
             .unwrap();
         close(obs.0, max_lean, 5e-4, "max |ψ|");
         let e0 = disk.energy(&q0, &qd0).unwrap();

@@ -35,6 +35,9 @@ pub const FROBENIUS_TOLERANCE: f64 = 1e-9;
 /// constraints, since each level adds at least one direction until the closure is reached.
 pub const MAX_BRACKET_DEPTH: usize = 4;
 
+/// A residual of the single-form test and its triple of variables `(α, β, γ)`.
+pub type TripleResidual = ((usize, usize, usize), f64);
+
 /// The integrable combinations of a set of Pfaffian constraints at a configuration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Integrability {
@@ -201,7 +204,10 @@ fn grow<'a, B: Fields, F: Fields>(
             }
             level.pairs = vec![(a, b)];
             let (p, q) = level.terms::<f64>(0, y0).ok_or_else(|| {
-                Error::invalid("Pfaffian constraints", "singular where the test is evaluated")
+                Error::invalid(
+                    "Pfaffian constraints",
+                    "singular where the test is evaluated",
+                )
             })?;
             let v = &p - &q;
             all_finite("Lie bracket of constrained fields", v.as_slice())?;
@@ -236,7 +242,7 @@ fn pivot_columns(a: &DMatrix<f64>) -> std::result::Result<Vec<usize>, Vec<usize>
                 }
             }
         }
-        if !(best.0 > super::RANK_TOLERANCE) {
+        if best.0.is_nan() || best.0 <= super::RANK_TOLERANCE {
             return Err(rows[step..].to_vec());
         }
         rows.swap(step, best.1);
@@ -296,7 +302,10 @@ where
     let mut span = Vec::new();
     for i in 0..base.len() {
         let v = base.eval::<f64>(i, &y0).ok_or_else(|| {
-            Error::invalid("Pfaffian constraints", "singular where the test is evaluated")
+            Error::invalid(
+                "Pfaffian constraints",
+                "singular where the test is evaluated",
+            )
         })?;
         all_finite("constrained field", v.as_slice())?;
         extend_span(&mut span, &v, v.norm(), FROBENIUS_TOLERANCE);
@@ -354,10 +363,11 @@ where
     for &k in order.iter().take(count) {
         let ch = u.column(k);
         let form = a_hat.transpose() * ch;
-        let (imax, _) = form
-            .iter()
-            .enumerate()
-            .fold((0, 0.0), |b, (i, v)| if v.abs() > b.1 { (i, v.abs()) } else { b });
+        let (imax, _) =
+            form.iter().enumerate().fold(
+                (0, 0.0),
+                |b, (i, v)| if v.abs() > b.1 { (i, v.abs()) } else { b },
+            );
         let s = form[imax];
         forms.push(form.iter().map(|v| v / s).collect());
         combinations.push((0..K).map(|i| ch[i] / norms[i] / s).collect());
@@ -385,7 +395,7 @@ pub fn form_integrability_residuals<P, const N: usize, const K: usize>(
     row: usize,
     t: f64,
     q: &SVector<f64, N>,
-) -> Result<Vec<((usize, usize, usize), f64)>>
+) -> Result<Vec<TripleResidual>>
 where
     P: PfaffianConstraints<N, K> + ?Sized,
 {
@@ -437,13 +447,18 @@ where
     P: PfaffianConstraints<N, K> + ?Sized,
 {
     if samples.is_empty() {
-        return Err(Error::invalid("samples", "at least one configuration is needed"));
+        return Err(Error::invalid(
+            "samples",
+            "at least one configuration is needed",
+        ));
     }
     let (mut catastatic, mut scleronomic, mut integrable) = (true, true, K);
     for (t, q) in samples {
         let y0 = check_point(*t, q)?;
         let a = form_matrix(c, &y0);
-        let yt = DVector::from_fn(N + 1, |i, _| Dual64::new(y0[i], if i == N { 1.0 } else { 0.0 }));
+        let yt = DVector::from_fn(N + 1, |i, _| {
+            Dual64::new(y0[i], if i == N { 1.0 } else { 0.0 })
+        });
         let at = form_matrix(c, &yt);
         for r in 0..K {
             let n = a.row(r).norm();

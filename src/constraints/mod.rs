@@ -19,8 +19,8 @@ pub mod frobenius;
 pub mod quasi;
 
 pub use frobenius::{
-    classify, form_integrability_residuals, integrable_combinations, Classification,
-    Integrability, FROBENIUS_TOLERANCE,
+    classify, form_integrability_residuals, integrable_combinations, Classification, Integrability,
+    FROBENIUS_TOLERANCE,
 };
 pub use quasi::{hamel_coefficients, HamelCoefficients, QuasiVelocities};
 
@@ -60,9 +60,7 @@ pub trait VelocityConstraints<const N: usize, const K: usize> {
     ) -> SVector<D, K>;
 }
 
-impl<P: PfaffianConstraints<N, K>, const N: usize, const K: usize> VelocityConstraints<N, K>
-    for P
-{
+impl<P: PfaffianConstraints<N, K>, const N: usize, const K: usize> VelocityConstraints<N, K> for P {
     fn velocity_constraint<D: DualNum<f64> + Copy>(
         &self,
         t: D,
@@ -140,7 +138,7 @@ pub fn dependent_rows<const K: usize, const N: usize>(
         let n = v.norm();
         // Entries below MIN_POSITIVE/ε carry less than full precision (subnormal range).
         let tiny = row.amax() < f64::MIN_POSITIVE / f64::EPSILON;
-        if !(n > tol * reference) || n == 0.0 || tiny {
+        if n.is_nan() || n <= tol * reference || n == 0.0 || tiny {
             dependent.push(i);
         } else {
             basis.push(v / n);

@@ -58,7 +58,10 @@ pub fn hamel_coefficients<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
         SVector::from_fn(|i, _| GradDual::variable(q[i], i));
     let bd = quasi.matrix(&qd);
     let b = bd.map(|x| *x.value());
-    all_finite(format!("quasi-velocity matrix b at q = {q:?}"), b.as_slice())?;
+    all_finite(
+        format!("quasi-velocity matrix b at q = {q:?}"),
+        b.as_slice(),
+    )?;
     for x in bd.iter() {
         all_finite(format!("∂b/∂q at q = {q:?}"), x.eps().as_slice())?;
     }

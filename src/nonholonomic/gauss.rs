@@ -68,9 +68,13 @@ where
     C: VelocityConstraints<N, K>,
 {
     let jet = velocity_jet(&system.constraints, t, q, qdot)?;
-    check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || at(q, qdot))?;
+    check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || {
+        at(q, qdot)
+    })?;
     let (a, f) = lagrange_terms(&system.lagrangian, t, q, qdot)?;
-    let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || format!("t = {t}, {}", at(q, qdot)))?;
+    let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
+        format!("t = {t}, {}", at(q, qdot))
+    })?;
     // Full SVD of G padded to N × N: the last N − K right singular vectors span ker G.
     let g = DMatrix::from_fn(N, N, |i, j| if i < K { jet.gradient[(i, j)] } else { 0.0 });
     let svd = g.clone().svd(true, true);

@@ -2,11 +2,11 @@
 //! (M41–M42), from `L = T − V` and the quasi-velocity matrix `b(q)` ([`QuasiVelocities`]).
 //!
 //! * Boltzmann–Hamel [Hamel art. 235 (II), 237], ρ = m+1 … n:
-//!   $$ \frac{dP_\rho}{dt} + \sum_{\mu}\sum_{\tau>m}\beta_\mu^{\tau\rho}P_\mu\omega_\tau
-//!      - \frac{\partial T}{\partial\vartheta_\rho} = K_\rho,\qquad
-//!      P_\mu = \frac{\partial T(q,\omega)}{\partial\omega_\mu},\quad
-//!      \frac{\partial T}{\partial\vartheta_\rho} = \sum_\nu \frac{\partial T}{\partial q_\nu}B_{\nu\rho},\quad
-//!      K_\rho = \sum_\nu Q_\nu B_{\nu\rho}, $$
+//!   $$ \frac{dP_\rho}{dt} + \sum_{\mu}\sum_{\tau>m}\beta_\mu^{\tau\rho}P_\mu\omega_\tau -
+//!   \frac{\partial T}{\partial\vartheta_\rho} = K_\rho,\qquad
+//!   P_\mu = \frac{\partial T(q,\omega)}{\partial\omega_\mu},\quad
+//!   \frac{\partial T}{\partial\vartheta_\rho} = \sum_\nu \frac{\partial T}{\partial q_\nu}B_{\nu\rho},\quad
+//!   K_\rho = \sum_\nu Q_\nu B_{\nu\rho}, $$
 //!   with `T(q, ω) = T(q, B(q)ω)` formed in **all** ω before the constrained ones are set to zero
 //!   (Hamel's rule, art. 237); the potential enters through `L` in place of `T`.
 //! * Gibbs–Appell [Ardema 14.2–14.3, eqs. 14.17–14.19]: the actual quasi-accelerations minimise
@@ -47,7 +47,9 @@ fn layout<Q: QuasiVelocities<N> + ?Sized, const N: usize>(quasi: &Q) -> Result<V
     if m > N || time.is_some_and(|k| k < m || k >= N) {
         return Err(Error::invalid(
             "quasi-velocities",
-            format!("{m} constrained of {N}, time coordinate {time:?}: need m ≤ N and m ≤ time < N"),
+            format!(
+                "{m} constrained of {N}, time coordinate {time:?}: need m ≤ N and m ≤ time < N"
+            ),
         ));
     }
     Ok((m..N).filter(|&i| Some(i) != time).collect())
@@ -120,8 +122,10 @@ pub fn quasi_velocities<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
     let m = quasi.constrained();
     let bad = (0..m).any(|mu| {
         let terms: f64 = (0..N).map(|nu| (b[(mu, nu)] * qdot[nu]).abs()).sum();
-        !(w[mu].abs() <= tol * (1.0 + terms))
-    }) || quasi.time_coordinate().is_some_and(|k| !((w[k] - 1.0).abs() <= tol));
+        w[mu].abs().is_nan() || w[mu].abs() > tol * (1.0 + terms)
+    }) || quasi
+        .time_coordinate()
+        .is_some_and(|k| (w[k] - 1.0).abs().is_nan() || (w[k] - 1.0).abs() > tol);
     if bad {
         return Err(Error::ConstraintViolated {
             what: format!("velocities q̇ = {qdot:?} at q = {q:?} (constrained quasi-velocities)"),
@@ -165,7 +169,10 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
     pub fn from_substituted(t_star: L, quasi: Q, samples: &[SVector<f64, N>]) -> Result<Self> {
         let free = layout(&quasi)?;
         if samples.is_empty() {
-            return Err(Error::invalid("samples", "at least one configuration is needed"));
+            return Err(Error::invalid(
+                "samples",
+                "at least one configuration is needed",
+            ));
         }
         let mut cols = free.clone();
         cols.extend(quasi.time_coordinate());
@@ -227,7 +234,8 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
         let (_, _, pt) = phase_gradient(
             |a, b| {
                 let bb = inverse_matrix(&self.quasi, a);
-                self.lagrangian.lagrangian(PhaseDual::from_re(td), a, &(bb * b))
+                self.lagrangian
+                    .lagrangian(PhaseDual::from_re(td), a, &(bb * b))
             },
             &lift::<Dual64, N>(q),
             &lift::<Dual64, N>(&w),
@@ -246,10 +254,17 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
             }
             rhs[rho] -= gyro;
         }
-        all_finite(format!("Boltzmann–Hamel terms at t = {t}, q = {q:?}, ω = {w:?}"), rhs.as_slice())?;
-        solve_free(&hess.pp, &rhs, &free, "free block of ∂²T/∂ω²", || {
-            format!("t = {t}, q = {q:?}, ω = {w:?}")
-        })
+        all_finite(
+            format!("Boltzmann–Hamel terms at t = {t}, q = {q:?}, ω = {w:?}"),
+            rhs.as_slice(),
+        )?;
+        solve_free(
+            &hess.pp,
+            &rhs,
+            &free,
+            "free block of ∂²T/∂ω²",
+            || format!("t = {t}, q = {q:?}, ω = {w:?}"),
+        )
     }
 }
 

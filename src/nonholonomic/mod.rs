@@ -5,8 +5,8 @@
 //! * Lagrange's equations with multipliers (SPEC M16, crate sign §0.3), for constraints linear or
 //!   non-linear in the velocities (Appell–Chetaev rule, M67):
 //!   $$ \frac{d}{dt}\frac{\partial L}{\partial\dot q} - \frac{\partial L}{\partial q}
-//!      = Q - G^{\mathsf T}\lambda,\qquad G = \frac{\partial g}{\partial\dot q},\qquad
-//!      G\ddot q + \frac{\partial g}{\partial q}\dot q + \frac{\partial g}{\partial t} = 0 , $$
+//!   = Q - G^{\mathsf T}\lambda,\qquad G = \frac{\partial g}{\partial\dot q},\qquad
+//!   G\ddot q + \frac{\partial g}{\partial q}\dot q + \frac{\partial g}{\partial t} = 0 , $$
 //!   the multipliers returned with the accelerations ([`Constrained::multiplier_accelerations`])
 //!   [Ardema 6.3, eq. 6.29; Hamel art. 228 (I), 247–248].
 //! * Embedding by the null space of `G` (M19) [Ardema 6.6, eqs. 6.42–6.45]
@@ -28,7 +28,9 @@ use crate::constraints::{
     check_rank, check_velocities, dependent_rows, velocity_jet, VelocityConstraints, VelocityJet,
 };
 use crate::error::{Error, Result};
-use crate::integrate::{integrate, Control, FirstOrderSystem, Method, Observer, Problem, Report, StepView};
+use crate::integrate::{
+    integrate, Control, FirstOrderSystem, Method, Observer, Problem, Report, StepView,
+};
 use crate::lagrangian::Lagrangian;
 use crate::phase::{checked_inverse, State};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -65,7 +67,10 @@ pub(crate) fn lagrange_terms<L: Lagrangian<N> + ?Sized, const N: usize>(
 ) -> Result<(SMatrix<f64, N, N>, SVector<f64, N>)> {
     let (lq, h, lvt) = l.second_order_terms(t, q, qdot)?;
     let f = lq - h.pq * qdot - lvt + l.total_force(t, q, qdot);
-    crate::error::all_finite(format!("generalized forces at t = {t}, q = {q:?}"), f.as_slice())?;
+    crate::error::all_finite(
+        format!("generalized forces at t = {t}, q = {q:?}"),
+        f.as_slice(),
+    )?;
     Ok((h.pp, f))
 }
 
@@ -91,7 +96,12 @@ where
     ///
     /// # Errors
     /// NaN/∞ in the input or the values.
-    pub fn jet(&self, t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<VelocityJet<N, K>> {
+    pub fn jet(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<VelocityJet<N, K>> {
         velocity_jet(&self.constraints, t, q, qdot)
     }
 
@@ -113,9 +123,13 @@ where
         let g = &jet.gradient;
         check_rank(g, "constraint matrix ∂g/∂q̇", t, || at(q, qdot))?;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
-        let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || format!("t = {t}, {}", at(q, qdot)))?;
+        let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
+            format!("t = {t}, {}", at(q, qdot))
+        })?;
         let s = g * ainv * g.transpose();
-        let sinv = checked_inverse(&s, "G a⁻¹ Gᵀ (G = ∂g/∂q̇)", || format!("t = {t}, {}", at(q, qdot)))?;
+        let sinv = checked_inverse(&s, "G a⁻¹ Gᵀ (G = ∂g/∂q̇)", || {
+            format!("t = {t}, {}", at(q, qdot))
+        })?;
         let lambda = sinv * (g * ainv * f + jet.rate);
         let constraint_force = -(g.transpose() * lambda);
         let qddot = ainv * (f + constraint_force);
@@ -232,9 +246,13 @@ where
             if last <= 4.0 * f64::EPSILON * scale {
                 return Ok(v);
             }
-            check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || at(q, &v))?;
+            check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || {
+                at(q, &v)
+            })?;
             let (a, _) = lagrange_terms(&self.lagrangian, t, q, &v)?;
-            let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || format!("t = {t}, {}", at(q, &v)))?;
+            let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
+                format!("t = {t}, {}", at(q, &v))
+            })?;
             let g = &jet.gradient;
             let s = checked_inverse(&(g * ainv * g.transpose()), "G a⁻¹ Gᵀ", || {
                 format!("t = {t}, {}", at(q, &v))
@@ -349,7 +367,6 @@ impl<'a, C: VelocityConstraints<N, K>, const N: usize, const K: usize> RankMonit
         }
     }
 
-
     fn sigma(&self, s: &State<N>) -> Option<(f64, SMatrix<f64, K, N>)> {
         let jet = velocity_jet(self.constraints, s.t, &s.q, &s.p).ok()?;
         let g = jet.gradient;
@@ -367,9 +384,9 @@ impl<C: VelocityConstraints<N, K>, const N: usize, const K: usize> Observer<N>
         let (t0, t1) = (step.prev.t, step.next.t);
         let at_t = |t: f64| {
             if t == t0 {
-                step.prev.clone()
+                *step.prev
             } else if t == t1 {
-                step.next.clone()
+                *step.next
             } else {
                 step.dense.at(t)
             }
@@ -386,7 +403,10 @@ impl<C: VelocityConstraints<N, K>, const N: usize, const K: usize> Observer<N>
         let (imin, _) = samples
             .iter()
             .enumerate()
-            .fold((0, f64::INFINITY), |b, (i, x)| if x.1 < b.1 { (i, x.1) } else { b });
+            .fold(
+                (0, f64::INFINITY),
+                |b, (i, x)| if x.1 < b.1 { (i, x.1) } else { b },
+            );
         let (mut tmin, mut smin) = (samples[imin].0, samples[imin].1);
         if imin > 0 && imin < 6 && smin < 0.5 * top {
             // Golden-section search on the bracket around the smallest sample.
@@ -419,12 +439,13 @@ impl<C: VelocityConstraints<N, K>, const N: usize, const K: usize> Observer<N>
                 (tmin, smin) = (tm, sm);
             }
         }
-        if !(smin <= RANK_LOSS_TOLERANCE * top) {
+        if smin.is_nan() || smin > RANK_LOSS_TOLERANCE * top {
             return Control::Continue;
         }
         let state = at_t(tmin);
         let g0 = samples[0].2;
-        let scale: [f64; K] = std::array::from_fn(|r| g0.row(r).norm().max(samples[6].2.row(r).norm()));
+        let scale: [f64; K] =
+            std::array::from_fn(|r| g0.row(r).norm().max(samples[6].2.row(r).norm()));
         let g = self.sigma(&state).map(|x| x.1).unwrap_or(g0);
         let mut rows = dependent_rows(&g, Some(&scale), RANK_LOSS_TOLERANCE);
         if rows.is_empty() {

@@ -1,6 +1,6 @@
+use crate::constraints::VelocityConstraints;
 #[cfg(doc)]
 use crate::error::Error;
-use crate::constraints::VelocityConstraints;
 use crate::error::{finite, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::SVector;
@@ -41,7 +41,7 @@ impl ConeConstraint {
         let t = finite("t", t)?;
         let v3 = crate::error::positive("ẋ₃(0)", v0[2])?;
         let w3 = v3 + 0.5 * self.k * t;
-        if !(w3 > 0.0) {
+        if w3.is_nan() || w3 <= 0.0 {
             return Err(crate::error::Error::out_of_domain(
                 "t",
                 t,
@@ -57,7 +57,12 @@ impl ConeConstraint {
 }
 
 impl Lagrangian<3> for ConeConstraint {
-    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, 3>, v: &SVector<D, 3>) -> D {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        v: &SVector<D, 3>,
+    ) -> D {
         (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
     }
     fn generalized_force<D: DualNum<f64> + Copy>(

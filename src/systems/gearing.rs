@@ -1,6 +1,6 @@
+use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 #[cfg(doc)]
 use crate::error::Error;
-use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 use crate::error::{finite, positive, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::{SMatrix, SVector};
@@ -60,7 +60,12 @@ impl Gearing {
 }
 
 impl Lagrangian<2> for Gearing {
-    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, _q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 2>,
+        v: &SVector<D, 2>,
+    ) -> D {
         v[0] * v[0] * (0.5 * self.i1) + v[1] * v[1] * (0.5 * self.i2)
     }
     fn generalized_force<D: DualNum<f64> + Copy>(
@@ -74,7 +79,11 @@ impl Lagrangian<2> for Gearing {
 }
 
 impl PfaffianConstraints<2, 1> for Gearing {
-    fn forms<D: DualNum<f64> + Copy>(&self, t: D, _q: &SVector<D, 2>) -> (SMatrix<D, 1, 2>, SVector<D, 1>) {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        _q: &SVector<D, 2>,
+    ) -> (SMatrix<D, 1, 2>, SVector<D, 1>) {
         (
             SMatrix::from_row_slice(&[D::one(), -self.ratio(t)]),
             SVector::from([D::zero()]),
@@ -99,7 +108,11 @@ impl Lagrangian<3> for GearingInTime {
         _q: &SVector<D, 3>,
         _v: &SVector<D, 3>,
     ) -> Option<SVector<D, 3>> {
-        Some(SVector::from([D::from(self.0.m1), D::from(self.0.m2), D::zero()]))
+        Some(SVector::from([
+            D::from(self.0.m1),
+            D::from(self.0.m2),
+            D::zero(),
+        ]))
     }
 }
 

@@ -1,6 +1,6 @@
+use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 #[cfg(doc)]
 use crate::error::Error;
-use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 use crate::error::{finite, positive, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::{SMatrix, SVector};
@@ -86,11 +86,12 @@ impl Lagrangian<5> for RollingDisk {
         let (st, ct) = q[2].sin_cos();
         let (sp, cp) = q[3].sin_cos();
         let r = self.r;
-        let trans = v[0] * v[0] + v[1] * v[1] + v[3] * v[3] * (r * r) + sp * sp * v[2] * v[2] * (r * r)
-            - v[0] * v[3] * cp * st * (2.0 * r)
-            + v[1] * v[3] * cp * ct * (2.0 * r)
-            - v[0] * v[2] * sp * ct * (2.0 * r)
-            - v[1] * v[2] * sp * st * (2.0 * r);
+        let trans =
+            v[0] * v[0] + v[1] * v[1] + v[3] * v[3] * (r * r) + sp * sp * v[2] * v[2] * (r * r)
+                - v[0] * v[3] * cp * st * (2.0 * r)
+                + v[1] * v[3] * cp * ct * (2.0 * r)
+                - v[0] * v[2] * sp * ct * (2.0 * r)
+                - v[1] * v[2] * sp * st * (2.0 * r);
         let spin = v[4] - v[2] * sp;
         trans * (0.5 * self.m)
             + (v[3] * v[3] + cp * cp * v[2] * v[2]) * (0.5 * self.a)
@@ -119,11 +120,31 @@ impl QuasiVelocities<5> for RollingDisk {
         let (z, o) = (D::zero(), D::one());
         let r = self.r;
         SMatrix::from_row_slice(&[
-            o, z, z, z, -ct * r, //
-            z, o, z, z, -st * r, //
-            z, z, o, z, z, //
-            z, z, z, o, z, //
-            z, z, z, z, o,
+            o,
+            z,
+            z,
+            z,
+            -ct * r, //
+            z,
+            o,
+            z,
+            z,
+            -st * r, //
+            z,
+            z,
+            o,
+            z,
+            z, //
+            z,
+            z,
+            z,
+            o,
+            z, //
+            z,
+            z,
+            z,
+            z,
+            o,
         ])
     }
 }

@@ -1,6 +1,6 @@
+use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 #[cfg(doc)]
 use crate::error::Error;
-use crate::constraints::{PfaffianConstraints, QuasiVelocities};
 use crate::error::{finite, positive, Error as E, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::{SMatrix, SVector};
