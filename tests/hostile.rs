@@ -2260,6 +2260,12 @@ mod constrained {
     /// Accelerations of the sleigh at `(ϑ, v, ϑ̇)`.
     type Accel = fn(f64, f64, f64) -> Result<SVector<f64, 3>>;
 
+    /// The sleigh at heading `ϑ` moving with speed `v` along it and turning at `ϑ̇`.
+    fn moving(th: f64, v: f64, w: f64) -> (SVector<f64, 3>, SVector<f64, 3>) {
+        let q = SVector::from([0.0, 0.0, th]);
+        (q, SVector::from([v * th.cos(), v * th.sin(), w]))
+    }
+
     fn sleigh() -> ChaplyginSleigh {
         ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap()
     }
@@ -2455,8 +2461,7 @@ mod constrained {
             &[0.4, 0.9, -0.6, 1e-12],
             &[(3, -1.0)],
             |a| {
-                let q = SVector::from([0.0, 0.0, a[0]]);
-                let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
+                let (q, qd) = moving(a[0], a[1], a[2]);
                 judge(
                     quasi_velocities(&sleigh(), &q, &qd, a[3]),
                     fin(a) && a[3] >= 0.0,
@@ -2470,8 +2475,7 @@ mod constrained {
             &[0.4, 0.9, -0.6, 1e-12],
             &[(3, -1.0)],
             |a| {
-                let q = SVector::from([0.0, 0.0, a[0]]);
-                let qd = SVector::from([a[1] * a[0].cos(), a[1] * a[0].sin(), a[2]]);
+                let (q, qd) = moving(a[0], a[1], a[2]);
                 judge(
                     check_velocities(&sleigh(), 0.0, &q, &qd, a[3]),
                     fin(a) && a[3] >= 0.0,
@@ -2491,22 +2495,19 @@ mod constrained {
         let accel: [(&str, Accel); 4] = [
             sl("Constrained::multiplier_accelerations", |th, v, w| {
                 let s = sleigh();
-                let q = SVector::from([0.0, 0.0, th]);
-                let qd = SVector::from([v * th.cos(), v * th.sin(), w]);
+                let (q, qd) = moving(th, v, w);
                 Constrained::new(s, s)
                     .multiplier_accelerations(0.0, &q, &qd)
                     .map(|m| m.qddot)
             }),
             sl("Constrained::embedded_accelerations", |th, v, w| {
                 let s = sleigh();
-                let q = SVector::from([0.0, 0.0, th]);
-                let qd = SVector::from([v * th.cos(), v * th.sin(), w]);
+                let (q, qd) = moving(th, v, w);
                 Constrained::new(s, s).embedded_accelerations(0.0, &q, &qd)
             }),
             sl("gauss_accelerations", |th, v, w| {
                 let s = sleigh();
-                let q = SVector::from([0.0, 0.0, th]);
-                let qd = SVector::from([v * th.cos(), v * th.sin(), w]);
+                let (q, qd) = moving(th, v, w);
                 gauss_accelerations(&Constrained::new(s, s), 0.0, &q, &qd).map(|g| g.qddot)
             }),
             sl("BoltzmannHamel::quasi_accelerations", |th, v, w| {

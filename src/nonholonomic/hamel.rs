@@ -72,6 +72,32 @@ fn admissible<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
     w
 }
 
+/// The checked state and the free indices: NaN/∞ rejected, `ω` made admissible.
+fn prepare<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    t: f64,
+    q: &SVector<f64, N>,
+    w: &SVector<f64, N>,
+) -> Result<(Vec<usize>, SVector<f64, N>)> {
+    finite("t", t)?;
+    all_finite("q", q.as_slice())?;
+    all_finite("ω", w.as_slice())?;
+    Ok((layout(quasi)?, admissible(quasi, w)))
+}
+
+/// The first-order field `(q̇, ω̇) = (B ω, ω̇)` of the transition equations.
+#[allow(clippy::type_complexity)]
+fn transition<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    q: &SVector<f64, N>,
+    w: &SVector<f64, N>,
+    wd: SVector<f64, N>,
+) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+    let b = quasi.matrix(q);
+    let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+    Ok((big_b * admissible(quasi, w), wd))
+}
+
 /// Solve the free block `m ω̇_f = r`; [`Error::Singular`] naming the configuration otherwise.
 fn solve_free<const N: usize>(
     m: &SMatrix<f64, N, N>,
@@ -216,11 +242,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
         q: &SVector<f64, N>,
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        finite("t", t)?;
-        all_finite("q", q.as_slice())?;
-        all_finite("ω", w.as_slice())?;
-        let free = layout(&self.quasi)?;
-        let w = admissible(&self.quasi, w);
+        let (free, w) = prepare(&self.quasi, t, q, w)?;
         let h = hamel_coefficients(&self.quasi, q)?;
         let (_, lq, p, hess) = phase_hessian(
             |a, b| {
@@ -277,10 +299,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N
         q: &SVector<f64, N>,
         w: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
-        let wd = self.quasi_accelerations(t, q, w)?;
-        let b = self.quasi.matrix(q);
-        let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
-        Ok((big_b * admissible(&self.quasi, w), wd))
+        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
     }
 }
 
@@ -315,11 +334,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
         q: &SVector<f64, N>,
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        finite("t", t)?;
-        all_finite("q", q.as_slice())?;
-        all_finite("ω", w.as_slice())?;
-        let free = layout(&self.quasi)?;
-        let w = admissible(&self.quasi, w);
+        let (free, w) = prepare(&self.quasi, t, q, w)?;
         let b = self.quasi.matrix(q);
         all_finite(format!("b at q = {q:?}"), b.as_slice())?;
         let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
@@ -357,9 +372,6 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N
         q: &SVector<f64, N>,
         w: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
-        let wd = self.quasi_accelerations(t, q, w)?;
-        let b = self.quasi.matrix(q);
-        let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
-        Ok((big_b * admissible(&self.quasi, w), wd))
+        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
     }
 }
