@@ -7,14 +7,14 @@
 //! 1e-9 (two integrations' errors plus margin), closed forms to 1e-9, values at a state (no
 //! integration) to 1e-12 relative.
 
-use hamilton_jacobi::constraints::{PfaffianConstraints, QuasiVelocities};
+use hamilton_jacobi::constraints::{AccelerationConstraints, PfaffianConstraints, QuasiVelocities};
 use hamilton_jacobi::integrate::{
     integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, StepView,
 };
 use hamilton_jacobi::nalgebra::{SMatrix, SVector};
 use hamilton_jacobi::nonholonomic::hamel::quasi_velocities;
 use hamilton_jacobi::nonholonomic::{
-    gauss_accelerations, BoltzmannHamel, Constrained, GibbsAppell,
+    gauss_accelerations, gauss_stationary_points, BoltzmannHamel, Constrained, GibbsAppell,
 };
 use hamilton_jacobi::systems::{
     ChaplyginSleigh, ConeConstraint, Gearing, GearingInTime, HamelVelocityParameters, RollingDisk,
@@ -480,4 +480,71 @@ fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
         }
     }
     let _ = QuasiVelocities::<5>::constrained(&disk);
+}
+
+/// Hamel's acceleration constraint `ẍ₃ = ẍ₁ẍ₂` on a free unit-mass point under `(0, 0, K)`.
+#[derive(Clone, Copy, Debug)]
+struct SecondClass(f64);
+
+impl Lagrangian<3> for SecondClass {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        v: &SVector<D, 3>,
+    ) -> D {
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+    }
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        _v: &SVector<D, 3>,
+    ) -> Option<SVector<D, 3>> {
+        Some(SVector::from([D::zero(), D::zero(), D::from(self.0)]))
+    }
+}
+
+impl AccelerationConstraints<3, 1> for SecondClass {
+    fn acceleration_constraint<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        _v: &SVector<D, 3>,
+        a: &SVector<D, 3>,
+    ) -> SVector<D, 1> {
+        SVector::from([a[2] - a[0] * a[1]])
+    }
+}
+
+#[test]
+fn t22_acceleration_constraint_stationary_points() {
+    let (q, v) = (SVector::zeros(), SVector::from([0.3, -0.2, 0.1]));
+    for (k, count, zmin) in [(3.0, 3, 5.0), (-3.0, 3, 5.0), (1.5, 3, 2.0), (0.5, 1, 0.25)] {
+        let s = SecondClass(k);
+        let st = gauss_stationary_points(&s, &s, 0.0, &q, &v).unwrap();
+        assert_eq!(st.points.len(), count, "K = {k}: {st:?}");
+        // Z = ½ Σ(ẍ − X)²: Hamel's Σ(ẍ − X)² is 2Z.
+        close(
+            2.0 * st.points[st.minimizer].z,
+            zmin,
+            1e-12,
+            "least Σ(ẍ − X)²",
+        );
+        let trivial = st.points.iter().find(|p| p.qddot.amax() < 1e-12).unwrap();
+        close(2.0 * trivial.z, k * k, 1e-12, "Σ(ẍ − X)² at ẍ = 0");
+        if count == 3 {
+            let r = (k.abs() - 1.0).sqrt();
+            for p in st.points.iter().filter(|p| p.qddot.amax() > 1e-12) {
+                close(p.qddot[0].abs(), r, 1e-12, "|ẍ₁|");
+                close(
+                    p.qddot[1],
+                    k.signum() * p.qddot[0],
+                    1e-12,
+                    "ẍ₂ = sign(K) ẍ₁",
+                );
+                close(p.qddot[2], k - k.signum(), 1e-12, "ẍ₃");
+            }
+        }
+    }
 }

@@ -12,6 +12,7 @@
 //!   [Ardema 2.3, 2.7, 5.1] (M4).
 //! * Constraints non-linear in the velocities [Hamel art. 247] (M67) and of the second class
 //!   [Hamel art. 252] (M69).
+//! * Quasi-velocities `ω = b(q) q̇` and Hamel's coefficients `β_μ^{τρ}` (M63–M64, [`quasi`]).
 //!
 //! Every derivative comes from automatic differentiation of the one definition.
 

@@ -21,7 +21,9 @@
 pub mod gauss;
 pub mod hamel;
 
-pub use gauss::{gauss_accelerations, GaussMinimum};
+pub use gauss::{
+    gauss_accelerations, gauss_stationary_points, GaussMinimum, Stationary, StationaryPoints,
+};
 pub use hamel::{BoltzmannHamel, GibbsAppell};
 
 use crate::constraints::{
