@@ -269,6 +269,18 @@ where
             residual: f64::NAN,
         }));
     }
+    // Roots that agree to √ε of the start scale are one root (Newton from different starts
+    // lands within rounding of it, and a root at zero has no relative scale of its own).
+    let mut distinct: Vec<Stationary<N>> = Vec::new();
+    for p in points {
+        if !distinct
+            .iter()
+            .any(|d| (d.qddot - p.qddot).amax() <= f64::EPSILON.sqrt() * s)
+        {
+            distinct.push(p);
+        }
+    }
+    let mut points = distinct;
     points.sort_by(|x, y| x.z.total_cmp(&y.z));
     Ok(StationaryPoints {
         points,
