@@ -114,6 +114,36 @@ pub enum Error {
         /// The largest condition number accepted.
         threshold: f64,
     },
+    /// A set of constraints whose matrix (`∂g/∂q̇` of velocity constraints, the coefficients of
+    /// Pfaffian forms) has lost rank: the named rows are linear combinations of the others at the
+    /// configuration `at` (time `t`), so the multipliers are not determined.
+    #[error(
+        "{what} is rank deficient at t = {}, {at}: rows {rows:?} depend on the others (tolerance {tolerance:e})",
+        fmt_num(*.t)
+    )]
+    RankDeficient {
+        /// Which matrix (e.g. `"constraint matrix ∂g/∂q̇"`).
+        what: String,
+        /// The dependent rows (0-based), each a combination of rows not listed.
+        rows: Vec<usize>,
+        /// The time of the configuration.
+        t: f64,
+        /// The configuration, formatted.
+        at: String,
+        /// The relative tolerance of the rank decision.
+        tolerance: f64,
+    },
+    /// A state that violates the constraints it must satisfy (initial velocities of a constrained
+    /// motion); `residual` holds the values `g_r` of the constraints there.
+    #[error("{what} violates the constraints: residual {residual:?} exceeds the tolerance {tolerance:e}")]
+    ConstraintViolated {
+        /// Which state (e.g. `"initial velocities q̇(t₀)"`).
+        what: String,
+        /// The constraint values `g_r` at the state.
+        residual: Vec<f64>,
+        /// The tolerance applied to `max |g_r|` (relative to the scale of the terms of `g`).
+        tolerance: f64,
+    },
     /// An implicit relation with several roots (a multi-sheeted canonical relation) has no root,
     /// or more than one, on the requested sheet.
     #[error(

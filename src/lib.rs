@@ -3,12 +3,14 @@
 
 pub mod ad;
 pub mod brackets;
+pub mod constraints;
 pub mod error;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;
 pub mod integrate;
 pub mod lagrangian;
+pub mod nonholonomic;
 pub mod perturbation;
 pub mod phase;
 /// Figures (lines, markers, dots, panels; linear or logarithmic axes) in SVG, PNG and PDF, with

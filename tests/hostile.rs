@@ -2782,6 +2782,7 @@ fn every_entry_point_survives_hostile_input() {
     add_series(&mut calls);
     add_plots(&mut calls);
     add_rigid_bodies(&mut calls);
+    constrained::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -3060,4 +3061,418 @@ fn add_brouwer(c: &mut Vec<Call>) {
 
 fn wrap_pi(x: f64) -> f64 {
     x - (x / TAU).round() * TAU
+}
+
+// ---------------------------------------------------------------------------------------------
+// Constraints and non-holonomic mechanics.
+
+mod constrained {
+    use super::*;
+    use hamilton_jacobi::constraints::{
+        check_velocities, classify, form_integrability_residuals, hamel_coefficients,
+        integrable_combinations, velocity_jet,
+    };
+    use hamilton_jacobi::nonholonomic::hamel::quasi_velocities;
+    use hamilton_jacobi::nonholonomic::{
+        gauss_accelerations, BoltzmannHamel, Constrained, GibbsAppell,
+    };
+    use hamilton_jacobi::systems::{
+        ChaplyginSleigh, ConeConstraint, Gearing, RollingDisk, TwoWheeledCart,
+    };
+
+    /// Accelerations of the sleigh at `(ϑ, v, ϑ̇)`.
+    type Accel = fn(f64, f64, f64) -> Result<SVector<f64, 3>>;
+
+    /// The sleigh at heading `ϑ` moving with speed `v` along it and turning at `ϑ̇`.
+    fn moving(th: f64, v: f64, w: f64) -> (SVector<f64, 3>, SVector<f64, 3>) {
+        let q = SVector::from([0.0, 0.0, th]);
+        (q, SVector::from([v * th.cos(), v * th.sin(), w]))
+    }
+
+    fn sleigh() -> ChaplyginSleigh {
+        ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap()
+    }
+
+    fn cart() -> TwoWheeledCart {
+        TwoWheeledCart::new(3.0, 0.8, 0.05, 0.8, 0.3, 0.2).unwrap()
+    }
+
+    /// Relative closeness with a scale.
+    fn rel(what: &str, got: f64, want: f64, scale: f64) -> Verdict {
+        near(
+            what,
+            got,
+            want,
+            1e-11 * (scale.abs() + want.abs() + f64::MIN_POSITIVE),
+        )
+    }
+
+    /// The sleigh's force-free reduced equations `v̇ = s ϑ̇²`, `ϑ̈ = −m s v ϑ̇/I_B` (m = 2,
+    /// s = ½, I_B = 1) checked against accelerations in `(x, y, ϑ)`.
+    fn sleigh_check(th: f64, v: f64, w: f64, qdd: &SVector<f64, 3>) -> Verdict {
+        let (s, c) = th.sin_cos();
+        let vdot = qdd[0] * c + qdd[1] * s;
+        // The size of the terms that cancel (T's θ-derivative is of order v²).
+        let scale = w * w + (v * w).abs() + v * v;
+        all([
+            rel("v̇", vdot, 0.5 * w * w, scale),
+            rel("ϑ̈", qdd[2], -v * w, scale),
+        ])
+    }
+
+    /// Hamel's acceleration constraint `ẍ₃ = ẍ₁ẍ₂` on a unit-mass point under `(0, 0, K)`.
+    #[derive(Clone, Copy)]
+    struct SecondClass(f64);
+
+    impl hamilton_jacobi::Lagrangian<3> for SecondClass {
+        fn lagrangian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            _q: &SVector<D, 3>,
+            v: &SVector<D, 3>,
+        ) -> D {
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+        }
+        fn generalized_force<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            _q: &SVector<D, 3>,
+            _v: &SVector<D, 3>,
+        ) -> Option<SVector<D, 3>> {
+            Some(SVector::from([D::zero(), D::zero(), D::from(self.0)]))
+        }
+    }
+
+    impl hamilton_jacobi::constraints::AccelerationConstraints<3, 1> for SecondClass {
+        fn acceleration_constraint<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            _q: &SVector<D, 3>,
+            _v: &SVector<D, 3>,
+            a: &SVector<D, 3>,
+        ) -> SVector<D, 1> {
+            SVector::from([a[2] - a[0] * a[1]])
+        }
+    }
+
+    pub(super) fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "ChaplyginSleigh::new",
+            &[2.0, 0.5, 1.0],
+            &[(2, 0.5), (0, -1.0)],
+            |a| {
+                let valid = fin(a) && a[0] > 0.0 && a[2] > a[0] * a[1] * a[1];
+                judge(ChaplyginSleigh::new(a[0], a[1], a[2]), valid, |_| Good)
+            },
+        );
+        sweep(c, "ChaplyginSleigh::with_forces", &[0.7, -0.2], &[], |a| {
+            judge(sleigh().with_forces(a[0], a[1]), fin(a), |_| Good)
+        });
+        sweep(
+            c,
+            "ChaplyginSleigh::free_motion",
+            &[1.0, 0.5],
+            &[(0, -1.0), (1, -3.0)],
+            |a| {
+                judge(
+                    sleigh().free_motion(a[0], a[1]),
+                    fin(a) && a[0] > 0.0,
+                    |(v, w, _)| {
+                        // Energy m v² + I_B ϑ̇² = m v₀², relative to m v₀² (unscaled for a subnormal v₀,
+                        // where the ratios carry no precision and the squares underflow to zero).
+                        if a[0] < f64::MIN_POSITIVE {
+                            near("energy", 2.0 * v * v + w * w, 2.0 * a[0] * a[0], 0.0)
+                        } else {
+                            let e = (v / a[0]).powi(2) + 0.5 * (w / a[0]).powi(2);
+                            near("energy / (m v₀²)", e, 1.0, 1e-12)
+                        }
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "TwoWheeledCart::new",
+            &[3.0, 0.8, 0.05, 0.8, 0.3, 0.2],
+            &[(2, 0.0), (5, -1.0)],
+            |a| {
+                let valid = fin(a) && [0, 2, 3, 4, 5].iter().all(|&i| a[i] > 0.0);
+                judge(
+                    TwoWheeledCart::new(a[0], a[1], a[2], a[3], a[4], a[5]),
+                    valid,
+                    |_| Good,
+                )
+            },
+        );
+        sweep(
+            c,
+            "TwoWheeledCart::with_forces",
+            &[1.0, 0.5, 0.3],
+            &[],
+            |a| judge(cart().with_forces(a[0], a[1], a[2]), fin(a), |_| Good),
+        );
+        sweep(
+            c,
+            "RollingDisk::disk+critical_speed",
+            &[1.0, 1.0, 9.81],
+            &[(2, -1.0)],
+            |a| {
+                let r = RollingDisk::disk(a[0], a[1], a[2]).and_then(|d| d.critical_speed());
+                judge(r, fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] >= 0.0, |v| {
+                    let want = (a[2] * a[1] / 3.0).sqrt();
+                    near("v_c", v, want, 1e-14 * want + f64::MIN_POSITIVE)
+                })
+            },
+        );
+        sweep(
+            c,
+            "RollingDisk::new",
+            &[1.0, 1.0, 0.25, 0.5, 9.81],
+            &[(3, 0.0)],
+            |a| {
+                let valid = fin(a) && a[..4].iter().all(|&x| x > 0.0);
+                judge(
+                    RollingDisk::new(a[0], a[1], a[2], a[3], a[4]),
+                    valid,
+                    |_| Good,
+                )
+            },
+        );
+        sweep(c, "RollingDisk::energy", &[0.3, 1.5, 0.2], &[], |a| {
+            let d = RollingDisk::hoop(1.0, 1.0, 9.81).unwrap();
+            let q = SVector::from([0.0, 0.0, 0.0, a[0], 0.0]);
+            let qd = SVector::from([a[1], 0.0, a[2], 0.0, a[1]]);
+            judge(d.energy(&q, &qd), fin(a), |e| finite_ok("energy", e))
+        });
+        sweep(c, "Gearing::free_rate", &[1.0, 1.0], &[(1, -0.5)], |a| {
+            let g = Gearing::new(1.0, 1.0, 1.0, 1.0, 0.0, 0.0).unwrap();
+            judge(g.free_rate(a[0], a[1]), fin(a), |w| {
+                // φ̇₂ = φ̇₂(0) √2 / √(f² + 1), f = 1 + t.
+                let want = a[0] * 2f64.sqrt() / (1.0 + a[1]).hypot(1.0);
+                near("φ̇₂", w, want, 1e-14 * want.abs() + 1e-323)
+            })
+        });
+        sweep(
+            c,
+            "ConeConstraint::velocity",
+            &[0.6, 0.8, 1.0, 0.1],
+            &[(3, 0.3), (2, -1.0)],
+            |a| {
+                let cone = ConeConstraint::new(-9.81).unwrap();
+                let v0 = SVector::from([a[0], a[1], a[2]]);
+                let valid = fin(a) && a[2] > 0.0 && a[2] - 4.905 * a[3] > 0.0;
+                judge(cone.velocity(&v0, a[3]), valid, |v| {
+                    rel("ẋ₃", v[2], a[2] - 4.905 * a[3], a[2])
+                })
+            },
+        );
+        sweep(
+            c,
+            "integrable_combinations",
+            &[0.3, 0.1, -0.3, 0.7, 1.2, -0.4],
+            &[],
+            |a| {
+                let q = SVector::from([a[1], a[2], a[3], a[4], a[5]]);
+                judge(integrable_combinations(&cart(), a[0], &q), fin(a), |r| {
+                    if r.count() == 1 && (r.forms[0][3] - 0.2 / 0.6).abs() < 1e-10 {
+                        Good
+                    } else {
+                        Wrong(format!("{r:?}"))
+                    }
+                })
+            },
+        );
+        sweep(c, "classify", &[0.3, 0.1, -0.3, 0.7, 1.2, -0.4], &[], |a| {
+            let q = SVector::from([a[1], a[2], a[3], a[4], a[5]]);
+            judge(classify(&cart(), &[(a[0], q)]), fin(a), |r| {
+                if r.integrable == 1 && r.catastatic && r.scleronomic {
+                    Good
+                } else {
+                    Wrong(format!("{r:?}"))
+                }
+            })
+        });
+        sweep(
+            c,
+            "form_integrability_residuals",
+            &[0.0, 0.3, -0.2, 0.77],
+            &[],
+            |a| {
+                let q = SVector::from([a[1], a[2], a[3]]);
+                judge(
+                    form_integrability_residuals(&sleigh(), 0, a[0], &q),
+                    fin(a),
+                    |r| near("−A·curl A of the knife edge", r[0].1, 1.0, 1e-15),
+                )
+            },
+        );
+        sweep(c, "hamel_coefficients", &[0.3, -0.2, 0.77], &[], |a| {
+            let q = SVector::from([a[0], a[1], a[2]]);
+            judge(hamel_coefficients(&sleigh(), &q), fin(a), |h| {
+                near("β₁^{23}", h.beta[0][(1, 2)], 1.0, 1e-15)
+            })
+        });
+        sweep(
+            c,
+            "quasi_velocities",
+            &[0.4, 0.9, -0.6, 1e-12],
+            &[(3, -1.0)],
+            |a| {
+                let (q, qd) = moving(a[0], a[1], a[2]);
+                judge(
+                    quasi_velocities(&sleigh(), &q, &qd, a[3]),
+                    fin(a) && a[3] >= 0.0,
+                    |w| all([rel("v", w[1], a[1], a[1]), rel("ϑ̇", w[2], a[2], a[2])]),
+                )
+            },
+        );
+        sweep(
+            c,
+            "check_velocities",
+            &[0.4, 0.9, -0.6, 1e-12],
+            &[(3, -1.0)],
+            |a| {
+                let (q, qd) = moving(a[0], a[1], a[2]);
+                judge(
+                    check_velocities(&sleigh(), 0.0, &q, &qd, a[3]),
+                    fin(a) && a[3] >= 0.0,
+                    |_| Good,
+                )
+            },
+        );
+        sweep(c, "velocity_jet", &[0.4, 0.9, -0.6], &[], |a| {
+            let q = SVector::from([0.0, 0.0, a[0]]);
+            let qd = SVector::from([a[1], 0.0, a[2]]);
+            judge(velocity_jet(&sleigh(), 0.0, &q, &qd), fin(a), |j| {
+                // ġ|_q̇ = ∂g/∂ϑ ϑ̇ = −(ẋ cos ϑ + ẏ sin ϑ) ϑ̇.
+                rel("rate", j.rate[0], -a[1] * a[0].cos() * a[2], a[1] * a[2])
+            })
+        });
+        let sl = |name: &'static str, f: fn(f64, f64, f64) -> Result<SVector<f64, 3>>| (name, f);
+        let accel: [(&str, Accel); 4] = [
+            sl("Constrained::multiplier_accelerations", |th, v, w| {
+                let s = sleigh();
+                let (q, qd) = moving(th, v, w);
+                Constrained::new(s, s)
+                    .multiplier_accelerations(0.0, &q, &qd)
+                    .map(|m| m.qddot)
+            }),
+            sl("Constrained::embedded_accelerations", |th, v, w| {
+                let s = sleigh();
+                let (q, qd) = moving(th, v, w);
+                Constrained::new(s, s).embedded_accelerations(0.0, &q, &qd)
+            }),
+            sl("gauss_accelerations", |th, v, w| {
+                let s = sleigh();
+                let (q, qd) = moving(th, v, w);
+                gauss_accelerations(&Constrained::new(s, s), 0.0, &q, &qd).map(|g| g.qddot)
+            }),
+            sl("BoltzmannHamel::quasi_accelerations", |th, v, w| {
+                let s = sleigh();
+                let q = SVector::from([0.0, 0.0, th]);
+                let om = SVector::from([0.0, v, w]);
+                BoltzmannHamel::new(s, s)
+                    .quasi_accelerations(0.0, &q, &om)
+                    .map(|wd| {
+                        // As accelerations in (x, y, ϑ) along the straight direction: v̇ e + …
+                        let (sn, c) = th.sin_cos();
+                        SVector::from([wd[1] * c, wd[1] * sn, wd[2]])
+                    })
+            }),
+        ];
+        for (name, f) in accel {
+            sweep(c, name, &[0.4, 0.9, -0.6], &[], move |a| {
+                judge(f(a[0], a[1], a[2]), fin(a), |qdd| {
+                    sleigh_check(a[0], a[1], a[2], &qdd)
+                })
+            });
+        }
+        sweep(
+            c,
+            "GibbsAppell::quasi_accelerations",
+            &[0.4, 0.9, -0.6],
+            &[],
+            |a| {
+                let s = sleigh();
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let om = SVector::from([0.0, a[1], a[2]]);
+                let r = GibbsAppell::new(s, s).quasi_accelerations(0.0, &q, &om);
+                judge(r, fin(a), |wd| {
+                    let scale = a[2] * a[2] + (a[1] * a[2]).abs() + a[1] * a[1];
+                    all([
+                        rel("v̇", wd[1], 0.5 * a[2] * a[2], scale),
+                        rel("ϑ̈", wd[2], -a[1] * a[2], scale),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "gauss_stationary_points",
+            &[3.0],
+            &[(0, 0.5), (0, -3.0), (0, 1e6)],
+            |a| {
+                let s = SecondClass(a[0]);
+                let (q, v) = (SVector::zeros(), SVector::zeros());
+                let r = hamilton_jacobi::nonholonomic::gauss_stationary_points(&s, &s, 0.0, &q, &v);
+                judge(r, fin(a), |st| {
+                    // The least Σ(ẍ − X)² is min(K², 2|K| − 1) (Hamel art. 252).
+                    let k = a[0].abs();
+                    let want = if k > 1.0 { 2.0 * k - 1.0 } else { k * k };
+                    rel(
+                        "least Σ(ẍ − X)²",
+                        2.0 * st.points[st.minimizer].z,
+                        want,
+                        want,
+                    )
+                })
+            },
+        );
+        sweep(
+            c,
+            "Constrained::project_velocities",
+            &[0.4, 0.9, 0.3, -0.6],
+            &[],
+            |a| {
+                let s = sleigh();
+                let q = SVector::from([0.0, 0.0, a[0]]);
+                let qd = SVector::from([a[1], a[2], a[3]]);
+                judge(
+                    Constrained::new(s, s).project_velocities(0.0, &q, &qd),
+                    fin(a),
+                    |v| {
+                        let lateral = v[1] * a[0].cos() - v[0] * a[0].sin();
+                        near(
+                            "lateral velocity",
+                            lateral,
+                            0.0,
+                            1e-14 * (v.amax() + f64::MIN_POSITIVE),
+                        )
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "Constrained::integrate",
+            &[1.0, 0.0, 0.1],
+            &[(2, 0.3), (2, -0.2)],
+            |a| {
+                // The cone constraint from ẋ = (0.6, 0.8, 1)·scale, from t₀ to t₁.
+                let cone = ConeConstraint::new(-9.81).unwrap();
+                let sys = Constrained::new(cone, cone);
+                let v0 = SVector::from([0.6, 0.8, 1.0]) * a[0];
+                let r = Dop853::new(1e-10, 1e-12).and_then(|m| {
+                    sys.integrate(&m, a[1], SVector::zeros(), v0, a[2], 1e-12, &mut ())
+                });
+                let span = a[2] - a[1];
+                let valid = fin(a) && a[0] > 0.0 && span != 0.0 && a[0] - 4.905 * span > 0.0;
+                judge(r, valid, |rep| {
+                    let want = a[0] - 4.905 * span;
+                    rel("ẋ₃(t₁)", rep.last.p[2], want, a[0] + 4.905 * span.abs())
+                })
+            },
+        );
+    }
 }

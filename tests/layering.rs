@@ -3,9 +3,9 @@
 //!
 //! ```text
 //! core        error, phase, ad, vector_space, implicit, special, series
-//! mechanics   hamiltonian, lagrangian, brackets
+//! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
-//! methods     transform, hamilton_jacobi, integrate, perturbation
+//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -31,11 +31,20 @@ const LAYERS: &[(&str, &[&str])] = &[
             "series",
         ],
     ),
-    ("mechanics", &["hamiltonian", "lagrangian", "brackets"]),
+    (
+        "mechanics",
+        &["hamiltonian", "lagrangian", "brackets", "constraints"],
+    ),
     ("models", &["systems"]),
     (
         "methods",
-        &["transform", "hamilton_jacobi", "integrate", "perturbation"],
+        &[
+            "transform",
+            "hamilton_jacobi",
+            "integrate",
+            "perturbation",
+            "nonholonomic",
+        ],
     ),
     ("harness", &["workprecision"]),
     ("front end", &["plot", "scene", "bin"]),

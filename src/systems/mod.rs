@@ -9,13 +9,22 @@
 //! | [`Projectile`] | 2 | closed form |
 //! | [`BeadOnHoop`] | 1 (Lagrangian) | — (Jacobi integral [Ardema 8.2]) |
 //! | [`FreeRigidBody`] | 3 | Euler–Poinsot: the body angular momentum in Jacobi elliptic functions ([`rigid_body::euler_poinsot`]) [Landau & Lifshitz §37] |
+//! | [`ChaplyginSleigh`] | 3, one non-holonomic constraint | force-free closed form [Hamel art. 238] |
+//! | [`TwoWheeledCart`] | 5, three constraints (one integrable) | — [Hamel art. 239] |
+//! | [`RollingDisk`] | 5, two non-holonomic constraints | — (upright stability threshold) [Hamel art. 244] |
+//! | [`Gearing`], [`GearingInTime`] | 2, one rheonomic constraint | `½(I₁f² + I₂)φ̇₂²` conserved [Hamel art. 240] |
+//! | [`HamelVelocityParameters`] | 2 (holonomic, non-holonomic ω) | `ω₁ = c sech ct`, `ω₂ = −c tanh ct` [Hamel art. 241] |
+//! | [`ConeConstraint`] | 3, constraint non-linear in ẋ | closed form up to the vertex [Hamel art. 249] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
 use nalgebra::SVector;
 
 mod bead;
+mod cart;
 mod central;
+mod cone_constraint;
+mod gearing;
 mod harmonic;
 pub mod henon_heiles;
 pub mod kepler;
@@ -23,17 +32,26 @@ mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
 pub mod rigid_body;
+mod rolling_disk;
+mod sleigh;
 pub mod top;
+mod velocity_parameters;
 
 pub use bead::BeadOnHoop;
+pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
+pub use cone_constraint::ConeConstraint;
+pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use henon_heiles::HenonHeiles;
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
 pub use rigid_body::FreeRigidBody;
+pub use rolling_disk::RollingDisk;
+pub use sleigh::ChaplyginSleigh;
 pub use top::{HeavyTop, SteadyPrecession};
+pub use velocity_parameters::HamelVelocityParameters;
 
 /// A named conserved quantity and its value at a phase point.
 #[derive(Clone, Debug, PartialEq)]

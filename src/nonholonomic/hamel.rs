@@ -1,0 +1,377 @@
+//! Equations of motion in quasi-velocities: Boltzmann–Hamel (SPEC M63–M65) and Gibbs–Appell
+//! (M41–M42), from `L = T − V` and the quasi-velocity matrix `b(q)` ([`QuasiVelocities`]).
+//!
+//! * Boltzmann–Hamel [Hamel art. 235 (II), 237], ρ = m+1 … n:
+//!   $$ \frac{dP_\rho}{dt} + \sum_{\mu}\sum_{\tau>m}\beta_\mu^{\tau\rho}P_\mu\omega_\tau -
+//!   \frac{\partial T}{\partial\vartheta_\rho} = K_\rho,\qquad
+//!   P_\mu = \frac{\partial T(q,\omega)}{\partial\omega_\mu},\quad
+//!   \frac{\partial T}{\partial\vartheta_\rho} = \sum_\nu \frac{\partial T}{\partial q_\nu}B_{\nu\rho},\quad
+//!   K_\rho = \sum_\nu Q_\nu B_{\nu\rho}, $$
+//!   with `T(q, ω) = T(q, B(q)ω)` formed in **all** ω before the constrained ones are set to zero
+//!   (Hamel's rule, art. 237); the potential enters through `L` in place of `T`.
+//! * Gibbs–Appell [Ardema 14.2–14.3, eqs. 14.17–14.19]: the actual quasi-accelerations minimise
+//!   `S − Σ_ν Q_ν q̈_ν` over `ω̇_ρ` (ρ > m), with `q̈ = B ω̇ + Ḃ ω` and the Gibbs function
+//!   `S(q̈) = ½ q̈ᵀ a q̈ + q̈ᵀ(∂²L/∂q̇∂q q̇ + ∂²L/∂q̇∂t − ∂L/∂q)` (the acceleration energy up to
+//!   terms free of `q̈`: `∂S/∂q̈` is the left side of Lagrange's equations); the stationarity
+//!   conditions `∂S/∂ω̇_ρ = K_ρ` by AD.
+//!
+//! Both systems integrate the state `(q, ω)`; the constrained `ω_μ` (μ ≤ m) are held at zero and a
+//! time coordinate (SPEC §0.7) at `ω = 1`.
+
+use super::{at, lagrange_terms};
+use crate::ad::{lift, phase_gradient, phase_hessian, PhaseDual};
+use crate::constraints::{hamel_coefficients, QuasiVelocities};
+use crate::error::{all_finite, finite, Error, Result};
+use crate::integrate::FirstOrderSystem;
+use crate::lagrangian::Lagrangian;
+use crate::phase::checked_inverse;
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use num_dual::linalg::LU;
+use num_dual::{Dual64, DualNum};
+use std::marker::PhantomData;
+
+/// `B(q) = b(q)⁻¹` over any dual type (NaN where `b` is singular; callers check the real `b`).
+fn inverse_matrix<Q: QuasiVelocities<N> + ?Sized, D: DualNum<f64> + Copy, const N: usize>(
+    quasi: &Q,
+    q: &SVector<D, N>,
+) -> SMatrix<D, N, N> {
+    LU::new(quasi.matrix(q))
+        .map(|lu| lu.inverse())
+        .unwrap_or_else(|_| SMatrix::from_element(D::from(f64::NAN)))
+}
+
+/// The indices of the free quasi-velocities and a checked layout.
+fn layout<Q: QuasiVelocities<N> + ?Sized, const N: usize>(quasi: &Q) -> Result<Vec<usize>> {
+    let m = quasi.constrained();
+    let time = quasi.time_coordinate();
+    if m > N || time.is_some_and(|k| k < m || k >= N) {
+        return Err(Error::invalid(
+            "quasi-velocities",
+            format!(
+                "{m} constrained of {N}, time coordinate {time:?}: need m ≤ N and m ≤ time < N"
+            ),
+        ));
+    }
+    Ok((m..N).filter(|&i| Some(i) != time).collect())
+}
+
+/// `ω` with the constrained entries zero and the time entry one.
+fn admissible<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    w: &SVector<f64, N>,
+) -> SVector<f64, N> {
+    let mut w = *w;
+    for i in 0..quasi.constrained().min(N) {
+        w[i] = 0.0;
+    }
+    if let Some(k) = quasi.time_coordinate() {
+        if k < N {
+            w[k] = 1.0;
+        }
+    }
+    w
+}
+
+/// The checked state and the free indices: NaN/∞ rejected, `ω` made admissible.
+fn prepare<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    t: f64,
+    q: &SVector<f64, N>,
+    w: &SVector<f64, N>,
+) -> Result<(Vec<usize>, SVector<f64, N>)> {
+    finite("t", t)?;
+    all_finite("q", q.as_slice())?;
+    all_finite("ω", w.as_slice())?;
+    Ok((layout(quasi)?, admissible(quasi, w)))
+}
+
+/// The first-order field `(q̇, ω̇) = (B ω, ω̇)` of the transition equations.
+#[allow(clippy::type_complexity)]
+fn transition<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    q: &SVector<f64, N>,
+    w: &SVector<f64, N>,
+    wd: SVector<f64, N>,
+) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+    let b = quasi.matrix(q);
+    let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+    Ok((big_b * admissible(quasi, w), wd))
+}
+
+/// Solve the free block `m ω̇_f = r`; [`Error::Singular`] naming the configuration otherwise.
+fn solve_free<const N: usize>(
+    m: &SMatrix<f64, N, N>,
+    r: &SVector<f64, N>,
+    free: &[usize],
+    what: &str,
+    place: impl FnOnce() -> String,
+) -> Result<SVector<f64, N>> {
+    let k = free.len();
+    let mf = DMatrix::from_fn(k, k, |i, j| m[(free[i], free[j])]);
+    let rf = DVector::from_fn(k, |i, _| r[free[i]]);
+    let cond_ok = {
+        let sv = mf.clone().svd(false, false).singular_values;
+        k == 0 || sv.min() > 64.0 * f64::EPSILON * sv.max()
+    };
+    let x = if cond_ok { mf.lu().solve(&rf) } else { None };
+    let x = x.ok_or_else(|| Error::Singular {
+        what: what.to_string(),
+        at: place(),
+        rcond: 0.0,
+    })?;
+    let mut out = SVector::zeros();
+    for (i, &f) in free.iter().enumerate() {
+        out[f] = x[i];
+    }
+    Ok(out)
+}
+
+/// Quasi-velocities of admissible velocities, `ω = b q̇`: [`Error::ConstraintViolated`] (with the
+/// constrained `ω_μ` as the residual) when `|ω_μ| > tol · (1 + Σ_ν |b_μν q̇_ν|)` for some μ ≤ m,
+/// or when a time coordinate's `ω` differs from one by more than `tol`.
+///
+/// # Errors
+/// As described; NaN/∞; a singular `b`.
+pub fn quasi_velocities<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    q: &SVector<f64, N>,
+    qdot: &SVector<f64, N>,
+    tol: f64,
+) -> Result<SVector<f64, N>> {
+    all_finite("q", q.as_slice())?;
+    all_finite("q̇", qdot.as_slice())?;
+    let tol = finite("constraint tolerance", tol)?;
+    layout(quasi)?;
+    let b = quasi.matrix(q);
+    all_finite(format!("b at q = {q:?}"), b.as_slice())?;
+    let w = b * qdot;
+    let m = quasi.constrained();
+    let bad = (0..m).any(|mu| {
+        let terms: f64 = (0..N).map(|nu| (b[(mu, nu)] * qdot[nu]).abs()).sum();
+        w[mu].abs().is_nan() || w[mu].abs() > tol * (1.0 + terms)
+    }) || quasi
+        .time_coordinate()
+        .is_some_and(|k| (w[k] - 1.0).abs().is_nan() || (w[k] - 1.0).abs() > tol);
+    if bad {
+        return Err(Error::ConstraintViolated {
+            what: format!("velocities q̇ = {qdot:?} at q = {q:?} (constrained quasi-velocities)"),
+            residual: w.iter().take(m).copied().collect(),
+            tolerance: tol,
+        });
+    }
+    Ok(admissible(quasi, &w))
+}
+
+/// The Boltzmann–Hamel equations of `L` in the quasi-velocities `Q` (see the [module docs](self)).
+#[derive(Clone, Copy, Debug)]
+pub struct BoltzmannHamel<L, Q, const N: usize> {
+    /// `L = T − V` with its generalized forces.
+    pub lagrangian: L,
+    /// The quasi-velocities; the first `m` are set to zero by the constraints.
+    pub quasi: Q,
+    dims: PhantomData<[(); N]>,
+}
+
+impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, Q, N> {
+    /// The equations of `lagrangian` (the full `T`, not one with the constraints substituted) in
+    /// the quasi-velocities `quasi`.
+    pub fn new(lagrangian: L, quasi: Q) -> Self {
+        Self {
+            lagrangian,
+            quasi,
+            dims: PhantomData,
+        }
+    }
+
+    /// Lagrange's equations of a kinetic energy `T*` into which the constraints were substituted
+    /// before differentiation (SPEC M62, T19). They equal the Boltzmann–Hamel equations only when
+    /// Hamel's correction `Σ_{μ≤m} P_μ β_μ^{τρ} ω_τ` (M66) vanishes, i.e. when every
+    /// `β_μ^{τρ}` with μ ≤ m and τ, ρ free is zero at the sample configurations; then the
+    /// system is returned, otherwise the substitution is refused with the reason.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the constraint and the non-zero coefficient; NaN/∞; a
+    /// singular `b`; no samples.
+    pub fn from_substituted(t_star: L, quasi: Q, samples: &[SVector<f64, N>]) -> Result<Self> {
+        let free = layout(&quasi)?;
+        if samples.is_empty() {
+            return Err(Error::invalid(
+                "samples",
+                "at least one configuration is needed",
+            ));
+        }
+        let mut cols = free.clone();
+        cols.extend(quasi.time_coordinate());
+        for q in samples {
+            let h = hamel_coefficients(&quasi, q)?;
+            for mu in 0..quasi.constrained() {
+                for &tau in &cols {
+                    for &rho in &free {
+                        let beta = h.beta[mu][(tau, rho)];
+                        if beta.abs() > 1e-12 * (1.0 + h.b.amax() * h.big_b.amax()) {
+                            return Err(Error::invalid(
+                                "kinetic energy with the constraints substituted (T*)",
+                                format!(
+                                    "constraint {mu} is not integrable: Hamel's coefficient \
+                                     β_{mu}^{{{tau}{rho}}} = {beta:e} ≠ 0 at q = {q:?}, so Lagrange's \
+                                     equations of T* omit the correction Σ_μ P_μ β_μ^{{τρ}} ω_τ \
+                                     [Hamel art. 237, 246]; give T and the constraints separately \
+                                     (BoltzmannHamel::new)"
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            lagrangian: t_star,
+            quasi,
+            dims: PhantomData,
+        })
+    }
+
+    /// `ω̇` at `(t, q, ω)` (constrained and time entries zero).
+    ///
+    /// # Errors
+    /// NaN/∞; [`Error::Singular`] naming the configuration when `b` or the free block of
+    /// `∂²T/∂ω²` is singular.
+    pub fn quasi_accelerations(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>> {
+        let (free, w) = prepare(&self.quasi, t, q, w)?;
+        let h = hamel_coefficients(&self.quasi, q)?;
+        let (_, lq, p, hess) = phase_hessian(
+            |a, b| {
+                let bb = inverse_matrix(&self.quasi, a);
+                self.lagrangian.lagrangian(From::from(t), a, &(bb * b))
+            },
+            q,
+            &w,
+        );
+        let td = Dual64::new(t, 1.0);
+        let (_, _, pt) = phase_gradient(
+            |a, b| {
+                let bb = inverse_matrix(&self.quasi, a);
+                self.lagrangian
+                    .lagrangian(PhaseDual::from_re(td), a, &(bb * b))
+            },
+            &lift::<Dual64, N>(q),
+            &lift::<Dual64, N>(&w),
+        );
+        let pt = pt.map(|x| x.eps);
+        let qdot = h.big_b * w;
+        let force = h.big_b.transpose() * self.lagrangian.total_force(t, q, &qdot);
+        let dt_dtheta = h.big_b.transpose() * lq;
+        let mut rhs = force + dt_dtheta - hess.pq * qdot - pt;
+        for &rho in &free {
+            let mut gyro = 0.0;
+            for mu in 0..N {
+                for tau in 0..N {
+                    gyro += h.beta[mu][(tau, rho)] * p[mu] * w[tau];
+                }
+            }
+            rhs[rho] -= gyro;
+        }
+        all_finite(
+            format!("Boltzmann–Hamel terms at t = {t}, q = {q:?}, ω = {w:?}"),
+            rhs.as_slice(),
+        )?;
+        solve_free(
+            &hess.pp,
+            &rhs,
+            &free,
+            "free block of ∂²T/∂ω²",
+            || format!("t = {t}, q = {q:?}, ω = {w:?}"),
+        )
+    }
+}
+
+impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N>
+    for BoltzmannHamel<L, Q, N>
+{
+    fn field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
+    }
+}
+
+/// The Gibbs–Appell equations of `L` in the quasi-velocities `Q` (see the [module docs](self)).
+#[derive(Clone, Copy, Debug)]
+pub struct GibbsAppell<L, Q, const N: usize> {
+    /// `L = T − V` with its generalized forces.
+    pub lagrangian: L,
+    /// The quasi-velocities; the first `m` are set to zero by the constraints.
+    pub quasi: Q,
+    dims: PhantomData<[(); N]>,
+}
+
+impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, N> {
+    /// The equations of `lagrangian` in the quasi-velocities `quasi`.
+    pub fn new(lagrangian: L, quasi: Q) -> Self {
+        Self {
+            lagrangian,
+            quasi,
+            dims: PhantomData,
+        }
+    }
+
+    /// `ω̇` at `(t, q, ω)` from the stationarity of `S − Q·q̈` (constrained and time entries zero).
+    ///
+    /// # Errors
+    /// NaN/∞; [`Error::Singular`] naming the configuration when `b` or `Bᵀ a B` (free block) is
+    /// singular.
+    pub fn quasi_accelerations(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+    ) -> Result<SVector<f64, N>> {
+        let (free, w) = prepare(&self.quasi, t, q, w)?;
+        let b = self.quasi.matrix(q);
+        all_finite(format!("b at q = {q:?}"), b.as_slice())?;
+        let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+        let qdot = big_b * w;
+        let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
+        // Ḃω: the derivative of B(q(t)) ω along q̇.
+        let qe: SVector<Dual64, N> = SVector::from_fn(|i, _| Dual64::new(q[i], qdot[i]));
+        let bdot_w = (inverse_matrix(&self.quasi, &qe) * lift::<Dual64, N>(&w)).map(|x| x.eps);
+        all_finite(format!("Ḃω at {}", at(q, &qdot)), bdot_w.as_slice())?;
+        // S(ω̇) − Q·q̈ = ½ q̈ᵀ a q̈ − f·q̈ with q̈ = B ω̇ + Ḃ ω, differentiated twice by AD.
+        let zero = SVector::<f64, N>::zeros();
+        let (_, grad, _, hess) = phase_hessian(
+            |wd, _| {
+                let qdd = crate::ad::real_times(&big_b, wd) + lift(&bdot_w);
+                let aq = crate::ad::real_times(&a, &qdd);
+                (0..N).fold(From::from(0.0), |s: PhaseDual<_, f64, _>, i| {
+                    s + qdd[i] * (aq[i] * 0.5 - f[i])
+                })
+            },
+            &zero,
+            &zero,
+        );
+        solve_free(&hess.qq, &(-grad), &free, "Bᵀ a B (free block)", || {
+            format!("t = {t}, {}", at(q, &qdot))
+        })
+    }
+}
+
+impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N>
+    for GibbsAppell<L, Q, N>
+{
+    fn field(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
+    }
+}

@@ -1,0 +1,550 @@
+//! Constrained and non-holonomic equations of motion, each oracle system derived at least two
+//! independent ways (multipliers, Boltzmann–Hamel, Gibbs–Appell, embedding, Gauss's principle by
+//! argmin) that agree; SPEC T16–T21, M16, M19, M41–M43, M62–M67, X7.
+//!
+//! Tolerances: runs use DOP853 at `rtol = 1e-12` (atol 1e-14) over O(1)–O(10) times, whose
+//! global errors are a few 1e-11 at most here; agreement between formulations is asserted to
+//! 1e-9 (two integrations' errors plus margin), closed forms to 1e-9, values at a state (no
+//! integration) to 1e-12 relative.
+
+use hamilton_jacobi::constraints::{AccelerationConstraints, PfaffianConstraints, QuasiVelocities};
+use hamilton_jacobi::integrate::{
+    integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, StepView,
+};
+use hamilton_jacobi::nalgebra::{SMatrix, SVector};
+use hamilton_jacobi::nonholonomic::hamel::quasi_velocities;
+use hamilton_jacobi::nonholonomic::{
+    gauss_accelerations, gauss_stationary_points, BoltzmannHamel, Constrained, GibbsAppell,
+};
+use hamilton_jacobi::systems::{
+    ChaplyginSleigh, ConeConstraint, Gearing, GearingInTime, HamelVelocityParameters, RollingDisk,
+    TwoWheeledCart,
+};
+use hamilton_jacobi::{DualNum, Error, Lagrangian, Legendre};
+
+fn dop() -> Dop853 {
+    Dop853::new(1e-12, 1e-14).unwrap()
+}
+
+/// `(q, p)` at `t1` of a first-order system from `(q0, p0)` at `t0`.
+fn run<S: FirstOrderSystem<N>, const N: usize>(
+    s: &S,
+    t0: f64,
+    q0: SVector<f64, N>,
+    p0: SVector<f64, N>,
+    t1: f64,
+) -> (SVector<f64, N>, SVector<f64, N>) {
+    let pr = Problem::new(s, t0, q0, p0, t1).unwrap();
+    let r = integrate(&pr, &dop(), &mut ()).unwrap();
+    assert_eq!(r.last.t, t1);
+    (r.last.q, r.last.p)
+}
+
+fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= tol,
+        "{what}: {a:.15e} vs {b:.15e} (tol {tol:e})"
+    );
+}
+
+#[test]
+fn t16_sleigh_closed_form_by_three_formulations() {
+    let sleigh = ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap();
+    let w0 = 2f64.sqrt();
+    let bh = BoltzmannHamel::new(sleigh, sleigh);
+    let ga = GibbsAppell::new(sleigh, sleigh);
+    let mult = Constrained::new(sleigh, sleigh);
+    let table = [
+        (0.5, 0.4621171573, 0.6793614372),
+        (1.0, 0.7615941560, 1.2243829451),
+        (2.0, 0.9640275801, 1.8409671222),
+        (4.0, 0.9993292997, 2.1696428109),
+        (8.0, 0.9999997749, 2.2204926375),
+    ];
+    let q0 = SVector::zeros();
+    let w = SVector::from([0.0, 0.0, w0]);
+    for (t, v, th) in table {
+        let (q1, w1) = run(&bh, 0.0, q0, w, t);
+        close(w1[1], v, 1e-10, "v (Boltzmann–Hamel)");
+        close(q1[2], th, 1e-10, "ϑ (Boltzmann–Hamel)");
+        let (cv, cw, cth) = sleigh.free_motion(1.0, t).unwrap();
+        close(cv, v, 1e-10, "v closed form");
+        close(cw, w1[2], 1e-10, "ϑ̇ closed form");
+        close(cth, th, 1e-10, "ϑ closed form");
+        let (q2, w2) = run(&ga, 0.0, q0, w, t);
+        let (q3, v3) = run(&mult, 0.0, q0, w, t);
+        for i in 0..3 {
+            close(q2[i], q1[i], 1e-9, "Gibbs–Appell vs Boltzmann–Hamel, q");
+            close(q3[i], q1[i], 1e-9, "multipliers vs Boltzmann–Hamel, q");
+            close(w2[i], w1[i], 1e-9, "Gibbs–Appell vs Boltzmann–Hamel, ω");
+        }
+        let (s, c) = q3[2].sin_cos();
+        close(v3[0] * c + v3[1] * s, v, 1e-9, "v (multipliers)");
+    }
+    // The cusp at t = 0 (X5): x ≈ v₀²t²/(2a), y ≈ v₀²ϑ̇₀t³/(3a).
+    let (q, _) = run(&bh, 0.0, q0, w, 1e-3);
+    close(q[0], 4.999997e-7, 1e-12, "cusp x");
+    close(q[1], 4.714043e-10, 1e-15, "cusp y");
+}
+
+#[test]
+fn t16_reduced_equations_with_forces_and_multiplier_sign() {
+    // m v̇ − m s ϑ̇² = Z, I_B ϑ̈ + m s v ϑ̇ = M at an arbitrary admissible state.
+    let sleigh = ChaplyginSleigh::new(2.0, 0.5, 1.0)
+        .unwrap()
+        .with_forces(0.7, -0.2)
+        .unwrap();
+    let (th, v, wd) = (0.4, 0.9, -0.6);
+    let q = SVector::from([0.3, -0.1, th]);
+    let qd = SVector::from([v * th.cos(), v * th.sin(), wd]);
+    let bh = BoltzmannHamel::new(sleigh, sleigh);
+    let w = quasi_velocities(&sleigh, &q, &qd, 1e-12).unwrap();
+    let acc = bh.quasi_accelerations(0.0, &q, &w).unwrap();
+    close(acc[1], (0.7 + 2.0 * 0.5 * wd * wd) / 2.0, 1e-14, "v̇");
+    close(acc[2], (-0.2 - 2.0 * 0.5 * v * wd) / 1.0, 1e-14, "ϑ̈");
+    let mult = Constrained::new(sleigh, sleigh);
+    let m = mult.multiplier_accelerations(0.0, &q, &qd).unwrap();
+    let emb = mult.embedded_accelerations(0.0, &q, &qd).unwrap();
+    for i in 0..3 {
+        close(emb[i], m.qddot[i], 1e-13, "embedding vs multipliers");
+    }
+    // Lateral force balance: the constraint force is −λ ∂g/∂q̇ (crate sign, SPEC §0.3), i.e. the
+    // lateral (n = (−sin ϑ, cos ϑ)) momentum balance m(ÿ cos ϑ − ẍ sin ϑ) + m s ϑ̈ = −λ.
+    let (s, c) = th.sin_cos();
+    let lateral_acc = m.qddot[1] * c - m.qddot[0] * s;
+    close(
+        2.0 * (lateral_acc + 0.5 * m.qddot[2]),
+        -m.lambda[0],
+        1e-13,
+        "λ",
+    );
+}
+
+fn cart() -> TwoWheeledCart {
+    TwoWheeledCart::new(3.0, 0.8, 0.05, 0.8, 0.3, 0.2)
+        .unwrap()
+        .with_forces(1.0, 0.5, 0.3)
+        .unwrap()
+}
+
+#[test]
+fn t18_cart_multipliers_against_boltzmann_hamel() {
+    let cart = cart();
+    let (v, w) = (0.5, 0.2);
+    let q0 = SVector::zeros();
+    let qd0 = SVector::from([v, 0.0, w, (v - 0.3 * w) / 0.2, (v + 0.3 * w) / 0.2]);
+    let mult = Constrained::new(cart, cart);
+    let (q1, qd1) = run(&mult, 0.0, q0, qd0, 10.0);
+    let bh = BoltzmannHamel::new(cart, cart);
+    let w0 = quasi_velocities(&cart, &q0, &qd0, 1e-14).unwrap();
+    let (q2, w2) = run(&bh, 0.0, q0, w0, 10.0);
+    let want = [0.04527422, 3.20769407, 4.74554007];
+    for i in 0..3 {
+        close(q1[i], want[i], 5e-9, "multiplier form vs T18");
+        close(q2[i], q1[i], 1e-10, "Boltzmann–Hamel vs multipliers");
+    }
+    close(w2[3], 0.50003418, 5e-9, "v");
+    close(w2[4], 0.72274831, 5e-9, "θ̇");
+    close(0.2 * qd1[3], w2[3] - 0.3 * w2[4], 1e-10, "r φ̇_l = v − b θ̇");
+    // Multipliers in the crate sign: C φ̈_l + r λ₂ = 0, C φ̈_r + r λ₃ = 0 [Ardema eq. 9.11].
+    let m = mult.multiplier_accelerations(10.0, &q1, &qd1).unwrap();
+    close(0.05 * m.qddot[3] + 0.2 * m.lambda[1], 0.0, 1e-13, "λ₂");
+    close(0.05 * m.qddot[4] + 0.2 * m.lambda[2], 0.0, 1e-13, "λ₃");
+    let emb = mult.embedded_accelerations(10.0, &q1, &qd1).unwrap();
+    let g = GibbsAppell::new(cart, cart)
+        .quasi_accelerations(
+            10.0,
+            &q1,
+            &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap(),
+        )
+        .unwrap();
+    let b = bh
+        .quasi_accelerations(
+            10.0,
+            &q1,
+            &quasi_velocities(&cart, &q1, &qd1, 1e-9).unwrap(),
+        )
+        .unwrap();
+    for i in 0..5 {
+        close(emb[i], m.qddot[i], 1e-12, "embedding vs multipliers");
+        close(g[i], b[i], 1e-12, "Gibbs–Appell vs Boltzmann–Hamel");
+    }
+}
+
+#[test]
+fn t20_hamel_velocity_parameters() {
+    let s = HamelVelocityParameters;
+    let c = 1.3;
+    let bh = BoltzmannHamel::new(s, s);
+    let (_, w) = run(
+        &bh,
+        0.0,
+        SVector::from([0.4, -0.2]),
+        SVector::from([c, 0.0]),
+        3.0,
+    );
+    close(w[0], 0.0526074146611510, 1e-10, "ω₁");
+    close(w[1], -1.29893512537104, 1e-10, "ω₂");
+    let ga = GibbsAppell::new(s, s);
+    let (_, w2) = run(
+        &ga,
+        0.0,
+        SVector::from([0.4, -0.2]),
+        SVector::from([c, 0.0]),
+        3.0,
+    );
+    close(w2[0], w[0], 1e-10, "Gibbs–Appell ω₁");
+    close(w2[1], w[1], 1e-10, "Gibbs–Appell ω₂");
+    // Lagrange's equations in q (Hamiltonian form by the Legendre transform), q̇(0) = B ω(0).
+    let q0 = SVector::from([0.4, -0.2]);
+    let qd0 = SVector::from([c, 0.0]);
+    let h = Legendre(s);
+    let p0 = s.momentum(0.0, &q0, &qd0).unwrap();
+    let (q1, p1) = run(&h, 0.0, q0, p0, 3.0);
+    let m = s.mass_matrix(0.0, &q1, &qd0).unwrap();
+    let qd1 = m.try_inverse().unwrap() * p1;
+    close(qd1[0] + q1[0] * qd1[1], w[0], 1e-9, "ω₁ from Lagrange");
+    close(qd1[1], w[1], 1e-9, "ω₂ from Lagrange");
+}
+
+/// `T* = ½(I₁f² + I₂)φ̇₂²`: the gearing's kinetic energy with the constraint substituted.
+#[derive(Clone, Copy, Debug)]
+struct Substituted;
+
+impl Lagrangian<3> for Substituted {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>, v: &SVector<D, 3>) -> D {
+        let f = q[2] + 1.0;
+        (f * f + 1.0) * v[1] * v[1] * 0.5
+    }
+}
+
+impl Lagrangian<1> for Substituted {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, t: D, _q: &SVector<D, 1>, v: &SVector<D, 1>) -> D {
+        let f = t + 1.0;
+        (f * f + 1.0) * v[0] * v[0] * 0.5
+    }
+}
+
+#[test]
+fn t19_gearing_and_the_substitution_trap() {
+    let g = Gearing::new(1.0, 1.0, 1.0, 1.0, 0.0, 0.0).unwrap();
+    let want = (2.0f64 / 5.0).sqrt();
+    close(want, 0.632455532, 1e-9, "√(2/5)");
+    close(g.free_rate(1.0, 1.0).unwrap(), want, 1e-15, "closed form");
+    // Multipliers (rheonomic Pfaffian constraint, N = 2).
+    let mult = Constrained::new(g, g);
+    let (_, v) = run(&mult, 0.0, SVector::zeros(), SVector::from([1.0, 1.0]), 1.0);
+    close(v[1], want, 1e-10, "multipliers");
+    // Boltzmann–Hamel with time adjoined.
+    let gt = GearingInTime(g);
+    let bh = BoltzmannHamel::new(gt, gt);
+    let (q, w) = run(
+        &bh,
+        0.0,
+        SVector::zeros(),
+        SVector::from([0.0, 1.0, 1.0]),
+        1.0,
+    );
+    close(w[1], want, 1e-10, "Boltzmann–Hamel");
+    close(q[2], 1.0, 1e-12, "time coordinate");
+    // The substituted T* is refused for this non-integrable (rheonomic) constraint, with the reason.
+    let samples = [SVector::from([0.0, 0.0, 0.5])];
+    match BoltzmannHamel::from_substituted(Substituted, gt, &samples) {
+        Err(Error::InvalidInput { reason, .. }) => {
+            assert!(
+                reason.contains("not integrable") && reason.contains("β_0^{21}"),
+                "{reason}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    // Only the refused route — Lagrange's equations of T* — gives the trap's 0.4.
+    let l1 = Legendre(Substituted);
+    let q0 = SVector::from([0.0]);
+    let p0 = Lagrangian::<1>::momentum(&Substituted, 0.0, &q0, &SVector::from([1.0])).unwrap();
+    let (_, p1) = run(&l1, 0.0, q0, p0, 1.0);
+    close(p1[0] / 5.0, 0.4, 1e-12, "trap");
+}
+
+#[test]
+fn t21_cone_constraint_multiplier_gauss_and_vertex() {
+    let k = -9.81;
+    let cone = ConeConstraint::new(k).unwrap();
+    let sys = Constrained::new(cone, cone);
+    let v0 = SVector::from([0.6, 0.8, 1.0]);
+    let q0 = SVector::zeros();
+    let m = sys.multiplier_accelerations(0.0, &q0, &v0).unwrap();
+    let want = [-2.943, -3.924, -4.905];
+    for (i, w) in want.iter().enumerate() {
+        close(m.qddot[i], *w, 1e-13, "ẍ(0)");
+    }
+    close(m.lambda[0], k / 4.0, 1e-14, "λ = K/(4ẋ₃) (crate sign)");
+    // Gauss's principle minimised by argmin agrees, and its minimum is Z = ½|ẍ − F|².
+    let g = gauss_accelerations(&sys, 0.0, &q0, &v0).unwrap();
+    for (i, w) in want.iter().enumerate() {
+        close(g.qddot[i], *w, 1e-12, "Gauss ẍ(0)");
+    }
+    let z = 0.5 * (2.943f64.powi(2) + 3.924f64.powi(2) + (-4.905f64 - k).powi(2));
+    close(g.z, z, 1e-12, "Z");
+    // ẋ(0.1) = (0.3057, 0.4076, 0.5095).
+    let (_, v) = run(&sys, 0.0, q0, v0, 0.1);
+    let exact = cone.velocity(&v0, 0.1).unwrap();
+    for i in 0..3 {
+        close(v[i], exact[i], 1e-11, "ẋ(0.1)");
+    }
+    close(exact[0], 0.3057, 1e-12, "closed form");
+    // X7: the integration stops at the vertex t* = 2ẋ₃(0)/|K| with the rank loss named.
+    let tstar = 2.0 / 9.81;
+    close(tstar, 0.203873598369, 1e-12, "t*");
+    let err = sys
+        .integrate(&dop(), 0.0, q0, v0, 1.0, 1e-12, &mut ())
+        .unwrap_err();
+    match err {
+        Error::RankDeficient { rows, t, what, .. } => {
+            assert_eq!(rows, vec![0]);
+            assert!(what.contains("∂g/∂q̇"), "{what}");
+            println!(
+                "T21 stop at t = {t:.15} (t* = {tstar:.15}, error {:e})",
+                t - tstar
+            );
+            close(t, tstar, 1e-9, "stop time");
+        }
+        e => panic!("{e:?}"),
+    }
+    // Before the vertex the run completes.
+    assert!(sys
+        .integrate(&dop(), 0.0, q0, v0, 0.2, 1e-12, &mut ())
+        .is_ok());
+}
+
+#[test]
+fn inadmissible_velocities_are_refused_with_the_residual_or_projected() {
+    let cart = cart();
+    let sys = Constrained::new(cart, cart);
+    let q0 = SVector::from([0.0, 0.0, 0.3, 0.0, 0.0]);
+    let bad = SVector::from([0.5, 0.1, 0.2, 2.0, 3.0]);
+    let err = sys
+        .integrate(&dop(), 0.0, q0, bad, 1.0, 1e-12, &mut ())
+        .unwrap_err();
+    let (b, _) = cart.forms(0.0, &q0);
+    let g = b * bad;
+    match err {
+        Error::ConstraintViolated { residual, .. } => {
+            for i in 0..3 {
+                close(residual[i], g[i], 1e-15, "residual");
+            }
+        }
+        e => panic!("{e:?}"),
+    }
+    let fixed = sys.project_velocities(0.0, &q0, &bad).unwrap();
+    assert!((b * fixed).amax() < 1e-14);
+    assert!(sys
+        .integrate(&dop(), 0.0, q0, fixed, 0.1, 1e-12, &mut ())
+        .is_ok());
+    // The least-kinetic-energy correction: a-orthogonal to every admissible velocity.
+    let a = cart.mass_matrix(0.0, &q0, &fixed).unwrap();
+    let admissible = SVector::from([0.3f64.cos(), 0.3f64.sin(), 0.0, 5.0, 5.0]);
+    assert!((b * admissible).amax() < 1e-15);
+    close(
+        ((fixed - bad).transpose() * a * admissible)[0],
+        0.0,
+        1e-13,
+        "orthogonality",
+    );
+    // Non-linear constraint (T21): projection by Newton.
+    let cone = ConeConstraint::new(-9.81).unwrap();
+    let cs = Constrained::new(cone, cone);
+    let v = cs
+        .project_velocities(0.0, &SVector::zeros(), &SVector::from([0.6, 0.8, 1.2]))
+        .unwrap();
+    close(
+        v[2] * v[2] - v[0] * v[0] - v[1] * v[1],
+        0.0,
+        1e-14,
+        "cone residual",
+    );
+}
+
+/// `L = ½ẋ²` in `(x, y)`: the mass matrix is singular (no `ẏ` term).
+#[derive(Clone, Copy)]
+struct Degenerate;
+
+impl Lagrangian<2> for Degenerate {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 2>,
+        v: &SVector<D, 2>,
+    ) -> D {
+        v[0] * v[0] * 0.5
+    }
+}
+
+impl PfaffianConstraints<2, 1> for Degenerate {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+    ) -> (SMatrix<D, 1, 2>, SVector<D, 1>) {
+        (
+            SMatrix::from_row_slice(&[q[0], D::one()]),
+            SVector::from([D::zero()]),
+        )
+    }
+}
+
+#[test]
+fn singular_mass_matrix_names_the_configuration() {
+    let sys = Constrained::new(Degenerate, Degenerate);
+    let err = sys
+        .multiplier_accelerations(
+            0.0,
+            &SVector::from([0.25, 1.5]),
+            &SVector::from([1.0, -0.25]),
+        )
+        .unwrap_err();
+    match err {
+        Error::Singular { what, at, .. } => {
+            assert!(what.contains("mass matrix"), "{what}");
+            assert!(at.contains("0.25") && at.contains("1.5"), "{at}");
+        }
+        e => panic!("{e:?}"),
+    }
+}
+
+/// Largest |ψ| over the run, sampled ten times per step on the dense output.
+struct MaxLean(f64);
+
+impl Observer<5> for MaxLean {
+    fn step(&mut self, step: &StepView<'_, 5>) -> Control {
+        for k in 1..=10 {
+            let t = step.prev.t + (step.next.t - step.prev.t) * k as f64 / 10.0;
+            self.0 = self.0.max(step.dense.at(t).q[3].abs());
+        }
+        Control::Continue
+    }
+}
+
+#[test]
+fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
+    let disk = RollingDisk::disk(1.0, 1.0, 9.81).unwrap();
+    close(
+        disk.critical_speed().unwrap(),
+        1.80831413200251,
+        1e-13,
+        "v_c disk",
+    );
+    close(
+        RollingDisk::hoop(1.0, 1.0, 9.81)
+            .unwrap()
+            .critical_speed()
+            .unwrap(),
+        1.56604597633658,
+        1e-13,
+        "v_c hoop",
+    );
+    let mult = Constrained::new(disk, disk);
+    let bh = BoltzmannHamel::new(disk, disk);
+    for (v, max_lean) in [(1.5, 0.668), (2.2, 0.051), (3.0, 0.021)] {
+        let q0 = SVector::from([0.0, 0.0, 0.0, 0.01, 0.0]);
+        let qd0 = SVector::from([v, 0.0, 0.0, 0.0, v]);
+        let mut obs = MaxLean(0.0);
+        let r = mult
+            .integrate(
+                &Dop853::new(1e-10, 1e-12).unwrap(),
+                0.0,
+                q0,
+                qd0,
+                10.0,
+                1e-14,
+                &mut obs,
+            )
+            .unwrap();
+        close(obs.0, max_lean, 5e-4, "max |ψ|");
+        let e0 = disk.energy(&q0, &qd0).unwrap();
+        let e1 = disk.energy(&r.last.q, &r.last.p).unwrap();
+        assert!((e1 - e0).abs() < 1e-8, "energy drift {:e}", e1 - e0);
+        let (b, _) = disk.forms(0.0, &r.last.q);
+        println!(
+            "disk v = {v}: max|ψ| = {:.4}, energy drift {:e}, constraint residual {:e}",
+            obs.0,
+            e1 - e0,
+            (b * r.last.p).amax()
+        );
+        assert!((b * r.last.p).amax() < 1e-8, "constraint residual");
+        let w0 = quasi_velocities(&disk, &q0, &qd0, 1e-14).unwrap();
+        let (q2, _) = run(&bh, 0.0, q0, w0, 10.0);
+        let (q1, _) = run(&mult, 0.0, q0, qd0, 10.0);
+        for i in 0..5 {
+            close(q2[i], q1[i], 1e-7, "Boltzmann–Hamel vs multipliers");
+        }
+    }
+    let _ = QuasiVelocities::<5>::constrained(&disk);
+}
+
+/// Hamel's acceleration constraint `ẍ₃ = ẍ₁ẍ₂` on a free unit-mass point under `(0, 0, K)`.
+#[derive(Clone, Copy, Debug)]
+struct SecondClass(f64);
+
+impl Lagrangian<3> for SecondClass {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        v: &SVector<D, 3>,
+    ) -> D {
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+    }
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        _v: &SVector<D, 3>,
+    ) -> Option<SVector<D, 3>> {
+        Some(SVector::from([D::zero(), D::zero(), D::from(self.0)]))
+    }
+}
+
+impl AccelerationConstraints<3, 1> for SecondClass {
+    fn acceleration_constraint<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 3>,
+        _v: &SVector<D, 3>,
+        a: &SVector<D, 3>,
+    ) -> SVector<D, 1> {
+        SVector::from([a[2] - a[0] * a[1]])
+    }
+}
+
+#[test]
+fn t22_acceleration_constraint_stationary_points() {
+    let (q, v) = (SVector::zeros(), SVector::from([0.3, -0.2, 0.1]));
+    for (k, count, zmin) in [(3.0, 3, 5.0), (-3.0, 3, 5.0), (1.5, 3, 2.0), (0.5, 1, 0.25)] {
+        let s = SecondClass(k);
+        let st = gauss_stationary_points(&s, &s, 0.0, &q, &v).unwrap();
+        assert_eq!(st.points.len(), count, "K = {k}: {st:?}");
+        // Z = ½ Σ(ẍ − X)²: Hamel's Σ(ẍ − X)² is 2Z.
+        close(
+            2.0 * st.points[st.minimizer].z,
+            zmin,
+            1e-12,
+            "least Σ(ẍ − X)²",
+        );
+        let trivial = st.points.iter().find(|p| p.qddot.amax() < 1e-12).unwrap();
+        close(2.0 * trivial.z, k * k, 1e-12, "Σ(ẍ − X)² at ẍ = 0");
+        if count == 3 {
+            let r = (k.abs() - 1.0).sqrt();
+            for p in st.points.iter().filter(|p| p.qddot.amax() > 1e-12) {
+                close(p.qddot[0].abs(), r, 1e-12, "|ẍ₁|");
+                close(
+                    p.qddot[1],
+                    k.signum() * p.qddot[0],
+                    1e-12,
+                    "ẍ₂ = sign(K) ẍ₁",
+                );
+                close(p.qddot[2], k - k.signum(), 1e-12, "ẍ₃");
+            }
+        }
+    }
+}
