@@ -1019,7 +1019,8 @@ fn near_path(c: &[Vec<(f64, f64)>], d: &[Vec<(f64, f64)>], px: (f64, f64), tol: 
     let to_px = |p: (f64, f64)| (p.0 * px.0, p.1 * px.1);
     let cell = tol.max(4.0);
     let key = |p: (f64, f64)| ((p.0 / cell).floor() as i64, (p.1 / cell).floor() as i64);
-    let mut cells: HashMap<(i64, i64), Vec<((f64, f64), (f64, f64))>> = HashMap::new();
+    type Segment = ((f64, f64), (f64, f64));
+    let mut cells: HashMap<(i64, i64), Vec<Segment>> = HashMap::new();
     let mut pieces = 0usize;
     for seg in d {
         for w in seg.windows(2) {
@@ -1050,7 +1051,7 @@ fn near_path(c: &[Vec<(f64, f64)>], d: &[Vec<(f64, f64)>], px: (f64, f64), tol: 
             cells.entry(key(p)).or_default().push((p, p));
         }
     }
-    let distance = |x: (f64, f64), (p, q): ((f64, f64), (f64, f64))| {
+    let distance = |x: (f64, f64), (p, q): Segment| {
         let (dx, dy) = (q.0 - p.0, q.1 - p.1);
         let l2 = dx * dx + dy * dy;
         let t = if l2 > 0.0 {
