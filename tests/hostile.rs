@@ -3120,41 +3120,6 @@ mod constrained {
         ])
     }
 
-    /// Hamel's acceleration constraint `ẍ₃ = ẍ₁ẍ₂` on a unit-mass point under `(0, 0, K)`.
-    #[derive(Clone, Copy)]
-    struct SecondClass(f64);
-
-    impl hamilton_jacobi::Lagrangian<3> for SecondClass {
-        fn lagrangian<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            _q: &SVector<D, 3>,
-            v: &SVector<D, 3>,
-        ) -> D {
-            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
-        }
-        fn generalized_force<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            _q: &SVector<D, 3>,
-            _v: &SVector<D, 3>,
-        ) -> Option<SVector<D, 3>> {
-            Some(SVector::from([D::zero(), D::zero(), D::from(self.0)]))
-        }
-    }
-
-    impl hamilton_jacobi::constraints::AccelerationConstraints<3, 1> for SecondClass {
-        fn acceleration_constraint<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            _q: &SVector<D, 3>,
-            _v: &SVector<D, 3>,
-            a: &SVector<D, 3>,
-        ) -> SVector<D, 1> {
-            SVector::from([a[2] - a[0] * a[1]])
-        }
-    }
-
     pub(super) fn add(c: &mut Vec<Call>) {
         sweep(
             c,
@@ -3413,9 +3378,10 @@ mod constrained {
             &[3.0],
             &[(0, 0.5), (0, -3.0), (0, 1e6)],
             |a| {
-                let s = SecondClass(a[0]);
                 let (q, v) = (SVector::zeros(), SVector::zeros());
-                let r = hamilton_jacobi::nonholonomic::gauss_stationary_points(&s, &s, 0.0, &q, &v);
+                let r = hamilton_jacobi::systems::SecondClassConstraint::new(a[0]).and_then(|s| {
+                    hamilton_jacobi::nonholonomic::gauss_stationary_points(&s, &s, 0.0, &q, &v)
+                });
                 judge(r, fin(a), |st| {
                     // The least Σ(ẍ − X)² is min(K², 2|K| − 1) (Hamel art. 252).
                     let k = a[0].abs();

@@ -7,7 +7,7 @@
 //! 1e-9 (two integrations' errors plus margin), closed forms to 1e-9, values at a state (no
 //! integration) to 1e-12 relative.
 
-use hamilton_jacobi::constraints::{AccelerationConstraints, PfaffianConstraints, QuasiVelocities};
+use hamilton_jacobi::constraints::{PfaffianConstraints, QuasiVelocities};
 use hamilton_jacobi::integrate::{
     integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, StepView,
 };
@@ -18,7 +18,7 @@ use hamilton_jacobi::nonholonomic::{
 };
 use hamilton_jacobi::systems::{
     ChaplyginSleigh, ConeConstraint, Gearing, GearingInTime, HamelVelocityParameters, RollingDisk,
-    TwoWheeledCart,
+    SecondClassConstraint, TwoWheeledCart,
 };
 use hamilton_jacobi::{DualNum, Error, Lagrangian, Legendre};
 
@@ -482,46 +482,11 @@ fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
     let _ = QuasiVelocities::<5>::constrained(&disk);
 }
 
-/// Hamel's acceleration constraint `ẍ₃ = ẍ₁ẍ₂` on a free unit-mass point under `(0, 0, K)`.
-#[derive(Clone, Copy, Debug)]
-struct SecondClass(f64);
-
-impl Lagrangian<3> for SecondClass {
-    fn lagrangian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 3>,
-        v: &SVector<D, 3>,
-    ) -> D {
-        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
-    }
-    fn generalized_force<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 3>,
-        _v: &SVector<D, 3>,
-    ) -> Option<SVector<D, 3>> {
-        Some(SVector::from([D::zero(), D::zero(), D::from(self.0)]))
-    }
-}
-
-impl AccelerationConstraints<3, 1> for SecondClass {
-    fn acceleration_constraint<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 3>,
-        _v: &SVector<D, 3>,
-        a: &SVector<D, 3>,
-    ) -> SVector<D, 1> {
-        SVector::from([a[2] - a[0] * a[1]])
-    }
-}
-
 #[test]
 fn t22_acceleration_constraint_stationary_points() {
     let (q, v) = (SVector::zeros(), SVector::from([0.3, -0.2, 0.1]));
     for (k, count, zmin) in [(3.0, 3, 5.0), (-3.0, 3, 5.0), (1.5, 3, 2.0), (0.5, 1, 0.25)] {
-        let s = SecondClass(k);
+        let s = SecondClassConstraint::new(k).unwrap();
         let st = gauss_stationary_points(&s, &s, 0.0, &q, &v).unwrap();
         assert_eq!(st.points.len(), count, "K = {k}: {st:?}");
         // Z = ½ Σ(ẍ − X)²: Hamel's Σ(ẍ − X)² is 2Z.

@@ -1,8 +1,7 @@
-use crate::constraints::VelocityConstraints;
+use crate::constraints::{AccelerationConstraints, VelocityConstraints};
 #[cfg(doc)]
 use crate::error::Error;
 use crate::error::{finite, Result};
-use crate::lagrangian::Lagrangian;
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -56,22 +55,72 @@ impl ConeConstraint {
     }
 }
 
-impl Lagrangian<3> for ConeConstraint {
-    fn lagrangian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 3>,
-        v: &SVector<D, 3>,
-    ) -> D {
-        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+/// The unit-mass point under the vertical force `(0, 0, K)` that Hamel's examples of
+/// constraints non-linear in the velocities (art. 249) and in the accelerations (art. 252)
+/// constrain: `T = ½|ẋ|²`.
+macro_rules! unit_point_under_vertical_force {
+    ($system:ty) => {
+        impl $crate::lagrangian::Lagrangian<3> for $system {
+            fn lagrangian<D: num_dual::DualNum<f64> + Copy>(
+                &self,
+                _t: D,
+                _q: &nalgebra::SVector<D, 3>,
+                v: &nalgebra::SVector<D, 3>,
+            ) -> D {
+                (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+            }
+            fn generalized_force<D: num_dual::DualNum<f64> + Copy>(
+                &self,
+                _t: D,
+                _q: &nalgebra::SVector<D, 3>,
+                _v: &nalgebra::SVector<D, 3>,
+            ) -> Option<nalgebra::SVector<D, 3>> {
+                Some(nalgebra::SVector::from([
+                    D::zero(),
+                    D::zero(),
+                    D::from(self.k),
+                ]))
+            }
+        }
+    };
+}
+
+unit_point_under_vertical_force!(ConeConstraint);
+unit_point_under_vertical_force!(SecondClassConstraint);
+
+/// Hamel's second-class (acceleration) constraint [Hamel art. 252] (SPEC T22): the unit-mass
+/// point of [`ConeConstraint`] under `(0, 0, K)` with
+///
+/// $$ \ddot x_3 = \ddot x_1 \ddot x_2 . $$
+///
+/// Gauss's function `Σ(ẍ − X)²` has three stationary points for `|K| > 1` (the least
+/// `2|K| − 1`) and one, `ẍ = 0` with `K²`, for `|K| < 1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SecondClassConstraint {
+    k: f64,
+}
+
+impl SecondClassConstraint {
+    /// The point under the vertical force `K`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞.
+    pub fn new(k: f64) -> Result<Self> {
+        Ok(Self {
+            k: finite("force K", k)?,
+        })
     }
-    fn generalized_force<D: DualNum<f64> + Copy>(
+}
+
+impl AccelerationConstraints<3, 1> for SecondClassConstraint {
+    fn acceleration_constraint<D: DualNum<f64> + Copy>(
         &self,
         _t: D,
         _q: &SVector<D, 3>,
         _v: &SVector<D, 3>,
-    ) -> Option<SVector<D, 3>> {
-        Some(SVector::from([D::zero(), D::zero(), D::from(self.k)]))
+        a: &SVector<D, 3>,
+    ) -> SVector<D, 1> {
+        SVector::from([a[2] - a[0] * a[1]])
     }
 }
 

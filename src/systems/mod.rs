@@ -15,6 +15,7 @@
 //! | [`Gearing`], [`GearingInTime`] | 2, one rheonomic constraint | `½(I₁f² + I₂)φ̇₂²` conserved [Hamel art. 240] |
 //! | [`HamelVelocityParameters`] | 2 (holonomic, non-holonomic ω) | `ω₁ = c sech ct`, `ω₂ = −c tanh ct` [Hamel art. 241] |
 //! | [`ConeConstraint`] | 3, constraint non-linear in ẋ | closed form up to the vertex [Hamel art. 249] |
+//! | [`SecondClassConstraint`] | 3, acceleration constraint | Gauss's stationary points [Hamel art. 252] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
@@ -40,7 +41,7 @@ mod velocity_parameters;
 pub use bead::BeadOnHoop;
 pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
-pub use cone_constraint::ConeConstraint;
+pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
 pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use henon_heiles::HenonHeiles;
