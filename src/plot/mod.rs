@@ -854,9 +854,14 @@ impl Prepared {
         }
     }
 
-    /// The curve's colour.
+    /// The curve's colour ([`dot_color`] for dots, which have no dash pattern to tell cycles
+    /// apart).
     fn color(&self) -> RGBColor {
-        series_color(self.index)
+        if self.style == Style::Dots {
+            dot_color(self.index)
+        } else {
+            series_color(self.index)
+        }
     }
 
     /// The curve's marker: shape, and whether it is filled.
@@ -868,6 +873,22 @@ impl Prepared {
 /// The colour of series `i`: the palette's colours in order, cycled.
 fn series_color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
+}
+
+/// The colour of dot series `i` (Poincaré sections: dots have no dash pattern): the palette's
+/// colours in the first cycle; in cycle `c ≥ 1` through the palette the colour mixed towards black
+/// (odd `c`) or white (even `c`) by `0.3 + 0.15 ⌊(c − 1)/2⌋` (at most 0.75), so that the shades
+/// of one palette colour stay apart and no two of the first 60 dot series share a colour.
+fn dot_color(i: usize) -> RGBColor {
+    let base = series_color(i);
+    let c = i / PALETTE.len();
+    if c == 0 {
+        return base;
+    }
+    let f = (0.3 + 0.15 * ((c - 1) / 2) as f64).min(0.75);
+    let towards = if c % 2 == 1 { 0.0 } else { 255.0 };
+    let mix = |v: u8| (f64::from(v) * (1.0 - f) + towards * f).round() as u8;
+    RGBColor(mix(base.0), mix(base.1), mix(base.2))
 }
 
 /// The dash pattern (dash, gap) of series `i`: solid for the first ten series; each further
@@ -2882,7 +2903,11 @@ mod tests {
             );
         }
         let svg = fig.to_svg_string().unwrap();
-        assert_eq!(svg.matches("stroke-dasharray=\"2 3\"").count(), 2, "{svg}");
+        assert_eq!(svg.matches("stroke-dasharray=\"2 3\"").count(), 2, "{svg}"); // Dot series (no dashes) differ by colour alone: shades beyond the palette.
+        let dots: std::collections::HashSet<_> = (0..60).map(dot_color).collect();
+        assert_eq!(dots.len(), 60);
+        assert_eq!(dot_color(3), series_color(3));
+        assert_ne!(dot_color(13), series_color(13));
     }
 
     #[test]
