@@ -161,6 +161,20 @@ impl Address {
     }
 }
 
+/// `z_v^e` for every variable `v` and exponent `e ≤ degree`: the powers a polynomial's monomials
+/// are products of.
+fn power_table(z: &[C64], degree: usize) -> Vec<Vec<C64>> {
+    z.iter()
+        .map(|&zi| {
+            let mut p = vec![C64::new(1.0, 0.0); degree + 1];
+            for j in 1..=degree {
+                p[j] = p[j - 1] * zi;
+            }
+            p
+        })
+        .collect()
+}
+
 impl PhasePolynomial {
     /// The zero polynomial on the given tables (`2n` variables).
     pub fn zero(table: &Arc<Monomials>) -> Self {
@@ -271,17 +285,7 @@ impl PhasePolynomial {
     }
 
     fn eval_unchecked(&self, z: &[C64]) -> C64 {
-        let k = self.table.degree();
-        let powers: Vec<Vec<C64>> = z
-            .iter()
-            .map(|&zi| {
-                let mut p = vec![C64::new(1.0, 0.0); k + 1];
-                for j in 1..=k {
-                    p[j] = p[j - 1] * zi;
-                }
-                p
-            })
-            .collect();
+        let powers = power_table(z, self.table.degree());
         let mut sum = C64::new(0.0, 0.0);
         for (i, &c) in self.c.iter().enumerate() {
             if c == C64::new(0.0, 0.0) {
@@ -300,18 +304,8 @@ impl PhasePolynomial {
 
     fn gradient_unchecked(&self, z: &[C64]) -> Vec<C64> {
         let nv = self.table.variables();
-        let k = self.table.degree();
         let zero = C64::new(0.0, 0.0);
-        let powers: Vec<Vec<C64>> = z
-            .iter()
-            .map(|&zi| {
-                let mut p = vec![C64::new(1.0, 0.0); k + 1];
-                for j in 1..=k {
-                    p[j] = p[j - 1] * zi;
-                }
-                p
-            })
-            .collect();
+        let powers = power_table(z, self.table.degree());
         let mut g = vec![zero; nv];
         for (i, &c) in self.c.iter().enumerate() {
             if c == zero {
