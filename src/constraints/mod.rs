@@ -203,9 +203,12 @@ pub fn velocity_jet<C: VelocityConstraints<N, K> + ?Sized, const N: usize, const
         .velocity_constraint(Dual64::new(t, 1.0), &qe, &qdot.map(Dual64::from))
         .map(|x| x.eps);
     let at = || format!("t = {t}, q = {q:?}, q̇ = {qdot:?}");
-    all_finite(format!("constraint values g at {}", at()), value.as_slice())?;
-    all_finite(format!("∂g/∂q̇ at {}", at()), gradient.as_slice())?;
-    all_finite(format!("∂g/∂q·q̇ + ∂g/∂t at {}", at()), rate.as_slice())?;
+    all_finite(
+        format_args!("constraint values g at {}", at()),
+        value.as_slice(),
+    )?;
+    all_finite(format_args!("∂g/∂q̇ at {}", at()), gradient.as_slice())?;
+    all_finite(format_args!("∂g/∂q·q̇ + ∂g/∂t at {}", at()), rate.as_slice())?;
     Ok(VelocityJet {
         value,
         gradient,

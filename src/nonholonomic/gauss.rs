@@ -77,7 +77,7 @@ where
 {
     let jet = velocity_jet(&system.constraints, t, q, qdot)?;
     check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || {
-        at(q, qdot)
+        at(q, qdot).to_string()
     })?;
     let (a, f) = lagrange_terms(&system.lagrangian, t, q, qdot)?;
     let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
@@ -125,7 +125,10 @@ where
     let qddot = SVector::<f64, N>::from_column_slice(qdd.as_slice());
     let r = a * qddot - f;
     let zval = 0.5 * r.dot(&(ainv * r));
-    crate::error::all_finite(format!("q̈ at t = {t}, {}", at(q, qdot)), qddot.as_slice())?;
+    crate::error::all_finite(
+        format_args!("q̈ at t = {t}, {}", at(q, qdot)),
+        qddot.as_slice(),
+    )?;
     crate::error::finite("Gauss's constraint Z", zval)?;
     Ok(GaussMinimum { qddot, z: zval })
 }

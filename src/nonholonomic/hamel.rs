@@ -143,7 +143,7 @@ pub fn quasi_velocities<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
     let tol = finite("constraint tolerance", tol)?;
     layout(quasi)?;
     let b = quasi.matrix(q);
-    all_finite(format!("b at q = {q:?}"), b.as_slice())?;
+    all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
     let w = b * qdot;
     let m = quasi.constrained();
     let bad = (0..m).any(|mu| {
@@ -336,14 +336,14 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
     ) -> Result<SVector<f64, N>> {
         let (free, w) = prepare(&self.quasi, t, q, w)?;
         let b = self.quasi.matrix(q);
-        all_finite(format!("b at q = {q:?}"), b.as_slice())?;
+        all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
         let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
         let qdot = big_b * w;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
         // Ḃω: the derivative of B(q(t)) ω along q̇.
         let qe: SVector<Dual64, N> = SVector::from_fn(|i, _| Dual64::new(q[i], qdot[i]));
         let bdot_w = (inverse_matrix(&self.quasi, &qe) * lift::<Dual64, N>(&w)).map(|x| x.eps);
-        all_finite(format!("Ḃω at {}", at(q, &qdot)), bdot_w.as_slice())?;
+        all_finite(format_args!("Ḃω at {}", at(q, &qdot)), bdot_w.as_slice())?;
         // S(ω̇) − Q·q̈ = ½ q̈ᵀ a q̈ − f·q̈ with q̈ = B ω̇ + Ḃ ω, differentiated twice by AD.
         let zero = SVector::<f64, N>::zeros();
         let (_, grad, _, hess) = phase_hessian(

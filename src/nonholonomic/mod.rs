@@ -76,8 +76,22 @@ pub(crate) fn lagrange_terms<L: Lagrangian<N> + ?Sized, const N: usize>(
     Ok((h.pp, f))
 }
 
-pub(crate) fn at<const N: usize>(q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> String {
-    format!("q = {q:?}, q̇ = {qdot:?}")
+/// The state `q = …, q̇ = …` as an error message names it, formatted only when a message is
+/// written (the checks on the right-hand side's path pass it unformatted).
+pub(crate) fn at<'a, const N: usize>(
+    q: &'a SVector<f64, N>,
+    qdot: &'a SVector<f64, N>,
+) -> At<'a, N> {
+    At(q, qdot)
+}
+
+/// The state `(q, q̇)` of [`at`], written by its `Display`.
+pub(crate) struct At<'a, const N: usize>(&'a SVector<f64, N>, &'a SVector<f64, N>);
+
+impl<const N: usize> std::fmt::Display for At<'_, N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "q = {:?}, q̇ = {:?}", self.0, self.1)
+    }
 }
 
 impl<L, C, const N: usize, const K: usize> Constrained<L, C, N, K>
@@ -123,7 +137,9 @@ where
     ) -> Result<Multipliers<N, K>> {
         let jet = self.jet(t, q, qdot)?;
         let g = &jet.gradient;
-        check_rank(g, "constraint matrix ∂g/∂q̇", t, || at(q, qdot))?;
+        check_rank(g, "constraint matrix ∂g/∂q̇", t, || {
+            at(q, qdot).to_string()
+        })?;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
         let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
             format!("t = {t}, {}", at(q, qdot))
@@ -135,8 +151,14 @@ where
         let lambda = sinv * (g * ainv * f + jet.rate);
         let constraint_force = -(g.transpose() * lambda);
         let qddot = ainv * (f + constraint_force);
-        crate::error::all_finite(format!("q̈ at t = {t}, {}", at(q, qdot)), qddot.as_slice())?;
-        crate::error::all_finite(format!("λ at t = {t}, {}", at(q, qdot)), lambda.as_slice())?;
+        crate::error::all_finite(
+            format_args!("q̈ at t = {t}, {}", at(q, qdot)),
+            qddot.as_slice(),
+        )?;
+        crate::error::all_finite(
+            format_args!("λ at t = {t}, {}", at(q, qdot)),
+            lambda.as_slice(),
+        )?;
         Ok(Multipliers {
             qddot,
             lambda,
@@ -159,7 +181,9 @@ where
     ) -> Result<SVector<f64, N>> {
         let jet = self.jet(t, q, qdot)?;
         let g = &jet.gradient;
-        check_rank(g, "constraint matrix ∂g/∂q̇", t, || at(q, qdot))?;
+        check_rank(g, "constraint matrix ∂g/∂q̇", t, || {
+            at(q, qdot).to_string()
+        })?;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
         // Dependent velocities by greedy column pivoting (largest remaining column first).
         let mut dep: Vec<usize> = Vec::new();
@@ -223,7 +247,10 @@ where
         })?;
         let qdd = qp + null * z;
         let out = SVector::<f64, N>::from_column_slice(qdd.as_slice());
-        crate::error::all_finite(format!("q̈ at t = {t}, {}", at(q, qdot)), out.as_slice())?;
+        crate::error::all_finite(
+            format_args!("q̈ at t = {t}, {}", at(q, qdot)),
+            out.as_slice(),
+        )?;
         Ok(out)
     }
 
@@ -249,7 +276,7 @@ where
                 return Ok(v);
             }
             check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || {
-                at(q, &v)
+                at(q, &v).to_string()
             })?;
             let (a, _) = lagrange_terms(&self.lagrangian, t, q, &v)?;
             let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
@@ -457,7 +484,7 @@ impl<C: VelocityConstraints<N, K>, const N: usize, const K: usize> Observer<N>
             what: "constraint matrix ∂g/∂q̇ along the motion".into(),
             rows,
             t: tmin,
-            at: at(&state.q, &state.p),
+            at: at(&state.q, &state.p).to_string(),
             tolerance: RANK_LOSS_TOLERANCE,
         });
         Control::StopAt(tmin)
