@@ -26,9 +26,12 @@
 //! * **Legend.** The legend sits in a column to the right of the plotting area, as wide as the
 //!   longest label needs (at most a third of the figure; longer labels are wrapped onto several
 //!   lines), so it never covers a curve. Each entry shows the curve's line and/or marker as drawn.
-//!   Curves with an empty label have no entry. If the entries do not fit the height of the figure
-//!   the legend's font shrinks, and as a last resort the remaining entries are summarised as
-//!   "… and N more". A long title is wrapped (at most three lines).
+//!   Curves with an empty label have no entry. On a narrow figure (a journal column: less than
+//!   about 5 in at 9 pt), or when the entries do not fit beside the plot at full size, the legend
+//!   goes below the plot instead, in as many columns as make it lowest, and the figure grows by
+//!   its height (at most 1.5 times, [`Size`] limits kept; the remaining entries are then
+//!   summarised as "… and N more" and named in the caption), so that the plot keeps its size and
+//!   every label its font. A long title is wrapped (at most three lines).
 //! * **Colours, dashes and markers.** Curves take the colours of a ten-colour palette in order,
 //!   with lines 2 pixels wide: the first ten solid, each further cycle through the palette with
 //!   a dash pattern of its own, so that no two curves share colour and dash pattern. Markers
@@ -145,6 +148,10 @@ const TICK_PX: f64 = render::BASE_UNITS;
 const LEGEND_PX: f64 = 14.0;
 /// Legend labels shrink no further than this.
 const MIN_LEGEND_PX: f64 = 10.0;
+/// Figures narrower than this many SVG units (about 5 in at 9 pt) have their legend below the plot.
+const NARROW_CANVAS: f64 = 560.0;
+/// A vertical axis title that would have to shrink below this goes on two lines of this size.
+const MIN_Y_DESC_PX: f64 = 12.0;
 /// A wrapped title keeps at most this many lines.
 const MAX_TITLE_LINES: usize = 3;
 /// Margins of the chart inside its region (top, bottom, left, right), in pixels.
@@ -474,10 +481,16 @@ impl Figure {
     pub fn render(&self) -> Result<Rendered> {
         self.size.check()?;
         let (w, h) = self.size.canvas();
-        let layouts = self.layouts()?;
+        let (layouts, legend) = self.layouts()?;
+        let extra = legend.as_ref().map_or(0, |l| l.height);
+        let size = Size {
+            // To a thousandth of an inch (a third of a pixel at 300 dpi).
+            height: (1e3 * self.size.height * f64::from(h + extra) / f64::from(h)).round() / 1e3,
+            ..self.size
+        };
         let mut svg = String::new();
         let dots = {
-            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, (w, h + extra)).into_drawing_area();
             let mut dots = String::new();
             let mut rest = root.clone();
             for l in &layouts {
@@ -485,15 +498,18 @@ impl Figure {
                 dots += &l.draw(&area).map_err(|e| self.error(e))?;
                 rest = below;
             }
+            if let Some(legend) = &legend {
+                legend.draw(&rest, &layouts[0]).map_err(|e| self.error(e))?;
+            }
             root.present().map_err(|e| self.error(e))?;
             dots
         };
         // The physical size; the canvas stays the view box.
         svg = svg.replacen(
-            &format!("<svg width=\"{w}\" height=\"{h}\""),
+            &format!("<svg width=\"{w}\" height=\"{}\"", h + extra),
             &format!(
                 "<svg width=\"{}in\" height=\"{}in\"",
-                self.size.width, self.size.height
+                size.width, size.height
             ),
             1,
         );
@@ -502,16 +518,34 @@ impl Figure {
                 svg.insert_str(end, &dots);
             }
         }
-        Ok(Rendered {
-            svg,
-            notes: layouts.into_iter().flat_map(|l| l.notes).collect(),
-        })
+        let mut notes: Vec<String> = layouts.into_iter().flat_map(|l| l.notes).collect();
+        if let Some(n) = legend.as_ref().and_then(LegendBelow::note) {
+            notes.push(n);
+        }
+        Ok(Rendered { svg, notes, size })
     }
 
     /// The layouts of the panels, from the top (one for a figure of one panel). Panels share
     /// the canvas width, the legend column and the width of the vertical axes' label area, so
     /// that their horizontal axes line up.
-    fn layouts(&self) -> Result<Vec<Layout>> {
+    fn layouts(&self) -> Result<(Vec<Layout>, Option<LegendBelow>)> {
+        let side = self.layouts_with(false)?;
+        let first = &side[0];
+        let (w, h) = self.size.canvas();
+        let crowded = first.legend_px < LEGEND_PX || first.legend_more > 0;
+        if first.heat.is_some()
+            || first.legend.is_empty() && first.legend_more == 0
+            || f64::from(w) >= NARROW_CANVAS && !crowded
+        {
+            return Ok((side, None));
+        }
+        let below = self.layouts_with(true)?;
+        let legend = LegendBelow::new(&below[0], w, f64::from(h) * (self.size.max_growth() - 1.0))?;
+        Ok((below, Some(legend)))
+    }
+
+    /// [`Figure::layouts`] with the legend beside the first panel or below the figure.
+    fn layouts_with(&self, legend_below: bool) -> Result<Vec<Layout>> {
         let (w, h) = self.size.canvas();
         let n_panels = self.panel_labels.len().max(1);
         if let Some(c) = self.curves.iter().find(|c| c.panel >= n_panels) {
@@ -525,7 +559,13 @@ impl Figure {
             if let Some(y) = self.panel_labels.first() {
                 fig.y_label = y.clone();
             }
-            return Ok(vec![Layout::new(&fig, Shared::canvas((w, h)))?]);
+            return Ok(vec![Layout::new(
+                &fig,
+                Shared {
+                    legend_below,
+                    ..Shared::canvas((w, h))
+                },
+            )?]);
         }
         let n = self.panel_labels.len() as u32;
         let sub: Vec<Figure> = (0..self.panel_labels.len())
@@ -567,6 +607,7 @@ impl Figure {
                 legend_h,
                 x_labels: false,
                 panel: Some(0),
+                legend_below,
                 ..Shared::canvas((w, h / n))
             },
         )?;
@@ -584,6 +625,7 @@ impl Figure {
             legend_h,
             x_labels: p + 1 == n as usize,
             panel: Some(p),
+            legend_below,
         };
         let mut layouts: Vec<Layout> = sub
             .iter()
@@ -640,7 +682,7 @@ impl Figure {
         for f in formats {
             match f {
                 Format::Svg => put("svg", r.svg.as_bytes())?,
-                Format::Png => put("png", &render::png(&r.svg, &self.size)?)?,
+                Format::Png => put("png", &render::png(&r.svg, &r.size)?)?,
                 Format::Pdf => put("pdf", &render::pdf(&r.svg)?)?,
             }
         }
@@ -690,6 +732,8 @@ pub struct Rendered {
     pub svg: String,
     /// Notes for the caption, one sentence each.
     pub notes: Vec<String>,
+    /// The size drawn: the figure's, taller by the legend when it is drawn below the plot.
+    pub size: Size,
 }
 
 /// `stem` with `.ext` appended (a stem may contain dots: `kepler-e0.5-orbit`).
@@ -1593,6 +1637,9 @@ struct Shared {
     /// The panel's number in a figure of several panels (`None` for a figure of one). Only the
     /// first panel has a legend (that of every panel), and notes name the panel.
     panel: Option<usize>,
+    /// Whether the legend is drawn below the figure ([`LegendBelow`]) instead of beside it: the
+    /// panel then has no legend column.
+    legend_below: bool,
 }
 
 impl Shared {
@@ -1605,6 +1652,7 @@ impl Shared {
             legend_h: None,
             x_labels: true,
             panel: None,
+            legend_below: false,
         }
     }
 }
@@ -1628,10 +1676,14 @@ struct Layout {
     /// Notes for the caption.
     notes: Vec<String>,
     title_lines: Vec<String>,
+    /// Font size of the title: shrunk on a narrow figure if that saves a line.
+    title_px: f64,
     title_h: u32,
     curves: Vec<Prepared>,
     x_desc: String,
-    y_desc: String,
+    /// The vertical axis title, on two lines when one would have to shrink below
+    /// [`MIN_Y_DESC_PX`].
+    y_desc: Vec<String>,
     /// Font sizes of the axis titles (x, y): shrunk if longer than their axis.
     desc_px: (f64, f64),
     /// Height of the plotting area in pixels.
@@ -1781,14 +1833,28 @@ impl Layout {
             notes.push(floor_note(&quoted_axis(&fig.y_label), ym));
         }
         let x_desc = fig.x_label.clone();
-        let y_desc = fig.y_label.clone();
 
-        // Title: wrapped, at most MAX_TITLE_LINES lines (the last one cut short with "…").
-        let mut title_lines = wrap(&fig.title, width as f64 - 40.0, TITLE_PX);
+        // Title: wrapped, at most MAX_TITLE_LINES lines (the last one cut short with "…"); a title
+        // of three lines or more shrinks (to the axis titles' size at least) if that saves lines.
+        let title_fit = |px: f64| wrap(&fig.title, width as f64 - 40.0, px).len();
+        let full = title_fit(TITLE_PX);
+        let title_px = (0..=(TITLE_PX - DESC_PX) as usize)
+            .map(|k| TITLE_PX - k as f64)
+            .find(|&px| {
+                title_fit(px)
+                    <= if full > MAX_TITLE_LINES {
+                        MAX_TITLE_LINES
+                    } else {
+                        2
+                    }
+            })
+            .filter(|_| full > 2)
+            .unwrap_or(TITLE_PX);
+        let mut title_lines = wrap(&fig.title, width as f64 - 40.0, title_px);
         if title_lines.len() > MAX_TITLE_LINES {
             title_lines.truncate(MAX_TITLE_LINES);
             if let Some(last) = title_lines.last_mut() {
-                while !last.is_empty() && text_width(last, TITLE_PX) > width as f64 - 60.0 {
+                while !last.is_empty() && text_width(last, title_px) > width as f64 - 60.0 {
                     last.pop();
                 }
                 last.push('…');
@@ -1797,13 +1863,25 @@ impl Layout {
         let title_h = if title_lines.is_empty() {
             8
         } else {
-            (title_lines.len() as f64 * TITLE_PX * 1.25 + 14.0).ceil() as u32
+            (title_lines.len() as f64 * title_px * 1.25 + 14.0).ceil() as u32
         };
 
         // Legend: column width from the labels, font shrunk if the entries do not fit the height.
         let body_h = (height - title_h) as f64;
         let x_area = x_label_area(shared.x_labels);
         let plot_h = (body_h - (MARGIN.0 + MARGIN.1 + x_area) as f64).max(10.0);
+        // The vertical axis title: one line, or two at a smaller size if one line would have to
+        // shrink further than that to fit the height of the plot (short panels).
+        let y_desc = {
+            let shrunk = DESC_PX * plot_h / text_width(&fig.y_label, DESC_PX).max(1.0);
+            let two = wrap(&fig.y_label, plot_h, MIN_Y_DESC_PX);
+            if shrunk < MIN_Y_DESC_PX && two.len() == 2 {
+                two
+            } else {
+                vec![fig.y_label.clone()]
+            }
+        };
+        let y_desc_lines = y_desc.len() as f64;
 
         // Curves that lie within the line width of an earlier one everywhere are drawn dashed,
         // and the legend and caption say so. The plot is at most the canvas wide: pixels per
@@ -1849,7 +1927,11 @@ impl Layout {
         let max_text_w =
             width as f64 / 3.0 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP - LEGEND_OUTER;
         let labelled: Vec<usize> = (0..curves.len())
-            .filter(|&i| !curves[i].label.is_empty() && shared.panel.unwrap_or(0) == 0)
+            .filter(|&i| {
+                !curves[i].label.is_empty()
+                    && shared.panel.unwrap_or(0) == 0
+                    && !(shared.legend_below && heat.is_none())
+            })
             .collect();
         let mut legend_px = LEGEND_PX;
         let (legend, legend_more) = loop {
@@ -1919,7 +2001,11 @@ impl Layout {
             }
             let yt = ticks(fig.y_scale, yr, plot_h, false);
             let xt = ticks(fig.x_scale, xr, plot_w, true);
-            let need = 1.3 * DESC_PX + 8.0 + yt.max_label_width() + (2 * TICK_LEN) as f64 + 4.0;
+            let need = 1.3 * DESC_PX * y_desc_lines
+                + 8.0
+                + yt.max_label_width()
+                + (2 * TICK_LEN) as f64
+                + 4.0;
             (xr, yr, xt, yt, need.ceil() as u32)
         };
         let mut y_area = shared.y_area.unwrap_or(60);
@@ -1943,7 +2029,14 @@ impl Layout {
                 DESC_PX
             }
         };
-        let desc_px = (fit(&x_desc, plot_w), fit(&y_desc, plot_h));
+        let desc_px = (
+            fit(&x_desc, plot_w),
+            if y_desc.len() > 1 {
+                MIN_Y_DESC_PX
+            } else {
+                fit(&y_desc[0], plot_h)
+            },
+        );
         let mut heat = heat;
         if let Some(h) = &mut heat {
             h.block(plot_w, plot_h, &mut notes);
@@ -1955,6 +2048,7 @@ impl Layout {
             height,
             notes,
             title_lines,
+            title_px,
             title_h,
             curves,
             x_desc,
@@ -1985,9 +2079,9 @@ impl Layout {
         DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>,
     > {
         root.fill(&WHITE)?;
-        let title_style = font(TITLE_PX).pos(Pos::new(HPos::Center, VPos::Top));
+        let title_style = font(self.title_px).pos(Pos::new(HPos::Center, VPos::Top));
         for (i, line) in self.title_lines.iter().enumerate() {
-            let y = 8 + (i as f64 * TITLE_PX * 1.25).round() as i32;
+            let y = 8 + (i as f64 * self.title_px * 1.25).round() as i32;
             root.draw_text(line, &title_style, (self.width as i32 / 2, y))?;
         }
         let (_, body) = root.split_vertically(self.title_h);
@@ -2028,7 +2122,10 @@ impl Layout {
             .transform(FontTransform::Rotate270)
             .pos(Pos::new(HPos::Center, VPos::Top));
         let y_mid = MARGIN.0 as i32 + (0.5 * self.plot_h).round() as i32;
-        region.draw_text(&self.y_desc, &y_desc_style, (MARGIN.2 as i32, y_mid))?;
+        for (j, line) in self.y_desc.iter().enumerate() {
+            let x = MARGIN.2 as f64 + j as f64 * 1.25 * self.desc_px.1;
+            region.draw_text(line, &y_desc_style, (x.round() as i32, y_mid))?;
+        }
 
         // Close the frame (the axes draw its left and bottom sides).
         chart.plotting_area().draw(&PathElement::new(
@@ -2189,60 +2286,8 @@ impl Layout {
         let tx = (sx + SWATCH_W + SWATCH_GAP).round() as i32;
         let mut y = y0 as f64 + LEGEND_PAD;
         for e in &self.legend {
-            let c = &self.curves[e.curve];
-            let color = c.color();
             let yc = (y + 0.5 * line_h).round() as i32;
-            let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
-            if !c.bands.is_empty() {
-                let half = (0.4 * line_h).round() as i32;
-                area.draw(&Rectangle::new(
-                    [(sx as i32, yc - half), ((sx + SWATCH_W) as i32, yc + half)],
-                    color.mix(BAND_OPACITY).filled(),
-                ))?;
-            }
-            match (c.style.line(), c.dash) {
-                (true, Some((d, g))) => area.draw(&DashedPathElement::new(
-                    swatch,
-                    d,
-                    g,
-                    color.stroke_width(STROKE),
-                ))?,
-                (true, None) => area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?,
-                _ => {}
-            }
-            if c.style == Style::Dots {
-                for k in 0..3 {
-                    let at = ((sx + (0.2 + 0.3 * k as f64) * SWATCH_W) as i32, yc);
-                    area.draw(&Circle::new(at, STROKE as i32, color.filled()))?;
-                }
-            }
-            if c.style.markers() {
-                let r = c.style.marker_radius();
-                let (shape, filled) = c.marker();
-                let style = if filled {
-                    color.filled()
-                } else {
-                    color.stroke_width(1)
-                };
-                let at = ((sx + 0.5 * SWATCH_W) as i32, yc);
-                match shape {
-                    Shape::Circle => {
-                        area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, style)))?
-                    }
-                    Shape::Square => {
-                        let a = r - 1;
-                        area.draw(
-                            &(EmptyElement::at(at) + Rectangle::new([(-a, -a), (a, a)], style)),
-                        )?
-                    }
-                    Shape::Triangle => {
-                        area.draw(&(EmptyElement::at(at) + Polygon::new(triangle(r), style)))?
-                    }
-                    Shape::Diamond => {
-                        area.draw(&(EmptyElement::at(at) + Polygon::new(diamond(r), style)))?
-                    }
-                }
-            }
+            draw_swatch(area, &self.curves[e.curve], sx, yc, line_h)?;
             for (j, line) in e.lines.iter().enumerate() {
                 let ly = (y + (j as f64 + 0.5) * line_h).round() as i32;
                 area.draw_text(line, &text_style, (tx, ly))?;
@@ -2252,6 +2297,221 @@ impl Layout {
         if self.legend_more > 0 {
             let ly = (y + 0.5 * line_h).round() as i32;
             area.draw_text(&more_label(self.legend_more), &text_style, (tx, ly))?;
+        }
+        Ok(())
+    }
+}
+
+/// Draw the legend swatch of curve `c` (its band, line or dashes, dots, marker) starting at `sx`,
+/// centred on the row `yc` of a legend line `line_h` high.
+fn draw_swatch<'a>(
+    area: &DrawingArea<SVGBackend<'a>, Shift>,
+    c: &Prepared,
+    sx: f64,
+    yc: i32,
+    line_h: f64,
+) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>> {
+    let color = c.color();
+    let swatch = vec![(sx as i32, yc), ((sx + SWATCH_W) as i32, yc)];
+    if !c.bands.is_empty() {
+        let half = (0.4 * line_h).round() as i32;
+        area.draw(&Rectangle::new(
+            [(sx as i32, yc - half), ((sx + SWATCH_W) as i32, yc + half)],
+            color.mix(BAND_OPACITY).filled(),
+        ))?;
+    }
+    match (c.style.line(), c.dash) {
+        (true, Some((d, g))) => area.draw(&DashedPathElement::new(
+            swatch,
+            d,
+            g,
+            color.stroke_width(STROKE),
+        ))?,
+        (true, None) => area.draw(&PathElement::new(swatch, color.stroke_width(STROKE)))?,
+        _ => {}
+    }
+    if c.style == Style::Dots {
+        for k in 0..3 {
+            let at = ((sx + (0.2 + 0.3 * k as f64) * SWATCH_W) as i32, yc);
+            area.draw(&Circle::new(at, STROKE as i32, color.filled()))?;
+        }
+    }
+    if c.style.markers() {
+        let r = c.style.marker_radius();
+        let (shape, filled) = c.marker();
+        let style = if filled {
+            color.filled()
+        } else {
+            color.stroke_width(1)
+        };
+        let at = ((sx + 0.5 * SWATCH_W) as i32, yc);
+        match shape {
+            Shape::Circle => area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, style)))?,
+            Shape::Square => {
+                let a = r - 1;
+                area.draw(&(EmptyElement::at(at) + Rectangle::new([(-a, -a), (a, a)], style)))?
+            }
+            Shape::Triangle => {
+                area.draw(&(EmptyElement::at(at) + Polygon::new(triangle(r), style)))?
+            }
+            Shape::Diamond => {
+                area.draw(&(EmptyElement::at(at) + Polygon::new(diamond(r), style)))?
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A legend below the plot, for figures too narrow for a legend column beside it (or with more
+/// entries than the column holds at full size): the entries in rows of `cols` columns, each label
+/// wrapped to its column, at the full legend font. The figure grows by its height (up to a bound,
+/// [`Size::max_growth`]; entries beyond it are summarised as "… and N more" and named in the
+/// caption).
+struct LegendBelow {
+    entries: Vec<Entry>,
+    /// Entries not shown for lack of room.
+    more: usize,
+    /// The labels of the entries not shown, for the caption.
+    omitted: Vec<String>,
+    cols: usize,
+    col_w: f64,
+    /// Height of each row of entries.
+    rows: Vec<f64>,
+    /// Height added to the figure, in SVG units.
+    height: u32,
+}
+
+impl LegendBelow {
+    /// Lay out the legend of `first` (the top panel's curves) on a canvas `width` wide, at most
+    /// `max_h` high: the number of columns that gives the lowest legend (labels wrapped to their
+    /// column, columns no narrower than needed for a short word).
+    fn new(first: &Layout, width: u32, max_h: f64) -> Result<Self> {
+        let px = LEGEND_PX;
+        let labelled: Vec<usize> = (0..first.curves.len())
+            .filter(|&i| !first.curves[i].label.is_empty())
+            .collect();
+        let avail_w = f64::from(width) - 2.0 * f64::from(MARGIN.2) - LEGEND_OUTER;
+        let text_w = |cols: usize| avail_w / cols as f64 - 2.0 * LEGEND_PAD - SWATCH_W - SWATCH_GAP;
+        let layout = |cols: usize| {
+            let entries: Vec<Entry> = labelled
+                .iter()
+                .map(|&i| Entry {
+                    curve: i,
+                    lines: wrap(&first.curves[i].label, text_w(cols), px),
+                })
+                .collect();
+            let rows: Vec<f64> = entries
+                .chunks(cols)
+                .map(|row| {
+                    row.iter()
+                        .map(|e| legend_entry_h(e.lines.len(), px))
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            (entries, rows)
+        };
+        let total = |rows: &[f64]| 2.0 * LEGEND_PAD + rows.iter().sum::<f64>() - legend_gap(px);
+        let widest = labelled
+            .iter()
+            .map(|&i| text_width(&first.curves[i].label, px))
+            .fold(0.0, f64::max);
+        let mut best = (1, layout(1));
+        for cols in 2..=labelled.len() {
+            // Columns narrower than a short word break words; wider than every label are waste.
+            if text_w(cols) < 8.0 * px || text_w(cols - 1) >= widest {
+                break;
+            }
+            let candidate = layout(cols);
+            // More columns only if they save at least a line (fewer wrapped labels read better).
+            if total(&candidate.1) < total(&best.1 .1) - legend_line_h(px) {
+                best = (cols, candidate);
+            }
+        }
+        let (cols, (mut entries, mut rows)) = best;
+        // Rows beyond the bound are summarised in one line.
+        let mut omitted = Vec::new();
+        let mut more = 0;
+        if total(&rows) + 2.0 * LEGEND_PAD > max_h {
+            let mut used = 2.0 * LEGEND_PAD + legend_entry_h(1, px) + 2.0 * LEGEND_PAD;
+            let keep = rows
+                .iter()
+                .take_while(|h| {
+                    used += **h;
+                    used <= max_h
+                })
+                .count();
+            rows.truncate(keep);
+            let rest = entries.split_off((keep * cols).min(entries.len()));
+            more = rest.len();
+            omitted = rest
+                .iter()
+                .map(|e| first.curves[e.curve].label.clone())
+                .collect();
+            rows.push(legend_entry_h(1, px));
+        }
+        if entries.is_empty() && more == 0 {
+            return Err(Error::invalid("figure legend", "no labelled curve to list"));
+        }
+        let height = (total(&rows) + 2.0 * LEGEND_PAD).ceil() as u32;
+        Ok(Self {
+            entries,
+            more,
+            omitted,
+            cols,
+            col_w: avail_w / cols as f64,
+            rows,
+            height,
+        })
+    }
+
+    /// The caption's note on entries not shown.
+    fn note(&self) -> Option<String> {
+        (self.more > 0).then(|| {
+            format!(
+                "The legend omits {} curve(s) for lack of room: {}.",
+                self.more,
+                self.omitted.join("; ")
+            )
+        })
+    }
+
+    /// Draw the legend in `area` (the strip below the panels), with the swatches of `first`.
+    fn draw<'a>(
+        &self,
+        area: &DrawingArea<SVGBackend<'a>, Shift>,
+        first: &Layout,
+    ) -> std::result::Result<(), DrawingAreaErrorKind<<SVGBackend<'a> as DrawingBackend>::ErrorType>>
+    {
+        let px = LEGEND_PX;
+        let line_h = legend_line_h(px);
+        let used_cols = self.cols.min(self.entries.len().max(1));
+        let box_w = (used_cols as f64 * self.col_w).round() as i32;
+        let box_h =
+            (self.rows.iter().sum::<f64>() - legend_gap(px) + 2.0 * LEGEND_PAD).round() as i32;
+        let (x0, y0) = (MARGIN.2 as i32, LEGEND_PAD as i32);
+        area.draw(&Rectangle::new(
+            [(x0, y0), (x0 + box_w, y0 + box_h)],
+            BLACK.mix(0.4).stroke_width(1),
+        ))?;
+        let text_style = font(px).pos(Pos::new(HPos::Left, VPos::Center));
+        let mut y = f64::from(y0) + LEGEND_PAD;
+        for (r, row) in self.entries.chunks(self.cols).enumerate() {
+            for (k, e) in row.iter().enumerate() {
+                let sx = f64::from(x0) + LEGEND_PAD + k as f64 * self.col_w;
+                let yc = (y + 0.5 * line_h).round() as i32;
+                draw_swatch(area, &first.curves[e.curve], sx, yc, line_h)?;
+                let tx = (sx + SWATCH_W + SWATCH_GAP).round() as i32;
+                for (j, line) in e.lines.iter().enumerate() {
+                    let ly = (y + (j as f64 + 0.5) * line_h).round() as i32;
+                    area.draw_text(line, &text_style, (tx, ly))?;
+                }
+            }
+            y += self.rows[r];
+        }
+        if self.more > 0 {
+            let tx = (f64::from(x0) + LEGEND_PAD + SWATCH_W + SWATCH_GAP).round() as i32;
+            let ly = (y + 0.5 * line_h).round() as i32;
+            area.draw_text(&more_label(self.more), &text_style, (tx, ly))?;
         }
         Ok(())
     }
@@ -2723,16 +2983,87 @@ mod tests {
     #[test]
     fn png_and_pdf_are_rendered_from_the_svg() {
         let fig = busy_figure();
-        let svg = fig.to_svg_string().unwrap();
-        let png = render::png(&svg, &fig.size).unwrap();
+        let r = fig.render().unwrap();
+        let svg = r.svg;
+        let png = render::png(&svg, &r.size).unwrap();
         assert_eq!(&png[1..4], b"PNG");
-        // Width and height in the IHDR chunk: 3.4 in × 2.4 in at 300 dpi.
+        // Width and height in the IHDR chunk: 3.4 in × 2.4 in at 300 dpi, taller by the legend
+        // below the plot.
         let w = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
         let h = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
-        assert_eq!((w, h), (1020, 720));
+        assert_eq!((w, h), r.size.pixels());
+        assert!(w == 1020 && h > 720, "{w} × {h}");
         let pdf = render::pdf(&svg).unwrap();
         assert!(pdf.starts_with(b"%PDF"));
         assert!(render::png("<svg", &fig.size).is_err());
+    }
+
+    #[test]
+    fn a_narrow_figure_has_its_legend_below_the_plot_in_full() {
+        let t: Vec<f64> = (0..100).map(|i| i as f64 * 0.1).collect();
+        let labels: Vec<String> = (0..12)
+            .map(|k| format!("method number {k} (order {}, {} stages)", k + 2, 3 * k + 1))
+            .collect();
+        let mut fig = Figure::new("a column figure with many curves", "t", "y");
+        fig.size = Size::column();
+        for (k, l) in labels.iter().enumerate() {
+            fig = fig.curve(
+                l.clone(),
+                t.iter().map(|&t| (t, (t + k as f64).sin())),
+                Style::Line,
+            );
+        }
+        let (layouts, legend) = fig.layouts().unwrap();
+        let legend = legend.expect("a narrow figure has its legend below");
+        // No legend column: the plot takes the width; every entry is listed.
+        assert_eq!(layouts[0].legend_w, 0);
+        assert_eq!(legend.entries.len(), labels.len());
+        assert_eq!(legend.more, 0);
+        assert!(legend.cols >= 1);
+        let r = fig.render().unwrap();
+        // Every label is drawn whole, at the full legend font, no word broken across lines.
+        let all = texts(&r.svg);
+        for l in &labels {
+            assert!(has_text(&r.svg, l), "{l}");
+        }
+        for word in labels.iter().flat_map(|l| l.split_whitespace()) {
+            assert!(
+                all.iter().any(|t| t.split_whitespace().any(|w| w == word)),
+                "{word}"
+            );
+        }
+        assert!(!r.svg.contains("more"));
+        // The figure grew by the legend's height, its width did not change.
+        let (w, h) = fig.size.canvas();
+        assert!(r
+            .svg
+            .contains(&format!("viewBox=\"0 0 {w} {}\"", h + legend.height)));
+        assert!(r.size.width == fig.size.width && r.size.height > fig.size.height);
+        let grown = fig.size.height * f64::from(h + legend.height) / f64::from(h);
+        assert!(
+            (r.size.height - grown).abs() <= 5e-4,
+            "{} {grown}",
+            r.size.height
+        );
+        // A page-wide figure with a few labels keeps the legend beside the plot.
+        let mut wide = fig.clone();
+        wide.size = Size::default();
+        wide.curves.truncate(3);
+        let (l, below) = wide.layouts().unwrap();
+        assert!(below.is_none() && l[0].legend_w > 0);
+        // So many labels that even the taller figure cannot hold them: summarised and named.
+        let mut crowded = fig.clone();
+        for k in 0..200 {
+            crowded = crowded.curve(
+                format!("extra curve {k}"),
+                [(0.0, 0.0), (1.0, 1.0)],
+                Style::Line,
+            );
+        }
+        let r = crowded.render().unwrap();
+        assert!(r.size.height <= fig.size.height * 2.5 + 1e-12);
+        assert!(r.notes.iter().any(|n| n.contains("extra curve 199")));
+        assert!(has_text(&r.svg, "more"));
     }
 
     #[test]
@@ -2753,7 +3084,7 @@ mod tests {
         assert!(has_text(&r.svg, "Ω") && has_text(&r.svg, "truth") && has_text(&r.svg, "elements"));
         // One legend: two entries.
         assert_eq!(texts(&r.svg).iter().filter(|t| *t == "truth").count(), 1);
-        let layouts = fig.layouts().unwrap();
+        let (layouts, _) = fig.layouts().unwrap();
         assert_eq!(layouts.len(), 3);
         assert!(layouts
             .iter()
@@ -2988,7 +3319,7 @@ mod tests {
         assert!(r.svg.matches("<polygon").count() >= 1, "{}", r.svg);
         assert!(r.svg.contains("opacity=\"0.15\""), "{}", r.svg);
         // The range covers the band.
-        let l = fig.layouts().unwrap();
+        let (l, _) = fig.layouts().unwrap();
         assert!(l[0].y_range.0 < -1.0 && l[0].y_range.1 > 50.0);
         // Bounds that do not match the points are refused.
         let mut bad = fig.clone();

@@ -114,6 +114,16 @@ impl Size {
         (w.round() as u32, h.round() as u32)
     }
 
+    /// The largest factor by which the figure's height may grow (for a legend below it) and still
+    /// pass [`Size::check`]: at most 2.5, at most 40 in high, at most 6.4·10⁷ pixels.
+    pub(crate) fn max_growth(&self) -> f64 {
+        let (w, h) = self.pixels();
+        2.5f64
+            .min(40.0 / self.height)
+            .min(MAX_PIXELS / (f64::from(w) * f64::from(h)))
+            .max(1.0)
+    }
+
     /// Width and height of the PNG in pixels.
     pub fn pixels(&self) -> (u32, u32) {
         (
