@@ -111,6 +111,73 @@ fn run_writes_under_out() {
 }
 
 #[test]
+fn plot_redraws_a_figure_from_its_data_file() {
+    let dir = temp_dir("plot");
+    let path = dir.join("tiny.toml");
+    std::fs::write(
+        &path,
+        "[system]\nname = \"pendulum\"\namplitude = 1.0\n[span]\nperiods = 1\n\
+         [[method]]\nkind = \"verlet-kdk\"\nsteps = [50, 100]\n[output]\nwork_precision = true\n",
+    )
+    .unwrap();
+    let out = dir.join("results");
+    let o = hj(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--min-time-ms",
+        "0",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = out.join("figures/tiny-work-precision.csv");
+    let svg = std::fs::read_to_string(out.join("figures/tiny-work-precision.svg")).unwrap();
+    // Redrawn elsewhere at the recorded size: the same drawing.
+    let again = dir.join("again");
+    let o = hj(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--to",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read_to_string(dir.join("again.svg")).unwrap(), svg);
+    // At column width, as PDF too.
+    let column = dir.join("column");
+    let o = hj(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--to",
+        column.to_str().unwrap(),
+        "--width",
+        "3.4in",
+        "--height",
+        "2.4in",
+        "--font-size",
+        "8",
+        "--format",
+        "svg,pdf",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read_to_string(dir.join("column.svg"))
+        .unwrap()
+        .contains("width=\"3.4in\""));
+    assert!(std::fs::read(dir.join("column.pdf"))
+        .unwrap()
+        .starts_with(b"%PDF"));
+    // A file that is not a figure's data: a usage error, not a panic.
+    let o = hj(&["plot", path.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn duplicate_scene_names_and_closed_pipes() {
     let o = hj(&["run", "heavy-top", "heavy-top", "--quiet"]);
     assert_eq!(o.status.code(), Some(2));

@@ -100,8 +100,8 @@ enum Command {
     /// recorded in the file).
     Plot {
         /// Data files of figures (`.csv`, or the `.npy` file beside one).
-        #[arg(required = true)]
-        data: Vec<PathBuf>,
+        #[arg(required = true, value_name = "DATA")]
+        files: Vec<PathBuf>,
         /// Output file stem (one data file only): writes STEM.svg, STEM.png, …; default: the
         /// data file's stem, beside it.
         #[arg(long = "to")]
@@ -270,7 +270,7 @@ fn main() -> ExitCode {
             ))),
         },
         Some(Command::Run { scenes }) => run_scenes(scenes, &cli),
-        Some(Command::Plot { data, to }) => plot_data(data, to.as_ref(), &cli),
+        Some(Command::Plot { files, to }) => plot_data(files, to.as_ref(), &cli),
         Some(Command::Reproduce) => {
             let all: Vec<String> = scene::BUILTIN.iter().map(|(n, _)| n.to_string()).collect();
             run_scenes(&all, &cli)
