@@ -77,9 +77,9 @@ fn bad_scene_exits_2_with_one_line() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn run_writes_under_out() {
-    let dir = temp_dir("run");
+/// Run a one-period pendulum scene with a work-precision figure in `dir`: the scene file, the
+/// output directory and the run's output.
+fn run_tiny(dir: &std::path::Path) -> (PathBuf, PathBuf, Output) {
     let path = dir.join("tiny.toml");
     std::fs::write(
         &path,
@@ -98,6 +98,13 @@ fn run_writes_under_out() {
         "--quiet",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (path, out, o)
+}
+
+#[test]
+fn run_writes_under_out() {
+    let dir = temp_dir("run");
+    let (_, out, o) = run_tiny(&dir);
     for f in [
         "tables/tiny.md",
         "tables/tiny.csv",
@@ -113,24 +120,7 @@ fn run_writes_under_out() {
 #[test]
 fn plot_redraws_a_figure_from_its_data_file() {
     let dir = temp_dir("plot");
-    let path = dir.join("tiny.toml");
-    std::fs::write(
-        &path,
-        "[system]\nname = \"pendulum\"\namplitude = 1.0\n[span]\nperiods = 1\n\
-         [[method]]\nkind = \"verlet-kdk\"\nsteps = [50, 100]\n[output]\nwork_precision = true\n",
-    )
-    .unwrap();
-    let out = dir.join("results");
-    let o = hj(&[
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--min-time-ms",
-        "0",
-        "--quiet",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (path, out, _) = run_tiny(&dir);
     let csv = out.join("figures/tiny-work-precision.csv");
     let svg = std::fs::read_to_string(out.join("figures/tiny-work-precision.svg")).unwrap();
     // Redrawn elsewhere at the recorded size: the same drawing.
