@@ -43,7 +43,7 @@ use hamilton_jacobi::systems::pendulum_exact::{self, PendulumMotion};
 use hamilton_jacobi::systems::rigid_body::{
     euler313_body_rates, euler313_from_quaternion, euler313_rates, euler_jacobian, euler_rhs,
     gyroscopic_moment, intermediate_axis_growth_rate, koenig_t, quaternion_from_euler313,
-    rod_kinetic_energy, EulerPoinsot, FreeRigidBody, InertiaTensor,
+    rod_kinetic_energy, EulerPoinsot, FreeRigidBody, HeavyRigidBody, InertiaTensor,
 };
 use hamilton_jacobi::systems::top::motion;
 use hamilton_jacobi::systems::{
@@ -2122,6 +2122,63 @@ fn add_rigid_bodies(c: &mut Vec<Call>) {
                 |(h, (qd, _))| {
                     // Euler's theorem for a form quadratic in p: p·∂H/∂p = 2H.
                     near_rel("p·q̇", p.dot(&qd), 2.0 * h, 1e-10)
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "HeavyRigidBody::new",
+        &[2.0, 2.0, 1.0, 1.0, 0.0, 0.0],
+        &[(2, 5.0), (0, -1.0), (3, 1e300)],
+        |a| {
+            let valid = fin(a)
+                && a[..3].iter().all(|&x| x > 0.0)
+                && a[2] <= a[0] + a[1]
+                && a[0] <= a[1] + a[2]
+                && a[1] <= a[0] + a[2];
+            judge(
+                HeavyRigidBody::new(
+                    Vector3::new(a[0], a[1], a[2]),
+                    Vector3::new(a[3], a[4], a[5]),
+                ),
+                valid || fin(a),
+                |b| near("w1", b.weight()[0], a[3], 0.0),
+            )
+        },
+    );
+    sweep(
+        c,
+        "HeavyRigidBody::hamiltonian+kovalevskaya_integral",
+        &[0.3, 1.1, -2.0, 0.7, -0.4, 1.9],
+        &[(1, 0.0), (1, PI), (4, 1e200)],
+        |a| {
+            let b = HeavyRigidBody::new(Vector3::new(2.0, 2.0, 1.0), Vector3::new(1.0, 0.0, 0.0))
+                .unwrap();
+            let (q, p) = (
+                SVector::from([a[0], a[1], a[2]]),
+                SVector::from([a[3], a[4], a[5]]),
+            );
+            judge(
+                b.value(0.0, &q, &p).and_then(|h| {
+                    Ok((
+                        h,
+                        b.vector_field(0.0, &q, &p)?,
+                        b.kovalevskaya_integral(&q, &p)?,
+                    ))
+                }),
+                fin(a),
+                |(h, (qd, _), k)| {
+                    // H − V is quadratic in p: p·∂H/∂p = 2(H − V); K ≥ 0.
+                    let v = b.potential_generic(&q);
+                    all([
+                        near_rel("p·q̇", p.dot(&qd), 2.0 * (h - v), 1e-10),
+                        if k >= 0.0 {
+                            Good
+                        } else {
+                            Wrong(format!("K = {k:e} < 0"))
+                        },
+                    ])
                 },
             )
         },

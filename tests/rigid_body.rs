@@ -8,13 +8,14 @@ use hamilton_jacobi::integrate::coefficients::YOSHIDA3;
 use hamilton_jacobi::integrate::{
     integrate, Dop853, FirstOrderSystem, Fixed, Gauss, LiePoisson, Problem,
 };
+use hamilton_jacobi::lagrangian::NaturalSystem;
 use hamilton_jacobi::nalgebra::{Matrix3, Rotation3, SVector, UnitQuaternion, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
 use hamilton_jacobi::systems::rigid_body::{
     euler313_body_rates, euler313_from_quaternion, euler313_rates, euler313_rotation_matrix,
     euler_jacobian, euler_rhs, gyroscopic_moment, intermediate_axis_growth_rate, koenig_t,
-    quaternion_from_euler313, rod_kinetic_energy, EulerPoinsot, FreeRigidBody, InertiaTensor,
-    Regime,
+    quaternion_from_euler313, rod_kinetic_energy, vertical_in_body, EulerPoinsot, FreeRigidBody,
+    HeavyRigidBody, InertiaTensor, Regime,
 };
 use hamilton_jacobi::systems::{HeavyTop, Invariants};
 use hamilton_jacobi::{Error, Hamiltonian, Result};
@@ -307,17 +308,122 @@ fn canonical_free_body_reproduces_eulers_equations() {
 }
 
 #[test]
-fn symmetric_free_body_is_the_heavy_top_without_gravity() {
-    // H_top − mgℓ cos θ with (I, J) = (2, 0.7) against the free body with (2, 2, 0.7).
-    let top = HeavyTop::new(2.0, 0.7, 0.3).unwrap();
-    let b = FreeRigidBody::new(Vector3::new(2.0, 2.0, 0.7)).unwrap();
+fn the_heavy_top_is_lagranges_case_of_the_heavy_rigid_body() {
+    // The top's H and mass matrix (built from the rigid body) against Ardema's closed forms,
+    // eq. 11.17 and the matrix of 11.2, typed here: (I, J, mgℓ) = (2, 0.7, 0.3).
+    let (i, j, mgl) = (2.0, 0.7, 0.3);
+    let top = HeavyTop::new(i, j, mgl).unwrap();
+    for (q, p) in [
+        ([0.4, 0.9, -1.3], [1.1, -0.6, 0.8]),
+        ([-2.0, 0.05, 0.7], [0.3, 2.0, -1.5]),
+        ([1.0, 3.0, 2.5], [-0.9, 0.1, 0.4]),
+    ] {
+        let (q, p): (SVector<f64, 3>, SVector<f64, 3>) = (SVector::from(q), SVector::from(p));
+        let (s, c) = q[1].sin_cos();
+        let w = p[0] - p[2] * c;
+        let h =
+            p[1] * p[1] / (2.0 * i) + w * w / (2.0 * i * s * s) + p[2] * p[2] / (2.0 * j) + mgl * c;
+        // Rounding of terms as large as w²/(2I sin²θ).
+        let scale = w * w / (2.0 * i * s * s) + h.abs();
+        assert!((top.value(0.0, &q, &p).unwrap() - h).abs() < 1e-14 * scale);
+        let a = top.mass(0.0, &q);
+        let closed = Matrix3::new(
+            i * s * s + j * c * c,
+            0.0,
+            j * c,
+            0.0,
+            i,
+            0.0,
+            j * c,
+            0.0,
+            j,
+        );
+        assert!((a - closed).amax() < 1e-15 * (i + j));
+    }
+    assert_eq!(top.rigid_body().moments(), &Vector3::new(i, i, j));
+    assert_eq!(top.rigid_body().weight(), &Vector3::new(0.0, 0.0, mgl));
+}
+
+/// The Euler–Poisson equations `Π̇ = Π × ω + γ × w`, `γ̇ = γ × ω` (Newton–Euler form with the
+/// gravity torque) against the canonical equations of the heavy body in Euler angles: `Π̇` and
+/// `γ̇` as directional derivatives of `Π(q, p)` and `γ(q)` along Hamilton's vector field, by AD.
+#[test]
+fn the_heavy_body_in_euler_angles_obeys_the_euler_poisson_equations() {
+    let body =
+        HeavyRigidBody::new(Vector3::new(1.0, 1.6, 2.1), Vector3::new(0.4, -0.3, 0.9)).unwrap();
     let (q, p) = (
-        SVector::from([0.4, 0.9, -1.3]),
-        SVector::from([1.1, -0.6, 0.8]),
+        SVector::from([0.3, 1.2, -0.8]),
+        SVector::from([0.7, -0.4, 1.3]),
     );
-    let h_top = top.value(0.0, &q, &p).unwrap() - 0.3 * q[1].cos();
-    let h = b.value(0.0, &q, &p).unwrap();
-    assert!((h - h_top).abs() < 1e-15 * 4.0 * h);
+    let (qd, pd) = body.vector_field(0.0, &q, &p).unwrap();
+    let qq = SVector::from_fn(|k, _| Dual64::new(q[k], qd[k]));
+    let pp = SVector::from_fn(|k, _| Dual64::new(p[k], pd[k]));
+    let pi_dot = FreeRigidBody::body_momentum_generic(&qq, &pp).map(|x| x.eps);
+    let gamma_dot = vertical_in_body(&qq).map(|x| x.eps);
+    let (omega, gamma) = body.euler_poisson_state(&q, &p).unwrap();
+    let pi = FreeRigidBody::body_momentum(&q, &p).unwrap();
+    let expected = pi.cross(&omega) + gamma.cross(body.weight());
+    assert!(
+        (pi_dot - expected).amax() < 1e-14 * 8.0,
+        "{pi_dot} {expected}"
+    );
+    assert!((gamma_dot - gamma.cross(&omega)).amax() < 1e-14 * 4.0);
+    // p_φ is the vertical component of the angular momentum, Π·γ.
+    assert!((p[0] - pi.dot(&gamma)).abs() < 1e-14 * 4.0);
+}
+
+/// Kovalevskaya's case `I = (2, 2, 1)`, mass centre in the equatorial plane: her fourth integral
+/// stays constant along a DOP853 run at rtol 1e-12 (drift bounded by the tolerance times the
+/// number of steps' worth of growth, 1e-8 relative over t = 30), while the same expression along a
+/// body outside her case (`I₃ = 1.2`) changes at order one — the check can fail.
+#[test]
+fn kovalevskayas_integral_is_conserved_only_in_her_case() {
+    let k_of = |b: &HeavyRigidBody, q: &SVector<f64, 3>, p: &SVector<f64, 3>| {
+        // |z² − cξ|² with z = ω₁ + iω₂, ξ = γ₁ + iγ₂, c = w₁/1 (w₂ = 0, unit I₃ scale).
+        let (w, g) = b.euler_poisson_state(q, p).unwrap();
+        let c = b.weight()[0];
+        (w[0] * w[0] - w[1] * w[1] - c * g[0]).powi(2) + (2.0 * w[0] * w[1] - c * g[1]).powi(2)
+    };
+    let (q0, p0) = (
+        SVector::from([0.2, 1.1, 0.4]),
+        SVector::from([0.5, -0.8, 0.9]),
+    );
+    let span = 30.0;
+    let run = |b: &HeavyRigidBody| {
+        let problem = Problem::new(b, 0.0, q0, p0, span).unwrap();
+        let last = integrate(&problem, &Dop853::new(1e-12, 1e-12).unwrap(), &mut ())
+            .unwrap()
+            .last;
+        (last.q, last.p)
+    };
+    let kova =
+        HeavyRigidBody::new(Vector3::new(2.0, 2.0, 1.0), Vector3::new(1.0, 0.0, 0.0)).unwrap();
+    let k0 = kova.kovalevskaya_integral(&q0, &p0).unwrap();
+    assert!((k0 - k_of(&kova, &q0, &p0)).abs() < 1e-15 * k0.max(1.0));
+    let (q, p) = run(&kova);
+    let k1 = kova.kovalevskaya_integral(&q, &p).unwrap();
+    assert!((k1 - k0).abs() < 1e-8 * k0.max(1.0), "K {k0} → {k1}");
+    // Energy and p_φ, the two general integrals, also hold.
+    let e0 = kova.value(0.0, &q0, &p0).unwrap();
+    assert!((kova.value(span, &q, &p).unwrap() - e0).abs() < 1e-9 * e0.abs().max(1.0));
+    assert!((p[0] - p0[0]).abs() < 1e-9);
+    // Outside the case the same expression is not an integral; the integral is refused there.
+    let other =
+        HeavyRigidBody::new(Vector3::new(2.0, 2.0, 1.2), Vector3::new(1.0, 0.0, 0.0)).unwrap();
+    let (q, p) = run(&other);
+    let drift = (k_of(&other, &q, &p) - k_of(&other, &q0, &p0)).abs();
+    assert!(drift > 1e-3 * k0, "{drift}");
+    assert!(other.kovalevskaya_integral(&q0, &p0).is_err());
+    let tilted =
+        HeavyRigidBody::new(Vector3::new(2.0, 2.0, 1.0), Vector3::new(1.0, 0.0, 0.1)).unwrap();
+    assert!(tilted.kovalevskaya_integral(&q0, &p0).is_err());
+    // A weight moment that is not finite, and unrealisable moments, are refused.
+    assert!(HeavyRigidBody::new(
+        Vector3::new(2.0, 2.0, 1.0),
+        Vector3::new(f64::NAN, 0.0, 0.0)
+    )
+    .is_err());
+    assert!(HeavyRigidBody::new(Vector3::new(1.0, 1.0, 3.0), Vector3::zeros()).is_err());
 }
 
 #[test]

@@ -166,6 +166,12 @@ impl FreeRigidBody {
         Ok(Self { moments })
     }
 
+    /// A body with the given positive, finite moments, not checked against the triangle
+    /// inequality: the symmetric top is also used as a model with any positive moments.
+    pub(in crate::systems) fn with_moments_unchecked(moments: Vector3<f64>) -> Self {
+        Self { moments }
+    }
+
     /// The principal moments `(I₁, I₂, I₃)`.
     pub fn moments(&self) -> &Vector3<f64> {
         &self.moments

@@ -4,6 +4,7 @@
 pub mod motion;
 
 use super::rigid_body::rotation::{chart_value, chart_vector_field, check_chart};
+use super::rigid_body::HeavyRigidBody;
 use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
@@ -39,8 +40,16 @@ use num_dual::DualNum;
 /// conversions below) refuses a state with `|sin θ| ≤ 2⁻⁵²` (θ within rounding of `0` or `π`)
 /// with [`Error::Singular`]. A sleeping top exactly at `θ = 0` is not representable; start at a
 /// small `θ` instead, e.g. `θ = 10⁻³`.
+///
+/// # One rigid body
+/// The top is Lagrange's case of [`HeavyRigidBody`] (moments `(I, I, J)`, weight moment
+/// `(0, 0, mgℓ)`): its mass matrix and Hamiltonian are that body's, `Bᵀ diag(I, I, J) B` and
+/// `Σ Π_i²/(2I_i) + mgℓ cos θ`, which reduce to the forms above. Unlike [`HeavyRigidBody::new`],
+/// [`HeavyTop::new`] admits any positive `I` and `J` (a model of the equations, also where
+/// `J > 2I` is not realised by a body).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeavyTop {
+    body: HeavyRigidBody,
     i: f64,
     j: f64,
     mgl: f64,
@@ -71,11 +80,20 @@ impl HeavyTop {
     /// Top with transverse moment of inertia `I > 0` and axial moment `J > 0` about the fixed
     /// point and `mgℓ > 0` (mass centre above the fixed point on the figure axis).
     pub fn new(i: f64, j: f64, mgl: f64) -> Result<Self> {
+        let i = positive("transverse moment of inertia I", i)?;
+        let j = positive("axial moment of inertia J", j)?;
+        let mgl = positive("gravity moment mgℓ", mgl)?;
         Ok(Self {
-            i: positive("transverse moment of inertia I", i)?,
-            j: positive("axial moment of inertia J", j)?,
-            mgl: positive("gravity moment mgℓ", mgl)?,
+            body: HeavyRigidBody::symmetric_top(i, j, mgl),
+            i,
+            j,
+            mgl,
         })
+    }
+
+    /// The top as a [`HeavyRigidBody`] (Lagrange's case).
+    pub fn rigid_body(&self) -> &HeavyRigidBody {
+        &self.body
     }
     /// Transverse moment of inertia `I`.
     pub fn i(&self) -> f64 {
@@ -233,42 +251,22 @@ impl HeavyTop {
 }
 
 impl NaturalSystem<3> for HeavyTop {
-    /// `a = [[I sin²θ + J cos²θ, 0, J cos θ], [0, I, 0], [J cos θ, 0, J]]`.
-    fn mass<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
-        let (s, c) = q[1].sin_cos();
-        let z = D::from(0.0);
-        let jc = c * self.j;
-        SMatrix::<D, 3, 3>::new(
-            s * s * self.i + c * jc,
-            z,
-            jc,
-            z,
-            D::from(self.i),
-            z,
-            jc,
-            z,
-            D::from(self.j),
-        )
+    /// `a = Bᵀ diag(I, I, J) B = [[I sin²θ + J cos²θ, 0, J cos θ], [0, I, 0], [J cos θ, 0, J]]`
+    /// ([`HeavyRigidBody`]).
+    fn mass<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
+        self.body.mass(t, q)
     }
     /// `V = mgℓ cos θ`.
-    fn potential<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>) -> D {
-        q[1].cos() * self.mgl
+    fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>) -> D {
+        self.body.potential(t, q)
     }
 }
 
 impl Hamiltonian<3> for HeavyTop {
+    /// [`HeavyRigidBody`]'s `Σ Π_i²/(2I_i) + w·γ` (struct docs).
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 3>,
-        p: &SVector<D, 3>,
-    ) -> D {
-        let (s, c) = q[1].sin_cos();
-        let w = p[0] - p[2] * c;
-        (p[1] * p[1] + w * w / (s * s)) * (0.5 / self.i)
-            + p[2] * p[2] * (0.5 / self.j)
-            + c * self.mgl
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 3>, p: &SVector<D, 3>) -> D {
+        self.body.hamiltonian(t, q, p)
     }
 
     /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
