@@ -275,16 +275,31 @@ impl<L> Legendre<L> {
     where
         L: Lagrangian<N>,
     {
-        check_phase(t, q, p)?;
-        solve_gradient_equation(
-            &LagrangianSlots(&self.0),
-            t,
-            q,
-            p,
-            &[true; N],
-            "Legendre transform ∂L/∂q̇ = p",
-        )
+        velocity_from_momentum(&self.0, t, q, p)
     }
+}
+
+/// The velocities `q̇` with `∂L/∂q̇(t, q, q̇) = p`: the inverse Legendre map of `lagrangian`, by
+/// Newton's method with the AD mass matrix (as [`Legendre::velocity`]).
+///
+/// # Errors
+/// [`Error::NonFinite`] for non-finite input; [`Error::Singular`] or [`Error::NotConverged`]
+/// where the Newton solve fails (a singular mass matrix names the configuration).
+pub fn velocity_from_momentum<L: Lagrangian<N> + ?Sized, const N: usize>(
+    lagrangian: &L,
+    t: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<SVector<f64, N>> {
+    check_phase(t, q, p)?;
+    solve_gradient_equation(
+        &LagrangianSlots(lagrangian),
+        t,
+        q,
+        p,
+        &[true; N],
+        "Legendre transform ∂L/∂q̇ = p",
+    )
 }
 
 /// NaN with NaN in every derivative slot that `x` carries, so a failed inner solve cannot pass as a

@@ -8,6 +8,7 @@ pub mod error;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;
+pub mod impulse;
 pub mod integrate;
 pub mod lagrangian;
 pub mod nonholonomic;

@@ -1769,6 +1769,121 @@ fn near_rel(what: &str, got: f64, want: f64, tol: f64) -> Verdict {
     near(what, got, want, tol * want.abs().max(f64::MIN_POSITIVE))
 }
 
+/// Impulsive motion: applied impulses on three hinged rods, a suddenly held end, the
+/// generalized impulse of a blow along a rod, the inverse Legendre map.
+fn add_impulse(c: &mut Vec<Call>) {
+    use hamilton_jacobi::impulse::{
+        apply_impulse, generalized_impulse, impose_constraints, ImpactPoint,
+    };
+    use hamilton_jacobi::lagrangian::velocity_from_momentum;
+    use hamilton_jacobi::systems::HingedRods;
+    use hamilton_jacobi::Lagrangian;
+    struct Held;
+    impl hamilton_jacobi::constraints::PfaffianConstraints<4, 1> for Held {
+        fn forms<D: num_dual::DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            _q: &SVector<D, 4>,
+        ) -> (hamilton_jacobi::nalgebra::SMatrix<D, 1, 4>, SVector<D, 1>) {
+            let (z, one) = (D::from(0.0), D::from(1.0));
+            (
+                hamilton_jacobi::nalgebra::SMatrix::from_row_slice(&[z, z, z, one]),
+                SVector::from([z]),
+            )
+        }
+    }
+    struct Along(f64);
+    impl ImpactPoint<2, 1> for Along {
+        fn position<D: num_dual::DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+        ) -> SVector<D, 1> {
+            SVector::from([q[0] * (1.0 - self.0) + q[1] * self.0])
+        }
+    }
+    sweep(c, "HingedRods::new", &[1.0], &[(0, -1.0), (0, 0.0)], |a| {
+        judge(HingedRods::<4>::new(a[0]), fin(a) && a[0] > 0.0, |r| {
+            near("M", r.mass(), a[0], 0.0)
+        })
+    });
+    sweep(
+        c,
+        "impulse::apply_impulse",
+        &[1.0, 0.0, 0.5, -0.2],
+        &[(0, 1e300), (1, 5e-324)],
+        |a| {
+            let rods = HingedRods::<4>::new(1.0).unwrap();
+            let v0 = SVector::from([0.1, a[2], 0.0, a[3]]);
+            let p = SVector::from([a[0], a[1], 0.0, 0.0]);
+            judge(
+                apply_impulse(&rods, 0.0, &SVector::zeros(), &v0, &p),
+                fin(a),
+                |j| {
+                    // ΔT = P̂·(q̇⁺ + q̇⁻)/2.
+                    let de = p.dot(&(j.velocity_after + v0)) * 0.5;
+                    near(
+                        "ΔT",
+                        j.energy_change(),
+                        de,
+                        1e-12 * j.energy_after.abs().max(j.energy_before.abs()).max(1e-300),
+                    )
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "impulse::impose_constraints",
+        &[0.3, -1.2, 0.8, 2.0],
+        &[(3, 1e300), (0, -1e-310)],
+        |a| {
+            let rods = HingedRods::<4>::new(1.0).unwrap();
+            let v0 = SVector::from([a[0], a[1], a[2], a[3]]);
+            judge(
+                impose_constraints(&rods, &Held, 0.0, &SVector::zeros(), &v0, &SVector::zeros()),
+                fin(a),
+                |j| near("v₄⁺", j.velocity_after[3], 0.0, 1e-12 * v0.amax()),
+            )
+        },
+    );
+    sweep(
+        c,
+        "impulse::generalized_impulse",
+        &[0.25, 1.0],
+        &[(1, 1e300)],
+        |a| {
+            judge(
+                generalized_impulse(&Along(a[0]), 0.0, &SVector::zeros(), &SVector::from([a[1]])),
+                fin(a) && (a[0] * a[1]).is_finite(),
+                |g| near_rel("P̂₂", g[1], a[0] * a[1], 4.0 * EPS),
+            )
+        },
+    );
+    sweep(
+        c,
+        "lagrangian::velocity_from_momentum",
+        &[0.5, -1.0],
+        &[(0, 1e300)],
+        |a| {
+            let rods = HingedRods::<2>::new(1.0).unwrap();
+            let p = SVector::from([a[0], a[1]]);
+            judge(
+                velocity_from_momentum(&rods, 0.0, &SVector::zeros(), &p),
+                fin(a),
+                |v| {
+                    near(
+                        "p(v)",
+                        (rods.momentum(0.0, &SVector::zeros(), &v).unwrap() - p).amax(),
+                        0.0,
+                        1e-12 * p.amax(),
+                    )
+                },
+            )
+        },
+    );
+}
+
 fn add_rigid_bodies(c: &mut Vec<Call>) {
     sweep(
         c,
@@ -2839,6 +2954,7 @@ fn every_entry_point_survives_hostile_input() {
     add_series(&mut calls);
     add_plots(&mut calls);
     add_rigid_bodies(&mut calls);
+    add_impulse(&mut calls);
     constrained::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()

@@ -44,6 +44,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "integrate",
             "perturbation",
             "nonholonomic",
+            "impulse",
         ],
     ),
     ("harness", &["workprecision"]),

@@ -16,6 +16,7 @@
 //! | [`HamelVelocityParameters`] | 2 (holonomic, non-holonomic ω) | `ω₁ = c sech ct`, `ω₂ = −c tanh ct` [Hamel art. 241] |
 //! | [`ConeConstraint`] | 3, constraint non-linear in ẋ | closed form up to the vertex [Hamel art. 249] |
 //! | [`SecondClassConstraint`] | 3, acceleration constraint | Gauss's stationary points [Hamel art. 252] |
+//! | [`HingedRods`] | N (normal velocities of the joints) | impulsive response `(52, −14, 4, −2)P/(15M)` for three rods [Ardema 13.3] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
@@ -28,6 +29,7 @@ mod cone_constraint;
 mod gearing;
 mod harmonic;
 pub mod henon_heiles;
+pub mod hinged_rods;
 pub mod kepler;
 mod pendulum;
 pub mod pendulum_exact;
@@ -45,6 +47,7 @@ pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
 pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use henon_heiles::HenonHeiles;
+pub use hinged_rods::HingedRods;
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;

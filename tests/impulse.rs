@@ -1,0 +1,301 @@
+//! Impulsive motion (SPEC M38–M40) against independent oracles: Ardema's three hinged rods
+//! (T35) and the struck rod (T36) in closed form, a relativistic particle (momentum jump in
+//! closed form), Carnot's energy loss for a suddenly imposed constraint, the elevator floor (a
+//! live constraint), and the extremum theorems of Gauss, Kelvin and Bertrand by minimisation with
+//! `argmin`'s Nelder–Mead (derivative-free, independent of the linear algebra of the crate).
+
+use argmin::core::{CostFunction, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use hamilton_jacobi::constraints::PfaffianConstraints;
+use hamilton_jacobi::impulse::{
+    apply_impulse, generalized_impulse, impose_constraints, ImpactPoint,
+};
+use hamilton_jacobi::nalgebra::{DVector, SMatrix, SVector};
+use hamilton_jacobi::num_dual::DualNum;
+use hamilton_jacobi::systems::HingedRods;
+use hamilton_jacobi::{Error, Lagrangian};
+
+const EPS: f64 = f64::EPSILON;
+
+/// SPEC T35: rods AB, BC, CD of mass M at rest, impulse P at A normal to the line:
+/// `(p, q, r, s) = (52, −14, 4, −2) P/(15M)`, `T⁺ = 26 P²/(15M)`.
+#[test]
+fn three_hinged_rods_struck_at_one_end() {
+    for (m, p) in [(1.0, 1.0), (2.5, -0.7), (1e-3, 4e2)] {
+        let rods = HingedRods::<4>::new(m).unwrap();
+        let jump = apply_impulse(
+            &rods,
+            0.0,
+            &SVector::zeros(),
+            &SVector::zeros(),
+            &SVector::from([p, 0.0, 0.0, 0.0]),
+        )
+        .unwrap();
+        let expected = SVector::from([52.0, -14.0, 4.0, -2.0]) * (p / (15.0 * m));
+        // A 4×4 solve with condition number ≈ 20: a few tens of ulps of the largest velocity.
+        let tol = 64.0 * EPS * expected.amax();
+        assert!(
+            (jump.velocity_after - expected).amax() < tol,
+            "{}",
+            jump.velocity_after
+        );
+        let t_plus = 26.0 * p * p / (15.0 * m);
+        assert!((jump.energy_after - t_plus).abs() < 64.0 * EPS * t_plus);
+        assert_eq!(jump.energy_before, 0.0);
+        // From rest, T⁺ = ½ P̂·q̇⁺ (M40).
+        assert!(
+            (jump.energy_change() - 0.5 * p * jump.velocity_after[0]).abs() < 64.0 * EPS * t_plus
+        );
+    }
+}
+
+/// The point at `nℓ` from the first end of a rod whose ends have the normal displacements `q`.
+struct AlongRod(f64);
+impl ImpactPoint<2, 1> for AlongRod {
+    fn position<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>) -> SVector<D, 1> {
+        SVector::from([q[0] * (1.0 - self.0) + q[1] * self.0])
+    }
+}
+
+/// SPEC T36: a rod struck normally at `nℓ` from one end: end velocities `v(4 − 6n)` and
+/// `v(6n − 2)` with `v = P/m`; instance `n = 0.25`, `v = 1`: 2.5 and −0.5.
+#[test]
+fn rod_struck_normally_at_a_fraction_of_its_length() {
+    let rod = HingedRods::<2>::new(1.0).unwrap();
+    for n in [0.0, 0.25, 0.5, 1.0 / 3.0, 0.9] {
+        let p_hat =
+            generalized_impulse(&AlongRod(n), 0.0, &SVector::zeros(), &SVector::from([1.0]))
+                .unwrap();
+        assert!((p_hat - SVector::from([1.0 - n, n])).amax() <= EPS);
+        let jump = apply_impulse(&rod, 0.0, &SVector::zeros(), &SVector::zeros(), &p_hat).unwrap();
+        let expected = SVector::from([4.0 - 6.0 * n, 6.0 * n - 2.0]);
+        assert!(
+            (jump.velocity_after - expected).amax() < 16.0 * EPS * 4.0,
+            "n = {n}"
+        );
+    }
+}
+
+/// A relativistic particle, `L = −m√(1 − v²)` (c = 1): the momentum `mv/√(1 − v²)` jumps by `P`,
+/// so `v⁺ = p⁺/√(m² + p⁺²)` — a Lagrangian not quadratic in `q̇`, solved by Newton's method.
+struct Relativistic(f64);
+impl Lagrangian<1> for Relativistic {
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 1>,
+        v: &SVector<D, 1>,
+    ) -> D {
+        -(D::from(1.0) - v[0] * v[0]).sqrt() * self.0
+    }
+}
+
+#[test]
+fn a_momentum_jump_of_a_relativistic_particle() {
+    let (m, v0) = (2.0, 0.6);
+    for p in [0.5, 3.0, -4.0] {
+        let jump = apply_impulse(
+            &Relativistic(m),
+            0.0,
+            &SVector::zeros(),
+            &SVector::from([v0]),
+            &SVector::from([p]),
+        )
+        .unwrap();
+        let p_plus = m * v0 / (1.0 - v0 * v0).sqrt() + p;
+        let v_plus = p_plus / (m * m + p_plus * p_plus).sqrt();
+        assert!((jump.velocity_after[0] - v_plus).abs() < 16.0 * EPS, "{p}");
+        // h = m/√(1 − v²): the energy, in closed form.
+        let h = |v: f64| m / (1.0 - v * v).sqrt();
+        assert!((jump.energy_change() - (h(v_plus) - h(v0))).abs() < 64.0 * EPS * h(v_plus));
+    }
+}
+
+/// The last point of the chain suddenly held (`v_N = 0`): an inert constraint.
+struct HoldLast;
+impl PfaffianConstraints<4, 1> for HoldLast {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 4>,
+    ) -> (SMatrix<D, 1, 4>, SVector<D, 1>) {
+        let (z, one) = (D::from(0.0), D::from(1.0));
+        (SMatrix::from_row_slice(&[z, z, z, one]), SVector::from([z]))
+    }
+}
+
+/// The first point given the velocity `V` (a live constraint `v₁ − V = 0`).
+struct DriveFirst(f64);
+impl PfaffianConstraints<4, 1> for DriveFirst {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 4>,
+    ) -> (SMatrix<D, 1, 4>, SVector<D, 1>) {
+        let (z, one) = (D::from(0.0), D::from(1.0));
+        (
+            SMatrix::from_row_slice(&[one, z, z, z]),
+            SVector::from([D::from(-self.0)]),
+        )
+    }
+}
+
+/// `½ xᵀ a x` for the chain's mass matrix.
+fn kinetic(rods: &HingedRods<4>, v: &SVector<f64, 4>) -> f64 {
+    rods.value(0.0, &SVector::zeros(), v).unwrap()
+}
+
+/// Carnot's theorem: a constraint imposed suddenly on a moving system (no applied impulse) loses
+/// the kinetic energy of the velocity change, `T⁻ − T⁺ = ½ Δᵀ a Δ`; the constraint holds after it,
+/// and the constraint impulse is `a Δ` projected on the constraint.
+#[test]
+fn a_suddenly_held_point_loses_the_energy_of_the_velocity_change() {
+    let rods = HingedRods::<4>::new(1.5).unwrap();
+    let v0 = SVector::from([0.3, -1.2, 0.8, 2.0]);
+    let jump = impose_constraints(
+        &rods,
+        &HoldLast,
+        0.0,
+        &SVector::zeros(),
+        &v0,
+        &SVector::zeros(),
+    )
+    .unwrap();
+    assert!(jump.velocity_after[3].abs() < 16.0 * EPS * v0.amax());
+    let d = jump.velocity_jump();
+    let loss = kinetic(&rods, &d);
+    assert!(
+        (jump.energy_before - jump.energy_after - loss).abs() < 64.0 * EPS * jump.energy_before
+    );
+    // a Δ = Bᵀ λ̂: only the held point receives an impulse.
+    let a = rods.mass_matrix(0.0, &SVector::zeros(), &v0).unwrap();
+    let ad = a * d;
+    assert!(ad.rows(0, 3).amax() < 64.0 * EPS * v0.amax());
+    assert!((ad[3] - jump.constraint_impulses[0]).abs() < 64.0 * EPS * v0.amax());
+}
+
+/// Nelder–Mead on a function of the free velocities.
+struct Cost<F: Fn(&DVector<f64>) -> f64>(F);
+impl<F: Fn(&DVector<f64>) -> f64> CostFunction for Cost<F> {
+    type Param = DVector<f64>;
+    type Output = f64;
+    fn cost(&self, x: &DVector<f64>) -> Result<f64, argmin::core::Error> {
+        Ok((self.0)(x))
+    }
+}
+
+fn minimise(f: impl Fn(&DVector<f64>) -> f64, start: DVector<f64>) -> DVector<f64> {
+    let n = start.len();
+    let mut simplex = vec![start.clone()];
+    for i in 0..n {
+        let mut v = start.clone();
+        v[i] += 0.5;
+        simplex.push(v);
+    }
+    let solver = NelderMead::new(simplex).with_sd_tolerance(1e-32).unwrap();
+    let res = Executor::new(Cost(f), solver)
+        .configure(|s| s.max_iters(20_000))
+        .run()
+        .unwrap();
+    res.state().get_best_param().unwrap().clone()
+}
+
+/// Gauss's minimum (M40): with the last point held and an impulse at the first, the actual jump
+/// minimises `Z = ½ (Δ − a⁻¹P̂)ᵀ a (Δ − a⁻¹P̂)` over the admissible jumps (`Δ₄ = −v₄⁻`).
+/// Nelder–Mead reaches the minimiser of a quadratic to about the square root of its function
+/// tolerance: 1e-6 here.
+#[test]
+fn the_jump_minimises_gauss_constraint() {
+    let rods = HingedRods::<4>::new(1.0).unwrap();
+    let v0 = SVector::from([0.1, 0.2, -0.3, 0.4]);
+    let p_hat = SVector::from([1.0, 0.0, 0.0, 0.0]);
+    let jump = impose_constraints(&rods, &HoldLast, 0.0, &SVector::zeros(), &v0, &p_hat).unwrap();
+    let a = rods.mass_matrix(0.0, &SVector::zeros(), &v0).unwrap();
+    let free = a.try_inverse().unwrap() * p_hat;
+    let z = |x: &DVector<f64>| {
+        let d = SVector::from([x[0], x[1], x[2], -v0[3]]) - free;
+        0.5 * (d.transpose() * a * d)[0]
+    };
+    let best = minimise(z, DVector::zeros(3));
+    let d = jump.velocity_jump();
+    for i in 0..3 {
+        assert!((best[i] - d[i]).abs() < 1e-6, "{best} {d}");
+    }
+}
+
+/// Kelvin (M40): from rest with the first point given the velocity `V` (and no other impulse),
+/// the actual motion has the least kinetic energy among the motions with that velocity.
+/// Bertrand: the same impulse with the last point held gives less energy than without, by the
+/// kinetic energy of the difference (an identity, to rounding).
+#[test]
+fn kelvin_and_bertrand() {
+    let rods = HingedRods::<4>::new(1.0).unwrap();
+    let zero = SVector::<f64, 4>::zeros();
+    let jump = impose_constraints(&rods, &DriveFirst(1.0), 0.0, &zero, &zero, &zero).unwrap();
+    assert!((jump.velocity_after[0] - 1.0).abs() < 16.0 * EPS);
+    let t = |x: &DVector<f64>| kinetic(&rods, &SVector::from([1.0, x[0], x[1], x[2]]));
+    let best = minimise(t, DVector::zeros(3));
+    for i in 0..3 {
+        assert!((best[i] - jump.velocity_after[i + 1]).abs() < 1e-6);
+    }
+    // The live constraint's impulse is the blow needed at the first point: P = ∂T/∂v₁⁺.
+    let p1 = rods.momentum(0.0, &zero, &jump.velocity_after).unwrap()[0];
+    assert!((jump.constraint_impulses[0] - p1).abs() < 64.0 * EPS);
+
+    let p_hat = SVector::from([0.7, 0.0, -0.2, 0.0]);
+    let free = apply_impulse(&rods, 0.0, &zero, &zero, &p_hat).unwrap();
+    let held = impose_constraints(&rods, &HoldLast, 0.0, &zero, &zero, &p_hat).unwrap();
+    let diff = kinetic(&rods, &(free.velocity_after - held.velocity_after));
+    assert!(held.energy_after < free.energy_after);
+    assert!((free.energy_after - held.energy_after - diff).abs() < 64.0 * EPS * free.energy_after);
+}
+
+/// Free impulses change the energy by `P̂·(q̇⁺ + q̇⁻)/2` (M40), from any state.
+#[test]
+fn energy_change_of_free_impulses() {
+    let rods = HingedRods::<4>::new(0.8).unwrap();
+    let v0 = SVector::from([1.0, -0.5, 0.25, 2.0]);
+    let p_hat = SVector::from([0.3, -1.0, 0.0, 0.6]);
+    let jump = apply_impulse(&rods, 0.0, &SVector::zeros(), &v0, &p_hat).unwrap();
+    let expected = p_hat.dot(&(jump.velocity_after + v0)) * 0.5;
+    assert!((jump.energy_change() - expected).abs() < 64.0 * EPS * jump.energy_after);
+}
+
+/// Two copies of the same constraint are dependent: a typed error naming the configuration.
+struct HoldLastTwice;
+impl PfaffianConstraints<4, 2> for HoldLastTwice {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 4>,
+    ) -> (SMatrix<D, 2, 4>, SVector<D, 2>) {
+        let (z, one) = (D::from(0.0), D::from(1.0));
+        (
+            SMatrix::from_row_slice(&[z, z, z, one, z, z, z, one]),
+            SVector::from([z, z]),
+        )
+    }
+}
+
+#[test]
+fn bad_impacts_are_typed_errors() {
+    let rods = HingedRods::<4>::new(1.0).unwrap();
+    let zero = SVector::<f64, 4>::zeros();
+    let e = impose_constraints(&rods, &HoldLastTwice, 0.0, &zero, &zero, &zero).unwrap_err();
+    assert!(matches!(e, Error::Singular { .. }), "{e}");
+    let nan = SVector::from([f64::NAN, 0.0, 0.0, 0.0]);
+    assert!(apply_impulse(&rods, 0.0, &zero, &zero, &nan).is_err());
+    assert!(apply_impulse(&rods, 0.0, &zero, &nan, &zero).is_err());
+    assert!(apply_impulse(&rods, f64::INFINITY, &zero, &zero, &zero).is_err());
+    assert!(HingedRods::<4>::new(0.0).is_err());
+    assert!(HingedRods::<1>::new(1.0).is_err());
+    // A relativistic particle pushed to v ≥ 1 from an impossible state is refused.
+    assert!(apply_impulse(
+        &Relativistic(1.0),
+        0.0,
+        &SVector::zeros(),
+        &SVector::from([1.5]),
+        &SVector::from([1.0])
+    )
+    .is_err());
+}
