@@ -299,3 +299,43 @@ fn bad_impacts_are_typed_errors() {
     )
     .is_err());
 }
+
+mod common;
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..common::config(0x1a9u64) })]
+
+    /// M40 as properties of the solutions, for random states and blows on three hinged rods:
+    /// free impulses change the energy by `P̂·(q̇⁺ + q̇⁻)/2`; holding the last point after the same
+    /// blow (Bertrand, from rest) lowers `T⁺` by the kinetic energy of the difference; a held
+    /// point without a blow (Carnot) loses the energy of the velocity change.
+    #[test]
+    fn extremum_theorems_hold_for_random_impacts(
+        v in prop::array::uniform4(-3.0..3.0f64),
+        p in prop::array::uniform4(-3.0..3.0f64),
+        m in 0.1..10.0f64,
+    ) {
+        let rods = HingedRods::<4>::new(m).unwrap();
+        let (v0, p_hat, zero) = (SVector::from(v), SVector::from(p), SVector::<f64, 4>::zeros());
+        let free = apply_impulse(&rods, 0.0, &zero, &v0, &p_hat).unwrap();
+        let scale = free.energy_after.max(free.energy_before).max(1e-300);
+        let de = p_hat.dot(&(free.velocity_after + v0)) * 0.5;
+        prop_assert!((free.energy_change() - de).abs() <= 1e-13 * scale);
+
+        let from_rest = apply_impulse(&rods, 0.0, &zero, &zero, &p_hat).unwrap();
+        let held = impose_constraints(&rods, &HoldLast, 0.0, &zero, &zero, &p_hat).unwrap();
+        let diff = kinetic(&rods, &(from_rest.velocity_after - held.velocity_after));
+        prop_assert!(
+            (from_rest.energy_after - held.energy_after - diff).abs()
+                <= 1e-13 * from_rest.energy_after.max(1e-300)
+        );
+
+        let carnot = impose_constraints(&rods, &HoldLast, 0.0, &zero, &v0, &zero).unwrap();
+        let loss = kinetic(&rods, &carnot.velocity_jump());
+        prop_assert!(
+            (carnot.energy_before - carnot.energy_after - loss).abs()
+                <= 1e-13 * carnot.energy_before.max(1e-300)
+        );
+    }
+}
