@@ -189,7 +189,11 @@ pub trait Lagrangian<const N: usize> {
 }
 
 /// Reject NaN/∞ in `(t, q, q̇)`, naming the component.
-fn check_state<const N: usize>(t: f64, q: &SVector<f64, N>, qdot: &SVector<f64, N>) -> Result<()> {
+pub(crate) fn check_state<const N: usize>(
+    t: f64,
+    q: &SVector<f64, N>,
+    qdot: &SVector<f64, N>,
+) -> Result<()> {
     finite("t", t)?;
     all_finite("q", q.as_slice())?;
     all_finite("q̇", qdot.as_slice())

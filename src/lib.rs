@@ -12,6 +12,7 @@ pub mod impulse;
 pub mod integrate;
 pub mod lagrangian;
 pub mod nonholonomic;
+pub mod particles;
 pub mod perturbation;
 pub mod phase;
 /// Figures (lines, markers, dots, panels; linear or logarithmic axes) in SVG, PNG and PDF, with

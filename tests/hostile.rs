@@ -1884,6 +1884,63 @@ fn add_impulse(c: &mut Vec<Call>) {
     );
 }
 
+/// Particle systems: the kinetic-energy split and generalized forces of a pendulum on a support
+/// moving uniformly.
+fn add_particles(c: &mut Vec<Call>) {
+    use hamilton_jacobi::nalgebra::Vector3;
+    use hamilton_jacobi::particles::{
+        checked_generalized_forces, kinetic_energy_split, ParticleSystem,
+    };
+    struct Bob;
+    impl ParticleSystem<1, 1> for Bob {
+        fn masses(&self) -> [f64; 1] {
+            [2.0]
+        }
+        fn positions<D: num_dual::DualNum<f64> + Copy>(
+            &self,
+            t: D,
+            q: &SVector<D, 1>,
+        ) -> [Vector3<D>; 1] {
+            let (s, c) = q[0].sin_cos();
+            [Vector3::new(t * 0.5 + s, -c, D::from(0.0))]
+        }
+    }
+    sweep(
+        c,
+        "particles::kinetic_energy_split",
+        &[0.3, 0.7, 1.1],
+        &[(1, 1e200)],
+        |a| {
+            let (q, v) = (SVector::from([a[1]]), SVector::from([a[2]]));
+            judge(
+                kinetic_energy_split(&Bob, a[0], &q, &v),
+                fin(a),
+                |(t2, t1, t0)| {
+                    all([
+                        near_rel("T₂", t2, a[2] * a[2], 1e-14),
+                        near("T₁", t1, a[1].cos() * a[2], 1e-14 * (1.0 + a[2].abs())),
+                        near_rel("T₀", t0, 0.25, 1e-14),
+                    ])
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "particles::checked_generalized_forces",
+        &[0.7, 2.0],
+        &[(1, 1e300)],
+        |a| {
+            let q = SVector::from([a[0]]);
+            judge(
+                checked_generalized_forces(&Bob, 0.0, &q, &[Vector3::new(a[1], 0.0, 0.0)]),
+                fin(a) && (a[1] * a[0].cos()).is_finite(),
+                |g| near_rel("Q", g[0], a[1] * a[0].cos(), 4.0 * EPS),
+            )
+        },
+    );
+}
+
 fn add_rigid_bodies(c: &mut Vec<Call>) {
     sweep(
         c,
@@ -2955,6 +3012,7 @@ fn every_entry_point_survives_hostile_input() {
     add_plots(&mut calls);
     add_rigid_bodies(&mut calls);
     add_impulse(&mut calls);
+    add_particles(&mut calls);
     constrained::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()

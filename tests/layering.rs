@@ -33,7 +33,13 @@ const LAYERS: &[(&str, &[&str])] = &[
     ),
     (
         "mechanics",
-        &["hamiltonian", "lagrangian", "brackets", "constraints"],
+        &[
+            "hamiltonian",
+            "lagrangian",
+            "brackets",
+            "constraints",
+            "particles",
+        ],
     ),
     ("models", &["systems"]),
     (
