@@ -29,7 +29,7 @@
 //!   Curves with an empty label have no entry. On a narrow figure (a journal column: less than
 //!   about 5 in at 9 pt), or when the entries do not fit beside the plot at full size, the legend
 //!   goes below the plot instead, in as many columns as make it lowest, and the figure grows by
-//!   its height (at most 1.5 times, [`Size`] limits kept; the remaining entries are then
+//!   its height (at most 1.5 times, [`Size`](crate::plot::Size) limits kept; the remaining entries are then
 //!   summarised as "… and N more" and named in the caption), so that the plot keeps its size and
 //!   every label its font. A long title is wrapped (at most three lines).
 //! * **Colours, dashes and markers.** Curves take the colours of a ten-colour palette in order,
