@@ -14,17 +14,25 @@ use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 
 const G: f64 = 9.81;
 
-/// The rolling body's spectrum about upright rolling at speed `v` (m = r = 1), in the reduced
+/// The rolling body's reduced equations about upright rolling at speed `v` (m = r = 1): the
 /// variables `(ψ, ϑ̇, ψ̇, φ̇)` of the Boltzmann–Hamel equations, the cyclic `x, y, ϑ, φ` held.
-fn upright(body: RollingDisk, v: f64) -> Result<Spectrum> {
-    let bh = BoltzmannHamel::new(body, body);
+fn upright_reduced(
+    bh: &BoltzmannHamel<RollingDisk, RollingDisk, 5>,
+    v: f64,
+) -> Result<Reduced<'_, BoltzmannHamel<RollingDisk, RollingDisk, 5>, 5, 4>> {
     let w = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, v]);
-    let reduced = Reduced::new(
-        &bh,
+    Reduced::new(
+        bh,
         &SVector::zeros(),
         &w,
         [Slot::Q(3), Slot::P(2), Slot::P(3), Slot::P(4)],
-    )?;
+    )
+}
+
+/// The spectrum of upright rolling at speed `v`.
+fn upright(body: RollingDisk, v: f64) -> Result<Spectrum> {
+    let bh = BoltzmannHamel::new(body, body);
+    let reduced = upright_reduced(&bh, v)?;
     steady_motion_spectrum(&reduced, 0.0, &reduced.state())
 }
 
@@ -40,14 +48,7 @@ fn m70_disk_linearisation_against_speed_matches_hamels_frequency() {
     let disk = RollingDisk::disk(1.0, 1.0, G).unwrap();
     let bh = BoltzmannHamel::new(disk, disk);
     for v in [0.3, 1.0, 1.5, 1.7, 1.9, 2.2, 3.0, 6.0] {
-        let w = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, v]);
-        let reduced = Reduced::new(
-            &bh,
-            &SVector::zeros(),
-            &w,
-            [Slot::Q(3), Slot::P(2), Slot::P(3), Slot::P(4)],
-        )
-        .unwrap();
+        let reduced = upright_reduced(&bh, v).unwrap();
         // x, y, ϑ, φ are cyclic and the constrained quasi-velocities at rest: a valid reduction.
         let (defect, rate) = reduced.cyclic_defect(0.0, &reduced.state()).unwrap();
         assert!(

@@ -85,6 +85,17 @@ fn prepare<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
     Ok((layout(quasi)?, admissible(quasi, w)))
 }
 
+/// `B = b(q)⁻¹` on reals: NaN/∞ in `b` rejected, [`Error::Singular`] naming `q` where `b` is
+/// singular.
+fn checked_transformation<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    q: &SVector<f64, N>,
+) -> Result<SMatrix<f64, N, N>> {
+    let b = quasi.matrix(q);
+    all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
+    checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))
+}
+
 /// The first-order field `(q̇, ω̇) = (B ω, ω̇)` of the transition equations.
 #[allow(clippy::type_complexity)]
 fn transition<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
@@ -314,9 +325,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
         let (free, w) = prepare(&self.quasi, t, q, w)?;
-        let b = self.quasi.matrix(q);
-        all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
-        checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+        checked_transformation(&self.quasi, q)?;
         let (pp, rhs) = self.terms(t, q, &w);
         all_finite(
             format!("Boltzmann–Hamel terms at t = {t}, q = {q:?}, ω = {w:?}"),
@@ -415,9 +424,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
         let (free, w) = prepare(&self.quasi, t, q, w)?;
-        let b = self.quasi.matrix(q);
-        all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
-        let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+        let big_b = checked_transformation(&self.quasi, q)?;
         let qdot = big_b * w;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
         // Ḃω: the derivative of B(q(t)) ω along q̇.

@@ -221,23 +221,15 @@ impl<'a, S: SplitVectorField<N> + ?Sized, const N: usize, const M: usize> Reduce
             .collect();
         let mut kept_scale: f64 = 1.0;
         let mut held: f64 = 0.0;
-        for row in by_q.iter() {
-            for i in 0..N {
-                let d = row.eps()[i].abs();
-                if held_q.contains(&i) {
-                    held = held.max(d);
-                } else {
-                    kept_scale = kept_scale.max(d);
-                }
-            }
-        }
-        for row in by_p.iter() {
-            for i in 0..N {
-                let d = row.eps()[i].abs();
-                if held_p.contains(&i) {
-                    held = held.max(d);
-                } else {
-                    kept_scale = kept_scale.max(d);
+        for (rows, held_entries) in [(&by_q, &held_q), (&by_p, &held_p)] {
+            for row in rows.iter() {
+                for i in 0..N {
+                    let d = row.eps()[i].abs();
+                    if held_entries.contains(&i) {
+                        held = held.max(d);
+                    } else {
+                        kept_scale = kept_scale.max(d);
+                    }
                 }
             }
         }
