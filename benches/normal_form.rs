@@ -3,12 +3,14 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use hamilton_jacobi::nalgebra::Vector2;
-use hamilton_jacobi::perturbation::birkhoff::{equilibrium, normal_form, NormalFormKind};
+use hamilton_jacobi::perturbation::birkhoff::{normal_form, NormalFormKind};
+use hamilton_jacobi::stability::hamiltonian_equilibrium;
 use hamilton_jacobi::systems::HenonHeiles;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+    let eq =
+        hamiltonian_equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
     let mut g = c.benchmark_group("normal_form_henon_heiles");
     g.sample_size(10);
     for degree in [16usize, 24] {

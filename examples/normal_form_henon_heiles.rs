@@ -5,12 +5,13 @@
 //! Run with `cargo run --release --example normal_form_henon_heiles`.
 
 use hamilton_jacobi::nalgebra::Vector2;
-use hamilton_jacobi::perturbation::birkhoff::{equilibrium, normal_form, NormalFormKind};
+use hamilton_jacobi::perturbation::birkhoff::{normal_form, NormalFormKind};
+use hamilton_jacobi::stability::hamiltonian_equilibrium;
 use hamilton_jacobi::systems::HenonHeiles;
 use std::time::Instant;
 
 fn main() -> hamilton_jacobi::Result<()> {
-    let eq = equilibrium(
+    let eq = hamiltonian_equilibrium(
         &HenonHeiles,
         0.0,
         &Vector2::new(0.1, -0.1),

@@ -23,6 +23,7 @@ pub mod plot;
 pub mod scene;
 pub mod series;
 pub mod special;
+pub mod stability;
 pub mod systems;
 pub mod transform;
 pub mod vector_space;

@@ -2781,17 +2781,18 @@ impl Hamiltonian<1> for GPendulum {
 fn add_normal_forms(c: &mut Vec<Call>) {
     use hamilton_jacobi::nalgebra::DMatrix;
     use hamilton_jacobi::perturbation::birkhoff::{
-        equilibrium, linear_normal_form, normal_form, Block, NormalFormKind,
+        linear_normal_form, normal_form, Block, NormalFormKind,
     };
+    use hamilton_jacobi::stability::hamiltonian_equilibrium;
     let v1 = |x: f64| SVector::<f64, 1>::new(x);
     sweep(
         c,
-        "birkhoff::equilibrium",
+        "stability::hamiltonian_equilibrium",
         &[1.0, 0.2, -0.1],
         &[(0, -1.0), (1, 3.0), (0, 0.0)],
         move |a| {
             judge(
-                equilibrium(&GPendulum(a[0]), 0.0, &v1(a[1]), &v1(a[2])),
+                hamiltonian_equilibrium(&GPendulum(a[0]), 0.0, &v1(a[1]), &v1(a[2])),
                 fin(a),
                 |e| {
                     // ∇H = (g sin q, p) must vanish (relative to the scale of g).
@@ -2810,7 +2811,7 @@ fn add_normal_forms(c: &mut Vec<Call>) {
         &[1.0],
         &[(0, -1.0), (0, 1e300), (0, 1e-300)],
         move |a| {
-            let eq = equilibrium(&GPendulum(a[0]), 0.0, &v1(0.0), &v1(0.0));
+            let eq = hamiltonian_equilibrium(&GPendulum(a[0]), 0.0, &v1(0.0), &v1(0.0));
             judge(eq, fin(a), |eq| {
                 judge(
                     normal_form(&GPendulum(a[0]), 0.0, &eq, 8, NormalFormKind::Birkhoff),
@@ -2841,7 +2842,7 @@ fn add_normal_forms(c: &mut Vec<Call>) {
         "birkhoff::normal_form(degree)",
         &[0, 2, 3, 12, 65, usize::MAX],
         move |n| {
-            let eq = equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+            let eq = hamiltonian_equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
             judge(
                 normal_form(&GPendulum(1.0), 0.0, &eq, n, NormalFormKind::Birkhoff),
                 (3..=64).contains(&n),
@@ -2882,7 +2883,7 @@ fn add_normal_forms(c: &mut Vec<Call>) {
         },
     );
     // The maps and diagnostics of one normal form at hostile points and amplitudes.
-    let eqp = equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+    let eqp = hamiltonian_equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
     let nf =
         Arc::new(normal_form(&GPendulum(1.0), 0.0, &eqp, 8, NormalFormKind::Birkhoff).unwrap());
     let n1 = Arc::clone(&nf);
@@ -3014,6 +3015,7 @@ fn every_entry_point_survives_hostile_input() {
     add_impulse(&mut calls);
     add_particles(&mut calls);
     constrained::add(&mut calls);
+    stability_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -3669,6 +3671,224 @@ mod constrained {
                     let want = a[0] - 4.905 * span;
                     rel("ẋ₃(t₁)", rep.last.p[2], want, a[0] + 4.905 * span.abs())
                 })
+            },
+        );
+    }
+}
+
+mod stability_calls {
+    use super::*;
+    use hamilton_jacobi::hamilton_jacobi::VectorField;
+    use hamilton_jacobi::nalgebra::DMatrix;
+    use hamilton_jacobi::nonholonomic::BoltzmannHamel;
+    use hamilton_jacobi::stability::{
+        continuation::MAX_SAMPLES, equilibrium, linearize, real_part_crossings, spectra, spectrum,
+        steady_motion_spectrum, Reduced, Slot, Stability,
+    };
+    use hamilton_jacobi::systems::RollingDisk;
+
+    /// `ẋ = y`, `ẏ = −(x − x₀) − c y`: equilibrium `(x₀, 0)`, eigenvalues `−c/2 ± √(c²/4 − 1)`.
+    struct Oscillator {
+        c: f64,
+        x0: f64,
+    }
+
+    impl VectorField<2> for Oscillator {
+        fn field<D: DualNum<f64> + Copy>(&self, _t: D, z: &SVector<D, 2>) -> SVector<D, 2> {
+            SVector::from([z[1], -(z[0] - self.x0) - z[1] * self.c])
+        }
+    }
+
+    /// The disk's (m = r = 1, g = 9.81) spectrum about upright rolling at speed `v`, lean `ψ`.
+    fn disk_spectrum(v: f64, psi: f64) -> Result<hamilton_jacobi::stability::Spectrum> {
+        let disk = RollingDisk::disk(1.0, 1.0, 9.81)?;
+        let bh = BoltzmannHamel::new(disk, disk);
+        let q = SVector::<f64, 5>::from([0.0, 0.0, 0.0, psi, 0.0]);
+        let w = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, v]);
+        let reduced = Reduced::new(
+            &bh,
+            &q,
+            &w,
+            [Slot::Q(3), Slot::P(2), Slot::P(3), Slot::P(4)],
+        )?;
+        steady_motion_spectrum(&reduced, 0.0, &reduced.state())
+    }
+
+    const V_C: f64 = 1.80831413200251;
+
+    pub fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "stability::linearize",
+            &[0.3, 1.0, 0.5, -0.2],
+            &[],
+            |a| {
+                let z = SVector::from([a[2], a[3]]);
+                judge(
+                    linearize(&Oscillator { c: a[0], x0: a[1] }, 0.0, &z),
+                    fin(a),
+                    |m| {
+                        all([
+                            near("∂ẋ/∂y", m[(0, 1)], 1.0, 0.0),
+                            near("∂ẏ/∂x", m[(1, 0)], -1.0, 0.0),
+                            near("∂ẏ/∂y", m[(1, 1)], -a[0], 0.0),
+                        ])
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "stability::equilibrium",
+            &[0.3, 1.0, 0.2, -0.4],
+            &[(1, 1e6), (2, 1e8)],
+            |a| {
+                let guess = SVector::from([a[2], a[3]]);
+                judge(
+                    equilibrium(&Oscillator { c: a[0], x0: a[1] }, 0.0, &guess),
+                    fin(a),
+                    |e| {
+                        all([
+                            near("x*", e.z[0], a[1], 1e-10 * (1.0 + a[1].abs())),
+                            near("y*", e.z[1], 0.0, 1e-10 * (1.0 + a[1].abs())),
+                        ])
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "stability::steady_motion_spectrum",
+            &[0.3, 1.0],
+            &[(0, -0.3), (0, 3.0), (1, 1e6)],
+            |a| {
+                let osc = Oscillator { c: a[0], x0: a[1] };
+                let z = SVector::from([a[1], 0.0]);
+                judge(steady_motion_spectrum(&osc, 0.0, &z), fin(a), |s| {
+                    // Re λ = −c/2, on the axis within the spectrum's tolerance.
+                    let want = if 0.5 * a[0] > s.tolerance {
+                        Stability::AsymptoticallyStable
+                    } else if 0.5 * a[0] < -s.tolerance {
+                        Stability::Unstable
+                    } else {
+                        Stability::Stable
+                    };
+                    // Σ λ = tr A = −c.
+                    let sum: f64 = s.eigenvalues.iter().map(|l| l.re).sum();
+                    all([
+                        if s.stability == want && s.family_dimension() == 0 {
+                            Good
+                        } else {
+                            Wrong(format!("{:?} for c = {}", s.stability, a[0]))
+                        },
+                        near("Σ λ", sum, -a[0], 1e-12 * (1.0 + a[0].abs())),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::Reduced::new(rolling disk)",
+            &[2.2, 0.0],
+            &[(0, 1.5), (0, 1e6), (1, 0.1)],
+            |a| {
+                // A lean ψ ≠ 0 is not a steady motion unless it is lost in rounding.
+                judge(
+                    disk_spectrum(a[0], a[1]),
+                    fin(a) && a[1].abs() < 1e-12,
+                    |s| {
+                        let want = if a[0].abs() < V_C {
+                            Stability::Unstable
+                        } else {
+                            Stability::Stable
+                        };
+                        if s.stability == want && s.family_dimension() == 2 {
+                            Good
+                        } else {
+                            Wrong(format!(
+                                "{:?}, family {} at v = {}",
+                                s.stability,
+                                s.family_dimension(),
+                                a[0]
+                            ))
+                        }
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "stability::Reduced::cyclic_defect",
+            &[2.2, 0.0, 0.3],
+            &[],
+            |a| {
+                let r = (|| {
+                    let disk = RollingDisk::disk(1.0, 1.0, 9.81)?;
+                    let bh = BoltzmannHamel::new(disk, disk);
+                    let w = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, 2.2]);
+                    let reduced =
+                        Reduced::new(&bh, &SVector::zeros(), &w, [Slot::Q(3), Slot::P(4)])?;
+                    reduced.cyclic_defect(a[2], &SVector::from([a[1], a[0]]))
+                })();
+                judge(r, fin(a), |(d, rate)| {
+                    all([finite_ok("defect", d), finite_ok("rate", rate)])
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::spectrum",
+            &[0.0, 1.0, -1.0, -0.1],
+            &[(0, 1e300), (1, 1e-300)],
+            |a| {
+                let m = DMatrix::from_row_slice(2, 2, a);
+                judge(spectrum(&m, &DMatrix::zeros(2, 0)), fin(a), |s| {
+                    let tr: f64 = s.eigenvalues.iter().map(|l| l.re).sum();
+                    let scale = m.norm().max(1.0);
+                    near("Σ λ = tr A", tr, a[0] + a[3], 1e-12 * scale)
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::spectra(rolling disk)",
+            &[1.5, 3.0],
+            &[],
+            |a| {
+                judge(spectra(|v| disk_spectrum(v, 0.0), a), fin(a), |s| {
+                    all(s.iter().map(|x| {
+                        finite_ok(
+                            "transverse real part",
+                            x.spectrum.transverse.iter().map(|l| l.re).sum(),
+                        )
+                    }))
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::real_part_crossings(rolling disk)",
+            &[1.0, 3.0, 1e-12],
+            &[(0, 3.0), (2, -1.0), (0, -3.0), (1, 1e300)],
+            |a| {
+                let r = real_part_crossings(|v| disk_spectrum(v, 0.0), a[0], a[1], 5, a[2]);
+                judge(r, fin(a) && a[0] < a[1] && a[2] > 0.0, |cs| {
+                    all(cs
+                        .iter()
+                        .map(|x| near("|v_c|", x.parameter.abs(), V_C, 1e-10 + a[2])))
+                })
+            },
+        );
+        sized(
+            c,
+            "stability::real_part_crossings(samples)",
+            &[0, 1, 2, MAX_SAMPLES + 1],
+            |n| {
+                judge(
+                    real_part_crossings(|v| disk_spectrum(v, 0.0), 1.0, 3.0, n, 1e-12),
+                    (2..=MAX_SAMPLES).contains(&n),
+                    |cs| all(cs.iter().map(|x| near("v_c", x.parameter, V_C, 1e-10))),
+                )
             },
         );
     }

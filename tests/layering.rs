@@ -5,7 +5,7 @@
 //! core        error, phase, ad, vector_space, implicit, special, series
 //! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
-//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic
+//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -51,6 +51,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "perturbation",
             "nonholonomic",
             "impulse",
+            "stability",
         ],
     ),
     ("harness", &["workprecision"]),

@@ -675,9 +675,10 @@ fn normal_form_coefficients_against_exact_rationals_at_every_order() {
 mod n_dof {
     use hamilton_jacobi::nalgebra::{DMatrix, SVector, Vector1, Vector2, Vector3};
     use hamilton_jacobi::perturbation::birkhoff::{
-        equilibrium, linear_normal_form, normal_form, Block, NormalFormKind,
+        linear_normal_form, normal_form, Block, NormalFormKind,
     };
     use hamilton_jacobi::special::elliptic::complete_k_from_complementary;
+    use hamilton_jacobi::stability::hamiltonian_equilibrium;
     use hamilton_jacobi::{DualNum, Error, Hamiltonian};
     use std::f64::consts::PI;
 
@@ -818,7 +819,8 @@ mod n_dof {
         assert_eq!(exact[3], Q::new(-1, 256));
         assert_eq!(exact[4], Q::new(-5, 8192));
         assert_eq!(exact[7], Q::new(-527, 67108864));
-        let eq = equilibrium(&Pendulum, 0.0, &Vector1::new(0.3), &Vector1::new(-0.2)).unwrap();
+        let eq = hamiltonian_equilibrium(&Pendulum, 0.0, &Vector1::new(0.3), &Vector1::new(-0.2))
+            .unwrap();
         assert!(eq.q[0].abs() < 1e-15 && eq.p[0].abs() < 1e-15);
         let nf = normal_form(&Pendulum, 0.0, &eq, 20, NormalFormKind::Birkhoff).unwrap();
         assert!(nf.reality_defect() < 1e-15);
@@ -846,7 +848,8 @@ mod n_dof {
 
     #[test]
     fn duffing_frequency_amplitude_series_against_elliptic_period() {
-        let eq = equilibrium(&Duffing, 0.0, &Vector1::new(0.0), &Vector1::new(0.0)).unwrap();
+        let eq =
+            hamiltonian_equilibrium(&Duffing, 0.0, &Vector1::new(0.0), &Vector1::new(0.0)).unwrap();
         for degree in [8usize, 12, 16] {
             let nf = normal_form(&Duffing, 0.0, &eq, degree, NormalFormKind::Birkhoff).unwrap();
             let k = nf.action_polynomial().unwrap();
@@ -913,7 +916,8 @@ mod n_dof {
 
     #[test]
     fn remainder_of_degree_k_form_scales_as_rho_to_k_plus_one() {
-        let eq = equilibrium(&Coupled, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+        let eq =
+            hamiltonian_equilibrium(&Coupled, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
         for degree in [3usize, 4, 5, 6] {
             let nf = normal_form(&Coupled, 0.0, &eq, degree, NormalFormKind::Birkhoff).unwrap();
             let rhos = [0.01, 0.014, 0.02, 0.028, 0.04];
@@ -978,7 +982,7 @@ mod n_dof {
         let mu = 0.012_150_585_609_624;
         let h = Cr3bp(mu);
         let guess_x = 0.8;
-        let eq = equilibrium(
+        let eq = hamiltonian_equilibrium(
             &h,
             0.0,
             &Vector3::new(guess_x, 0.0, 0.0),
@@ -1322,7 +1326,8 @@ mod n_dof {
     /// Frequency errors `(fast, slow)` of the degree-`degree` resonant form for the orbit `z0`,
     /// the true frequencies measured over ≥ `periods` slow periods.
     fn frequency_errors(degrees: &[usize], z0: [f64; 4], periods: f64) -> Vec<(usize, f64, f64)> {
-        let eq = equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
+        let eq = hamiltonian_equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros())
+            .unwrap();
         let mut out = Vec::new();
         let mut measured = None;
         for &degree in degrees {

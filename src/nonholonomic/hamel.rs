@@ -19,15 +19,15 @@
 //! time coordinate (SPEC §0.7) at `ω = 1`.
 
 use super::{at, lagrange_terms};
-use crate::ad::{lift, phase_gradient, phase_hessian, PhaseDual};
+use crate::ad::{lift, phase_gradient, phase_hessian, GradDual, PhaseDual};
 use crate::constraints::{hamel_coefficients, QuasiVelocities};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::integrate::FirstOrderSystem;
 use crate::lagrangian::Lagrangian;
 use crate::phase::checked_inverse;
-use nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use nalgebra::{Const, DMatrix, DVector, SMatrix, SVector};
 use num_dual::linalg::LU;
-use num_dual::{Dual64, DualNum};
+use num_dual::{Dual, Dual64, DualNum};
 use std::marker::PhantomData;
 
 /// `B(q) = b(q)⁻¹` over any dual type (NaN where `b` is singular; callers check the real `b`).
@@ -83,6 +83,17 @@ fn prepare<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
     all_finite("q", q.as_slice())?;
     all_finite("ω", w.as_slice())?;
     Ok((layout(quasi)?, admissible(quasi, w)))
+}
+
+/// `B = b(q)⁻¹` on reals: NaN/∞ in `b` rejected, [`Error::Singular`] naming `q` where `b` is
+/// singular.
+fn checked_transformation<Q: QuasiVelocities<N> + ?Sized, const N: usize>(
+    quasi: &Q,
+    q: &SVector<f64, N>,
+) -> Result<SMatrix<f64, N, N>> {
+    let b = quasi.matrix(q);
+    all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
+    checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))
 }
 
 /// The first-order field `(q̇, ω̇) = (B ω, ω̇)` of the transition equations.
@@ -231,6 +242,77 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
         })
     }
 
+    /// The free block's coefficients and right side of the Boltzmann–Hamel equations at
+    /// `(t, q, ω)`, `ω` admissible, in any number type: `(∂²T/∂ω², r)` with
+    /// `∂²T/∂ω² ω̇ = r`, `r = K + ∂T/∂ϑ − ∂²T/∂ω∂q q̇ − ∂²T/∂ω∂t − Σ_{μ,τ} β_μ^{τρ} P_μ ω_τ`
+    /// (rows ρ free); `b`'s derivatives, `B = b⁻¹` and the second derivatives of
+    /// `T(q, ω) = L(t, q, B(q) ω)` by AD (NaN where `b` is singular).
+    fn terms<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        w: &SVector<D, N>,
+    ) -> (SMatrix<D, N, N>, SVector<D, N>) {
+        // b(q) with ∂b/∂q, B = b⁻¹ and Hamel's coefficients β_μ = Bᵀ cᵀ B,
+        // c[(ν, σ)] = ∂b_μν/∂q_σ − ∂b_μσ/∂q_ν (SPEC M64).
+        let qg: SVector<GradDual<D, f64, Const<N>>, N> =
+            SVector::from_fn(|i, _| GradDual::variable(q[i], i));
+        let bd = self.quasi.matrix(&qg);
+        let big_b = LU::new(bd.map(|x| *x.value()))
+            .map(|lu| lu.inverse())
+            .unwrap_or_else(|_| SMatrix::from_element(D::from(f64::NAN)));
+        let beta: Vec<SMatrix<D, N, N>> = (0..N)
+            .map(|mu| {
+                let c = SMatrix::<D, N, N>::from_fn(|nu, sg| {
+                    bd[(mu, nu)].eps()[sg] - bd[(mu, sg)].eps()[nu]
+                });
+                big_b.transpose() * c.transpose() * big_b
+            })
+            .collect();
+        // T(q, ω) = L(t, q, B(q) ω): gradient and Hessian over (q, ω) in one nested pass.
+        let qi: SVector<PhaseDual<D, f64, Const<N>>, N> =
+            SVector::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
+        let wi: SVector<PhaseDual<D, f64, Const<N>>, N> =
+            SVector::from_fn(|i, _| PhaseDual::momentum(w[i], i));
+        let (_, gq, gw) = phase_gradient(
+            |a, b| {
+                let bb = inverse_matrix(&self.quasi, a);
+                self.lagrangian
+                    .lagrangian(PhaseDual::from_re(PhaseDual::from_re(t)), a, &(bb * b))
+            },
+            &qi,
+            &wi,
+        );
+        let lq = gq.map(|x| *x.value());
+        let p = gw.map(|x| *x.value());
+        let pp = SMatrix::<D, N, N>::from_fn(|i, j| gw[i].dp()[j]);
+        let pq = SMatrix::<D, N, N>::from_fn(|i, j| gw[i].dq()[j]);
+        let td = Dual::new(t, D::one());
+        let (_, _, pt) = phase_gradient(
+            |a, b| {
+                let bb = inverse_matrix(&self.quasi, a);
+                self.lagrangian
+                    .lagrangian(PhaseDual::from_re(td), a, &(bb * b))
+            },
+            &q.map(Dual::from_re),
+            &w.map(Dual::from_re),
+        );
+        let pt = pt.map(|x| x.eps);
+        let qdot = big_b * w;
+        let force = big_b.transpose() * self.lagrangian.total_force(t, q, &qdot);
+        let mut rhs = force + big_b.transpose() * lq - pq * qdot - pt;
+        for rho in 0..N {
+            let mut gyro = D::zero();
+            for (mu, b) in beta.iter().enumerate() {
+                for tau in 0..N {
+                    gyro += b[(tau, rho)] * p[mu] * w[tau];
+                }
+            }
+            rhs[rho] -= gyro;
+        }
+        (pp, rhs)
+    }
+
     /// `ω̇` at `(t, q, ω)` (constrained and time entries zero).
     ///
     /// # Errors
@@ -243,50 +325,57 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
         let (free, w) = prepare(&self.quasi, t, q, w)?;
-        let h = hamel_coefficients(&self.quasi, q)?;
-        let (_, lq, p, hess) = phase_hessian(
-            |a, b| {
-                let bb = inverse_matrix(&self.quasi, a);
-                self.lagrangian.lagrangian(From::from(t), a, &(bb * b))
-            },
-            q,
-            &w,
-        );
-        let td = Dual64::new(t, 1.0);
-        let (_, _, pt) = phase_gradient(
-            |a, b| {
-                let bb = inverse_matrix(&self.quasi, a);
-                self.lagrangian
-                    .lagrangian(PhaseDual::from_re(td), a, &(bb * b))
-            },
-            &lift::<Dual64, N>(q),
-            &lift::<Dual64, N>(&w),
-        );
-        let pt = pt.map(|x| x.eps);
-        let qdot = h.big_b * w;
-        let force = h.big_b.transpose() * self.lagrangian.total_force(t, q, &qdot);
-        let dt_dtheta = h.big_b.transpose() * lq;
-        let mut rhs = force + dt_dtheta - hess.pq * qdot - pt;
-        for &rho in &free {
-            let mut gyro = 0.0;
-            for mu in 0..N {
-                for tau in 0..N {
-                    gyro += h.beta[mu][(tau, rho)] * p[mu] * w[tau];
-                }
-            }
-            rhs[rho] -= gyro;
-        }
+        checked_transformation(&self.quasi, q)?;
+        let (pp, rhs) = self.terms(t, q, &w);
         all_finite(
             format!("Boltzmann–Hamel terms at t = {t}, q = {q:?}, ω = {w:?}"),
-            rhs.as_slice(),
+            rhs.iter()
+                .chain(pp.iter())
+                .copied()
+                .collect::<Vec<_>>()
+                .as_slice(),
         )?;
-        solve_free(
-            &hess.pp,
-            &rhs,
-            &free,
-            "free block of ∂²T/∂ω²",
-            || format!("t = {t}, q = {q:?}, ω = {w:?}"),
-        )
+        solve_free(&pp, &rhs, &free, "free block of ∂²T/∂ω²", || {
+            format!("t = {t}, q = {q:?}, ω = {w:?}")
+        })
+    }
+
+    /// The field `(q̇, ω̇) = (B ω, ω̇)` at `(t, q, ω)` in any number type, `ω` made admissible
+    /// (constrained entries zero, a time entry one): the one definition differentiated by AD for
+    /// linearisations about steady motions. Where `b` or the free block of `∂²T/∂ω²` is singular
+    /// the values are NaN; checked evaluation on reals is [`FirstOrderSystem::field`].
+    /// [`Error::InvalidInput`] for an inconsistent layout of the quasi-velocities.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn field_dual<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        w: &SVector<D, N>,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        let free = layout(&self.quasi)?;
+        let mut w = *w;
+        for (i, x) in w.iter_mut().enumerate() {
+            if !free.contains(&i) {
+                *x = if Some(i) == self.quasi.time_coordinate() {
+                    D::one()
+                } else {
+                    D::zero()
+                };
+            }
+        }
+        let (pp, rhs) = self.terms(t, q, &w);
+        let mut m = SMatrix::<D, N, N>::identity();
+        let mut r = SVector::<D, N>::zeros();
+        for &i in &free {
+            r[i] = rhs[i];
+            for &j in &free {
+                m[(i, j)] = pp[(i, j)];
+            }
+        }
+        let wd = LU::new(m)
+            .map(|lu| lu.solve(&r))
+            .unwrap_or_else(|_| SVector::from_element(D::from(f64::NAN)));
+        Ok((inverse_matrix(&self.quasi, q) * w, wd))
     }
 }
 
@@ -335,9 +424,7 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
         let (free, w) = prepare(&self.quasi, t, q, w)?;
-        let b = self.quasi.matrix(q);
-        all_finite(format_args!("b at q = {q:?}"), b.as_slice())?;
-        let big_b = checked_inverse(&b, "quasi-velocity matrix b", || format!("q = {q:?}"))?;
+        let big_b = checked_transformation(&self.quasi, q)?;
         let qdot = big_b * w;
         let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
         // Ḃω: the derivative of B(q(t)) ω along q̇.

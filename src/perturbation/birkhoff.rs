@@ -6,8 +6,9 @@
 //!
 //! Given the user's `H(q, p)` (any [`Hamiltonian`], written once for all number types):
 //!
-//! 1. [`equilibrium`]: `∇H(z₀) = 0` by Newton's method with the AD Hessian, and the simplex
-//!    method of `argmin` (Nelder–Mead on `|∇H|²`) as the fallback from a poor guess.
+//! 1. The equilibrium `∇H(z₀) = 0` ([`hamiltonian_equilibrium`]): Newton's method with the AD
+//!    Hessian, and the simplex method of `argmin` (Nelder–Mead on `|∇H|²`) as the fallback from a
+//!    poor guess.
 //! 2. [`linear_normal_form`]: with `M = J ∇²H(z₀)` (`J = [[0, I], [−I, 0]]`), a real matrix `S`
 //!    with `SᵀJS = J` and `z = z₀ + S w`, `w = (Q, P)`, such that the quadratic part is the direct
 //!    sum of the blocks [Meyer, Hall & Offin, *Introduction to Hamiltonian Dynamical Systems*,
@@ -82,6 +83,10 @@
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::series::{scope, Monomials, Polynomial, Series};
+use crate::stability::equilibrium::{phase_gradient_dense, phase_hessian_dense};
+#[cfg(doc)]
+use crate::stability::hamiltonian_equilibrium;
+use crate::stability::PhaseEquilibrium;
 use nalgebra::{Complex, DMatrix, DVector, SVector};
 use std::sync::Arc;
 
@@ -419,180 +424,6 @@ impl PhasePolynomial {
             }
         }
         out
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Equilibria
-// ---------------------------------------------------------------------------------------------
-
-/// An equilibrium `∇H(z₀) = 0`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Equilibrium<const N: usize> {
-    /// `q₀`.
-    pub q: SVector<f64, N>,
-    /// `p₀`.
-    pub p: SVector<f64, N>,
-    /// `|∇H(z₀)|` at the returned point.
-    pub gradient_norm: f64,
-    /// Newton iterations of the final (polishing) run.
-    pub iterations: usize,
-    /// Whether the Nelder–Mead fallback was needed.
-    pub used_fallback: bool,
-}
-
-fn phase_gradient_norm<H: Hamiltonian<N>, const N: usize>(
-    h: &H,
-    t: f64,
-    z: &DVector<f64>,
-) -> Result<(DVector<f64>, f64)> {
-    let q = SVector::<f64, N>::from_iterator(z.iter().take(N).copied());
-    let p = SVector::<f64, N>::from_iterator(z.iter().skip(N).copied());
-    all_finite("phase point", z.as_slice())?;
-    let (_, hq, hp) = h.gradient(t, &q, &p);
-    let g = DVector::from_iterator(2 * N, hq.iter().chain(hp.iter()).copied());
-    let n = g.norm();
-    finite("|∇H|", n)?;
-    Ok((g, n))
-}
-
-fn phase_hessian_dense<H: Hamiltonian<N>, const N: usize>(
-    h: &H,
-    t: f64,
-    z: &DVector<f64>,
-) -> Result<DMatrix<f64>> {
-    let q = SVector::<f64, N>::from_iterator(z.iter().take(N).copied());
-    let p = SVector::<f64, N>::from_iterator(z.iter().skip(N).copied());
-    let m = h.hessian(t, &q, &p)?;
-    let mut a = DMatrix::zeros(2 * N, 2 * N);
-    for i in 0..N {
-        for j in 0..N {
-            a[(i, j)] = m.qq[(i, j)];
-            a[(i, N + j)] = m.qp[(i, j)];
-            a[(N + i, j)] = m.pq[(i, j)];
-            a[(N + i, N + j)] = m.pp[(i, j)];
-        }
-    }
-    Ok(a)
-}
-
-/// Newton's method on `∇H = 0`; `Ok(None)` when it does not converge.
-fn newton<H: Hamiltonian<N>, const N: usize>(
-    h: &H,
-    t: f64,
-    z0: &DVector<f64>,
-    max_iter: usize,
-) -> Result<Option<(DVector<f64>, f64, usize)>> {
-    let mut z = z0.clone();
-    let (mut g, mut gn) = phase_gradient_norm(h, t, &z)?;
-    for it in 0..max_iter {
-        let a = match phase_hessian_dense(h, t, &z) {
-            Ok(a) => a,
-            Err(_) => return Ok(None),
-        };
-        let scale = 1.0 + z.norm();
-        let Some(step) = a.clone().lu().solve(&g) else {
-            return Ok(None);
-        };
-        if !step.iter().all(|s| s.is_finite()) {
-            return Ok(None);
-        }
-        let zn = &z - &step;
-        let Ok((gn_vec, gn_new)) = phase_gradient_norm(h, t, &zn) else {
-            return Ok(None);
-        };
-        z = zn;
-        g = gn_vec;
-        let small_step = step.norm() <= 1e-14 * scale;
-        let converged = small_step || gn_new == 0.0 || (gn_new >= gn && gn_new < 1e-12 * scale);
-        gn = gn_new;
-        if converged {
-            return Ok(resolved(h, t, &z, gn).then_some((z, gn, it + 1)));
-        }
-    }
-    Ok(resolved(h, t, &z, gn).then_some((z, gn, max_iter)))
-}
-
-/// Whether `|∇H(z)| ≤ 1e−10 max(1, ‖∇²H(z)‖_max)`: the gradient vanishes on the scale of the
-/// curvature (far from the origin, where the rounding of `z` itself moves `∇H` by more, no
-/// equilibrium is resolved).
-fn resolved<H: Hamiltonian<N>, const N: usize>(h: &H, t: f64, z: &DVector<f64>, gn: f64) -> bool {
-    phase_hessian_dense(h, t, z).is_ok_and(|a| gn <= 1e-10 * a.amax().max(1.0))
-}
-
-struct GradientSquared<'a, H, const N: usize> {
-    h: &'a H,
-    t: f64,
-}
-
-impl<H: Hamiltonian<N>, const N: usize> argmin::core::CostFunction for GradientSquared<'_, H, N> {
-    type Param = DVector<f64>;
-    type Output = f64;
-    fn cost(&self, z: &DVector<f64>) -> std::result::Result<f64, argmin::core::Error> {
-        Ok(match phase_gradient_norm(self.h, self.t, z) {
-            Ok((_, n)) => n * n,
-            Err(_) => f64::MAX,
-        })
-    }
-}
-
-/// The equilibrium of `H` at time `t` nearest (in the sense of the iteration) to the guess
-/// `(q, p)`: Newton's method on `∇H = 0` with the AD Hessian; when Newton fails from the guess,
-/// Nelder–Mead (`argmin`) on `|∇H|²` from the guess, then Newton again to polish.
-///
-/// # Errors
-/// [`Error::NonFinite`] for a non-finite guess or time; [`Error::NotConverged`] when neither
-/// route reaches `|∇H| ≤ 1e−10 max(1, ‖∇²H‖_max)`.
-pub fn equilibrium<H: Hamiltonian<N>, const N: usize>(
-    h: &H,
-    t: f64,
-    q: &SVector<f64, N>,
-    p: &SVector<f64, N>,
-) -> Result<Equilibrium<N>> {
-    crate::phase::check_phase(t, q, p)?;
-    let z0 = DVector::from_iterator(2 * N, q.iter().chain(p.iter()).copied());
-    let pack = |z: DVector<f64>, gn: f64, it: usize, fb: bool| Equilibrium {
-        q: SVector::from_iterator(z.iter().take(N).copied()),
-        p: SVector::from_iterator(z.iter().skip(N).copied()),
-        gradient_norm: gn,
-        iterations: it,
-        used_fallback: fb,
-    };
-    if let Some((z, gn, it)) = newton(h, t, &z0, 50)? {
-        return Ok(pack(z, gn, it, false));
-    }
-    // Fallback: Nelder–Mead on |∇H|² from a simplex about the guess.
-    let scale = 0.1 * (1.0 + z0.amax());
-    let mut simplex = vec![z0.clone()];
-    for i in 0..2 * N {
-        let mut v = z0.clone();
-        v[i] += scale;
-        simplex.push(v);
-    }
-    let solver = argmin::solver::neldermead::NelderMead::new(simplex)
-        .with_sd_tolerance(1e-30)
-        .map_err(|e| Error::invalid("Nelder–Mead set-up", e.to_string()))?;
-    let res = argmin::core::Executor::new(GradientSquared::<H, N> { h, t }, solver)
-        .configure(|s| s.max_iters(4000))
-        .run()
-        .map_err(|e| Error::NotConverged {
-            what: format!("Nelder–Mead on |∇H|² ({e})"),
-            iterations: 4000,
-            residual: f64::NAN,
-        })?;
-    let best = res.state().best_param.clone().unwrap_or_else(|| z0.clone());
-    match newton(h, t, &best, 50)? {
-        Some((z, gn, it)) => Ok(pack(z, gn, it, true)),
-        None => {
-            let (_, gn) = phase_gradient_norm(h, t, &best)?;
-            Err(Error::NotConverged {
-                what: "equilibrium ∇H = 0 (Newton from the guess and from the Nelder–Mead \
-                       minimum of |∇H|²)"
-                    .into(),
-                iterations: 50,
-                residual: gn,
-            })
-        }
     }
 }
 
@@ -1227,7 +1058,7 @@ fn complexify(p: &Polynomial, t: &DMatrix<C64>, table: &Arc<Monomials>) -> Phase
     out
 }
 
-/// The normal form of `h` about the equilibrium `eq` (see [`equilibrium`]) to degree
+/// The normal form of `h` about the equilibrium `eq` (see [`hamiltonian_equilibrium`]) to degree
 /// `degree ∈ 3..=MAX_NORMAL_FORM_DEGREE` in the phase variables.
 ///
 /// # Errors
@@ -1241,7 +1072,7 @@ fn complexify(p: &Polynomial, t: &DMatrix<C64>, table: &Arc<Monomials>) -> Phase
 pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
     h: &H,
     t: f64,
-    eq: &Equilibrium<N>,
+    eq: &PhaseEquilibrium<N>,
     degree: usize,
     kind: NormalFormKind,
 ) -> Result<BirkhoffNormalForm> {
@@ -1263,11 +1094,11 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
     }
     let table = Arc::new(Monomials::new(2 * N, degree)?);
     let z0 = DVector::from_iterator(2 * N, eq.q.iter().chain(eq.p.iter()).copied());
-    let (_, gn) = phase_gradient_norm(h, t, &z0)?;
+    let (_, gn) = phase_gradient_dense(h, t, &z0)?;
     if gn > 1e-8 * (1.0 + z0.norm()) {
         return Err(Error::invalid(
             "equilibrium",
-            format!("|∇H| = {gn:e} at the given point: not an equilibrium (use `equilibrium`)"),
+            format!("|∇H| = {gn:e} at the given point: not an equilibrium (use `stability::hamiltonian_equilibrium`)"),
         ));
     }
     let a = phase_hessian_dense(h, t, &z0)?;
