@@ -34,6 +34,7 @@ pub mod gauss;
 pub mod lie_poisson;
 pub mod methods;
 pub mod observers;
+pub mod rattle;
 pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
@@ -49,6 +50,7 @@ pub use methods::{MethodInfo, METHODS};
 pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
 };
+pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
