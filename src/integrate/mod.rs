@@ -15,6 +15,8 @@
 //! * Each method states the capability it needs as a trait bound on the system (explicit splitting
 //!   needs [`Separable`](crate::Separable), Gauss–Legendre any [`Hamiltonian`]): applying a method
 //!   to a system without that capability does not compile.
+//! * Holonomic constraints `g(t, q) = 0`: [`Rattle`] on a [`ConstrainedHamiltonian`], symplectic
+//!   on the constraint manifold ([`rattle`]).
 //! * An [`Observer`] sees every step (with dense output over it) and may stop the run: record
 //!   ([`Recorder`]), sample at requested times ([`Samples`]), locate events ([`Events`]) and
 //!   Poincaré sections ([`Section`]).

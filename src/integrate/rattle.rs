@@ -350,7 +350,7 @@ impl Rattle {
 /// Newton's method on `f(x) = 0` with the Jacobian `f` returns, from `x`, until `small(Δx, x)`
 /// (the correction is at rounding level) or the correction stops shrinking at rounding level;
 /// at most `max` iterations.
-fn newton<F, S>(
+pub(crate) fn newton<F, S>(
     mut x: DVector<f64>,
     mut f: F,
     small: S,
