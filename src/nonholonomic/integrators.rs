@@ -15,7 +15,7 @@
 //!   `f^± = (h/2) Q` at the midpoint, a step `(qₖ, pₖ) ↦ (qₖ₊₁, pₖ₊₁)` solves
 //!
 //!   $$ p_k + D_1 L_d(q_k, q_{k+1}) + f^- - h\,B(t_k, q_k)^{\mathsf T}\lambda_k = 0, \qquad
-//!      B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0, $$
+//!   B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0, $$
 //!
 //!   `p_{k+1} = D₂ L_d(qₖ, qₖ₊₁) + f^+`, with `q̄ = (qₖ + qₖ₊₁)/2`, `t̄ = tₖ + h/2` (the virtual
 //!   displacements at `qₖ` lie in the constraint distribution, whence the force `−h Bᵀλ`, crate
@@ -157,7 +157,7 @@ impl LagrangeDAlembert {
         // Predictor: the velocity of momentum p at q, exact for L quadratic in q̇.
         let zero = SVector::zeros();
         let a = sys.lagrangian.mass_matrix(t, q, &zero)?;
-        let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || here())?;
+        let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", here)?;
         let p_rest = sys.lagrangian.momentum(t, q, &zero)?;
         let v0 = ainv * (p - p_rest);
         let scale_q = q.amax().max((v0 * h).amax()).max(f64::MIN_POSITIVE);
@@ -533,7 +533,7 @@ where
             let mut failure = None;
             let run = m.run(sys, t0, q0, qdot0, t1, 1e-12, |s| {
                 k += 1;
-                if k % stride == 0 || k == m.steps {
+                if k.is_multiple_of(stride) || k == m.steps {
                     if let Err(e) = record(s) {
                         failure = Some(e);
                         return Control::Stop;
