@@ -496,18 +496,11 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                 _ => None,
             };
             work = work.add(&dense.finish()?);
-            match control {
-                Control::Continue => state = next,
-                Control::Stop => {
-                    state = next;
-                    stopped = k + 1 < self.steps;
-                    break;
-                }
-                Control::StopAt(_) => {
-                    state = stop_state.unwrap_or(next);
-                    stopped = state.t != problem.t1;
-                    break;
-                }
+            let end;
+            (state, end) = settle(control, next, stop_state, k + 1 == self.steps, problem.t1);
+            if let Some(s) = end {
+                stopped = s;
+                break;
             }
         }
         Ok(Report {
@@ -516,6 +509,26 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
             work,
             elapsed: clock.elapsed(),
         })
+    }
+}
+
+/// The state a fixed-step driver continues from after an observer's answer, and `Some(stopped)`
+/// when the run ends there: `Continue` takes `next`; `Stop` ends at `next` (stopped early unless
+/// it was the `last` step); `StopAt` ends at `stop_state` (stopped early unless that is `t₁`).
+pub(crate) fn settle<const N: usize>(
+    control: Control,
+    next: State<N>,
+    stop_state: Option<State<N>>,
+    last: bool,
+    t1: f64,
+) -> (State<N>, Option<bool>) {
+    match control {
+        Control::Continue => (next, None),
+        Control::Stop => (next, Some(!last)),
+        Control::StopAt(_) => {
+            let state = stop_state.unwrap_or(next);
+            (state, Some(state.t != t1))
+        }
     }
 }
 

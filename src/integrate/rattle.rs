@@ -25,7 +25,7 @@
 //! Dense output: a point inside a step is a partial RATTLE step from the step's start (on the
 //! constraint manifold, see [`sampling`](super::sampling)).
 
-use super::{stop_time, Control, Dense, Method, Observer, Problem, Report, StepView, Work};
+use super::{settle, stop_time, Control, Dense, Method, Observer, Problem, Report, StepView, Work};
 use crate::constraints::{check_rank, Differentiated, HolonomicConstraints, PfaffianConstraints};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
@@ -511,18 +511,11 @@ where
             if let Some(e) = dense.error.into_inner() {
                 return Err(e);
             }
-            match control {
-                Control::Continue => state = next,
-                Control::Stop => {
-                    state = next;
-                    stopped = k + 1 < self.steps;
-                    break;
-                }
-                Control::StopAt(_) => {
-                    state = stop_state.unwrap_or(next);
-                    stopped = state.t != problem.t1;
-                    break;
-                }
+            let end;
+            (state, end) = settle(control, next, stop_state, k + 1 == self.steps, problem.t1);
+            if let Some(s) = end {
+                stopped = s;
+                break;
             }
         }
         Ok(Report {
