@@ -486,15 +486,7 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                 carry,
                 self.compensated,
             );
-            let control = observer.step(&StepView {
-                prev: &state,
-                next: &next,
-                dense: &dense,
-            });
-            let stop_state = match control {
-                Control::StopAt(t) => Some(dense.at(stop_time(t, &state, &next)?)),
-                _ => None,
-            };
+            let (control, stop_state) = observe(observer, &state, &next, &dense)?;
             work = work.add(&dense.finish()?);
             let end;
             (state, end) = settle(control, next, stop_state, k + 1 == self.steps, problem.t1);
@@ -510,6 +502,22 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
             elapsed: clock.elapsed(),
         })
     }
+}
+
+/// Show the step `prev → next` (with its dense output) to `observer`; its answer, and for
+/// `StopAt(t)` the state at `t` (checked to lie within the step).
+pub(crate) fn observe<O: Observer<N>, const N: usize>(
+    observer: &mut O,
+    prev: &State<N>,
+    next: &State<N>,
+    dense: &dyn Dense<N>,
+) -> Result<(Control, Option<State<N>>)> {
+    let control = observer.step(&StepView { prev, next, dense });
+    let stop_state = match control {
+        Control::StopAt(t) => Some(dense.at(stop_time(t, prev, next)?)),
+        _ => None,
+    };
+    Ok((control, stop_state))
 }
 
 /// The state a fixed-step driver continues from after an observer's answer, and `Some(stopped)`

@@ -25,7 +25,7 @@
 //! Dense output: a point inside a step is a partial RATTLE step from the step's start (on the
 //! constraint manifold, see [`sampling`](super::sampling)).
 
-use super::{settle, stop_time, Control, Dense, Method, Observer, Problem, Report, StepView, Work};
+use super::{observe, settle, Dense, Method, Observer, Problem, Report, Work};
 use crate::constraints::{check_rank, Differentiated, HolonomicConstraints, PfaffianConstraints};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
@@ -498,15 +498,7 @@ where
                 iterations: Cell::new(0),
                 error: RefCell::new(None),
             };
-            let control = observer.step(&StepView {
-                prev: &state,
-                next: &next,
-                dense: &dense,
-            });
-            let stop_state = match control {
-                Control::StopAt(t) => Some(dense.at(stop_time(t, &state, &next)?)),
-                _ => None,
-            };
+            let (control, stop_state) = observe(observer, &state, &next, &dense)?;
             work.newton_iterations += dense.iterations.get();
             if let Some(e) = dense.error.into_inner() {
                 return Err(e);
