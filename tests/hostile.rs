@@ -3301,14 +3301,51 @@ fn wrap_pi(x: f64) -> f64 {
 
 mod constrained {
     use super::*;
+    use hamilton_jacobi::constraints::HolonomicConstraints;
     use hamilton_jacobi::constraints::{
         check_velocities, classify, form_integrability_residuals, hamel_coefficients,
         integrable_combinations, velocity_jet,
     };
+    use hamilton_jacobi::integrate::{ConstrainedHamiltonian, Control, Rattle};
     use hamilton_jacobi::nonholonomic::hamel::quasi_velocities;
     use hamilton_jacobi::nonholonomic::{
-        gauss_accelerations, BoltzmannHamel, Constrained, GibbsAppell,
+        drift, gauss_accelerations, BoltzmannHamel, Constrained, ConstrainedMethod, GibbsAppell,
+        LagrangeDAlembert, Projection,
     };
+
+    /// A unit point mass in the plane under gravity 4, `H = ½|p|² + 4z`.
+    #[derive(Clone, Copy, Debug)]
+    struct Heavy;
+
+    impl Hamiltonian<2> for Heavy {
+        fn hamiltonian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+            p: &SVector<D, 2>,
+        ) -> D {
+            p.dot(p) * 0.5 + q[1] * 4.0
+        }
+    }
+
+    /// The unit circle, `g = ½(|q|² − 1)`.
+    #[derive(Clone, Copy, Debug)]
+    struct Circle;
+
+    impl HolonomicConstraints<2, 1> for Circle {
+        fn position_constraint<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+        ) -> SVector<D, 1> {
+            SVector::from([(q.dot(q) - 1.0) * 0.5])
+        }
+    }
+
+    /// The plane pendulum as a point on the unit circle.
+    fn pendulum() -> ConstrainedHamiltonian<Heavy, Circle, 2, 1> {
+        ConstrainedHamiltonian::new(Heavy, Circle)
+    }
     use hamilton_jacobi::systems::{
         ChaplyginSleigh, ConeConstraint, Gearing, RollingDisk, TwoWheeledCart,
     };
@@ -3652,6 +3689,158 @@ mod constrained {
                 )
             },
         );
+        // Integrators of constrained systems.
+        sized(c, "Rattle::new", &[0, 1, 10], |n| {
+            judge(Rattle::new(n), n > 0, |r| {
+                if r.steps == n {
+                    Good
+                } else {
+                    Wrong(format!("{r:?}"))
+                }
+            })
+        });
+        sized(c, "Rattle::with_max_iterations", &[0, 1, 50], |n| {
+            judge(
+                Rattle::new(1).and_then(|r| r.with_max_iterations(n)),
+                n > 0,
+                |_| Good,
+            )
+        });
+        sized(c, "LagrangeDAlembert::new", &[0, 1, 10], |n| {
+            judge(LagrangeDAlembert::new(n), n > 0, |_| Good)
+        });
+        sized(c, "Projection::new", &[0, 1, 10], |n| {
+            judge(
+                Projection::new(Dop853::new(1e-10, 1e-12).unwrap(), n),
+                n > 0,
+                |_| Good,
+            )
+        });
+        sweep(
+            c,
+            "ConstrainedHamiltonian::residuals",
+            &[0.7, 1.3, 1.0],
+            &[(2, 2.0)],
+            |a| {
+                let (s, co) = a[0].sin_cos();
+                let q = SVector::from([a[2] * s, -a[2] * co]);
+                let p = SVector::from([co * a[1], s * a[1]]);
+                judge(pendulum().residuals(0.0, &q, &p), fin(a), |(g, v)| {
+                    let want = 0.5 * (a[2] * a[2] - 1.0);
+                    all([
+                        near("|g|", g, want.abs(), 1e-15 * (1.0 + a[2] * a[2])),
+                        near("|G q̇|", v, 0.0, 1e-15 * a[2].abs() * a[1].abs() + 1e-300),
+                    ])
+                })
+            },
+        );
+        sweep(c, "Rattle::step", &[0.7, 1.3, 0.05], &[(2, 10.0)], |a| {
+            let (s, co) = a[0].sin_cos();
+            let q = SVector::from([s, -co]);
+            let p = SVector::from([co * a[1], s * a[1]]);
+            let r = Rattle::new(1).unwrap().step(&pendulum(), 0.0, &q, &p, a[2]);
+            judge(r, fin(a) && a[2] != 0.0, |st| {
+                let (g, v) = pendulum().residuals(a[2], &st.q, &st.p).unwrap();
+                all([
+                    near("|g(q₁)|", g, 0.0, 1e-14),
+                    near("|G p₁|", v, 0.0, 1e-14 * (1.0 + st.p.amax())),
+                ])
+            })
+        });
+        sweep(c, "integrate(Rattle)", &[0.0, 2.0, 0.7], &[(1, 0.0)], |a| {
+            let sys = pendulum();
+            let (s, co) = a[2].sin_cos();
+            let r = Problem::new(&sys, a[0], SVector::from([s, -co]), SVector::zeros(), a[1])
+                .and_then(|pr| integrate(&pr, &Rattle::new(20).unwrap(), &mut ()));
+            let valid = fin(a) && a[1] != a[0] && (a[1] - a[0]).is_finite();
+            judge(r, valid, |rep| {
+                let (g, _) = sys.residuals(rep.last.t, &rep.last.q, &rep.last.p).unwrap();
+                near("|g(q(t₁))|", g, 0.0, 1e-14)
+            })
+        });
+        sweep(
+            c,
+            "LagrangeDAlembert::step",
+            &[0.4, 0.9, -0.6, 0.01],
+            &[(3, 5.0)],
+            |a| {
+                let s = sleigh();
+                let sys = Constrained::new(s, s);
+                let (q, qd) = moving(a[0], a[1], a[2]);
+                let r = hamilton_jacobi::Lagrangian::momentum(&s, 0.0, &q, &qd).and_then(|p| {
+                    LagrangeDAlembert::new(1)
+                        .unwrap()
+                        .step(&sys, 0.0, &q, &p, a[3])
+                });
+                judge(r, fin(a) && a[3] != 0.0, |st| {
+                    // The midpoint velocity is admissible at the midpoint.
+                    let th = 0.5 * (a[0] + st.q[2]);
+                    let lateral = st.velocity[1] * th.cos() - st.velocity[0] * th.sin();
+                    near(
+                        "lateral midpoint velocity",
+                        lateral,
+                        0.0,
+                        1e-13 * (1.0 + st.velocity.amax() + st.q.amax() / a[3].abs()),
+                    )
+                })
+            },
+        );
+        sweep(
+            c,
+            "LagrangeDAlembert::run",
+            &[0.0, 1.0, 0.9],
+            &[(1, 0.0)],
+            |a| {
+                let s = sleigh();
+                let sys = Constrained::new(s, s);
+                let (q, qd) = moving(0.3, a[2], 0.5);
+                let r =
+                    LagrangeDAlembert::new(10)
+                        .unwrap()
+                        .run(&sys, a[0], q, qd, a[1], 1e-12, |_| Control::Continue);
+                let valid = fin(a) && a[1] != a[0] && (a[1] - a[0]).is_finite();
+                judge(r, valid, |run| {
+                    all(run.last.q.iter().map(|&x| finite_ok("q(t₁)", x)))
+                })
+            },
+        );
+        for (name, which) in [
+            ("drift(Reduced)", 0),
+            ("drift(Projected)", 1),
+            ("drift(LagrangeDAlembert)", 2),
+        ] {
+            sweep(c, name, &[0.9, -0.6, 1.0], &[(2, 0.0)], move |a| {
+                let s = sleigh();
+                let sys = Constrained::new(s, s);
+                let (q, qd) = moving(0.3, a[0], a[1]);
+                // A step budget the time bound allows (the default scales to 10⁷ steps for
+                // spans like 10³⁰⁸): beyond it the run ends with a typed work-limit error.
+                let dop = Dop853::new(1e-10, 1e-12)
+                    .and_then(|d| d.with_max_steps(100_000))
+                    .unwrap();
+                let m = match which {
+                    0 => ConstrainedMethod::Reduced(dop),
+                    1 => ConstrainedMethod::Projected(Projection::new(dop, 5).unwrap()),
+                    _ => ConstrainedMethod::LagrangeDAlembert(LagrangeDAlembert::new(20).unwrap()),
+                };
+                let r = drift(&sys, &m, 0.0, q, qd, a[2], 10);
+                judge(r, fin(a) && a[2] != 0.0, |d| {
+                    // Energy m v² + I_B ϑ̇² conserved; relative errors of the method's size.
+                    let e = d.energy.abs().max(f64::MIN_POSITIVE);
+                    let scale = (a[0].abs() + a[1].abs()) * a[2].abs();
+                    all([
+                        finite_ok("max |ΔE|", d.max_energy_error()),
+                        near("max |ΔE|/E", d.max_energy_error() / e, 0.0, 1e-2),
+                        near(
+                            "residual",
+                            d.max_residual(),
+                            0.0,
+                            1e-8 * (1.0 + scale) * (a[0].abs() + a[1].abs()),
+                        ),
+                    ])
+                })
+            });
+        }
         sweep(
             c,
             "Constrained::integrate",

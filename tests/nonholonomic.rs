@@ -463,7 +463,11 @@ fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
         close(obs.0, max_lean, 5e-4, "max |ψ|");
         let e0 = disk.energy(&q0, &qd0).unwrap();
         let e1 = disk.energy(&r.last.q, &r.last.p).unwrap();
-        assert!((e1 - e0).abs() < 1e-8, "energy drift {:e}", e1 - e0);
+        // DOP853 at rtol 1e-10 on the index-reduced equations: energy and residual follow its
+        // global error (measured at most 2.8e-10 and 1.1e-10, at v = 1.5 where the disk falls);
+        // the SPEC X6 bounds (1e-12, 4e-13) are met with projection onto the constraints
+        // (tests/constrained_integration.rs, x6_rolling_disk_reference_run).
+        assert!((e1 - e0).abs() < 1e-9, "energy drift {:e}", e1 - e0);
         let (b, _) = disk.forms(0.0, &r.last.q);
         println!(
             "disk v = {v}: max|ψ| = {:.4}, energy drift {:e}, constraint residual {:e}",
@@ -471,7 +475,7 @@ fn t17_rolling_disk_lean_by_multipliers_and_boltzmann_hamel() {
             e1 - e0,
             (b * r.last.p).amax()
         );
-        assert!((b * r.last.p).amax() < 1e-8, "constraint residual");
+        assert!((b * r.last.p).amax() < 1e-9, "constraint residual");
         let w0 = quasi_velocities(&disk, &q0, &qd0, 1e-14).unwrap();
         let (q2, _) = run(&bh, 0.0, q0, w0, 10.0);
         let (q1, _) = run(&mult, 0.0, q0, qd0, 10.0);

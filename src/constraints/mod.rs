@@ -37,6 +37,18 @@ pub trait HolonomicConstraints<const N: usize, const K: usize> {
         -> SVector<D, K>;
 }
 
+impl<H: HolonomicConstraints<N, K> + ?Sized, const N: usize, const K: usize>
+    HolonomicConstraints<N, K> for &H
+{
+    fn position_constraint<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> SVector<D, K> {
+        (**self).position_constraint(t, q)
+    }
+}
+
 /// `K` Pfaffian constraints `Σ_s B_rs(t, q) q̇_s + b_r(t, q) = 0` [Ardema eq. 5.13; Hamel
 /// art. 228 (I)].
 pub trait PfaffianConstraints<const N: usize, const K: usize> {

@@ -15,6 +15,8 @@
 //! * Each method states the capability it needs as a trait bound on the system (explicit splitting
 //!   needs [`Separable`](crate::Separable), Gauss–Legendre any [`Hamiltonian`]): applying a method
 //!   to a system without that capability does not compile.
+//! * Holonomic constraints `g(t, q) = 0`: [`Rattle`] on a [`ConstrainedHamiltonian`], symplectic
+//!   on the constraint manifold ([`rattle`]).
 //! * An [`Observer`] sees every step (with dense output over it) and may stop the run: record
 //!   ([`Recorder`]), sample at requested times ([`Samples`]), locate events ([`Events`]) and
 //!   Poincaré sections ([`Section`]).
@@ -34,6 +36,7 @@ pub mod gauss;
 pub mod lie_poisson;
 pub mod methods;
 pub mod observers;
+pub mod rattle;
 pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
@@ -49,6 +52,7 @@ pub use methods::{MethodInfo, METHODS};
 pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
 };
+pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
@@ -482,28 +486,13 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
                 carry,
                 self.compensated,
             );
-            let control = observer.step(&StepView {
-                prev: &state,
-                next: &next,
-                dense: &dense,
-            });
-            let stop_state = match control {
-                Control::StopAt(t) => Some(dense.at(stop_time(t, &state, &next)?)),
-                _ => None,
-            };
+            let (control, stop_state) = observe(observer, &state, &next, &dense)?;
             work = work.add(&dense.finish()?);
-            match control {
-                Control::Continue => state = next,
-                Control::Stop => {
-                    state = next;
-                    stopped = k + 1 < self.steps;
-                    break;
-                }
-                Control::StopAt(_) => {
-                    state = stop_state.unwrap_or(next);
-                    stopped = state.t != problem.t1;
-                    break;
-                }
+            let end;
+            (state, end) = settle(control, next, stop_state, k + 1 == self.steps, problem.t1);
+            if let Some(s) = end {
+                stopped = s;
+                break;
             }
         }
         Ok(Report {
@@ -512,6 +501,42 @@ impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed
             work,
             elapsed: clock.elapsed(),
         })
+    }
+}
+
+/// Show the step `prev → next` (with its dense output) to `observer`; its answer, and for
+/// `StopAt(t)` the state at `t` (checked to lie within the step).
+pub(crate) fn observe<O: Observer<N>, const N: usize>(
+    observer: &mut O,
+    prev: &State<N>,
+    next: &State<N>,
+    dense: &dyn Dense<N>,
+) -> Result<(Control, Option<State<N>>)> {
+    let control = observer.step(&StepView { prev, next, dense });
+    let stop_state = match control {
+        Control::StopAt(t) => Some(dense.at(stop_time(t, prev, next)?)),
+        _ => None,
+    };
+    Ok((control, stop_state))
+}
+
+/// The state a fixed-step driver continues from after an observer's answer, and `Some(stopped)`
+/// when the run ends there: `Continue` takes `next`; `Stop` ends at `next` (stopped early unless
+/// it was the `last` step); `StopAt` ends at `stop_state` (stopped early unless that is `t₁`).
+pub(crate) fn settle<const N: usize>(
+    control: Control,
+    next: State<N>,
+    stop_state: Option<State<N>>,
+    last: bool,
+    t1: f64,
+) -> (State<N>, Option<bool>) {
+    match control {
+        Control::Continue => (next, None),
+        Control::Stop => (next, Some(!last)),
+        Control::StopAt(_) => {
+            let state = stop_state.unwrap_or(next);
+            (state, Some(state.t != t1))
+        }
     }
 }
 

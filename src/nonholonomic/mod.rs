@@ -14,17 +14,25 @@
 //! * Boltzmann–Hamel equations in quasi-velocities with Hamel's coefficients (M63–M65)
 //!   [Hamel art. 232–237] and the Gibbs–Appell equations (M41–M42) [Ardema 14.2–14.3] ([`hamel`]).
 //! * Gauss's principle of least constraint (M43) minimised with `argmin` ([`gauss`]).
+//! * Constraint-preserving integration (SPEC X6): the discrete Lagrange–d'Alembert integrator
+//!   and projection onto the constraints beside DOP853 on the index-reduced equations, with the
+//!   energy and constraint drift of each measured against time ([`integrators`]).
 //! * The integration of the multiplier form stops with [`Error::RankDeficient`] where `∂g/∂q̇`
 //!   loses rank during the motion (SPEC X7), located on the dense output
 //!   ([`Constrained::integrate`]).
 
 pub mod gauss;
 pub mod hamel;
+pub mod integrators;
 
 pub use gauss::{
     gauss_accelerations, gauss_stationary_points, GaussMinimum, Stationary, StationaryPoints,
 };
 pub use hamel::{BoltzmannHamel, GibbsAppell};
+pub use integrators::{
+    drift, ConstrainedMethod, DiscreteRun, DiscreteStep, Drift, DriftSample, LagrangeDAlembert,
+    Projection,
+};
 
 use crate::constraints::{
     check_rank, check_velocities, dependent_rows, velocity_jet, VelocityConstraints, VelocityJet,
