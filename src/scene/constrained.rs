@@ -4,7 +4,10 @@
 //! `max_r |g_r(t, q, q̇)|` beside it as the quantities whose drift the scene draws, and the path
 //! `(q₀, q₁)` of the contact point as the portrait.
 
-use super::case::{Case, History, Outcome, Portrait, Sampler, ADAPTIVE_MAX_STEPS};
+use super::case::{
+    reference_run_coordinates, Case, History, Outcome, Portrait, Sampler, ADAPTIVE_MAX_STEPS,
+    REFERENCE_RTOL,
+};
 use super::spec::MethodKind;
 use crate::constraints::{check_velocities, velocity_jet, VelocityConstraints};
 use crate::error::{Error, Result};
@@ -13,9 +16,6 @@ use crate::lagrangian::Lagrangian;
 use crate::nalgebra::SVector;
 use crate::nonholonomic::Constrained;
 use crate::systems::Invariant;
-
-/// Tolerance of the DOP853 reference run.
-const REFERENCE_RTOL: f64 = Dop853::RTOL_MIN;
 
 /// A constrained system with its initial state (see the [module docs](self)).
 pub struct ConstrainedCase<L, C, const N: usize, const K: usize> {
@@ -135,41 +135,13 @@ where
 
     fn reference_coordinates(&self, times: &[f64]) -> Result<Vec<Vec<f64>>> {
         let t1 = self.end()?.0;
-        if times
-            .windows(2)
-            .any(|w| w[0].partial_cmp(&w[1]).is_none_or(|o| o.is_gt()))
-            || times.iter().any(|t| !(0.0..=t1).contains(t))
-        {
-            return Err(Error::invalid(
-                "reference times",
-                format!("expected ascending times in [0, {t1:e}]"),
-            ));
-        }
-        let tight = Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
-        let mut sampler = Sampler::at(times.to_vec());
-        self.drive(&tight, t1, &mut sampler)?;
-        if sampler.states.len() != times.len() {
-            return Err(Error::invalid(
-                "reference times",
-                format!(
-                    "the reference run reached {} of {} sample times",
-                    sampler.states.len(),
-                    times.len()
-                ),
-            ));
-        }
-        Ok(sampler
-            .states
-            .iter()
-            .map(|s| s.q.as_slice().to_vec())
-            .collect())
+        reference_run_coordinates(times, t1, |tight, sampler| {
+            self.drive(tight, t1, sampler).map(|_| ())
+        })
     }
 
     fn reference_note(&self) -> String {
-        self.prepared
-            .as_ref()
-            .map(|p| p.2.clone())
-            .unwrap_or_default()
+        self.end().map(|p| p.2.clone()).unwrap_or_default()
     }
 
     fn run(&self, kind: MethodKind, knob: f64) -> Result<Outcome> {
