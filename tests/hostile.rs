@@ -3347,7 +3347,8 @@ mod constrained {
         ConstrainedHamiltonian::new(Heavy, Circle)
     }
     use hamilton_jacobi::systems::{
-        ChaplyginSleigh, ConeConstraint, Gearing, RollingDisk, TwoWheeledCart,
+        ArealVelocity, ChaplyginSleigh, ConeConstraint, Gearing, RodOnCircle, RollingDisk,
+        SphereOnTurntable, TwoWheeledCart,
     };
 
     /// Accelerations of the sleigh at `(ϑ, v, ϑ̇)`.
@@ -3859,6 +3860,211 @@ mod constrained {
                 judge(r, valid, |rep| {
                     let want = a[0] - 4.905 * span;
                     rel("ẋ₃(t₁)", rep.last.p[2], want, a[0] + 4.905 * span.abs())
+                })
+            },
+        );
+        add_catalogue(c);
+    }
+
+    /// An oracle value, or only finiteness where the oracle's own evaluation overflows.
+    fn against(what: &str, got: f64, want: f64) -> Verdict {
+        if want.is_finite() {
+            rel(what, got, want, want)
+        } else {
+            finite_ok(what, got)
+        }
+    }
+
+    /// The sphere on a turntable (T32), the areal quasi-coordinate (T33), the rod on a circle
+    /// (T34) and Appell's function.
+    fn add_catalogue(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "SphereOnTurntable::new",
+            &[1.0, 0.1, 0.004, 7.0],
+            &[(2, 0.0), (1, -0.1)],
+            |a| {
+                let valid = fin(a) && a[..3].iter().all(|&x| x > 0.0);
+                judge(
+                    SphereOnTurntable::new(a[0], a[1], a[2], a[3]),
+                    valid,
+                    |_| Good,
+                )
+            },
+        );
+        sweep(
+            c,
+            "SphereOnTurntable::homogeneous+with_acceleration+with_forces",
+            &[1.0, 0.1, 7.0, 0.5, 0.3, -0.2],
+            &[(0, -1.0)],
+            |a| {
+                let r = SphereOnTurntable::homogeneous(a[0], a[1], a[2])
+                    .and_then(|s| s.with_acceleration(a[3]))
+                    .and_then(|s| s.with_forces([a[4], a[5]], [0.01, -0.02, a[4]]));
+                judge(r, fin(a) && a[0] > 0.0 && a[1] > 0.0, |s| {
+                    near(
+                        "Ω(1)",
+                        s.table_rate(1.0),
+                        a[2] + a[3],
+                        1e-15 * (a[2].abs() + a[3].abs()),
+                    )
+                })
+            },
+        );
+        sweep(
+            c,
+            "SphereOnTurntable::free_motion",
+            &[7.0, 0.2, -0.1, 1.0, 0.5, 1.3],
+            &[(0, 0.0), (5, -2.0)],
+            |a| {
+                let s = SphereOnTurntable::homogeneous(1.0, 0.1, a[0]);
+                let r = s.and_then(|s| s.free_motion([a[1], a[2]], [a[3], a[4]], a[5]));
+                judge(r, fin(a), |(_, v)| {
+                    // The speed is conserved.
+                    let (s0, s1) = (a[3].hypot(a[4]), v[0].hypot(v[1]));
+                    against("|ṙ|", s1, s0)
+                })
+            },
+        );
+        sweep(
+            c,
+            "ArealVelocity::new+with_forces",
+            &[1.0, 1.0, 0.2, 0.05],
+            &[(1, -1.0)],
+            |a| {
+                let r = ArealVelocity::new(a[0], a[1]).and_then(|s| s.with_forces(a[2], a[3]));
+                judge(r, fin(a) && a[0] > 0.0 && a[1] >= 0.0, |_| Good)
+            },
+        );
+        sweep(
+            c,
+            "ArealVelocity::gibbs_function",
+            &[1.3, 0.9, 0.4, -0.2],
+            &[(0, -1.0), (0, 0.0)],
+            |a| {
+                let s = ArealVelocity::new(1.7, 0.6).unwrap();
+                judge(
+                    s.gibbs_function(a[0], a[1], [a[2], a[3]]),
+                    fin(a) && a[0] > 0.0,
+                    |g| {
+                        let radial = a[2] - a[1] * a[1] / a[0].powi(3);
+                        let want = 0.85 * (radial * radial + (a[3] / a[0]).powi(2));
+                        against("G", g, want)
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "ArealVelocity::quasi_forces",
+            &[1.3],
+            &[(0, -1.0), (0, 0.0)],
+            |a| {
+                let s = ArealVelocity::new(1.7, 0.6)
+                    .unwrap()
+                    .with_forces(0.2, 0.05)
+                    .unwrap();
+                judge(s.quasi_forces(a[0]), fin(a) && a[0] > 0.0, |f| {
+                    all([
+                        against("R", f[0], 0.2 - 0.6 * 1.7 / (a[0] * a[0])),
+                        against("S/r", f[1], 0.05 / a[0]),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "RodOnCircle::new+pendulum",
+            &[1.0, 1.0, 1.0, 9.81],
+            &[(2, 0.0), (3, -9.81)],
+            |a| {
+                let r = RodOnCircle::new(a[0], a[1], a[2], a[3]).and_then(|r| r.pendulum());
+                judge(r, fin(a) && a.iter().all(|&x| x > 0.0), |p| {
+                    let n2 = a[3] * a[2] / (a[2] * a[2] + a[1] * a[1] / 3.0);
+                    against("n²", p.n() * p.n(), n2)
+                })
+            },
+        );
+        sweep(
+            c,
+            "RodOnCircle::small_oscillation_period",
+            &[1.0, 1.0, 9.81],
+            &[],
+            |a| {
+                let r = RodOnCircle::new(2.0, a[0], a[1], a[2])
+                    .and_then(|r| r.small_oscillation_period());
+                judge(r, fin(a) && a.iter().all(|&x| x > 0.0), |t| {
+                    let want = TAU * ((a[1] + a[0] * a[0] / (3.0 * a[1])) / a[2]).sqrt();
+                    against("period", t, want)
+                })
+            },
+        );
+        sweep(
+            c,
+            "RodOnCircle::gibbs_function+angle_force+state",
+            &[1.2, -0.5, 0.4],
+            &[],
+            |a| {
+                let rod = RodOnCircle::new(1.0, 1.0, 0.5, 9.81).unwrap();
+                let r = rod
+                    .gibbs_function(a[0], a[1])
+                    .and_then(|g| Ok((g, rod.angle_force(a[2])?, rod.state(a[2], a[0])?)));
+                judge(r, fin(a), |(g, f, (q, _))| {
+                    let want = 0.5 * (0.25 * (a[1] * a[1] + a[0].powi(4)) + a[1] * a[1] / 3.0);
+                    all([
+                        against("G", g, want),
+                        against("Q_θ", f, -9.81 * 0.5 * a[2].sin()),
+                        near("centre on the circle", q[0].hypot(q[1]), 0.5, 1e-15),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "ConstrainedCase::new+energy",
+            &[0.4, 0.9, -0.6, 0.0],
+            &[(3, 0.5)],
+            |a| {
+                use hamilton_jacobi::scene::case::Case;
+                use hamilton_jacobi::scene::constrained::ConstrainedCase;
+                let s = sleigh();
+                // Heading ϑ, speed v along it plus a lateral slip a[3], turning rate ϑ̇.
+                let (q, mut v) = moving(a[0], a[1], a[2]);
+                v[0] -= a[3] * a[0].sin();
+                v[1] += a[3] * a[0].cos();
+                let r = ConstrainedCase::new(s, s, q, v, "sleigh")
+                    .and_then(|c| c.energy(0.0, q.as_slice(), v.as_slice()));
+                judge(r, fin(a) && a[3].abs() < 1e-300, |e| {
+                    // h = ½(m v² + I_B ϑ̇²), m = 2, I_B = 1.
+                    against("h", e, a[1] * a[1] + 0.5 * a[2] * a[2])
+                })
+            },
+        );
+        sweep(
+            c,
+            "GibbsAppell::appell_function",
+            &[1.3, 0.4, -0.2, 0.9, 1.0, 2.0],
+            &[(0, -1.0), (0, 0.0)],
+            |a| {
+                let s = ArealVelocity::new(1.0, 0.0).unwrap();
+                let q = SVector::from([a[0], a[1]]);
+                let (w, wd) = (SVector::from([a[2], a[3]]), SVector::from([a[4], a[5]]));
+                let ga = GibbsAppell::new(s, s);
+                let r = ga
+                    .appell_function(0.0, &q, &w, &wd)
+                    .and_then(|x| Ok(x - ga.appell_function(0.0, &q, &w, &SVector::zeros())?));
+                judge(r, fin(a) && a[0] != 0.0, |d| {
+                    // Force-free: G(ω̇) − G(0) of T33 (r may be negative here: r² only).
+                    let rr = a[0];
+                    let radial = -a[3] * a[3] / rr.powi(3);
+                    let g = |x: f64, y: f64| 0.5 * ((x + radial).powi(2) + (y / rr).powi(2));
+                    let want = g(a[4], a[5]) - g(0.0, 0.0);
+                    let scale = g(a[4], a[5]).abs() + g(0.0, 0.0).abs();
+                    if want.is_finite() && scale.is_finite() {
+                        near("A(ω̇) − A(0)", d, want, 1e-11 * scale + f64::MIN_POSITIVE)
+                    } else {
+                        finite_ok("A(ω̇) − A(0)", d)
+                    }
                 })
             },
         );

@@ -7,7 +7,7 @@
 //! 1e-9 (two integrations' errors plus margin), closed forms to 1e-9, values at a state (no
 //! integration) to 1e-12 relative.
 
-use hamilton_jacobi::constraints::{PfaffianConstraints, QuasiVelocities};
+use hamilton_jacobi::constraints::{Differentiated, PfaffianConstraints, QuasiVelocities};
 use hamilton_jacobi::integrate::{
     integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, StepView,
 };
@@ -17,8 +17,9 @@ use hamilton_jacobi::nonholonomic::{
     gauss_accelerations, gauss_stationary_points, BoltzmannHamel, Constrained, GibbsAppell,
 };
 use hamilton_jacobi::systems::{
-    ChaplyginSleigh, ConeConstraint, Gearing, GearingInTime, HamelVelocityParameters, RollingDisk,
-    SecondClassConstraint, TwoWheeledCart,
+    ArealVelocity, ChaplyginSleigh, ConeConstraint, ExactFlow, Gearing, GearingInTime,
+    HamelVelocityParameters, Kepler2, RodOnCircle, RollingDisk, SecondClassConstraint,
+    SphereOnTurntable, SphereOnTurntableInTime, TwoWheeledCart,
 };
 use hamilton_jacobi::{DualNum, Error, Lagrangian, Legendre};
 
@@ -514,6 +515,311 @@ fn t22_acceleration_constraint_stationary_points() {
                 );
                 close(p.qddot[2], k - k.signum(), 1e-12, "ẍ₃");
             }
+        }
+    }
+}
+
+/// The centre's motion on the turntable by Newton–Euler with the contact force solved for
+/// (SPEC T32, independent of the crate's formulations): with `f` the contact force,
+/// `M r̈ = F + f`, `I ω̇ = M + (−a ẑ) × f` and the differentiated contact conditions give
+/// `M ẍ + (I/a²)(ẍ + Ω̇y + Ωẏ) = F_x + M_y/a`, `M ÿ + (I/a²)(ÿ − Ω̇x − Ωẋ) = F_y − M_x/a`.
+struct TurntableNewtonEuler {
+    mass: f64,
+    radius: f64,
+    inertia: f64,
+    rate: (f64, f64),
+    force: [f64; 2],
+    moment: [f64; 2],
+}
+
+impl FirstOrderSystem<2> for TurntableNewtonEuler {
+    fn field(
+        &self,
+        t: f64,
+        q: &SVector<f64, 2>,
+        v: &SVector<f64, 2>,
+    ) -> hamilton_jacobi::Result<(SVector<f64, 2>, SVector<f64, 2>)> {
+        let (w, wd) = (self.rate.0 + self.rate.1 * t, self.rate.1);
+        let k = self.inertia / (self.radius * self.radius);
+        let m = self.mass + k;
+        let ax = (self.force[0] + self.moment[1] / self.radius - k * (wd * q[1] + w * v[1])) / m;
+        let ay = (self.force[1] - self.moment[0] / self.radius + k * (wd * q[0] + w * v[0])) / m;
+        Ok((*v, SVector::from([ax, ay])))
+    }
+}
+
+#[test]
+fn t32_sphere_on_a_turntable_three_ways_and_closed_form() {
+    let (mass, a, omega) = (1.0, 0.1, 7.0);
+    let sphere = SphereOnTurntable::homogeneous(mass, a, omega).unwrap();
+    // v₀ = (1, 0) at the origin: ω_y = (ẋ + Ωy)/a = 10, ω_x = (Ωx − ẏ)/a = 0; a spin ω_z = 3.
+    let q0 = SVector::zeros();
+    let qd0 = SVector::from([1.0, 0.0, 0.0, 10.0, 3.0]);
+    let mult = Constrained::new(sphere, sphere);
+    let timed = SphereOnTurntableInTime(sphere);
+    let bh = BoltzmannHamel::new(timed, timed);
+    let ga = GibbsAppell::new(timed, timed);
+    let w0 = SVector::from([0.0, 0.0, 0.0, 10.0, 3.0, 1.0]);
+    let pi = std::f64::consts::PI;
+    for (t, pos, vel) in [
+        (0.5 * pi, [0.0, 1.0], [-1.0, 0.0]),
+        (pi, [0.0, 0.0], [1.0, 0.0]),
+    ] {
+        let (r, v) = sphere.free_motion([0.0, 0.0], [1.0, 0.0], t).unwrap();
+        for i in 0..2 {
+            close(r[i], pos[i], 1e-14, "closed-form position (SPEC T32)");
+            close(v[i], vel[i], 1e-14, "closed-form velocity (SPEC T32)");
+        }
+        let (q1, v1) = run(&mult, 0.0, q0, qd0, t);
+        let (q2, w2) = run(&bh, 0.0, SVector::zeros(), w0, t);
+        let (q3, w3) = run(&ga, 0.0, SVector::zeros(), w0, t);
+        println!(
+            "T32 t = {t:.6}: multipliers ({:e}, {:e}), Boltzmann–Hamel ({:e}, {:e}) from the closed form",
+            q1[0] - pos[0],
+            q1[1] - pos[1],
+            q2[0] - pos[0],
+            q2[1] - pos[1]
+        );
+        for i in 0..2 {
+            close(q1[i], pos[i], 1e-10, "multipliers, centre");
+            close(v1[i], vel[i], 1e-10, "multipliers, centre velocity");
+            close(q2[i], pos[i], 1e-10, "Boltzmann–Hamel, centre");
+            close(
+                q3[i],
+                q2[i],
+                1e-10,
+                "Gibbs–Appell vs Boltzmann–Hamel, centre",
+            );
+        }
+        for i in 0..6 {
+            close(w3[i], w2[i], 1e-9, "Gibbs–Appell vs Boltzmann–Hamel, ω");
+        }
+        close(w2[4], 3.0, 1e-12, "ω_z constant");
+        close(q2[5], t, 1e-12, "time coordinate");
+        // The contact conditions on the end state.
+        close(v1[0] - a * v1[3], -omega * q1[1], 1e-10, "ẋ − aω_y = −Ωy");
+        close(
+            a * w2[3] - omega * q2[1],
+            v1[0],
+            1e-9,
+            "ẋ = aω_y − Ωy (Boltzmann–Hamel vs multipliers)",
+        );
+    }
+
+    // Accelerating table, forces and moments: the three formulations against Newton–Euler.
+    let (inertia, rate1) = (0.006, 0.8);
+    let (force, moment) = ([0.3, -0.2], [0.01, -0.02, 0.005]);
+    let loaded = SphereOnTurntable::new(mass, a, inertia, 2.0)
+        .unwrap()
+        .with_acceleration(rate1)
+        .unwrap()
+        .with_forces(force, moment)
+        .unwrap();
+    assert!(loaded.free_motion([0.0; 2], [1.0, 0.0], 1.0).is_err());
+    let ne = TurntableNewtonEuler {
+        mass,
+        radius: a,
+        inertia,
+        rate: (2.0, rate1),
+        force,
+        moment: [moment[0], moment[1]],
+    };
+    let (x0, y0, vx, vy) = (0.2, -0.1, 0.5, 0.3);
+    // ω_x = (Ωx − ẏ)/a, ω_y = (ẋ + Ωy)/a at t = 0 (Ω = 2).
+    let (wx, wy) = ((2.0 * x0 - vy) / a, (vx + 2.0 * y0) / a);
+    let q0 = SVector::from([x0, y0, 0.0, 0.0, 0.0]);
+    let qd0 = SVector::from([vx, vy, wx, wy, 1.5]);
+    let mult = Constrained::new(loaded, loaded);
+    let timed = SphereOnTurntableInTime(loaded);
+    let (bh, ga) = (
+        BoltzmannHamel::new(timed, timed),
+        GibbsAppell::new(timed, timed),
+    );
+    let t1 = 3.0;
+    let (qn, vn) = run(
+        &ne,
+        0.0,
+        SVector::from([x0, y0]),
+        SVector::from([vx, vy]),
+        t1,
+    );
+    let (q1, v1) = run(&mult, 0.0, q0, qd0, t1);
+    let qt0 = SVector::from([x0, y0, 0.0, 0.0, 0.0, 0.0]);
+    let w0 = SVector::from([0.0, 0.0, wx, wy, 1.5, 1.0]);
+    let (q2, w2) = run(&bh, 0.0, qt0, w0, t1);
+    let (q3, _) = run(&ga, 0.0, qt0, w0, t1);
+    for i in 0..2 {
+        close(q1[i], qn[i], 1e-9, "multipliers vs Newton–Euler");
+        close(v1[i], vn[i], 1e-9, "multipliers vs Newton–Euler, velocity");
+        close(q2[i], qn[i], 1e-9, "Boltzmann–Hamel vs Newton–Euler");
+        close(q3[i], qn[i], 1e-9, "Gibbs–Appell vs Newton–Euler");
+    }
+    close(v1[4], 1.5 + moment[2] / inertia * t1, 1e-9, "I ω̇_z = M_z");
+    close(w2[4], v1[4], 1e-9, "ω_z (Boltzmann–Hamel)");
+    // At the end state: the multiplier form's accelerations and contact force f = −λ are
+    // Newton–Euler's.
+    let m1 = mult.multiplier_accelerations(t1, &q1, &v1).unwrap();
+    let (_, acc1) = ne
+        .field(
+            t1,
+            &SVector::from([q1[0], q1[1]]),
+            &SVector::from([v1[0], v1[1]]),
+        )
+        .unwrap();
+    for i in 0..2 {
+        close(m1.qddot[i], acc1[i], 1e-12, "r̈ at a state");
+        close(
+            mass * m1.qddot[i],
+            force[i] - m1.lambda[i],
+            1e-12,
+            "M r̈ = F + f, f = −λ",
+        );
+    }
+}
+
+#[test]
+fn t33_areal_quasi_coordinate() {
+    // Kepler's problem in (r, θ) with ω = (ṙ, r²θ̇): both quasi-velocity formulations against the
+    // universal-variable flow of Kepler2, and q̇ constant (Kepler's second law).
+    let mu = 1.0;
+    let s = ArealVelocity::new(1.0, mu).unwrap();
+    let bh = BoltzmannHamel::new(s, s);
+    let ga = GibbsAppell::new(s, s);
+    let (r0, rd0, h) = (1.0, 0.1, 1.1);
+    let q0 = SVector::from([r0, 0.0]);
+    let w0 = SVector::from([rd0, h]);
+    let kepler = Kepler2::new(mu).unwrap();
+    for t in [1.0, 5.0, 12.0] {
+        let (x, v) = kepler
+            .exact_flow(
+                0.0,
+                &SVector::from([r0, 0.0]),
+                &SVector::from([rd0, h / r0]),
+                t,
+            )
+            .unwrap();
+        let (q1, w1) = run(&bh, 0.0, q0, w0, t);
+        let (q2, w2) = run(&ga, 0.0, q0, w0, t);
+        close(q1[0], x.norm(), 1e-9, "r (Boltzmann–Hamel vs Kepler flow)");
+        close(q1[1].cos(), x[0] / x.norm(), 1e-9, "cos θ");
+        close(q1[1].sin(), x[1] / x.norm(), 1e-9, "sin θ");
+        close(w1[0], x.dot(&v) / x.norm(), 1e-9, "ṙ");
+        close(w1[1], h, 1e-10, "areal velocity (Boltzmann–Hamel)");
+        close(
+            x[0] * v[1] - x[1] * v[0],
+            h,
+            1e-12,
+            "areal velocity (Kepler flow)",
+        );
+        for i in 0..2 {
+            close(q2[i], q1[i], 1e-9, "Gibbs–Appell vs Boltzmann–Hamel, q");
+            close(w2[i], w1[i], 1e-9, "Gibbs–Appell vs Boltzmann–Hamel, ω");
+        }
+    }
+    // With radial and transverse forces: Appell's function against the exact Gibbs function, and
+    // the equations m(r̈ − q̇²/r³) = R, m q̈/r² = S/r.
+    let m = 1.7;
+    let s = ArealVelocity::new(m, 0.6)
+        .unwrap()
+        .with_forces(0.2, 0.05)
+        .unwrap();
+    let ga = GibbsAppell::new(s, s);
+    let bh = BoltzmannHamel::new(s, s);
+    let (q, w) = (SVector::from([1.3, 0.4]), SVector::from([-0.2, 0.9]));
+    let [rf, sf] = s.quasi_forces(q[0]).unwrap();
+    let oracle = |wd: &SVector<f64, 2>| {
+        s.gibbs_function(q[0], w[1], [wd[0], wd[1]]).unwrap() - rf * wd[0] - sf * wd[1]
+    };
+    let base = SVector::from([0.3, -0.1]);
+    for wd in [
+        SVector::from([1.0, 2.0]),
+        SVector::from([-0.7, 0.4]),
+        SVector::from([0.0, -3.0]),
+    ] {
+        let crate_diff = ga.appell_function(0.0, &q, &w, &wd).unwrap()
+            - ga.appell_function(0.0, &q, &w, &base).unwrap();
+        close(
+            crate_diff,
+            oracle(&wd) - oracle(&base),
+            1e-13,
+            "Appell's function",
+        );
+    }
+    for acc in [
+        ga.quasi_accelerations(0.0, &q, &w).unwrap(),
+        bh.quasi_accelerations(0.0, &q, &w).unwrap(),
+    ] {
+        let r = q[0];
+        close(
+            m * (acc[0] - w[1] * w[1] / r.powi(3)),
+            rf,
+            1e-13,
+            "radial equation",
+        );
+        close(m * acc[1] / (r * r), sf, 1e-13, "transverse equation");
+    }
+}
+
+#[test]
+fn t34_rod_on_a_circle() {
+    let g = 9.81;
+    let rod = RodOnCircle::new(1.0, 1.0, 1.0, g).unwrap();
+    close(
+        rod.small_oscillation_period().unwrap(),
+        2.31640627624126,
+        1e-13,
+        "small-oscillation period (SPEC T34)",
+    );
+    // c = a: the ends on two perpendicular lines, θ̈ + (3g/(4c)) sin θ = 0.
+    close(
+        rod.pendulum().unwrap().n().powi(2),
+        0.75 * g,
+        1e-13,
+        "n² = 3g/(4c)",
+    );
+    for rod in [rod, RodOnCircle::new(2.0, 1.0, 0.5, g).unwrap()] {
+        let pendulum = rod.pendulum().unwrap();
+        let (th0, w0) = (0.8, -0.3);
+        let (q0, qd0) = rod.state(th0, w0).unwrap();
+        let mult = Constrained::new(rod, Differentiated(rod));
+        let bh = BoltzmannHamel::new(rod, rod);
+        let ga = GibbsAppell::new(rod, rod);
+        let om0 = SVector::from([0.0, 0.0, w0]);
+        for t in [0.5, 2.5] {
+            let (th, w) = pendulum
+                .exact_flow(0.0, &SVector::from([th0]), &SVector::from([w0]), t)
+                .unwrap();
+            let (q1, v1) = run(&mult, 0.0, q0, qd0, t);
+            let (q2, w2) = run(&bh, 0.0, q0, om0, t);
+            let (q3, w3) = run(&ga, 0.0, q0, om0, t);
+            close(
+                q1[2],
+                th[0],
+                1e-9,
+                "multipliers vs the pendulum's exact flow",
+            );
+            close(v1[2], w[0], 1e-9, "multipliers, θ̇");
+            close(q2[2], th[0], 1e-9, "Boltzmann–Hamel vs the exact flow");
+            close(w2[2], w[0], 1e-9, "Boltzmann–Hamel, θ̇");
+            close(q3[2], th[0], 1e-9, "Gibbs–Appell vs the exact flow");
+            close(w3[2], w[0], 1e-9, "Gibbs–Appell, θ̇");
+            let (qe, _) = rod.state(th[0], w[0]).unwrap();
+            for i in 0..2 {
+                close(q1[i], qe[i], 1e-9, "multipliers, centre on the circle");
+                close(q2[i], qe[i], 1e-9, "Boltzmann–Hamel, centre on the circle");
+            }
+        }
+        // Appell's function against Ardema's G of plane motion, less Q_θ θ̈.
+        let (q, w) = rod.state(0.4, 1.2).unwrap();
+        let om = SVector::from([0.0, 0.0, w[2]]);
+        let qf = rod.angle_force(0.4).unwrap();
+        let oracle = |a: f64| rod.gibbs_function(1.2, a).unwrap() - qf * a;
+        let base = SVector::from([0.0, 0.0, 0.25]);
+        for a in [-2.0, 0.5, 3.0] {
+            let wd = SVector::from([0.0, 0.0, a]);
+            let d = ga.appell_function(0.0, &q, &om, &wd).unwrap()
+                - ga.appell_function(0.0, &q, &om, &base).unwrap();
+            close(d, oracle(a) - oracle(0.25), 1e-12, "Appell's function");
         }
     }
 }

@@ -1255,29 +1255,27 @@ mod n_dof {
             }
         }
         let step = (hi - lo) / scan as f64;
-        let (mut a, mut b) = (best.0 - step, best.0 + step);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
-        let (mut f1, mut f2) = (amp(x1), amp(x2));
-        for _ in 0..90 {
-            if f1 > f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = amp(x1);
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = amp(x2);
-            }
-            if b - a < 1e-14 {
-                break;
+        let (a, b) = (best.0 - step, best.0 + step);
+        // Golden-section search (argmin) for the largest |⟨f, e^{iνt}⟩|² on the bracket.
+        use argmin::core::{CostFunction, Executor, State};
+        use argmin::solver::goldensectionsearch::GoldenSectionSearch;
+        struct NegativeAmplitude<F>(F);
+        impl<F: Fn(f64) -> f64> CostFunction for NegativeAmplitude<F> {
+            type Param = f64;
+            type Output = f64;
+            fn cost(&self, nu: &f64) -> Result<f64, argmin::core::Error> {
+                Ok(-(self.0)(*nu))
             }
         }
-        0.5 * (a + b)
+        let solver = GoldenSectionSearch::new(a, b)
+            .unwrap()
+            .with_tolerance(1e-14 / (a.abs() + b.abs()).max(1e-300))
+            .unwrap();
+        let result = Executor::new(NegativeAmplitude(amp), solver)
+            .configure(|state| state.param(best.0).max_iters(90))
+            .run()
+            .unwrap();
+        *result.state().get_best_param().unwrap()
     }
 
     /// `(ν_fast, ν_slow)` of the true orbit from `(x, y, p_x, p_y)` by frequency analysis over

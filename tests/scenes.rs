@@ -837,3 +837,51 @@ fn j2_theory_scene_draws_the_position_error_of_each_run() {
     }
     std::fs::remove_dir_all(&out).ok();
 }
+
+/// The constrained cases: the sleigh's reference against SPEC T16's heading, the Jacobi integral
+/// and the constraint residual along a run, the disk's run at v = 3 (T17), and a refused
+/// parameter.
+#[test]
+fn constrained_scenes_sleigh_and_disk() {
+    let sleigh: toml::Table = toml::from_str("name = \"chaplygin-sleigh\"").unwrap();
+    let mut case = Catalogue::builtin().build("s.toml", &sleigh).unwrap();
+    assert_eq!(case.period(), None);
+    case.prepare(4.0).unwrap();
+    let q = case.reference_coordinates(&[2.0, 4.0]).unwrap();
+    assert!((q[0][2] - 1.8409671222).abs() < 1e-10, "{:?}", q[0]);
+    assert!((q[1][2] - 2.1696428109).abs() < 1e-10, "{:?}", q[1]);
+    let dop = MethodKind::from_key("dop853").unwrap();
+    assert!(case.supports(dop));
+    assert!(!case.supports(MethodKind::from_key("rk4").unwrap()));
+    let coarse = case.run(dop, 1e-6).unwrap().error;
+    let fine = case.run(dop, 1e-12).unwrap().error;
+    assert!(fine < 1e-10 && fine < coarse, "{fine:e} vs {coarse:e}");
+    let h = case.history(dop, 1e-10, 40).unwrap();
+    assert_eq!(h.t.len(), 41);
+    let first = case.invariants(h.t[0], &h.q[0], &h.p[0]).unwrap();
+    // h = ½(m v² + I_B ϑ̇²) = ½ m v₀² = 1 for v₀ = 1.
+    assert_eq!(first[0].name, "energy");
+    assert!((first[0].value - 1.0).abs() < 1e-15, "{first:?}");
+    assert_eq!(first[1].value, 0.0);
+    for k in 0..h.t.len() {
+        let inv = case.invariants(h.t[k], &h.q[k], &h.p[k]).unwrap();
+        assert!(
+            (inv[0].value - 1.0).abs() < 1e-8,
+            "energy {:e}",
+            inv[0].value - 1.0
+        );
+        assert!(inv[1].value < 1e-8, "residual {:e}", inv[1].value);
+    }
+    let disk: toml::Table = toml::from_str("name = \"rolling-disk\"\nv = 3.0").unwrap();
+    let mut case = Catalogue::builtin().build("d.toml", &disk).unwrap();
+    case.prepare(10.0).unwrap();
+    let h = case.history(dop, 1e-10, 1000).unwrap();
+    let lean = h.q.iter().map(|q| q[3].abs()).fold(0.0, f64::max);
+    assert!((lean - 0.021).abs() < 5e-4, "max |ψ| = {lean}");
+    // A non-positive radius is refused, naming the system table.
+    let flat: toml::Table = toml::from_str("name = \"rolling-disk\"\nr = 0.0").unwrap();
+    match Catalogue::builtin().build("d.toml", &flat) {
+        Err(e) => assert!(e.to_string().contains("system.r"), "{e}"),
+        Ok(_) => panic!("r = 0 accepted"),
+    }
+}

@@ -412,6 +412,63 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
         }
     }
 
+    /// The terms of Appell's function at `(t, q, ω)`: the free indices, `B`, `Ḃω`, the mass
+    /// matrix `a`, the right side `f` of Lagrange's equations and `q̇`.
+    #[allow(clippy::type_complexity)]
+    fn appell_terms(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+    ) -> Result<AppellTerms<N>> {
+        let (free, w) = prepare(&self.quasi, t, q, w)?;
+        let big_b = checked_transformation(&self.quasi, q)?;
+        let qdot = big_b * w;
+        let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
+        // Ḃω: the derivative of B(q(t)) ω along q̇.
+        let qe: SVector<Dual64, N> = SVector::from_fn(|i, _| Dual64::new(q[i], qdot[i]));
+        let bdot_w = (inverse_matrix(&self.quasi, &qe) * lift::<Dual64, N>(&w)).map(|x| x.eps);
+        all_finite(format_args!("Ḃω at {}", at(q, &qdot)), bdot_w.as_slice())?;
+        Ok(AppellTerms {
+            free,
+            big_b,
+            bdot_w,
+            a,
+            f,
+            qdot,
+        })
+    }
+
+    /// Appell's function `A(ω̇) = ½ q̈ᵀ a q̈ − f·q̈`, `q̈ = B ω̇ + Ḃ ω`, at `(t, q, ω)`: Gibbs'
+    /// function `S = ½ Σ m ẍ²` less the power `Σ_ν Q_ν q̈_ν` of all forces (those of the potential
+    /// included), up to terms free of the accelerations [Ardema eq. 14.18]. The actual
+    /// quasi-accelerations make it stationary over the free `ω̇_ρ`; the constrained and time
+    /// entries of `ω̇` are taken as zero.
+    ///
+    /// # Errors
+    /// NaN/∞ (input or value); [`Error::Singular`] naming the configuration when `b` or the mass
+    /// matrix is singular.
+    pub fn appell_function(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        w: &SVector<f64, N>,
+        wd: &SVector<f64, N>,
+    ) -> Result<f64> {
+        all_finite("ω̇", wd.as_slice())?;
+        let terms = self.appell_terms(t, q, w)?;
+        let mut wd = *wd;
+        for (i, x) in wd.iter_mut().enumerate() {
+            if !terms.free.contains(&i) {
+                *x = 0.0;
+            }
+        }
+        finite(
+            format_args!("Appell's function at t = {t}, {}", at(q, &terms.qdot)),
+            terms.value(&wd),
+        )
+    }
+
     /// `ω̇` at `(t, q, ω)` from the stationarity of `S − Q·q̈` (constrained and time entries zero).
     ///
     /// # Errors
@@ -423,30 +480,35 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> GibbsAppell<L, Q, 
         q: &SVector<f64, N>,
         w: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        let (free, w) = prepare(&self.quasi, t, q, w)?;
-        let big_b = checked_transformation(&self.quasi, q)?;
-        let qdot = big_b * w;
-        let (a, f) = lagrange_terms(&self.lagrangian, t, q, &qdot)?;
-        // Ḃω: the derivative of B(q(t)) ω along q̇.
-        let qe: SVector<Dual64, N> = SVector::from_fn(|i, _| Dual64::new(q[i], qdot[i]));
-        let bdot_w = (inverse_matrix(&self.quasi, &qe) * lift::<Dual64, N>(&w)).map(|x| x.eps);
-        all_finite(format_args!("Ḃω at {}", at(q, &qdot)), bdot_w.as_slice())?;
-        // S(ω̇) − Q·q̈ = ½ q̈ᵀ a q̈ − f·q̈ with q̈ = B ω̇ + Ḃ ω, differentiated twice by AD.
+        let terms = self.appell_terms(t, q, w)?;
+        // Appell's function of ω̇, differentiated twice by AD.
         let zero = SVector::<f64, N>::zeros();
-        let (_, grad, _, hess) = phase_hessian(
-            |wd, _| {
-                let qdd = crate::ad::real_times(&big_b, wd) + lift(&bdot_w);
-                let aq = crate::ad::real_times(&a, &qdd);
-                (0..N).fold(From::from(0.0), |s: PhaseDual<_, f64, _>, i| {
-                    s + qdd[i] * (aq[i] * 0.5 - f[i])
-                })
-            },
-            &zero,
-            &zero,
-        );
-        solve_free(&hess.qq, &(-grad), &free, "Bᵀ a B (free block)", || {
-            format!("t = {t}, {}", at(q, &qdot))
-        })
+        let (_, grad, _, hess) = phase_hessian(|wd, _| terms.value(wd), &zero, &zero);
+        solve_free(
+            &hess.qq,
+            &(-grad),
+            &terms.free,
+            "Bᵀ a B (free block)",
+            || format!("t = {t}, {}", at(q, &terms.qdot)),
+        )
+    }
+}
+
+/// The pieces of Appell's function `½ q̈ᵀ a q̈ − f·q̈`, `q̈ = B ω̇ + Ḃ ω`, at one state.
+struct AppellTerms<const N: usize> {
+    free: Vec<usize>,
+    big_b: SMatrix<f64, N, N>,
+    bdot_w: SVector<f64, N>,
+    a: SMatrix<f64, N, N>,
+    f: SVector<f64, N>,
+    qdot: SVector<f64, N>,
+}
+
+impl<const N: usize> AppellTerms<N> {
+    fn value<D: DualNum<f64> + Copy>(&self, wd: &SVector<D, N>) -> D {
+        let qdd = crate::ad::real_times(&self.big_b, wd) + lift(&self.bdot_w);
+        let aq = crate::ad::real_times(&self.a, &qdd);
+        (0..N).fold(D::from(0.0), |s, i| s + qdd[i] * (aq[i] * 0.5 - self.f[i]))
     }
 }
 

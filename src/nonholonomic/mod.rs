@@ -378,6 +378,33 @@ impl<M: Observer<N>, O: Observer<N>, const N: usize> Observer<N> for Watched<'_,
     }
 }
 
+/// `f(t)` as an `argmin` cost function of one real variable.
+struct OneVariable<F>(F);
+
+impl<F: Fn(f64) -> f64> argmin::core::CostFunction for OneVariable<F> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, t: &f64) -> std::result::Result<f64, argmin::core::Error> {
+        Ok((self.0)(*t))
+    }
+}
+
+/// The minimiser of a unimodal `f` on `[a, b]` by `argmin`'s golden-section search, started at
+/// `guess ∈ [a, b]` and stopped when the bracket is `4ε` relative (at most 200 iterations);
+/// `None` if the search fails.
+fn golden_section_minimum(f: &impl Fn(f64) -> f64, a: f64, b: f64, guess: f64) -> Option<f64> {
+    use argmin::core::{Executor, State};
+    let solver = argmin::solver::goldensectionsearch::GoldenSectionSearch::new(a, b)
+        .ok()?
+        .with_tolerance(4.0 * f64::EPSILON)
+        .ok()?;
+    let result = Executor::new(OneVariable(f), solver)
+        .configure(|state| state.param(guess).max_iters(200))
+        .run()
+        .ok()?;
+    result.state().get_best_param().copied()
+}
+
 /// Relative drop of the smallest singular value of `∂g/∂q̇` within a step, below which the
 /// [`RankMonitor`] reports rank loss.
 pub const RANK_LOSS_TOLERANCE: f64 = 1e-6;
@@ -447,30 +474,9 @@ impl<C: VelocityConstraints<N, K>, const N: usize, const K: usize> Observer<N>
         let (mut tmin, mut smin) = (samples[imin].0, samples[imin].1);
         if imin > 0 && imin < 6 && smin < 0.5 * top {
             // Golden-section search on the bracket around the smallest sample.
-            let (mut a, mut b) = (samples[imin - 1].0, samples[imin + 1].0);
-            let r = 0.5 * (5f64.sqrt() - 1.0);
             let f = |t: f64| self.sigma(&at_t(t)).map_or(f64::INFINITY, |x| x.0);
-            let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-            let (mut fc, mut fd) = (f(c), f(d));
-            for _ in 0..80 {
-                if fc < fd {
-                    b = d;
-                    d = c;
-                    fd = fc;
-                    c = b - r * (b - a);
-                    fc = f(c);
-                } else {
-                    a = c;
-                    c = d;
-                    fc = fd;
-                    d = a + r * (b - a);
-                    fd = f(d);
-                }
-                if (b - a).abs() <= 4.0 * f64::EPSILON * (a.abs() + b.abs()) {
-                    break;
-                }
-            }
-            let tm = 0.5 * (a + b);
+            let (a, b) = (samples[imin - 1].0, samples[imin + 1].0);
+            let tm = golden_section_minimum(&f, a, b, tmin).unwrap_or(tmin);
             let sm = f(tm);
             if sm < smin {
                 (tmin, smin) = (tm, sm);

@@ -292,7 +292,49 @@ fn drive<S, M: Method<S, N>, const N: usize>(
 pub const ADAPTIVE_MAX_STEPS: usize = 50_000_000;
 
 /// Tolerance of the DOP853 reference of a case without an exact one.
-const REFERENCE_RTOL: f64 = Dop853::RTOL_MIN;
+pub(crate) const REFERENCE_RTOL: f64 = Dop853::RTOL_MIN;
+
+/// The coordinates at `times` (ascending, in `[0, t1]`) of the reference run that `run` drives
+/// with DOP853 at [`REFERENCE_RTOL`] into the sampler it is given.
+///
+/// # Errors
+/// Times out of order or out of range; a run that does not reach every time; the run's errors.
+pub(crate) fn reference_run_coordinates<const N: usize>(
+    times: &[f64],
+    t1: f64,
+    run: impl FnOnce(&Dop853, &mut Sampler<N>) -> Result<()>,
+) -> Result<Vec<Vec<f64>>> {
+    if times.windows(2).any(|w| {
+        matches!(
+            w[0].partial_cmp(&w[1]),
+            None | Some(std::cmp::Ordering::Greater)
+        )
+    }) || times.iter().any(|t| !(0.0..=t1).contains(t))
+    {
+        return Err(Error::invalid(
+            "reference times",
+            format!("expected ascending times in [0, {t1:e}]"),
+        ));
+    }
+    let tight = Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
+    let mut sampler = Sampler::at(times.to_vec());
+    run(&tight, &mut sampler)?;
+    if sampler.states.len() != times.len() {
+        return Err(Error::invalid(
+            "reference times",
+            format!(
+                "the reference run reached {} of {} sample times",
+                sampler.states.len(),
+                times.len()
+            ),
+        ));
+    }
+    Ok(sampler
+        .states
+        .iter()
+        .map(|s| s.q.as_slice().to_vec())
+        .collect())
+}
 
 /// Runs one method of a capability: `None` when `info` is not one of its methods.
 pub type StepperRun<H, const N: usize> = fn(
@@ -652,36 +694,10 @@ impl<H: Hamiltonian<N> + 'static, const N: usize> Case for HamiltonianCase<H, N>
                 .collect();
         }
         let t1 = self.end()?.0;
-        if times.windows(2).any(|w| {
-            matches!(
-                w[0].partial_cmp(&w[1]),
-                None | Some(std::cmp::Ordering::Greater)
-            )
-        }) || times.iter().any(|t| !(0.0..=t1).contains(t))
-        {
-            return Err(Error::invalid(
-                "reference times",
-                format!("expected ascending times in [0, {t1:e}]"),
-            ));
-        }
-        let tight = Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
-        let mut sampler = Sampler::at(times.to_vec());
-        integrate(&self.problem(t1)?, &tight, &mut sampler)?;
-        if sampler.states.len() != times.len() {
-            return Err(Error::invalid(
-                "reference times",
-                format!(
-                    "the reference run reached {} of {} sample times",
-                    sampler.states.len(),
-                    times.len()
-                ),
-            ));
-        }
-        Ok(sampler
-            .states
-            .iter()
-            .map(|s| s.q.as_slice().to_vec())
-            .collect())
+        let problem = self.problem(t1)?;
+        reference_run_coordinates(times, t1, |tight, sampler| {
+            integrate(&problem, tight, sampler).map(|_| ())
+        })
     }
 
     fn reference_note(&self) -> String {

@@ -7,14 +7,18 @@
 //! | `j2-orbit` | `mu` (1), `j2` (1.08e−3), `radius` (0.9), `a`, `e`, `i`, `raan`, `argp`, `mean_anomaly` | splitting, Wisdom–Holman/SABA, osculating and mean elements |
 //! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
+//! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form only |
+//! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | DOP853 on the multiplier form only |
 //!
 //! The general methods (RK4, implicit midpoint, Gauss–Legendre, DOP853) apply to every
-//! Hamiltonian system.
+//! Hamiltonian system. The constrained systems ([`ConstrainedCase`]) start at the origin heading
+//! along x and draw the path of the contact point, the energy and the constraint residual.
 
 use super::case::{
     exact_stepper, kepler_splitting_stepper, separable_stepper, system_invariants, Case,
     HamiltonianCase, Portrait, Table,
 };
+use super::constrained::ConstrainedCase;
 use super::spec::{MethodKind, SceneError, TheoryKind};
 use crate::error::{fmt_num, Error, Result};
 use crate::hamilton_jacobi::action_angle::ActionAngle;
@@ -32,7 +36,7 @@ use crate::phase::CanonicalPair;
 use crate::systems::kepler::{self, elements::state_to_classical, elements::Classical};
 use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
 use crate::systems::top::motion::Nutation;
-use crate::systems::{HeavyTop, Invariant, Kepler2, Pendulum};
+use crate::systems::{ChaplyginSleigh, HeavyTop, Invariant, Kepler2, Pendulum, RollingDisk};
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 use std::f64::consts::{PI, TAU};
@@ -221,6 +225,16 @@ impl Catalogue {
             "heavy-top",
             "heavy symmetric top in Euler angles (solution by quadrature)",
             Box::new(heavy_top),
+        );
+        c.register(
+            "chaplygin-sleigh",
+            "Chaplygin sleigh (blade), one non-holonomic constraint (multiplier form)",
+            Box::new(chaplygin_sleigh),
+        );
+        c.register(
+            "rolling-disk",
+            "disk rolling upright on a plane, two non-holonomic constraints (multiplier form)",
+            Box::new(rolling_disk),
         );
         c.register(
             "transformation-gallery",
@@ -809,4 +823,70 @@ impl Case for Gallery {
 
 fn gallery(_s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     Ok(Box::new(Gallery))
+}
+
+/// The Chaplygin sleigh (SPEC T16) from the origin heading along x with forward speed `v` and
+/// turning rate `theta_dot`.
+fn chaplygin_sleigh(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let m = s.positive_or("m", 2.0)?;
+    let offset = s.or("s", 0.5)?;
+    let inertia = s.positive_or("inertia", 1.0)?;
+    let v = s.or("v", 0.0)?;
+    let w = s.or("theta_dot", 2f64.sqrt())?;
+    let (push, torque) = (s.or("push", 0.0)?, s.or("torque", 0.0)?);
+    s.finish()?;
+    let sleigh = ChaplyginSleigh::new(m, offset, inertia)
+        .and_then(|x| x.with_forces(push, torque))
+        .map_err(|x| s.library(x))?;
+    let description = format!(
+        "Chaplygin sleigh, m = {}, s = {}, I_B = {}, Z = {}, M = {}; v₀ = {}, ϑ̇₀ = {}",
+        fmt_num(m),
+        fmt_num(offset),
+        fmt_num(inertia),
+        fmt_num(push),
+        fmt_num(torque),
+        fmt_num(v),
+        fmt_num(w)
+    );
+    let case = ConstrainedCase::new(
+        sleigh,
+        sleigh,
+        SVector::zeros(),
+        SVector::from([v, 0.0, w]),
+        description,
+    )
+    .map_err(|x| s.library(x))?;
+    Ok(Box::new(case))
+}
+
+/// The rolling disk (SPEC T17) from the origin rolling along x at speed `v` with the lean `lean`.
+fn rolling_disk(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let m = s.positive_or("m", 1.0)?;
+    let r = s.positive_or("r", 1.0)?;
+    let g = s.or("g", 9.81)?;
+    let a = s.positive_or("a", 0.25 * m * r * r)?;
+    let c = s.positive_or("c", 0.5 * m * r * r)?;
+    let v = s.or("v", 2.2)?;
+    let lean = s.or("lean", 0.01)?;
+    s.finish()?;
+    let disk = RollingDisk::new(m, r, a, c, g).map_err(|x| s.library(x))?;
+    let description = format!(
+        "rolling disk, m = {}, r = {}, A = {}, C = {}, g = {}; v = {}, ψ₀ = {}",
+        fmt_num(m),
+        fmt_num(r),
+        fmt_num(a),
+        fmt_num(c),
+        fmt_num(g),
+        fmt_num(v),
+        fmt_num(lean)
+    );
+    let case = ConstrainedCase::new(
+        disk,
+        disk,
+        SVector::from([0.0, 0.0, 0.0, lean, 0.0]),
+        SVector::from([v, 0.0, 0.0, 0.0, v / r]),
+        description,
+    )
+    .map_err(|x| s.library(x))?;
+    Ok(Box::new(case))
 }

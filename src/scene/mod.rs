@@ -74,6 +74,7 @@
 
 pub mod case;
 pub mod catalogue;
+pub mod constrained;
 pub mod gallery;
 pub mod runner;
 pub mod spec;
@@ -84,7 +85,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 13] = [
+pub const BUILTIN: [(&str, &str); 15] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -112,6 +113,11 @@ pub const BUILTIN: [(&str, &str); 13] = [
     ("j2-orbit", include_str!("builtin/j2-orbit.toml")),
     ("j2-theory", include_str!("builtin/j2-theory.toml")),
     ("heavy-top", include_str!("builtin/heavy-top.toml")),
+    (
+        "chaplygin-sleigh",
+        include_str!("builtin/chaplygin-sleigh.toml"),
+    ),
+    ("rolling-disk", include_str!("builtin/rolling-disk.toml")),
     (
         "transformation-gallery",
         include_str!("builtin/transformation-gallery.toml"),

@@ -17,11 +17,15 @@
 //! | [`ConeConstraint`] | 3, constraint non-linear in ẋ | closed form up to the vertex [Hamel art. 249] |
 //! | [`SecondClassConstraint`] | 3, acceleration constraint | Gauss's stationary points [Hamel art. 252] |
 //! | [`HingedRods`] | N (normal velocities of the joints) | impulsive response `(52, −14, 4, −2)P/(15M)` for three rods [Ardema 13.3] |
+//! | [`SphereOnTurntable`], [`SphereOnTurntableInTime`] | 5, two rheonomic rolling constraints | force-free circle at the rate `ΩI/(I + Ma²)` [Ardema 14.4] |
+//! | [`ArealVelocity`] | 2, areal quasi-coordinate | Gibbs function; Kepler's second law [Ardema 14.4] |
+//! | [`RodOnCircle`] | 3, two holonomic constraints | a pendulum, `(c² + a²/3)θ̈ + gc sin θ = 0` [Ardema 14.4] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
 use nalgebra::SVector;
 
+mod areal;
 mod bead;
 mod cart;
 mod central;
@@ -35,11 +39,14 @@ mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
 pub mod rigid_body;
+mod rod_on_circle;
 mod rolling_disk;
 mod sleigh;
 pub mod top;
+mod turntable;
 mod velocity_parameters;
 
+pub use areal::ArealVelocity;
 pub use bead::BeadOnHoop;
 pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
@@ -52,9 +59,11 @@ pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
 pub use rigid_body::FreeRigidBody;
+pub use rod_on_circle::RodOnCircle;
 pub use rolling_disk::RollingDisk;
 pub use sleigh::ChaplyginSleigh;
 pub use top::{HeavyTop, SteadyPrecession};
+pub use turntable::{SphereOnTurntable, SphereOnTurntableInTime};
 pub use velocity_parameters::HamelVelocityParameters;
 
 /// A named conserved quantity and its value at a phase point.

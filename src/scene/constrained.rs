@@ -1,0 +1,207 @@
+//! A constrained Lagrangian system as a scene [`Case`]: the multiplier form of
+//! [`Constrained`] (the index-1 equations in `(q, q̇)`, SPEC M16/M67) integrated by DOP853, with
+//! the Jacobi integral `h = q̇·∂L/∂q̇ − L` as the energy and the largest constraint residual
+//! `max_r |g_r(t, q, q̇)|` beside it as the quantities whose drift the scene draws, and the path
+//! `(q₀, q₁)` of the contact point as the portrait.
+
+use super::case::{
+    reference_run_coordinates, Case, History, Outcome, Portrait, Sampler, ADAPTIVE_MAX_STEPS,
+    REFERENCE_RTOL,
+};
+use super::spec::MethodKind;
+use crate::constraints::{check_velocities, velocity_jet, VelocityConstraints};
+use crate::error::{Error, Result};
+use crate::integrate::{Dop853, GeneralMethod};
+use crate::lagrangian::Lagrangian;
+use crate::nalgebra::SVector;
+use crate::nonholonomic::Constrained;
+use crate::systems::Invariant;
+
+/// A constrained system with its initial state (see the [module docs](self)).
+pub struct ConstrainedCase<L, C, const N: usize, const K: usize> {
+    system: Constrained<L, C, N, K>,
+    q0: SVector<f64, N>,
+    v0: SVector<f64, N>,
+    description: String,
+    prepared: Option<(f64, SVector<f64, N>, String)>,
+}
+
+impl<L, C, const N: usize, const K: usize> ConstrainedCase<L, C, N, K>
+where
+    L: Lagrangian<N>,
+    C: VelocityConstraints<N, K>,
+{
+    /// The system `lagrangian` under `constraints` from `(q₀, q̇₀)` at `t = 0`.
+    ///
+    /// # Errors
+    /// [`Error::ConstraintViolated`] with the residual when `q̇₀` violates the constraints by more
+    /// than `1e-12` (relative); NaN/∞.
+    pub fn new(
+        lagrangian: L,
+        constraints: C,
+        q0: SVector<f64, N>,
+        v0: SVector<f64, N>,
+        description: impl Into<String>,
+    ) -> Result<Self> {
+        check_velocities(&constraints, 0.0, &q0, &v0, 1e-12)?;
+        Ok(Self {
+            system: Constrained::new(lagrangian, constraints),
+            q0,
+            v0,
+            description: description.into(),
+            prepared: None,
+        })
+    }
+
+    fn end(&self) -> Result<&(f64, SVector<f64, N>, String)> {
+        self.prepared
+            .as_ref()
+            .ok_or_else(|| Error::invalid("case", "run before prepare: no end time"))
+    }
+
+    fn dop853(kind: MethodKind, knob: f64) -> Result<Dop853> {
+        match kind.integrator().map(|info| GeneralMethod::new(info, knob)) {
+            Some(Ok(GeneralMethod::Dop853(m))) => m.with_max_steps(ADAPTIVE_MAX_STEPS),
+            Some(Err(e)) => Err(e),
+            _ => Err(Error::invalid(
+                format!("method {}", kind.key()),
+                "does not apply to this system (constrained systems run DOP853 on the \
+                 multiplier form)",
+            )),
+        }
+    }
+
+    /// The run to `t1` with `method`, sampled by `sampler`.
+    fn drive(
+        &self,
+        method: &Dop853,
+        t1: f64,
+        sampler: &mut Sampler<N>,
+    ) -> Result<crate::integrate::Report<N>> {
+        self.system
+            .integrate(method, 0.0, self.q0, self.v0, t1, 1e-12, sampler)
+    }
+}
+
+fn slice<const N: usize>(x: &[f64], what: &str) -> Result<SVector<f64, N>> {
+    if x.len() == N {
+        Ok(SVector::from_column_slice(x))
+    } else {
+        Err(Error::invalid(
+            what,
+            format!("expected {N} entries, found {}", x.len()),
+        ))
+    }
+}
+
+impl<L, C, const N: usize, const K: usize> Case for ConstrainedCase<L, C, N, K>
+where
+    L: Lagrangian<N>,
+    C: VelocityConstraints<N, K>,
+{
+    fn describe(&self) -> String {
+        self.description.clone()
+    }
+
+    fn period(&self) -> Option<f64> {
+        None
+    }
+
+    fn supports(&self, kind: MethodKind) -> bool {
+        kind.key() == "dop853"
+    }
+
+    fn error_label(&self) -> String {
+        "final configuration error ‖Δq‖".into()
+    }
+
+    fn prepare(&mut self, t1: f64) -> Result<()> {
+        let tight = Dop853::new(REFERENCE_RTOL, 1e-17)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
+        let check = Dop853::new(1e-13, 1e-16)?.with_max_steps(ADAPTIVE_MAX_STEPS)?;
+        let q = self.drive(&tight, t1, &mut Sampler::at(Vec::new()))?.last.q;
+        let q2 = self.drive(&check, t1, &mut Sampler::at(Vec::new()))?.last.q;
+        let note = format!(
+            "reference: DOP853 on the multiplier form at rtol {REFERENCE_RTOL:.1e} (differs from \
+             rtol 1e−13 by {:.1e})",
+            (q - q2).norm()
+        );
+        self.prepared = Some((t1, q, note));
+        Ok(())
+    }
+
+    fn integrated_reference_rtol(&self) -> Option<f64> {
+        Some(REFERENCE_RTOL)
+    }
+
+    fn reference_coordinates(&self, times: &[f64]) -> Result<Vec<Vec<f64>>> {
+        let t1 = self.end()?.0;
+        reference_run_coordinates(times, t1, |tight, sampler| {
+            self.drive(tight, t1, sampler).map(|_| ())
+        })
+    }
+
+    fn reference_note(&self) -> String {
+        self.end().map(|p| p.2.clone()).unwrap_or_default()
+    }
+
+    fn run(&self, kind: MethodKind, knob: f64) -> Result<Outcome> {
+        let (t1, q_ref, _) = self.end()?;
+        let method = Self::dop853(kind, knob)?;
+        let report = self.drive(&method, *t1, &mut Sampler::at(Vec::new()))?;
+        Ok(Outcome {
+            error: (report.last.q - q_ref).norm(),
+            work: report.work,
+        })
+    }
+
+    fn history(&self, kind: MethodKind, knob: f64, samples: usize) -> Result<History> {
+        let t1 = self.end()?.0;
+        let method = Self::dop853(kind, knob)?;
+        let mut sampler = Sampler::uniform(0.0, t1, samples);
+        self.drive(&method, t1, &mut sampler)?;
+        let mut h = History::default();
+        for s in &sampler.states {
+            h.t.push(s.t);
+            h.q.push(s.q.as_slice().to_vec());
+            h.p.push(s.p.as_slice().to_vec());
+        }
+        Ok(h)
+    }
+
+    fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64> {
+        let (q, v) = (slice::<N>(q, "q")?, slice::<N>(p, "q̇")?);
+        let l = &self.system.lagrangian;
+        crate::error::finite(
+            "Jacobi integral",
+            l.momentum(t, &q, &v)?.dot(&v) - l.value(t, &q, &v)?,
+        )
+    }
+
+    fn invariants(&self, t: f64, q: &[f64], p: &[f64]) -> Result<Vec<Invariant>> {
+        let energy = self.energy(t, q, p)?;
+        let (q, v) = (slice::<N>(q, "q")?, slice::<N>(p, "q̇")?);
+        let residual = velocity_jet(&self.system.constraints, t, &q, &v)?
+            .value
+            .amax();
+        Ok(vec![
+            Invariant {
+                name: "energy",
+                value: energy,
+            },
+            Invariant {
+                name: "constraint residual",
+                value: residual,
+            },
+        ])
+    }
+
+    fn portrait(&self) -> Portrait {
+        Portrait {
+            title: "path",
+            x_label: "x",
+            y_label: "y",
+            equal_aspect: true,
+            project: |q, _| (q[0], q[1]),
+        }
+    }
+}
