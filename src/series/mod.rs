@@ -41,6 +41,7 @@ mod elementary;
 mod monomials;
 mod number;
 pub mod poisson;
+pub mod recurrences;
 
 pub use arena::{Series, MAX_ARENA_COEFFICIENTS};
 pub use monomials::{Monomials, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE};
