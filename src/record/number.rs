@@ -698,8 +698,10 @@ constants!(
 );
 
 impl DualNum<f64> for Recorded {
-    /// Recorded values are exact functions of the inputs: every derivative is in the record.
-    const NDERIV: usize = usize::MAX;
+    /// The largest order of the record's jets ([`MAX_ORDER`](super::MAX_ORDER)): an implicit
+    /// function lifted by `NDERIV` frozen-Jacobian Newton steps in this type ([`crate::implicit`])
+    /// is recorded with its Taylor coefficients exact to that order.
+    const NDERIV: usize = super::MAX_ORDER;
 
     fn recip(&self) -> Self {
         recip(*self)
