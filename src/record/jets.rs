@@ -182,7 +182,7 @@ fn coefficient(op: Op, c: &[f64], s: usize, i: usize, k: usize) -> f64 {
             if k == 0 {
                 c[a * s].exp()
             } else {
-                rec::exp(jet(a), w, k)
+                rec::integral_w_du(jet(a), w, k)
             }
         }
         Op::Ln(a) => {
@@ -203,14 +203,14 @@ fn coefficient(op: Op, c: &[f64], s: usize, i: usize, k: usize) -> f64 {
             if k == 0 {
                 c[arg * s].sin()
             } else {
-                rec::sin_cos(jet(arg), &c[cos * s..cos * s + k], k)
+                rec::integral_w_du(jet(arg), &c[cos * s..cos * s + k], k)
             }
         }
         Op::Cos { arg, sin } => {
             if k == 0 {
                 c[arg * s].cos()
             } else {
-                -rec::sin_cos(jet(arg), &c[sin * s..sin * s + k], k)
+                -rec::integral_w_du(jet(arg), &c[sin * s..sin * s + k], k)
             }
         }
         Op::Atan2 { y, x, r } => {

@@ -2,15 +2,13 @@
 
 use super::{op_at, Op, MAX_OPERATIONS};
 use crate::error::{Error, Result};
-use num_dual::{DualNum, DualStruct, Mappable};
-use num_traits::{FloatConst, FromPrimitive, Inv, Num, One, Signed, Zero};
+use crate::series::number_traits;
+use crate::series::power_by_squaring;
+use num_dual::DualNum;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::fmt;
-use std::iter::{Product, Sum};
-use std::ops::{
-    Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
-};
+use std::ops::{Add, Div, Mul, Neg, Rem, Sub};
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The node of a constant (not on any record).
@@ -315,22 +313,7 @@ fn powi(x: Recorded, n: i32) -> Recorded {
     if x.node == CONST {
         return Recorded::constant(x.re.powi(n));
     }
-    let (mut base, mut e) = if n < 0 {
-        (recip(x), (n as i64).unsigned_abs())
-    } else {
-        (x, n as u64)
-    };
-    let mut acc = Recorded::constant(1.0);
-    while e > 0 {
-        if e & 1 == 1 {
-            acc = mul(acc, base);
-        }
-        e >>= 1;
-        if e > 0 {
-            base = mul(base, base);
-        }
-    }
-    acc
+    power_by_squaring(x, n, Recorded::constant(1.0), recip, mul)
 }
 
 fn powf(x: Recorded, a: f64) -> Recorded {
@@ -492,166 +475,8 @@ impl Neg for &Recorded {
     }
 }
 
-macro_rules! forward {
-    ($($trt:ident $m:ident $atrt:ident $am:ident),*) => {$(
-        impl<'a> $trt<&'a Recorded> for Recorded {
-            type Output = Recorded;
-            fn $m(self, rhs: &'a Recorded) -> Recorded { $trt::$m(self, *rhs) }
-        }
-        impl<'a> $trt<Recorded> for &'a Recorded {
-            type Output = Recorded;
-            fn $m(self, rhs: Recorded) -> Recorded { $trt::$m(*self, rhs) }
-        }
-        impl<'a, 'b> $trt<&'b Recorded> for &'a Recorded {
-            type Output = Recorded;
-            fn $m(self, rhs: &'b Recorded) -> Recorded { $trt::$m(*self, *rhs) }
-        }
-        impl $trt<f64> for Recorded {
-            type Output = Recorded;
-            fn $m(self, rhs: f64) -> Recorded { $trt::$m(self, Recorded::constant(rhs)) }
-        }
-        impl $trt<f64> for &Recorded {
-            type Output = Recorded;
-            fn $m(self, rhs: f64) -> Recorded { $trt::$m(*self, Recorded::constant(rhs)) }
-        }
-        impl $atrt for Recorded {
-            fn $am(&mut self, rhs: Recorded) { *self = $trt::$m(*self, rhs); }
-        }
-        impl $atrt<f64> for Recorded {
-            fn $am(&mut self, rhs: f64) { *self = $trt::$m(*self, Recorded::constant(rhs)); }
-        }
-        impl<'a> $atrt<&'a Recorded> for Recorded {
-            fn $am(&mut self, rhs: &'a Recorded) { *self = $trt::$m(*self, *rhs); }
-        }
-    )*};
-}
-forward!(Add add AddAssign add_assign, Sub sub SubAssign sub_assign,
-    Mul mul MulAssign mul_assign, Div div DivAssign div_assign, Rem rem RemAssign rem_assign);
+number_traits!(Recorded);
 
-impl From<f64> for Recorded {
-    fn from(c: f64) -> Self {
-        Recorded::constant(c)
-    }
-}
-impl Zero for Recorded {
-    fn zero() -> Self {
-        Recorded::constant(0.0)
-    }
-    fn is_zero(&self) -> bool {
-        self.re == 0.0
-    }
-}
-impl One for Recorded {
-    fn one() -> Self {
-        Recorded::constant(1.0)
-    }
-}
-impl Num for Recorded {
-    type FromStrRadixErr = <f64 as Num>::FromStrRadixErr;
-    fn from_str_radix(s: &str, radix: u32) -> std::result::Result<Self, Self::FromStrRadixErr> {
-        f64::from_str_radix(s, radix).map(Recorded::constant)
-    }
-}
-/// `abs` and `signum` record the branch at the recording point (see the
-/// [module docs](super#branches)).
-impl Signed for Recorded {
-    fn abs(&self) -> Self {
-        if self.re < 0.0 {
-            neg(*self)
-        } else {
-            *self
-        }
-    }
-    fn abs_sub(&self, other: &Self) -> Self {
-        if self.re > other.re {
-            sub(*self, *other)
-        } else {
-            Recorded::zero()
-        }
-    }
-    fn signum(&self) -> Self {
-        Recorded::constant(self.re.signum())
-    }
-    fn is_positive(&self) -> bool {
-        self.re > 0.0
-    }
-    fn is_negative(&self) -> bool {
-        self.re < 0.0
-    }
-}
-impl Inv for Recorded {
-    type Output = Recorded;
-    fn inv(self) -> Recorded {
-        recip(self)
-    }
-}
-impl Sum for Recorded {
-    fn sum<I: Iterator<Item = Recorded>>(iter: I) -> Recorded {
-        iter.fold(Recorded::zero(), add)
-    }
-}
-impl<'a> Sum<&'a Recorded> for Recorded {
-    fn sum<I: Iterator<Item = &'a Recorded>>(iter: I) -> Recorded {
-        iter.fold(Recorded::zero(), |a, b| add(a, *b))
-    }
-}
-impl Product for Recorded {
-    fn product<I: Iterator<Item = Recorded>>(iter: I) -> Recorded {
-        iter.fold(Recorded::one(), mul)
-    }
-}
-impl<'a> Product<&'a Recorded> for Recorded {
-    fn product<I: Iterator<Item = &'a Recorded>>(iter: I) -> Recorded {
-        iter.fold(Recorded::one(), |a, b| mul(a, *b))
-    }
-}
-impl FromPrimitive for Recorded {
-    fn from_i64(n: i64) -> Option<Self> {
-        Some(Recorded::constant(n as f64))
-    }
-    fn from_u64(n: u64) -> Option<Self> {
-        Some(Recorded::constant(n as f64))
-    }
-    fn from_f64(n: f64) -> Option<Self> {
-        Some(Recorded::constant(n))
-    }
-}
-impl DualStruct<Recorded, f64> for Recorded {
-    type Real = f64;
-    type Inner = f64;
-    fn re(&self) -> f64 {
-        self.re
-    }
-    fn from_inner(inner: &f64) -> Self {
-        Recorded::constant(*inner)
-    }
-}
-impl Mappable<Recorded> for Recorded {
-    type Output<O> = O;
-    fn map_dual<M: Fn(Recorded) -> O, O>(self, f: M) -> O {
-        f(self)
-    }
-}
-impl PartialEq for Recorded {
-    fn eq(&self, other: &Self) -> bool {
-        self.re == other.re
-    }
-}
-impl PartialEq<f64> for Recorded {
-    fn eq(&self, other: &f64) -> bool {
-        self.re == *other
-    }
-}
-impl PartialOrd for Recorded {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        self.re.partial_cmp(&other.re)
-    }
-}
-impl PartialOrd<f64> for Recorded {
-    fn partial_cmp(&self, other: &f64) -> Option<std::cmp::Ordering> {
-        self.re.partial_cmp(other)
-    }
-}
 impl fmt::Debug for Recorded {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.node == CONST {
@@ -670,32 +495,6 @@ impl fmt::Display for Recorded {
         write!(f, "{}", self.re)
     }
 }
-
-macro_rules! constants {
-    ($($name:ident),*) => {
-        impl FloatConst for Recorded {
-            $(fn $name() -> Self { Recorded::constant(f64::$name()) })*
-        }
-    };
-}
-constants!(
-    E,
-    FRAC_1_PI,
-    FRAC_1_SQRT_2,
-    FRAC_2_PI,
-    FRAC_2_SQRT_PI,
-    FRAC_PI_2,
-    FRAC_PI_3,
-    FRAC_PI_4,
-    FRAC_PI_6,
-    FRAC_PI_8,
-    LN_10,
-    LN_2,
-    LOG10_E,
-    LOG2_E,
-    PI,
-    SQRT_2
-);
 
 impl DualNum<f64> for Recorded {
     /// The largest order of the record's jets ([`MAX_ORDER`](super::MAX_ORDER)): an implicit

@@ -93,7 +93,7 @@ fn udiv(a: &[f64], b: &[f64]) -> Vec<f64> {
 fn uexp(u: &[f64], w0: f64) -> Vec<f64> {
     let mut w = vec![w0; u.len()];
     for k in 1..u.len() {
-        w[k] = recurrences::exp(u, &w, k);
+        w[k] = recurrences::integral_w_du(u, &w, k);
     }
     w
 }
@@ -119,8 +119,8 @@ fn usc(u: &[f64], s0: f64, c0: f64, sign: f64) -> (Vec<f64>, Vec<f64>) {
     let m = u.len();
     let (mut s, mut c) = (vec![s0; m], vec![c0; m]);
     for k in 1..m {
-        s[k] = recurrences::sin_cos(u, &c, k);
-        c[k] = sign * recurrences::sin_cos(u, &s, k);
+        s[k] = recurrences::integral_w_du(u, &c, k);
+        c[k] = sign * recurrences::integral_w_du(u, &s, k);
     }
     (s, c)
 }
@@ -158,19 +158,31 @@ pub(crate) fn powi(x: Series, n: i32) -> Series {
     if x.slot == CONST {
         return Series::constant(x.re.powi(n));
     }
+    power_by_squaring(x, n, Series::constant(1.0), recip, product)
+}
+
+/// `xⁿ` by repeated squaring (`⌊log₂|n|⌋` squarings and at most as many products), of `1/x`
+/// for `n < 0`; for every number type whose powers are products.
+pub(crate) fn power_by_squaring<T: Copy>(
+    x: T,
+    n: i32,
+    one: T,
+    recip: impl Fn(T) -> T,
+    mul: impl Fn(T, T) -> T,
+) -> T {
     let (mut base, mut e) = if n < 0 {
         (recip(x), (n as i64).unsigned_abs())
     } else {
         (x, n as u64)
     };
-    let mut acc = Series::constant(1.0);
+    let mut acc = one;
     while e > 0 {
         if e & 1 == 1 {
-            acc = product(acc, base);
+            acc = mul(acc, base);
         }
         e >>= 1;
         if e > 0 {
-            base = product(base, base);
+            base = mul(base, base);
         }
     }
     acc

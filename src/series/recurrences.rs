@@ -29,88 +29,85 @@
 //! *Evaluating Derivatives*, 2nd ed., SIAM 2008, Table 13.2; À. Jorba & M. Zou, Exp. Math. 14
 //! (2005) 99–117, §2.2.
 
+/// `Σ_{i<n} (c + i) a_i b_{n−1−i}` over `n = min(len a, len b)` with `c = 0` and weights dropped
+/// when `weighted` is false: the Cauchy sums of every recurrence, in four independent partial
+/// sums (no bounds checks in the loop, four additions in flight).
+#[inline(always)]
+fn cauchy(a: &[f64], b: &[f64], weighted: bool, c: f64) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let (ca, cb) = (a.chunks_exact(4), b.rchunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    let mut acc = [0.0f64; 4];
+    let mut wgt = c;
+    for (x, y) in ca.zip(cb) {
+        if weighted {
+            acc[0] += wgt * x[0] * y[3];
+            acc[1] += (wgt + 1.0) * x[1] * y[2];
+            acc[2] += (wgt + 2.0) * x[2] * y[1];
+            acc[3] += (wgt + 3.0) * x[3] * y[0];
+            wgt += 4.0;
+        } else {
+            acc[0] += x[0] * y[3];
+            acc[1] += x[1] * y[2];
+            acc[2] += x[2] * y[1];
+            acc[3] += x[3] * y[0];
+        }
+    }
+    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for (x, y) in ra.iter().zip(rb.iter().rev()) {
+        s += if weighted { wgt * x * y } else { x * y };
+        wgt += 1.0;
+    }
+    s
+}
+
 /// `(uv)_k = Σ_{j=0}^{k} u_j v_{k−j}`.
 #[inline]
 pub fn product(u: &[f64], v: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 0..=k {
-        s += u[j] * v[k - j];
-    }
-    s
+    cauchy(&u[..=k], &v[..=k], false, 0.0)
 }
 
 /// `(u/v)_k = (u_k − Σ_{j=1}^{k} v_j w_{k−j}) / v₀` with `w = u/v`; `u_k` passed as `uk` (0 for
 /// the reciprocal `1/v`, `k ≥ 1`).
 #[inline]
 pub fn quotient(uk: f64, v: &[f64], w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..=k {
-        s += v[j] * w[k - j];
-    }
-    (uk - s) / v[0]
-}
-
-/// `(e^u)_k = (1/k) Σ_{j=1}^{k} j u_j w_{k−j}`, `k ≥ 1`.
-#[inline]
-pub fn exp(u: &[f64], w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..=k {
-        s += j as f64 * u[j] * w[k - j];
-    }
-    s / k as f64
+    (uk - cauchy(&v[1..=k], &w[..k], false, 0.0)) / v[0]
 }
 
 /// `(ln u)_k = (u_k − (1/k) Σ_{j=1}^{k−1} j w_j u_{k−j}) / u₀`, `k ≥ 1`.
 #[inline]
 pub fn ln(u: &[f64], w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..k {
-        s += j as f64 * w[j] * u[k - j];
-    }
-    (u[k] - s / k as f64) / u[0]
+    (u[k] - cauchy(&w[1..k], &u[1..k], true, 1.0) / k as f64) / u[0]
 }
 
 /// `(u^a)_k = (1/(k u₀)) Σ_{j=1}^{k} ((a + 1) j − k) u_j w_{k−j}`, `k ≥ 1`.
 #[inline]
 pub fn power(u: &[f64], a: f64, w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..=k {
-        s += ((a + 1.0) * j as f64 - k as f64) * u[j] * w[k - j];
-    }
+    let (uj, wkj) = (&u[1..=k], &w[..k]);
+    let s = (a + 1.0) * cauchy(uj, wkj, true, 1.0) - k as f64 * cauchy(uj, wkj, false, 0.0);
     s / (k as f64 * u[0])
 }
 
 /// `(√u)_k = (u_k − Σ_{j=1}^{k−1} w_j w_{k−j}) / (2 w₀)`, `k ≥ 1`.
 #[inline]
 pub fn sqrt(u: &[f64], w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..k {
-        s += w[j] * w[k - j];
-    }
-    (u[k] - s) / (2.0 * w[0])
+    (u[k] - cauchy(&w[1..k], &w[1..k], false, 0.0)) / (2.0 * w[0])
 }
 
-/// `(1/k) Σ_{j=1}^{k} j u_j c_{k−j}`: the `k`-th coefficient of `sin u` with `c = cos u`, of
-/// `−cos u` with `c = sin u`, of `sinh u` with `c = cosh u` and of `cosh u` with `c = sinh u`;
-/// `k ≥ 1`.
+/// `(∫ w du)_k = (1/k) Σ_{j=1}^{k} j u_j w_{k−j}`, `k ≥ 1`: the `k`-th coefficient of `e^u`
+/// with `w = e^u`, of `sin u` with `w = cos u`, of `−cos u` with `w = sin u`, of `sinh u` with
+/// `w = cosh u` and of `cosh u` with `w = sinh u` (each is the integral of `w u′`).
 #[inline]
-pub fn sin_cos(u: &[f64], c: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..=k {
-        s += j as f64 * u[j] * c[k - j];
-    }
-    s / k as f64
+pub fn integral_w_du(u: &[f64], w: &[f64], k: usize) -> f64 {
+    cauchy(&u[1..=k], &w[..k], true, 1.0) / k as f64
 }
 
 /// `atan2(v, u)_k` with `r = u² + v²` (see the [module docs](self)), `k ≥ 1`.
 #[inline]
 pub fn atan2(v: &[f64], u: &[f64], r: &[f64], w: &[f64], k: usize) -> f64 {
-    let mut s = 0.0;
-    for j in 1..=k {
-        s += j as f64 * (u[k - j] * v[j] - v[k - j] * u[j]);
-    }
-    for j in 1..k {
-        s -= j as f64 * w[j] * r[k - j];
-    }
+    let s = cauchy(&v[1..=k], &u[..k], true, 1.0)
+        - cauchy(&u[1..=k], &v[..k], true, 1.0)
+        - cauchy(&w[1..k], &r[1..k], true, 1.0);
     s / (k as f64 * r[0])
 }
