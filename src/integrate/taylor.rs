@@ -154,8 +154,9 @@ impl Taylor {
     /// Smallest tolerance accepted, `10⁻³⁰` (order 36).
     pub const TOL_MIN: f64 = 1e-30;
 
-    /// Default limit on the steps of one run, `10⁷` (as DOP853's largest default budget).
-    pub const MAX_STEPS: usize = 10_000_000;
+    /// Default limit on the steps of one run, `10⁶` (seconds of work; about 5·10⁴ Kepler periods
+    /// at order 12); [`with_max_steps`](Self::with_max_steps) raises it.
+    pub const MAX_STEPS: usize = 1_000_000;
 
     /// The adaptive method with tolerance `ε ∈ [TOL_MIN, 1)` as both the absolute and the
     /// relative tolerance.
