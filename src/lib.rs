@@ -19,6 +19,7 @@ pub mod phase;
 /// the data behind them.
 #[cfg(feature = "cli")]
 pub mod plot;
+pub mod record;
 #[cfg(feature = "cli")]
 pub mod scene;
 pub mod series;

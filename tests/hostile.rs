@@ -16,7 +16,7 @@ use hamilton_jacobi::implicit::{lift_root, lift_scalar_root};
 use hamilton_jacobi::integrate::coefficients::YOSHIDA3;
 use hamilton_jacobi::integrate::{
     integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, LiePoisson, MethodInfo,
-    Problem, Rk4, Splitting,
+    Problem, Rk4, Splitting, Taylor,
 };
 use hamilton_jacobi::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
@@ -29,6 +29,7 @@ use hamilton_jacobi::perturbation::lindstedt::{lindstedt_odd_force, lindstedt_pe
 use hamilton_jacobi::perturbation::normal_form::PendulumNormalForm;
 use hamilton_jacobi::phase::State;
 use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Grid, Size, Style};
+use hamilton_jacobi::record::{record, Jets};
 use hamilton_jacobi::series::{
     expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
 };
@@ -1097,6 +1098,117 @@ fn add_methods(c: &mut Vec<Call>) {
             )
         },
     );
+    // The Taylor method: its tolerance, order and steps, and runs against the exact flow.
+    sweep(
+        c,
+        "Taylor::new",
+        &[1e-9],
+        &[(0, -1e-9), (0, 1.0), (0, 1e-40)],
+        |a| {
+            let valid = (Taylor::TOL_MIN..1.0).contains(&a[0]);
+            judge(Taylor::new(a[0]), valid, |m| {
+                if m.order() >= 2 && m.order() <= 40 {
+                    Good
+                } else {
+                    Wrong(format!("order {}", m.order()))
+                }
+            })
+        },
+    );
+    sized(
+        c,
+        "Taylor::fixed(order, 10)",
+        &[0, 1, 8, 200, 201, usize::MAX],
+        |n| judge(Taylor::fixed(n, 10), (1..=200).contains(&n), |_| Good),
+    );
+    sized(
+        c,
+        "Taylor::fixed(8, n)",
+        &[0, 1, 10, 100_000_000, 100_000_001, usize::MAX],
+        |n| {
+            judge(Taylor::fixed(8, n), (1..=100_000_000).contains(&n), |_| {
+                Good
+            })
+        },
+    );
+    sweep(
+        c,
+        "integrate(Taylor, t1)",
+        &[2.0],
+        &[(0, 1e300), (0, 1e4)],
+        |a| {
+            osc_run(
+                &Taylor::new(1e-10).unwrap(),
+                a[0],
+                1e-8 * (1.0 + a[0].abs()),
+            )
+        },
+    );
+    sweep(
+        c,
+        "integrate(AnyMethod::new(taylor, tol), t1 = 1)",
+        &[1e-10],
+        &[(0, 1e-300), (0, 0.5), (0, 1.0)],
+        |a| {
+            let valid = (Taylor::TOL_MIN..1.0).contains(&a[0]);
+            let info = MethodInfo::find("taylor").unwrap();
+            judge(AnyMethod::new(info, a[0]), valid, |m| {
+                osc_run(&m, 1.0, 1e3 * a[0] + 1e-12)
+            })
+        },
+    );
+    sized(
+        c,
+        "integrate(Taylor::fixed(n, 20), t1 = 1)",
+        &[1, 4, 30, 200],
+        |n| {
+            judge(Taylor::fixed(n, 20), true, |m| {
+                // Local error (ω h)^{n+1}/(n+1)! per step, h = 1/20, ω = 1.5.
+                let mut bound = 1.0;
+                for k in 1..=n + 1 {
+                    bound *= 1.5 / 20.0 / k as f64;
+                }
+                osc_run(&m, 1.0, 20.0 * bound * 3.0 + 1e-13)
+            })
+        },
+    );
+    // The operation record: a record made at any point; its evaluation and its jets at any
+    // point (typed errors for non-finite input and output).
+    sweep(c, "record::record(x)", &[0.5], &[], |a| {
+        judge(
+            record(&[a[0]], |v| Ok(vec![v[0].sin() * v[0] + v[0].sqrt()])),
+            true,
+            |r| match r.eval(&[0.5]) {
+                Ok(y) => near(
+                    "sin(½)·½ + √½",
+                    y[0],
+                    0.5f64.sin() * 0.5 + 0.5f64.sqrt(),
+                    1e-16,
+                ),
+                Err(_) => Wrong("evaluation at 0.5 refused".into()),
+            },
+        )
+    });
+    sweep(c, "Record::eval(x)", &[0.5], &[(0, -1.0)], |a| {
+        let r = record(&[0.5], |v| Ok(vec![v[0].ln() * v[0]])).unwrap();
+        let valid = a[0].is_finite() && a[0] > 0.0;
+        judge(r.eval(&[a[0]]), valid, |y| {
+            near("x ln x", y[0], a[0].ln() * a[0], 1e-15 * (1.0 + y[0].abs()))
+        })
+    });
+    sweep(c, "Jets::ode(t0, x0)", &[0.0, 1.0], &[(1, 0.0)], |a| {
+        // ẋ = 1/x: x(t) = √(x₀² + 2(t − t₀)), singular at x = 0.
+        let r = record(&[0.0, 1.0], |v| Ok(vec![v[1].recip()])).unwrap();
+        let mut jets = Jets::new(&r, 12).unwrap();
+        let valid = fin(a) && a[1] != 0.0 && (1.0 / a[1]).powi(24).is_finite();
+        judge(jets.ode(&r, a[0], &[a[1]], 12), valid, |_| {
+            let c = jets.coefficients(1);
+            all([
+                near("x₀", c[0], a[1], 0.0),
+                near("x₁", c[1], 1.0 / a[1], 1e-15 / a[1].abs()),
+            ])
+        })
+    });
     // Methods built from the method table by key and knob value.
     sweep(
         c,

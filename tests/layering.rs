@@ -2,7 +2,7 @@
 //! layers below it, and the modules of one layer import each other without cycles.
 //!
 //! ```text
-//! core        error, phase, ad, vector_space, implicit, special, series
+//! core        error, phase, ad, vector_space, implicit, special, series, record
 //! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability
@@ -29,6 +29,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "implicit",
             "special",
             "series",
+            "record",
         ],
     ),
     (

@@ -423,7 +423,7 @@ fn observers_need_no_type_annotation() {
 }
 
 /// A list of methods built at run time (splittings by key from the method table, Gauss–Legendre
-/// by stage count, RK4, DOP853) runs through one `integrate` call per element and gives exactly
+/// by stage count, RK4, DOP853, Taylor) runs through one `integrate` call per element and gives exactly
 /// the typed run's state and work; on a Hamiltonian not declared separable, the
 /// [`GeneralMethod`]s do the same.
 #[test]
@@ -445,6 +445,7 @@ fn methods_are_values() {
     }
     methods.push(AnyMethod::rk4(100).unwrap());
     methods.push(AnyMethod::dop853(1e-12, 1e-14).unwrap());
+    methods.push(AnyMethod::new(MethodInfo::find("taylor").unwrap(), 1e-12).unwrap());
     let typed = |m: &AnyMethod| -> Report<2> {
         let mut o = ();
         match m {
@@ -457,6 +458,7 @@ fn methods_are_values() {
             AnyMethod::General(GeneralMethod::Gauss5(f)) => integrate(&problem, f, &mut o),
             AnyMethod::General(GeneralMethod::Gauss6(f)) => integrate(&problem, f, &mut o),
             AnyMethod::General(GeneralMethod::Dop853(d)) => integrate(&problem, d, &mut o),
+            AnyMethod::General(GeneralMethod::Taylor(t)) => integrate(&problem, t, &mut o),
         }
         .unwrap()
     };
@@ -473,7 +475,7 @@ fn methods_are_values() {
     assert_eq!(labels.len(), methods.len(), "{labels:?}");
     // Orders as documented.
     let orders: Vec<u32> = methods.iter().map(AnyMethod::order).collect();
-    assert_eq!(orders, [2, 8, 2, 4, 6, 8, 10, 12, 4, 8]);
+    assert_eq!(orders, [2, 8, 2, 4, 6, 8, 10, 12, 4, 8, 15]);
 
     // Not declared separable: the general methods, swept the same way, agree with the separable
     // declaration of the same H (the same arithmetic up to the AD path: 1e−14).

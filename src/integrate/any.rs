@@ -36,7 +36,9 @@
 //! method through one generic `integrate` call per capability.
 
 use super::methods::{self, whole_steps, Capability, Construction, MethodInfo};
-use super::{integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting};
+use super::{
+    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting, Taylor,
+};
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
 
@@ -50,7 +52,8 @@ fn not_covered(info: &MethodInfo, hint: &str) -> Error {
 }
 
 /// A method for any [`Hamiltonian`]: classical Runge–Kutta (4 stages, order 4), Gauss–Legendre
-/// with `s = 1 … 6` stages (order `2s`), or Dormand–Prince (12 stages, order 8, adaptive).
+/// with `s = 1 … 6` stages (order `2s`), Dormand–Prince (12 stages, order 8, adaptive) or the
+/// Taylor method (order and step from the tolerance).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GeneralMethod {
     /// Classical Runge–Kutta, 4 stages, order 4, with a fixed number of steps.
@@ -69,6 +72,8 @@ pub enum GeneralMethod {
     Gauss6(Fixed<Gauss<6>>),
     /// Dormand–Prince, 12 stages, order 8, with its tolerances.
     Dop853(Dop853),
+    /// The Taylor method ([`Taylor`]).
+    Taylor(Taylor),
 }
 
 impl GeneralMethod {
@@ -84,6 +89,7 @@ impl GeneralMethod {
             Construction::Rk4 => Self::rk4(whole_steps(knob)?),
             Construction::Gauss(s) => Self::gauss(s, whole_steps(knob)?),
             Construction::Dop853 => Self::dop853(knob, knob),
+            Construction::Taylor => Taylor::new(knob).map(Self::Taylor),
             _ => Err(not_covered(
                 info,
                 "a GeneralMethod covers any Hamiltonian; build splittings as AnyMethod",
@@ -102,6 +108,7 @@ impl GeneralMethod {
             Self::Gauss5(_) => &methods::GAUSS[4],
             Self::Gauss6(_) => &methods::GAUSS[5],
             Self::Dop853(_) => &methods::DOP853,
+            Self::Taylor(_) => &methods::TAYLOR,
         }
     }
 
@@ -134,12 +141,16 @@ impl GeneralMethod {
         Ok(Self::Dop853(Dop853::new(rtol, atol)?))
     }
 
-    /// The order of the method, from its [`info`](Self::info).
+    /// The order of the method, from its [`info`](Self::info) (the Taylor method's from its
+    /// tolerance or its fixed order).
     pub fn order(&self) -> u32 {
-        self.info().order.unwrap_or(u32::MAX)
+        match self {
+            Self::Taylor(m) => m.order() as u32,
+            _ => self.info().order.unwrap_or(u32::MAX),
+        }
     }
 
-    /// Number of steps of a fixed-step method; `None` for DOP853.
+    /// Number of steps of a fixed-step method; `None` for DOP853 and the adaptive Taylor method.
     pub fn steps(&self) -> Option<usize> {
         Some(match self {
             Self::Rk4(m) => m.steps,
@@ -150,6 +161,10 @@ impl GeneralMethod {
             Self::Gauss5(m) => m.steps,
             Self::Gauss6(m) => m.steps,
             Self::Dop853(_) => return None,
+            Self::Taylor(m) => match m.control {
+                super::TaylorControl::Fixed { steps, .. } => steps,
+                super::TaylorControl::Tolerance(_) => return None,
+            },
         })
     }
 }
@@ -165,6 +180,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for GeneralMethod {
             Self::Gauss5(m) => Method::<S, N>::label(m),
             Self::Gauss6(m) => Method::<S, N>::label(m),
             Self::Dop853(m) => Method::<S, N>::label(m),
+            Self::Taylor(m) => Method::<S, N>::label(m),
         }
     }
 
@@ -182,6 +198,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for GeneralMethod {
             Self::Gauss5(m) => integrate(problem, m, observer),
             Self::Gauss6(m) => integrate(problem, m, observer),
             Self::Dop853(m) => integrate(problem, m, observer),
+            Self::Taylor(m) => integrate(problem, m, observer),
         }
     }
 }

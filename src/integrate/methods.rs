@@ -29,7 +29,8 @@
 //!   number of stages — `rk4`, `gauss1`, `gauss3`, `kahan-li17`, `yoshida15`, `saba3`, `sbab2`.
 //!   The one-stage families name their variant instead of the number (`verlet-kdk`,
 //!   `verlet-dkd`, `symplectic-euler-kd`, `symplectic-euler-dk`, `wisdom-holman`); Dormand–Prince
-//!   keeps the name of its code, `dop853`, and the exact flow is `exact`.
+//!   keeps the name of its code, `dop853`, the Taylor method is `taylor` and the exact flow is
+//!   `exact`.
 
 use super::coefficients::Table;
 use crate::error::{fmt_num, Error, Result};
@@ -75,15 +76,18 @@ pub enum Construction {
     KeplerSplitting(&'static Table),
     /// [`ExactStep`](super::ExactStep) under [`Fixed`](super::Fixed).
     Exact,
+    /// [`Taylor`](super::Taylor) with its tolerance (order and step after Jorba & Zou).
+    Taylor,
 }
 
 impl Construction {
     /// What the method needs of the system.
     pub fn capability(self) -> Capability {
         match self {
-            Construction::Rk4 | Construction::Gauss(_) | Construction::Dop853 => {
-                Capability::Hamiltonian
-            }
+            Construction::Rk4
+            | Construction::Gauss(_)
+            | Construction::Dop853
+            | Construction::Taylor => Capability::Hamiltonian,
             Construction::Splitting(_) => Capability::Separable,
             Construction::KeplerSplitting(_) => Capability::PerturbedKepler,
             Construction::Exact => Capability::ExactFlow,
@@ -109,7 +113,8 @@ pub struct MethodInfo {
     pub family: &'static str,
     /// Stages per step.
     pub stages: u32,
-    /// Order; `None` for the exact flow (no truncation error).
+    /// Order; `None` for the exact flow (no truncation error) and for the Taylor method (its
+    /// order follows the tolerance).
     pub order: Option<u32>,
     /// The knob the method is swept over.
     pub knob: Knob,
@@ -213,6 +218,19 @@ pub const DOP853: MethodInfo = MethodInfo {
     reference: "Hairer, Nørsett & Wanner, Solving ODEs I, 2nd ed., §II.10 (DOP853)",
 };
 
+/// The Taylor method over the record of Hamilton's equations, order and step from the
+/// tolerance (Jorba & Zou): `taylor`, one propagation of the record per step.
+pub const TAYLOR: MethodInfo = MethodInfo {
+    key: "taylor",
+    family: "Taylor (Jorba–Zou)",
+    stages: 1,
+    order: None,
+    knob: Knob::Tolerance,
+    symplectic: false,
+    construction: Construction::Taylor,
+    reference: "Jorba & Zou, Exp. Math. 14 (2005) 99–117",
+};
+
 /// The system's exact flow, composed over fixed steps: `exact`.
 pub const EXACT: MethodInfo = MethodInfo {
     key: "exact",
@@ -226,9 +244,9 @@ pub const EXACT: MethodInfo = MethodInfo {
 };
 
 /// Every integration method of the crate, in the order `hj list` shows them: the methods for
-/// any Hamiltonian, the explicit splittings (lowest order first), the Kepler splittings, the
+/// any Hamiltonian (Taylor last of them), the explicit splittings (lowest order first), the Kepler splittings, the
 /// exact flow.
-pub static METHODS: [MethodInfo; 29] = {
+pub static METHODS: [MethodInfo; 30] = {
     use super::coefficients as c;
     use Construction::{KeplerSplitting, Splitting};
     [
@@ -240,6 +258,7 @@ pub static METHODS: [MethodInfo; 29] = {
         GAUSS[4],
         GAUSS[5],
         DOP853,
+        TAYLOR,
         from_table("symplectic-euler-kd", Splitting(&c::SYMPLECTIC_EULER_KD)),
         from_table("symplectic-euler-dk", Splitting(&c::SYMPLECTIC_EULER_DK)),
         from_table("verlet-kdk", Splitting(&c::VERLET_KDK)),
@@ -266,7 +285,7 @@ pub static METHODS: [MethodInfo; 29] = {
 
 impl MethodInfo {
     /// The label of tables, legends and CSV files, e.g. `"Gauss–Legendre, 3 stages, order 6"`
-    /// ([`label`]); the family alone for the exact flow.
+    /// ([`label`]); the family alone for the exact flow and the Taylor method.
     pub fn label(&self) -> String {
         match self.order {
             Some(order) => label(self.family, self.stages, order),

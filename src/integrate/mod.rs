@@ -11,7 +11,8 @@
 //!   optional compensated summation and dense output by partial steps of the method itself
 //!   ([`sampling`]). A step that cannot be differentiated (an
 //!   exact flow through Kepler's equation) refuses dual arguments with an error; adaptive methods
-//!   implement [`Method`] directly.
+//!   implement [`Method`] directly ([`Dop853`]; the Taylor method over the record of Hamilton's
+//!   equations, [`Taylor`]).
 //! * Each method states the capability it needs as a trait bound on the system (explicit splitting
 //!   needs [`Separable`](crate::Separable), Gauss–Legendre any [`Hamiltonian`]): applying a method
 //!   to a system without that capability does not compile.
@@ -41,6 +42,7 @@ pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
+pub mod taylor;
 pub mod wisdom_holman;
 
 pub use any::{AnyMethod, GeneralMethod};
@@ -56,6 +58,7 @@ pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
 pub use splitting::Splitting;
+pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
 pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
 
 use crate::brackets::PhaseMap;

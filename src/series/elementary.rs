@@ -24,6 +24,7 @@
 
 use super::arena::{with_arena, Operand, Series, CONST, POISON};
 use super::number::{linear, product};
+use super::recurrences;
 
 /// `f(x) = Σ c_k x̃^k` with `c = taylor(x₀, K)`; `value(x₀)` for a constant `x`.
 fn apply(
@@ -73,53 +74,42 @@ fn ident(x0: f64, k: usize) -> Vec<f64> {
 }
 
 fn umul(a: &[f64], b: &[f64]) -> Vec<f64> {
-    let m = a.len();
-    (0..m)
-        .map(|k| (0..=k).map(|j| a[j] * b[k - j]).sum())
+    (0..a.len())
+        .map(|k| recurrences::product(a, b, k))
         .collect()
 }
 
 fn udiv(a: &[f64], b: &[f64]) -> Vec<f64> {
-    let m = a.len();
-    let mut q = vec![0.0; m];
-    for k in 0..m {
-        let s: f64 = (1..=k).map(|j| b[j] * q[k - j]).sum();
-        q[k] = (a[k] - s) / b[0];
+    let mut q = vec![0.0; a.len()];
+    if let Some(q0) = q.first_mut() {
+        *q0 = a[0] / b[0];
+    }
+    for k in 1..a.len() {
+        q[k] = recurrences::quotient(a[k], b, &q, k);
     }
     q
 }
 
 fn uexp(u: &[f64], w0: f64) -> Vec<f64> {
-    let m = u.len();
-    let mut w = vec![0.0; m];
-    w[0] = w0;
-    for k in 1..m {
-        let s: f64 = (1..=k).map(|j| j as f64 * u[j] * w[k - j]).sum();
-        w[k] = s / k as f64;
+    let mut w = vec![w0; u.len()];
+    for k in 1..u.len() {
+        w[k] = recurrences::integral_w_du(u, &w, k);
     }
     w
 }
 
 fn uln(u: &[f64], v0: f64) -> Vec<f64> {
-    let m = u.len();
-    let mut v = vec![0.0; m];
-    v[0] = v0;
-    for k in 1..m {
-        let s: f64 = (1..k).map(|j| j as f64 * v[j] * u[k - j]).sum();
-        v[k] = (u[k] - s / k as f64) / u[0];
+    let mut v = vec![v0; u.len()];
+    for k in 1..u.len() {
+        v[k] = recurrences::ln(u, &v, k);
     }
     v
 }
 
 fn upow(u: &[f64], a: f64, w0: f64) -> Vec<f64> {
-    let m = u.len();
-    let mut w = vec![0.0; m];
-    w[0] = w0;
-    for k in 1..m {
-        let s: f64 = (1..=k)
-            .map(|j| ((a + 1.0) * j as f64 - k as f64) * u[j] * w[k - j])
-            .sum();
-        w[k] = s / (k as f64 * u[0]);
+    let mut w = vec![w0; u.len()];
+    for k in 1..u.len() {
+        w[k] = recurrences::power(u, a, &w, k);
     }
     w
 }
@@ -127,17 +117,10 @@ fn upow(u: &[f64], a: f64, w0: f64) -> Vec<f64> {
 /// `(sin u, cos u)` (`sign = −1`) or `(sinh u, cosh u)` (`sign = +1`).
 fn usc(u: &[f64], s0: f64, c0: f64, sign: f64) -> (Vec<f64>, Vec<f64>) {
     let m = u.len();
-    let (mut s, mut c) = (vec![0.0; m], vec![0.0; m]);
-    s[0] = s0;
-    c[0] = c0;
+    let (mut s, mut c) = (vec![s0; m], vec![c0; m]);
     for k in 1..m {
-        let (mut ss, mut cc) = (0.0, 0.0);
-        for j in 1..=k {
-            ss += j as f64 * u[j] * c[k - j];
-            cc += j as f64 * u[j] * s[k - j];
-        }
-        s[k] = ss / k as f64;
-        c[k] = sign * cc / k as f64;
+        s[k] = recurrences::integral_w_du(u, &c, k);
+        c[k] = sign * recurrences::integral_w_du(u, &s, k);
     }
     (s, c)
 }
@@ -175,19 +158,31 @@ pub(crate) fn powi(x: Series, n: i32) -> Series {
     if x.slot == CONST {
         return Series::constant(x.re.powi(n));
     }
+    power_by_squaring(x, n, Series::constant(1.0), recip, product)
+}
+
+/// `xⁿ` by repeated squaring (`⌊log₂|n|⌋` squarings and at most as many products), of `1/x`
+/// for `n < 0`; for every number type whose powers are products.
+pub(crate) fn power_by_squaring<T: Copy>(
+    x: T,
+    n: i32,
+    one: T,
+    recip: impl Fn(T) -> T,
+    mul: impl Fn(T, T) -> T,
+) -> T {
     let (mut base, mut e) = if n < 0 {
         (recip(x), (n as i64).unsigned_abs())
     } else {
         (x, n as u64)
     };
-    let mut acc = Series::constant(1.0);
+    let mut acc = one;
     while e > 0 {
         if e & 1 == 1 {
-            acc = product(acc, base);
+            acc = mul(acc, base);
         }
         e >>= 1;
         if e > 0 {
-            base = product(base, base);
+            base = mul(base, base);
         }
     }
     acc

@@ -41,10 +41,14 @@ mod elementary;
 mod monomials;
 mod number;
 pub mod poisson;
+pub mod recurrences;
 
 pub use arena::{Series, MAX_ARENA_COEFFICIENTS};
 pub use monomials::{Monomials, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE};
 pub use poisson::{fourier_taylor, FourierTaylor, Harmonic};
+
+pub(crate) use elementary::power_by_squaring;
+pub(crate) use number::number_traits;
 
 use crate::error::{Error, Result};
 use arena::{in_arena, with_arena, Operand, CONST, POISON};

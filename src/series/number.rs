@@ -8,13 +8,9 @@
 
 use super::arena::{with_arena, Operand, Series, CONST, POISON};
 use super::elementary;
-use num_dual::{DualNum, DualStruct, Mappable};
-use num_traits::{FloatConst, FromPrimitive, Inv, Num, One, Signed, Zero};
+use num_dual::DualNum;
 use std::fmt;
-use std::iter::{Product, Sum};
-use std::ops::{
-    Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
-};
+use std::ops::{Add, Div, Mul, Neg, Rem, Sub};
 
 /// `α·a + β·b` (either may be a constant).
 pub(crate) fn linear(a: Series, alpha: f64, b: Series, beta: f64) -> Series {
@@ -140,171 +136,196 @@ impl Neg for &Series {
     }
 }
 
-macro_rules! forward {
-    ($($trt:ident $m:ident $atrt:ident $am:ident),*) => {$(
-        impl<'a> $trt<&'a Series> for Series {
-            type Output = Series;
-            fn $m(self, rhs: &'a Series) -> Series { $trt::$m(self, *rhs) }
+/// The traits a `Copy` number type `T` with a constant `T::constant(f64)` and the value at the
+/// expansion point in its field `re` needs besides its arithmetic (`+ − × ÷ %` and `−` by value,
+/// [`DualNum`]) to be a [`DualNum<f64>`]: the operators by reference, with `f64` and assigning;
+/// constants; `Signed`, `Inv`, sums and products; and comparisons, which look at `re` only (so
+/// code that branches on values follows the same path as on reals).
+macro_rules! number_traits {
+    ($T:ident) => {
+        number_traits!(@ops $T, Add add AddAssign add_assign, Sub sub SubAssign sub_assign,
+            Mul mul MulAssign mul_assign, Div div DivAssign div_assign,
+            Rem rem RemAssign rem_assign);
+        impl From<f64> for $T {
+            fn from(c: f64) -> Self {
+                $T::constant(c)
+            }
         }
-        impl<'a> $trt<Series> for &'a Series {
-            type Output = Series;
-            fn $m(self, rhs: Series) -> Series { $trt::$m(*self, rhs) }
+        impl ::num_traits::Zero for $T {
+            fn zero() -> Self {
+                $T::constant(0.0)
+            }
+            fn is_zero(&self) -> bool {
+                self.re == 0.0
+            }
         }
-        impl<'a, 'b> $trt<&'b Series> for &'a Series {
-            type Output = Series;
-            fn $m(self, rhs: &'b Series) -> Series { $trt::$m(*self, *rhs) }
+        impl ::num_traits::One for $T {
+            fn one() -> Self {
+                $T::constant(1.0)
+            }
         }
-        impl $trt<f64> for Series {
-            type Output = Series;
-            fn $m(self, rhs: f64) -> Series { $trt::$m(self, Series::constant(rhs)) }
+        impl ::num_traits::Num for $T {
+            type FromStrRadixErr = <f64 as ::num_traits::Num>::FromStrRadixErr;
+            fn from_str_radix(
+                s: &str,
+                radix: u32,
+            ) -> ::std::result::Result<Self, Self::FromStrRadixErr> {
+                <f64 as ::num_traits::Num>::from_str_radix(s, radix).map($T::constant)
+            }
         }
-        impl $trt<f64> for &Series {
-            type Output = Series;
-            fn $m(self, rhs: f64) -> Series { $trt::$m(*self, Series::constant(rhs)) }
+        impl ::num_traits::Signed for $T {
+            fn abs(&self) -> Self {
+                if self.re < 0.0 {
+                    -*self
+                } else {
+                    *self
+                }
+            }
+            fn abs_sub(&self, other: &Self) -> Self {
+                if self.re > other.re {
+                    *self - *other
+                } else {
+                    $T::constant(0.0)
+                }
+            }
+            fn signum(&self) -> Self {
+                $T::constant(if self.re > 0.0 {
+                    1.0
+                } else if self.re < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                })
+            }
+            fn is_positive(&self) -> bool {
+                self.re > 0.0
+            }
+            fn is_negative(&self) -> bool {
+                self.re < 0.0
+            }
         }
-        impl $atrt for Series {
-            fn $am(&mut self, rhs: Series) { *self = $trt::$m(*self, rhs); }
+        impl ::num_traits::Inv for $T {
+            type Output = $T;
+            fn inv(self) -> $T {
+                ::num_dual::DualNum::recip(&self)
+            }
         }
-        impl $atrt<f64> for Series {
-            fn $am(&mut self, rhs: f64) { *self = $trt::$m(*self, Series::constant(rhs)); }
+        impl ::std::iter::Sum for $T {
+            fn sum<I: Iterator<Item = $T>>(iter: I) -> $T {
+                iter.fold($T::constant(0.0), |a, b| a + b)
+            }
         }
-        impl<'a> $atrt<&'a Series> for Series {
-            fn $am(&mut self, rhs: &'a Series) { *self = $trt::$m(*self, *rhs); }
+        impl<'a> ::std::iter::Sum<&'a $T> for $T {
+            fn sum<I: Iterator<Item = &'a $T>>(iter: I) -> $T {
+                iter.fold($T::constant(0.0), |a, b| a + *b)
+            }
+        }
+        impl ::std::iter::Product for $T {
+            fn product<I: Iterator<Item = $T>>(iter: I) -> $T {
+                iter.fold($T::constant(1.0), |a, b| a * b)
+            }
+        }
+        impl<'a> ::std::iter::Product<&'a $T> for $T {
+            fn product<I: Iterator<Item = &'a $T>>(iter: I) -> $T {
+                iter.fold($T::constant(1.0), |a, b| a * *b)
+            }
+        }
+        impl ::num_traits::FromPrimitive for $T {
+            fn from_i64(n: i64) -> Option<Self> {
+                Some($T::constant(n as f64))
+            }
+            fn from_u64(n: u64) -> Option<Self> {
+                Some($T::constant(n as f64))
+            }
+            fn from_f64(n: f64) -> Option<Self> {
+                Some($T::constant(n))
+            }
+        }
+        impl ::num_dual::DualStruct<$T, f64> for $T {
+            type Real = f64;
+            type Inner = f64;
+            fn re(&self) -> f64 {
+                self.re
+            }
+            fn from_inner(inner: &f64) -> Self {
+                $T::constant(*inner)
+            }
+        }
+        impl ::num_dual::Mappable<$T> for $T {
+            type Output<O> = O;
+            fn map_dual<M: Fn($T) -> O, O>(self, f: M) -> O {
+                f(self)
+            }
+        }
+        impl PartialEq for $T {
+            fn eq(&self, other: &Self) -> bool {
+                self.re == other.re
+            }
+        }
+        impl PartialEq<f64> for $T {
+            fn eq(&self, other: &f64) -> bool {
+                self.re == *other
+            }
+        }
+        impl PartialOrd for $T {
+            fn partial_cmp(&self, other: &Self) -> Option<::std::cmp::Ordering> {
+                self.re.partial_cmp(&other.re)
+            }
+        }
+        impl PartialOrd<f64> for $T {
+            fn partial_cmp(&self, other: &f64) -> Option<::std::cmp::Ordering> {
+                self.re.partial_cmp(other)
+            }
+        }
+        number_traits!(@constants $T, E, FRAC_1_PI, FRAC_1_SQRT_2, FRAC_2_PI, FRAC_2_SQRT_PI,
+            FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8, LN_10, LN_2, LOG10_E, LOG2_E,
+            PI, SQRT_2);
+    };
+    (@constants $T:ident, $($name:ident),*) => {
+        impl ::num_traits::FloatConst for $T {
+            $(fn $name() -> Self {
+                $T::constant(<f64 as ::num_traits::FloatConst>::$name())
+            })*
+        }
+    };
+    (@ops $T:ident, $($trt:ident $m:ident $atrt:ident $am:ident),*) => {$(
+        impl<'a> ::std::ops::$trt<&'a $T> for $T {
+            type Output = $T;
+            fn $m(self, rhs: &'a $T) -> $T { ::std::ops::$trt::$m(self, *rhs) }
+        }
+        impl<'a> ::std::ops::$trt<$T> for &'a $T {
+            type Output = $T;
+            fn $m(self, rhs: $T) -> $T { ::std::ops::$trt::$m(*self, rhs) }
+        }
+        impl<'a, 'b> ::std::ops::$trt<&'b $T> for &'a $T {
+            type Output = $T;
+            fn $m(self, rhs: &'b $T) -> $T { ::std::ops::$trt::$m(*self, *rhs) }
+        }
+        impl ::std::ops::$trt<f64> for $T {
+            type Output = $T;
+            fn $m(self, rhs: f64) -> $T { ::std::ops::$trt::$m(self, $T::constant(rhs)) }
+        }
+        impl ::std::ops::$trt<f64> for &$T {
+            type Output = $T;
+            fn $m(self, rhs: f64) -> $T { ::std::ops::$trt::$m(*self, $T::constant(rhs)) }
+        }
+        impl ::std::ops::$atrt for $T {
+            fn $am(&mut self, rhs: $T) { *self = ::std::ops::$trt::$m(*self, rhs); }
+        }
+        impl ::std::ops::$atrt<f64> for $T {
+            fn $am(&mut self, rhs: f64) {
+                *self = ::std::ops::$trt::$m(*self, $T::constant(rhs));
+            }
+        }
+        impl<'a> ::std::ops::$atrt<&'a $T> for $T {
+            fn $am(&mut self, rhs: &'a $T) { *self = ::std::ops::$trt::$m(*self, *rhs); }
         }
     )*};
 }
-forward!(Add add AddAssign add_assign, Sub sub SubAssign sub_assign,
-    Mul mul MulAssign mul_assign, Div div DivAssign div_assign, Rem rem RemAssign rem_assign);
+pub(crate) use number_traits;
 
-impl From<f64> for Series {
-    fn from(c: f64) -> Self {
-        Series::constant(c)
-    }
-}
+number_traits!(Series);
 
-impl Zero for Series {
-    fn zero() -> Self {
-        Series::constant(0.0)
-    }
-    fn is_zero(&self) -> bool {
-        self.re == 0.0
-    }
-}
-impl One for Series {
-    fn one() -> Self {
-        Series::constant(1.0)
-    }
-}
-impl Num for Series {
-    type FromStrRadixErr = <f64 as Num>::FromStrRadixErr;
-    fn from_str_radix(s: &str, radix: u32) -> Result<Self, Self::FromStrRadixErr> {
-        f64::from_str_radix(s, radix).map(Series::constant)
-    }
-}
-impl Signed for Series {
-    fn abs(&self) -> Self {
-        if self.re < 0.0 {
-            -*self
-        } else {
-            *self
-        }
-    }
-    fn abs_sub(&self, other: &Self) -> Self {
-        if self.re > other.re {
-            *self - *other
-        } else {
-            Series::zero()
-        }
-    }
-    fn signum(&self) -> Self {
-        Series::constant(if self.re > 0.0 {
-            1.0
-        } else if self.re < 0.0 {
-            -1.0
-        } else {
-            0.0
-        })
-    }
-    fn is_positive(&self) -> bool {
-        self.re > 0.0
-    }
-    fn is_negative(&self) -> bool {
-        self.re < 0.0
-    }
-}
-impl Inv for Series {
-    type Output = Series;
-    fn inv(self) -> Series {
-        elementary::recip(self)
-    }
-}
-impl Sum for Series {
-    fn sum<I: Iterator<Item = Series>>(iter: I) -> Series {
-        iter.fold(Series::zero(), |a, b| a + b)
-    }
-}
-impl<'a> Sum<&'a Series> for Series {
-    fn sum<I: Iterator<Item = &'a Series>>(iter: I) -> Series {
-        iter.fold(Series::zero(), |a, b| a + *b)
-    }
-}
-impl Product for Series {
-    fn product<I: Iterator<Item = Series>>(iter: I) -> Series {
-        iter.fold(Series::one(), |a, b| a * b)
-    }
-}
-impl<'a> Product<&'a Series> for Series {
-    fn product<I: Iterator<Item = &'a Series>>(iter: I) -> Series {
-        iter.fold(Series::one(), |a, b| a * *b)
-    }
-}
-impl FromPrimitive for Series {
-    fn from_i64(n: i64) -> Option<Self> {
-        Some(Series::constant(n as f64))
-    }
-    fn from_u64(n: u64) -> Option<Self> {
-        Some(Series::constant(n as f64))
-    }
-    fn from_f64(n: f64) -> Option<Self> {
-        Some(Series::constant(n))
-    }
-}
-impl DualStruct<Series, f64> for Series {
-    type Real = f64;
-    type Inner = f64;
-    fn re(&self) -> f64 {
-        self.re
-    }
-    fn from_inner(inner: &f64) -> Self {
-        Series::constant(*inner)
-    }
-}
-impl Mappable<Series> for Series {
-    type Output<O> = O;
-    fn map_dual<M: Fn(Series) -> O, O>(self, f: M) -> O {
-        f(self)
-    }
-}
-impl PartialEq for Series {
-    fn eq(&self, other: &Self) -> bool {
-        self.re == other.re
-    }
-}
-impl PartialEq<f64> for Series {
-    fn eq(&self, other: &f64) -> bool {
-        self.re == *other
-    }
-}
-impl PartialOrd for Series {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        self.re.partial_cmp(&other.re)
-    }
-}
-impl PartialOrd<f64> for Series {
-    fn partial_cmp(&self, other: &f64) -> Option<std::cmp::Ordering> {
-        self.re.partial_cmp(other)
-    }
-}
 impl fmt::Debug for Series {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.slot {
@@ -327,57 +348,6 @@ impl fmt::Display for Series {
         }
     }
 }
-impl FloatConst for Series {
-    fn E() -> Self {
-        Series::constant(f64::E())
-    }
-    fn FRAC_1_PI() -> Self {
-        Series::constant(f64::FRAC_1_PI())
-    }
-    fn FRAC_1_SQRT_2() -> Self {
-        Series::constant(f64::FRAC_1_SQRT_2())
-    }
-    fn FRAC_2_PI() -> Self {
-        Series::constant(f64::FRAC_2_PI())
-    }
-    fn FRAC_2_SQRT_PI() -> Self {
-        Series::constant(f64::FRAC_2_SQRT_PI())
-    }
-    fn FRAC_PI_2() -> Self {
-        Series::constant(f64::FRAC_PI_2())
-    }
-    fn FRAC_PI_3() -> Self {
-        Series::constant(f64::FRAC_PI_3())
-    }
-    fn FRAC_PI_4() -> Self {
-        Series::constant(f64::FRAC_PI_4())
-    }
-    fn FRAC_PI_6() -> Self {
-        Series::constant(f64::FRAC_PI_6())
-    }
-    fn FRAC_PI_8() -> Self {
-        Series::constant(f64::FRAC_PI_8())
-    }
-    fn LN_10() -> Self {
-        Series::constant(f64::LN_10())
-    }
-    fn LN_2() -> Self {
-        Series::constant(f64::LN_2())
-    }
-    fn LOG10_E() -> Self {
-        Series::constant(f64::LOG10_E())
-    }
-    fn LOG2_E() -> Self {
-        Series::constant(f64::LOG2_E())
-    }
-    fn PI() -> Self {
-        Series::constant(f64::PI())
-    }
-    fn SQRT_2() -> Self {
-        Series::constant(f64::SQRT_2())
-    }
-}
-
 impl DualNum<f64> for Series {
     /// The largest degree any scope may have ([`MAX_SERIES_DEGREE`](super::MAX_SERIES_DEGREE));
     /// a scope's own degree `K` is at most this, so `NDERIV` Newton steps in the series type

@@ -1,0 +1,478 @@
+//! The Taylor method for any [`Hamiltonian`]: Hamilton's equations recorded once as a list of
+//! elementary operations, their solution's Taylor series to order `p` by the recurrences over
+//! that record, adaptive order and step after Jorba & Zou.
+//!
+//! # The method
+//! The vector field `f = (∂H/∂p, −∂H/∂q + Q^{nc})` is recorded once per run
+//! ([`VectorFieldRecord`]): `H` (and `Q^{nc}`) evaluated on the recording number of
+//! [`crate::record`], the gradient by the adjoint sweep over that record. From `(t₀, x₀)` the
+//! normalised Taylor coefficients of the solution follow order by order,
+//!
+//! $$ x(t_0 + h) = \sum_{k=0}^{p} x_k h^k,\qquad x_{k+1} = \frac{f_k}{k+1}, $$
+//!
+//! where `f_k`, the `k`-th coefficient of `f(t, x(t))`, is computed from `x₀ … x_k` by the
+//! `O(k)` recurrences of each recorded operation ([`Jets`]): `O(p²)` per operation and step, no
+//! allocation per step. The coefficients of every intermediate live in one buffer made at the
+//! start of the run; the operations are matched in a tight loop (no code generation), so the cost
+//! of a step is the length of the record times `p²/2` multiply–adds.
+//!
+//! # Order and step (Jorba & Zou 2005, §3.2)
+//! With one tolerance `ε` as both the absolute and the relative tolerance, the order is
+//!
+//! $$ p = \Big\lceil -\tfrac12 \ln \varepsilon + 1 \Big\rceil , $$
+//!
+//! and the step, with `‖·‖` the maximum norm over `(q, p)`, divided by `‖x₀‖` when `‖x₀‖ > 1`
+//! (the relative tolerance governs), is
+//!
+//! $$ h = \frac{\rho}{e^2}\, e^{-0.7/(p-1)},\qquad
+//!    \rho = \min\Big( \|x_{p-1}\|^{-1/(p-1)},\ \|x_p\|^{-1/p} \Big): $$
+//!
+//! `ρ` estimates the radius of convergence, and the last terms of the series then lie near
+//! `(h/ρ)^p ≈ e^{-2p} ≈ ε`. Every step is accepted (there is no error estimate to reject
+//! on); the final step is shortened to end at `t₁`. [`Taylor::fixed`] runs a given order with
+//! equal steps instead (the local error is `O(h^{p+1})`, the global error `O(h^p)`).
+//!
+//! # Dense output
+//! The step's series itself: the state at `t₀ + τ`, `τ` within the step, is `Σ x_k τ^k`
+//! (Horner), of the order of the method.
+//!
+//! # Work counted
+//! `steps` as usual; `gradients` counts one per step (one propagation of the record to order
+//! `p`, which costs about `p²/2` vector-field evaluations' worth of operations); recording is done
+//! once per run and timed separately in [`VectorFieldRecord::new`].
+//!
+//! # References
+//! * À. Jorba & M. Zou, "A software package for the numerical integration of ODEs by means of
+//!   high-order Taylor methods", Exp. Math. 14 (2005) 99–117.
+//! * E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*, 2nd ed.,
+//!   Springer 1993, §I.8 (the Taylor series method).
+//! * F. Biscani & D. Izzo, "Revisiting high-order Taylor methods for astrodynamics and celestial
+//!   mechanics", MNRAS 504 (2021) 2614–2628 (the same decomposition and step control in heyoka).
+
+use super::{
+    methods, stop_time, Control, Dense, Fixed, Method, Observer, Problem, Report, StepView, Work,
+};
+use crate::error::{Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::phase::State;
+use crate::record::{gradient, record, Jets, Record, MAX_ORDER};
+use nalgebra::SVector;
+use std::marker::PhantomData;
+use std::time::Instant;
+
+/// Hamilton's equations of a system as an operation record: inputs `(t, q₁…q_N, p₁…p_N)`,
+/// outputs `(q̇₁…q̇_N, ṗ₁…ṗ_N)` (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VectorFieldRecord<const N: usize> {
+    record: Record,
+    _n: PhantomData<[(); N]>,
+}
+
+impl<const N: usize> VectorFieldRecord<N> {
+    /// Record Hamilton's equations of `system`, its `H` evaluated once at `start` (the point
+    /// matters only for branches `H` takes on values).
+    ///
+    /// # Errors
+    /// The errors of [`record`] (an operation without a recurrence, such as `sph_j0`).
+    pub fn new<S: Hamiltonian<N>>(system: &S, start: &State<N>) -> Result<Self> {
+        let mut x = Vec::with_capacity(2 * N + 1);
+        x.push(start.t);
+        x.extend(start.q.iter().chain(start.p.iter()));
+        let record = record(&x, |v| {
+            let t = v[0];
+            let q = SVector::<_, N>::from_fn(|i, _| v[1 + i]);
+            let p = SVector::<_, N>::from_fn(|i, _| v[1 + N + i]);
+            let h = system.hamiltonian(t, &q, &p);
+            let g = gradient(h, &v[1..]);
+            let force = system.generalized_force(t, &q, &p);
+            let mut out = Vec::with_capacity(2 * N);
+            out.extend_from_slice(&g[N..]);
+            for i in 0..N {
+                out.push(match force {
+                    Some(f) => f[i] - g[i],
+                    None => -g[i],
+                });
+            }
+            Ok(out)
+        })?;
+        Ok(Self {
+            record,
+            _n: PhantomData,
+        })
+    }
+
+    /// The record.
+    pub fn record(&self) -> &Record {
+        &self.record
+    }
+
+    /// `(q̇, ṗ)` at `(t, q, p)` by evaluating the record.
+    ///
+    /// # Errors
+    /// None for a record made by [`new`](Self::new) (the error of [`Record::eval`] otherwise).
+    pub fn eval(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+        let mut x = Vec::with_capacity(2 * N + 1);
+        x.push(t);
+        x.extend(q.iter().chain(p.iter()));
+        let y = self.record.eval(&x)?;
+        Ok((
+            SVector::from_fn(|i, _| y[i]),
+            SVector::from_fn(|i, _| y[N + i]),
+        ))
+    }
+}
+
+/// How a [`Taylor`] run chooses its order and steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TaylorControl {
+    /// Order and step from the tolerance `ε` (Jorba & Zou; see the [module docs](self)).
+    Tolerance(f64),
+    /// A fixed order and a fixed number of equal steps over the span.
+    Fixed {
+        /// The order `p` (`1 …` [`MAX_ORDER`]).
+        order: usize,
+        /// The number of steps.
+        steps: usize,
+    },
+}
+
+/// The Taylor method (see the [module documentation](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Taylor {
+    /// Order and step selection.
+    pub control: TaylorControl,
+    /// Largest number of steps of one run.
+    pub max_steps: usize,
+}
+
+impl Taylor {
+    /// Smallest tolerance accepted, `10⁻³⁰` (order 36).
+    pub const TOL_MIN: f64 = 1e-30;
+
+    /// Default limit on the steps of one run, `10⁶` (seconds of work; about 5·10⁴ Kepler periods
+    /// at order 12); [`with_max_steps`](Self::with_max_steps) raises it.
+    pub const MAX_STEPS: usize = 1_000_000;
+
+    /// The adaptive method with tolerance `ε ∈ [TOL_MIN, 1)` as both the absolute and the
+    /// relative tolerance.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] or [`Error::OutOfDomain`] for a tolerance outside that range
+    /// (`ε ≤ 0` included).
+    pub fn new(tol: f64) -> Result<Self> {
+        let m = Self {
+            control: TaylorControl::Tolerance(tol),
+            max_steps: Self::MAX_STEPS,
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Order `order` (`1 …` [`MAX_ORDER`]) with `steps` equal steps over the span.
+    ///
+    /// # Errors
+    /// [`Error::OutOfDomain`] for an order outside `1 … MAX_ORDER` or `steps = 0`;
+    /// [`Error::WorkLimit`] for `steps` above [`Fixed::MAX_STEPS`].
+    pub fn fixed(order: usize, steps: usize) -> Result<Self> {
+        let m = Self {
+            control: TaylorControl::Fixed { order, steps },
+            max_steps: Fixed::<()>::MAX_STEPS,
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// The same with at most `max_steps ≥ 1` steps per run.
+    ///
+    /// # Errors
+    /// As [`validate`](Self::validate).
+    pub fn with_max_steps(mut self, max_steps: usize) -> Result<Self> {
+        self.max_steps = max_steps;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// The order of the series: `⌈−½ ln ε + 1⌉` for a tolerance, the given one otherwise.
+    pub fn order(&self) -> usize {
+        match self.control {
+            TaylorControl::Tolerance(tol) => order_for(tol),
+            TaylorControl::Fixed { order, .. } => order,
+        }
+    }
+
+    /// Check the knobs.
+    ///
+    /// # Errors
+    /// See [`new`](Self::new) and [`fixed`](Self::fixed); [`Error::OutOfDomain`] for
+    /// `max_steps = 0`.
+    pub fn validate(&self) -> Result<()> {
+        if self.max_steps == 0 {
+            return Err(Error::out_of_domain("Taylor max_steps", 0.0, "≥ 1"));
+        }
+        match self.control {
+            TaylorControl::Tolerance(tol) => {
+                let tol = crate::error::finite("Taylor tolerance", tol)?;
+                if !(Self::TOL_MIN..1.0).contains(&tol) {
+                    return Err(Error::out_of_domain(
+                        "Taylor tolerance",
+                        tol,
+                        format!("[{:e}, 1)", Self::TOL_MIN),
+                    ));
+                }
+            }
+            TaylorControl::Fixed { order, steps } => {
+                if !(1..=MAX_ORDER).contains(&order) {
+                    return Err(Error::out_of_domain(
+                        "Taylor order",
+                        order as f64,
+                        format!("1 … {MAX_ORDER}"),
+                    ));
+                }
+                if steps == 0 {
+                    return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
+                }
+                if steps > self.max_steps {
+                    return Err(Error::WorkLimit {
+                        what: "fixed-step Taylor run".into(),
+                        limit: self.max_steps,
+                        detail: format!("{:e} steps requested", steps as f64),
+                        hint: "use fewer steps, or raise the limit with \
+                               Taylor::with_max_steps"
+                            .into(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Run on Hamilton's equations already recorded (so that the recording is timed apart).
+    ///
+    /// # Errors
+    /// The knobs' errors ([`validate`](Self::validate)); [`Error::NonFinite`] where the series
+    /// of the solution is not finite (a singularity, e.g. a collision, within the step or at
+    /// the start); [`Error::NotConverged`] when the step shrinks below `16ε|t|`;
+    /// [`Error::WorkLimit`] beyond `max_steps`; [`Error::OutOfDomain`] for an observer's stop
+    /// time outside its step.
+    pub fn run_recorded<S, O: Observer<N>, const N: usize>(
+        &self,
+        field: &VectorFieldRecord<N>,
+        problem: &Problem<'_, S, N>,
+        observer: &mut O,
+    ) -> Result<Report<N>> {
+        self.validate()?;
+        let clock = Instant::now();
+        let record = &field.record;
+        let order = self.order();
+        let mut jets = Jets::new(record, order)?;
+        let mut work = Work::default();
+        let (t0, t1) = (problem.start.t, problem.t1);
+        let span = problem.span();
+        let dir = span.signum();
+        let mut x = vec![0.0; 2 * N];
+        let mut state = problem.start;
+        observer.start(&state);
+        let mut k = 0usize;
+        loop {
+            if k >= self.max_steps {
+                return Err(Error::WorkLimit {
+                    what: "Taylor steps".into(),
+                    limit: self.max_steps,
+                    detail: format!(
+                        "at t = {:e} of [{t0:e}, {t1:e}], {:.3}% of the span",
+                        state.t,
+                        100.0 * ((state.t - t0) / span).abs()
+                    ),
+                    hint: "raise it with Taylor::with_max_steps(n), or shorten the span".into(),
+                });
+            }
+            for (xi, v) in x.iter_mut().zip(state.q.iter().chain(state.p.iter())) {
+                *xi = *v;
+            }
+            jets.ode(record, state.t, &x, order)?;
+            let (h, last) = match self.control {
+                TaylorControl::Fixed { steps, .. } => {
+                    let last = k + 1 == steps;
+                    let h = if last {
+                        t1 - state.t
+                    } else {
+                        t0 + span * (k + 1) as f64 / steps as f64 - state.t
+                    };
+                    (h, last)
+                }
+                TaylorControl::Tolerance(_) => {
+                    let h = step_size(&jets, &x, order);
+                    let remaining = t1 - state.t;
+                    if h >= remaining.abs() {
+                        (remaining, true)
+                    } else {
+                        let h_min = (16.0 * f64::EPSILON * state.t.abs()).max(f64::MIN_POSITIVE);
+                        if h.is_nan() || h < h_min {
+                            return Err(Error::NotConverged {
+                                what: format!(
+                                    "Taylor step size at t = {:e}: |h| = {h:e} < 16ε|t| (a \
+                                     singularity within reach)",
+                                    state.t
+                                ),
+                                iterations: k,
+                                residual: h,
+                            });
+                        }
+                        (dir * h, false)
+                    }
+                }
+            };
+            let next = State {
+                t: if last { t1 } else { state.t + h },
+                q: SVector::from_fn(|i, _| horner(jets.coefficients(1 + i), order, h)),
+                p: SVector::from_fn(|i, _| horner(jets.coefficients(1 + N + i), order, h)),
+            };
+            work.steps += 1;
+            work.gradients += 1;
+            k += 1;
+            if !next.is_finite() {
+                return Err(Error::NonFinite {
+                    what: format!("Taylor state at t = {:e}", next.t),
+                    value: f64::NAN,
+                });
+            }
+            let dense = SeriesStep {
+                prev: &state,
+                next: &next,
+                jets: &jets,
+                order,
+                _n: PhantomData::<[(); N]>,
+            };
+            let control = observer.step(&StepView {
+                prev: &state,
+                next: &next,
+                dense: &dense,
+            });
+            match control {
+                Control::Continue if !last => state = next,
+                Control::Continue => {
+                    state = next;
+                    break;
+                }
+                Control::Stop => {
+                    return Ok(Report {
+                        last: next,
+                        stopped: !last,
+                        work,
+                        elapsed: clock.elapsed(),
+                    });
+                }
+                Control::StopAt(ts) => {
+                    let at = dense.at(stop_time(ts, &state, &next)?);
+                    return Ok(Report {
+                        stopped: at.t != t1,
+                        last: at,
+                        work,
+                        elapsed: clock.elapsed(),
+                    });
+                }
+            }
+        }
+        Ok(Report {
+            last: state,
+            stopped: false,
+            work,
+            elapsed: clock.elapsed(),
+        })
+    }
+}
+
+/// `p = ⌈−½ ln ε + 1⌉`, at least 2.
+fn order_for(tol: f64) -> usize {
+    let p = (-0.5 * tol.ln() + 1.0).ceil();
+    if p.is_finite() && p >= 2.0 {
+        (p as usize).min(MAX_ORDER)
+    } else {
+        2
+    }
+}
+
+/// The Jorba–Zou step `ρ e^{−2} e^{−0.7/(p−1)}` (see the [module docs](self)); infinite when the
+/// last two coefficients vanish.
+fn step_size(jets: &Jets, x0: &[f64], p: usize) -> f64 {
+    let n0 = x0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let scale = if n0 > 1.0 { n0.recip() } else { 1.0 };
+    let norm =
+        |k: usize| (1..=x0.len()).fold(0.0f64, |m, j| m.max(jets.coefficients(j)[k].abs())) * scale;
+    let rho = |k: usize| {
+        let n = norm(k);
+        if n == 0.0 {
+            f64::INFINITY
+        } else {
+            n.powf(-1.0 / k as f64)
+        }
+    };
+    let r = rho(p - 1).min(rho(p));
+    r * (-2.0 - 0.7 / (p - 1) as f64).exp()
+}
+
+/// `Σ_{k=0}^{p} c_k h^k` by Horner's rule.
+#[inline]
+fn horner(c: &[f64], p: usize, h: f64) -> f64 {
+    let mut s = c[p];
+    for k in (0..p).rev() {
+        s = s * h + c[k];
+    }
+    s
+}
+
+/// Dense output of one Taylor step: the step's series.
+struct SeriesStep<'a, const N: usize> {
+    prev: &'a State<N>,
+    next: &'a State<N>,
+    jets: &'a Jets,
+    order: usize,
+    _n: PhantomData<[(); N]>,
+}
+
+impl<const N: usize> Dense<N> for SeriesStep<'_, N> {
+    fn at(&self, t: f64) -> State<N> {
+        if t == self.next.t {
+            return *self.next;
+        }
+        let tau = t - self.prev.t;
+        let c = |j: usize| horner(self.jets.coefficients(j), self.order, tau);
+        State {
+            t,
+            q: SVector::from_fn(|i, _| c(1 + i)),
+            p: SVector::from_fn(|i, _| c(1 + N + i)),
+        }
+    }
+}
+
+impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Taylor {
+    fn label(&self) -> String {
+        match self.control {
+            TaylorControl::Tolerance(tol) => {
+                format!(
+                    "{} tol={tol:e} (order {})",
+                    methods::TAYLOR.label(),
+                    self.order()
+                )
+            }
+            TaylorControl::Fixed { order, steps } => {
+                format!("{}, order {order} n={steps}", methods::TAYLOR.family)
+            }
+        }
+    }
+
+    fn run<O: Observer<N>>(
+        &self,
+        problem: &Problem<'_, S, N>,
+        observer: &mut O,
+    ) -> Result<Report<N>> {
+        self.validate()?;
+        let field = VectorFieldRecord::new(problem.system, &problem.start)?;
+        self.run_recorded(&field, problem, observer)
+    }
+}

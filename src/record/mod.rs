@@ -1,0 +1,381 @@
+//! The operation record: a function written once for every [`DualNum<f64>`] type, evaluated once
+//! on the recording number [`Recorded`], as a flat list of elementary operations.
+//!
+//! A function `y = F(x)`, `x ∈ ℝⁿ`, is a composition of elementary operations
+//! (the *evaluation trace* or *Kantorovich graph* of Griewank & Walther, ch. 2):
+//!
+//! $$ v_i = x_i \ (i < n),\qquad v_i = \varphi_i(v_{j}, v_{k}),\ j, k < i,\qquad
+//!    y_m = v_{o_m}, $$
+//!
+//! each `φᵢ` one of the operations of [`Op`] (sum, difference, product, quotient, negation,
+//! shift and scaling by a constant, reciprocal, `√`, `exp`, `ln`, `sin`, `cos`, `u^a`,
+//! `atan2`). [`record`] runs the user's code once on [`Recorded`] values, which implement
+//! [`DualNum<f64>`] and `Copy`: every arithmetic operation appends its `φᵢ` to the record of the
+//! running thread, so a [`Hamiltonian`](crate::Hamiltonian) written once runs unchanged. The other
+//! functions of `DualNum` are written in these operations (`tan = sin/cos`, `sinh = (eᵘ − e⁻ᵘ)/2`,
+//! `asin u = atan2(u, √(1 − u²))`, `log_b = ln/ln b`, …); the spherical Bessel functions
+//! `sph_j0…2` and the remainder `%` of non-constants have none, and [`record`] refuses a function
+//! that uses them ([`Error::InvalidInput`] naming the operation).
+//!
+//! While recording, operations on constants are folded (`2·3 → 6`), a sum with the constant 0
+//! and a product with the constants 0, ±1 collapse, and an operation already recorded with the
+//! same operands is not recorded twice (hash-consing: common subexpressions are shared). The
+//! finished [`Record`] keeps only the operations its outputs depend on.
+//!
+//! # Derivatives
+//! [`gradient`] appends to the running record the operations of the adjoint (reverse) sweep
+//! over the operations recorded so far (Griewank & Walther, ch. 3.2, the *adjoint* of the
+//! trace):
+//!
+//! $$ \bar v_{\text{out}} = 1,\qquad \bar v_j \mathrel{+}= \bar v_i\,\frac{\partial\varphi_i}{\partial v_j}
+//!    \quad (i = \text{out}, \dots, 0), \qquad \frac{\partial y}{\partial x_i} = \bar v_i , $$
+//!
+//! each partial itself a recorded operation (`∂ sin u/∂u` is the recorded `cos u`, `∂eᵘ/∂u` the
+//! recorded `eᵘ`). The gradient of a Hamiltonian therefore costs a small multiple of the
+//! operations of `H` whatever the number of variables — the record of Hamilton's equations is built
+//! this way, not by forward-mode dual numbers over recorded values, whose size grows with `2N`.
+//!
+//! # Branches
+//! [`Recorded`] values carry the value at the recording point, and comparisons look at it (as for
+//! every number type of num-dual), so code that branches on values records the branch taken
+//! there. `abs` and `signum` record `±u` and a constant. A record so made is valid where the
+//! branches go the same way; the functions of the crate's catalogue branch on the dimension `N`
+//! only.
+//!
+//! # Uses
+//! [`Record::eval`] evaluates a record on any `DualNum<f64>` type (so a record — for instance one
+//! compiled from an expression — is again a function written once for every number type), and
+//! [`Jets`] propagates normalised Taylor coefficients through it, which is the Taylor method
+//! ([`crate::integrate::taylor`]).
+//!
+//! References: A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, chs. 2–3
+//! and 13; À. Jorba & M. Zou, "A software package for the numerical integration of ODEs by means
+//! of high-order Taylor methods", Exp. Math. 14 (2005) 99–117, §2 (the decomposition into
+//! elementary operations).
+
+mod jets;
+mod number;
+
+pub use jets::{Jets, MAX_ORDER};
+pub use number::Recorded;
+
+use crate::error::{Error, Result};
+use num_dual::DualNum;
+use number::{with_tape, Tape, CONST};
+
+/// One elementary operation of a [`Record`]; operands are indices of earlier operations.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Op {
+    /// The independent variable `x_i`.
+    Input(usize),
+    /// A constant.
+    Const(f64),
+    /// `a + b`.
+    Add(usize, usize),
+    /// `a − b`.
+    Sub(usize, usize),
+    /// `a · b`.
+    Mul(usize, usize),
+    /// `a / b`.
+    Div(usize, usize),
+    /// `−a`.
+    Neg(usize),
+    /// `a + c`, `c` a constant.
+    Shift(usize, f64),
+    /// `c · a`, `c` a constant.
+    Scale(usize, f64),
+    /// `1 / a`.
+    Recip(usize),
+    /// `√a`.
+    Sqrt(usize),
+    /// `exp a`.
+    Exp(usize),
+    /// `ln a`.
+    Ln(usize),
+    /// `sin a`; `cos` is the operation of the same argument that the recurrence of `sin` needs.
+    Sin {
+        /// The argument.
+        arg: usize,
+        /// The operation `cos arg`.
+        cos: usize,
+    },
+    /// `cos a`; `sin` is the operation of the same argument.
+    Cos {
+        /// The argument.
+        arg: usize,
+        /// The operation `sin arg`.
+        sin: usize,
+    },
+    /// `a^c`, `c` a constant that is not an integer of at most 64 in magnitude (those are
+    /// recorded as products and reciprocals).
+    Powf(usize, f64),
+    /// `atan2(y, x)`; `r` is the operation `x² + y²` of its recurrence.
+    Atan2 {
+        /// The first argument (ordinate).
+        y: usize,
+        /// The second argument (abscissa).
+        x: usize,
+        /// The operation `x² + y²`.
+        r: usize,
+    },
+}
+
+impl Op {
+    /// The operations this one reads (its operands, and the partner of `sin`/`cos` and the
+    /// radius of `atan2`, which their recurrences read).
+    pub fn operands(&self) -> impl Iterator<Item = usize> {
+        let (a, b, c) = match *self {
+            Op::Input(_) | Op::Const(_) => (None, None, None),
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
+                (Some(a), Some(b), None)
+            }
+            Op::Neg(a)
+            | Op::Shift(a, _)
+            | Op::Scale(a, _)
+            | Op::Recip(a)
+            | Op::Sqrt(a)
+            | Op::Exp(a)
+            | Op::Ln(a)
+            | Op::Powf(a, _) => (Some(a), None, None),
+            Op::Sin { arg, cos } => (Some(arg), Some(cos), None),
+            Op::Cos { arg, sin } => (Some(arg), Some(sin), None),
+            Op::Atan2 { y, x, r } => (Some(y), Some(x), Some(r)),
+        };
+        a.into_iter().chain(b).chain(c)
+    }
+
+    fn map(self, f: impl Fn(usize) -> usize) -> Op {
+        match self {
+            Op::Input(i) => Op::Input(i),
+            Op::Const(c) => Op::Const(c),
+            Op::Add(a, b) => Op::Add(f(a), f(b)),
+            Op::Sub(a, b) => Op::Sub(f(a), f(b)),
+            Op::Mul(a, b) => Op::Mul(f(a), f(b)),
+            Op::Div(a, b) => Op::Div(f(a), f(b)),
+            Op::Neg(a) => Op::Neg(f(a)),
+            Op::Shift(a, c) => Op::Shift(f(a), c),
+            Op::Scale(a, c) => Op::Scale(f(a), c),
+            Op::Recip(a) => Op::Recip(f(a)),
+            Op::Sqrt(a) => Op::Sqrt(f(a)),
+            Op::Exp(a) => Op::Exp(f(a)),
+            Op::Ln(a) => Op::Ln(f(a)),
+            Op::Powf(a, c) => Op::Powf(f(a), c),
+            Op::Sin { arg, cos } => Op::Sin {
+                arg: f(arg),
+                cos: f(cos),
+            },
+            Op::Cos { arg, sin } => Op::Cos {
+                arg: f(arg),
+                sin: f(sin),
+            },
+            Op::Atan2 { y, x, r } => Op::Atan2 {
+                y: f(y),
+                x: f(x),
+                r: f(r),
+            },
+        }
+    }
+}
+
+/// A recorded function `ℝⁿ → ℝᵐ`: operations in evaluation order, the first `n` the inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    ops: Vec<Op>,
+    inputs: usize,
+    outputs: Vec<usize>,
+}
+
+/// The largest number of operations one record may hold, `2²⁴`: a function that records more
+/// (a loop that runs away) gives an error instead of exhausting memory.
+pub const MAX_OPERATIONS: usize = 1 << 24;
+
+/// Record `f` at the point `x`: `f` receives the `n = x.len()` inputs as [`Recorded`] values
+/// (with the values `x`) and returns the outputs.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for no inputs, a record begun while another is running on this
+/// thread, an operation the record cannot represent (`sph_j0…2`, `%` of non-constants; the
+/// message names it), a value of another record, more than [`MAX_OPERATIONS`] operations, or no
+/// outputs; the error `f` returns. A non-finite `x` is allowed (the record does not depend on
+/// the values except through branches).
+pub fn record<F>(x: &[f64], f: F) -> Result<Record>
+where
+    F: FnOnce(&[Recorded]) -> Result<Vec<Recorded>>,
+{
+    if x.is_empty() {
+        return Err(Error::invalid("operation record", "no inputs"));
+    }
+    let id = number::open()?;
+    let inputs: Vec<Recorded> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| number::push(Op::Input(i), v))
+        .collect();
+    let result = f(&inputs);
+    let tape = number::close(id);
+    let outputs = result?;
+    let mut tape = tape?;
+    if let Some(fault) = tape.fault.take() {
+        return Err(Error::invalid("operation record", fault));
+    }
+    if outputs.is_empty() {
+        return Err(Error::invalid("operation record", "no outputs"));
+    }
+    let mut out = Vec::with_capacity(outputs.len());
+    for y in &outputs {
+        out.push(tape.node_of(y)?);
+    }
+    Ok(Record::pruned(tape.ops, x.len(), out))
+}
+
+/// `∂y/∂wᵢ` for each `wᵢ` of `wrt` (inputs of the running record), by the adjoint sweep over the
+/// operations recorded so far; the partials are recorded operations (see the
+/// [module docs](self#derivatives)). Outside a record, or for values that are not inputs of the
+/// running record, the running record (if any) fails with the reason and the result is zeros.
+pub fn gradient(y: Recorded, wrt: &[Recorded]) -> Vec<Recorded> {
+    number::gradient(y, wrt)
+}
+
+impl Record {
+    /// The record with the operations the outputs do not depend on removed (inputs kept).
+    fn pruned(ops: Vec<Op>, inputs: usize, outputs: Vec<usize>) -> Record {
+        let mut live = vec![false; ops.len()];
+        live[..inputs].iter_mut().for_each(|l| *l = true);
+        for &o in &outputs {
+            live[o] = true;
+        }
+        for i in (0..ops.len()).rev() {
+            if live[i] {
+                for j in ops[i].operands() {
+                    live[j] = true;
+                }
+            }
+        }
+        let mut index = vec![usize::MAX; ops.len()];
+        let mut kept = Vec::new();
+        for (i, op) in ops.into_iter().enumerate() {
+            if live[i] {
+                index[i] = kept.len();
+                kept.push(op);
+            }
+        }
+        // Operands of `sin`/`cos` may point forward to their partner: map after numbering.
+        let kept = kept.into_iter().map(|op| op.map(|j| index[j])).collect();
+        Record {
+            ops: kept,
+            inputs,
+            outputs: outputs.into_iter().map(|o| index[o]).collect(),
+        }
+    }
+
+    /// The operations, the first [`inputs`](Self::inputs) of them the inputs.
+    pub fn ops(&self) -> &[Op] {
+        &self.ops
+    }
+
+    /// The number of inputs `n`.
+    pub fn inputs(&self) -> usize {
+        self.inputs
+    }
+
+    /// The operations whose values are the outputs.
+    pub fn outputs(&self) -> &[usize] {
+        &self.outputs
+    }
+
+    /// The number of operations.
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    /// Whether the record holds no operation (never true for a record [`record`] made).
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// The outputs at `x`, evaluated on any number type (each operation by its `DualNum`
+    /// function).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when `x.len()` is not the number of inputs; [`Error::NonFinite`]
+    /// for an input or an output whose value (real part) is NaN or infinite.
+    pub fn eval<D: DualNum<f64> + Copy>(&self, x: &[D]) -> Result<Vec<D>> {
+        if x.len() != self.inputs {
+            return Err(Error::invalid(
+                "record inputs",
+                format!("{} values for {} inputs", x.len(), self.inputs),
+            ));
+        }
+        for (i, v) in x.iter().enumerate() {
+            crate::error::finite(format_args!("record input {i}"), v.re())?;
+        }
+        let y = self.eval_unchecked(x);
+        for (i, v) in y.iter().enumerate() {
+            crate::error::finite(
+                format_args!("record output {i} (outside the function's domain?)"),
+                v.re(),
+            )?;
+        }
+        Ok(y)
+    }
+
+    /// The outputs at `x` without validation (NaN in gives NaN out); `x` must hold
+    /// [`inputs`](Self::inputs) values.
+    ///
+    /// # Panics
+    /// If `x` is shorter than the number of inputs.
+    pub fn eval_unchecked<D: DualNum<f64> + Copy>(&self, x: &[D]) -> Vec<D> {
+        let mut v: Vec<D> = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let r = match *op {
+                Op::Input(i) => x[i],
+                Op::Const(c) => D::from(c),
+                Op::Add(a, b) => v[a] + v[b],
+                Op::Sub(a, b) => v[a] - v[b],
+                Op::Mul(a, b) => v[a] * v[b],
+                Op::Div(a, b) => v[a] / v[b],
+                Op::Neg(a) => -v[a],
+                Op::Shift(a, c) => v[a] + c,
+                Op::Scale(a, c) => v[a] * c,
+                Op::Recip(a) => v[a].recip(),
+                Op::Sqrt(a) => v[a].sqrt(),
+                Op::Exp(a) => v[a].exp(),
+                Op::Ln(a) => v[a].ln(),
+                Op::Powf(a, c) => v[a].powf(c),
+                Op::Sin { arg, .. } => v[arg].sin(),
+                Op::Cos { arg, .. } => v[arg].cos(),
+                Op::Atan2 { y, x, .. } => v[y].atan2(v[x]),
+            };
+            v.push(r);
+        }
+        self.outputs.iter().map(|&o| v[o]).collect()
+    }
+}
+
+impl Tape {
+    /// The operation of an output value (a constant is recorded as one).
+    fn node_of(&mut self, y: &Recorded) -> Result<usize> {
+        if y.node == CONST {
+            self.ops.push(Op::Const(y.re));
+            self.values.push(y.re);
+            return Ok(self.ops.len() - 1);
+        }
+        if y.tape != self.id || y.node as usize >= self.ops.len() {
+            return Err(Error::invalid(
+                "operation record",
+                "an output is a value of another record",
+            ));
+        }
+        Ok(y.node as usize)
+    }
+}
+
+/// The running record's operations, for the adjoint sweep of [`gradient`].
+pub(crate) fn op_at(node: u32) -> Option<(Op, f64)> {
+    with_tape(|t| {
+        t.ops
+            .get(node as usize)
+            .map(|op| (*op, t.values[node as usize]))
+    })
+    .flatten()
+}

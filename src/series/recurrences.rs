@@ -1,0 +1,113 @@
+//! The recurrences of univariate Taylor arithmetic, one normalised coefficient at a time.
+//!
+//! For series `u(t) = Σ u_k t^k`, `v(t) = Σ v_k t^k` and a result `w = f(u, v)`, each function
+//! returns `w_k` from `u_0 … u_k`, `v_0 … v_k` and the result's own lower coefficients
+//! `w_0 … w_{k−1}` (`k ≥ 1`; `w_0 = f(u_0, v_0)` is the caller's):
+//!
+//! $$ (uv)_k = \sum_{j=0}^{k} u_j v_{k-j},\qquad
+//!    (u/v)_k = \frac{1}{v_0}\Big(u_k - \sum_{j=1}^{k} v_j w_{k-j}\Big), $$
+//!
+//! $$ (e^u)_k = \frac1k \sum_{j=1}^{k} j\,u_j w_{k-j},\qquad
+//!    (\ln u)_k = \frac{1}{u_0}\Big(u_k - \frac1k\sum_{j=1}^{k-1} j\,w_j u_{k-j}\Big), $$
+//!
+//! $$ (u^a)_k = \frac{1}{k u_0}\sum_{j=1}^{k} \big((a+1)j - k\big) u_j w_{k-j},\qquad
+//!    (\sqrt u)_k = \frac{1}{2w_0}\Big(u_k - \sum_{j=1}^{k-1} w_j w_{k-j}\Big), $$
+//!
+//! $$ (\sin u)_k = \frac1k\sum_{j=1}^{k} j\,u_j c_{k-j},\qquad
+//!    (\cos u)_k = -\frac1k\sum_{j=1}^{k} j\,u_j s_{k-j}, $$
+//!
+//! and for `w = atan2(v, u)` with `r = u² + v²` (from `r w' = u v' − v u'`)
+//!
+//! $$ w_k = \frac{1}{k r_0}\Big(\sum_{j=1}^{k} j\,(u_{k-j} v_j - v_{k-j} u_j)
+//!          - \sum_{j=1}^{k-1} j\,w_j r_{k-j}\Big). $$
+//!
+//! Each coefficient costs `O(k)`, a series to order `K` costs `O(K²)`. The truncated power
+//! series ([`Series`](super::Series)) and the jets of an operation record
+//! ([`crate::record`]) both compute their coefficients with these functions.
+//!
+//! References: R. D. Neidinger, SIAM Review 52 (2010) 545–563, §5; A. Griewank & A. Walther,
+//! *Evaluating Derivatives*, 2nd ed., SIAM 2008, Table 13.2; À. Jorba & M. Zou, Exp. Math. 14
+//! (2005) 99–117, §2.2.
+
+/// `Σ_{i<n} (c + i) a_i b_{n−1−i}` over `n = min(len a, len b)` with `c = 0` and weights dropped
+/// when `weighted` is false: the Cauchy sums of every recurrence, in four independent partial
+/// sums (no bounds checks in the loop, four additions in flight).
+#[inline(always)]
+fn cauchy(a: &[f64], b: &[f64], weighted: bool, c: f64) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let (ca, cb) = (a.chunks_exact(4), b.rchunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    let mut acc = [0.0f64; 4];
+    let mut wgt = c;
+    for (x, y) in ca.zip(cb) {
+        if weighted {
+            acc[0] += wgt * x[0] * y[3];
+            acc[1] += (wgt + 1.0) * x[1] * y[2];
+            acc[2] += (wgt + 2.0) * x[2] * y[1];
+            acc[3] += (wgt + 3.0) * x[3] * y[0];
+            wgt += 4.0;
+        } else {
+            acc[0] += x[0] * y[3];
+            acc[1] += x[1] * y[2];
+            acc[2] += x[2] * y[1];
+            acc[3] += x[3] * y[0];
+        }
+    }
+    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for (x, y) in ra.iter().zip(rb.iter().rev()) {
+        s += if weighted { wgt * x * y } else { x * y };
+        wgt += 1.0;
+    }
+    s
+}
+
+/// `(uv)_k = Σ_{j=0}^{k} u_j v_{k−j}`.
+#[inline]
+pub fn product(u: &[f64], v: &[f64], k: usize) -> f64 {
+    cauchy(&u[..=k], &v[..=k], false, 0.0)
+}
+
+/// `(u/v)_k = (u_k − Σ_{j=1}^{k} v_j w_{k−j}) / v₀` with `w = u/v`; `u_k` passed as `uk` (0 for
+/// the reciprocal `1/v`, `k ≥ 1`).
+#[inline]
+pub fn quotient(uk: f64, v: &[f64], w: &[f64], k: usize) -> f64 {
+    (uk - cauchy(&v[1..=k], &w[..k], false, 0.0)) / v[0]
+}
+
+/// `(ln u)_k = (u_k − (1/k) Σ_{j=1}^{k−1} j w_j u_{k−j}) / u₀`, `k ≥ 1`.
+#[inline]
+pub fn ln(u: &[f64], w: &[f64], k: usize) -> f64 {
+    (u[k] - cauchy(&w[1..k], &u[1..k], true, 1.0) / k as f64) / u[0]
+}
+
+/// `(u^a)_k = (1/(k u₀)) Σ_{j=1}^{k} ((a + 1) j − k) u_j w_{k−j}`, `k ≥ 1`.
+#[inline]
+pub fn power(u: &[f64], a: f64, w: &[f64], k: usize) -> f64 {
+    let (uj, wkj) = (&u[1..=k], &w[..k]);
+    let s = (a + 1.0) * cauchy(uj, wkj, true, 1.0) - k as f64 * cauchy(uj, wkj, false, 0.0);
+    s / (k as f64 * u[0])
+}
+
+/// `(√u)_k = (u_k − Σ_{j=1}^{k−1} w_j w_{k−j}) / (2 w₀)`, `k ≥ 1`.
+#[inline]
+pub fn sqrt(u: &[f64], w: &[f64], k: usize) -> f64 {
+    (u[k] - cauchy(&w[1..k], &w[1..k], false, 0.0)) / (2.0 * w[0])
+}
+
+/// `(∫ w du)_k = (1/k) Σ_{j=1}^{k} j u_j w_{k−j}`, `k ≥ 1`: the `k`-th coefficient of `e^u`
+/// with `w = e^u`, of `sin u` with `w = cos u`, of `−cos u` with `w = sin u`, of `sinh u` with
+/// `w = cosh u` and of `cosh u` with `w = sinh u` (each is the integral of `w u′`).
+#[inline]
+pub fn integral_w_du(u: &[f64], w: &[f64], k: usize) -> f64 {
+    cauchy(&u[1..=k], &w[..k], true, 1.0) / k as f64
+}
+
+/// `atan2(v, u)_k` with `r = u² + v²` (see the [module docs](self)), `k ≥ 1`.
+#[inline]
+pub fn atan2(v: &[f64], u: &[f64], r: &[f64], w: &[f64], k: usize) -> f64 {
+    let s = cauchy(&v[1..=k], &u[..k], true, 1.0)
+        - cauchy(&u[1..=k], &v[..k], true, 1.0)
+        - cauchy(&w[1..k], &r[1..k], true, 1.0);
+    s / (k as f64 * r[0])
+}

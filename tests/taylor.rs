@@ -1,0 +1,364 @@
+//! The operation record and the Taylor method: recorded values and gradients against the
+//! direct evaluation, jets against closed forms, the fixed-order method's observed order, the
+//! adaptive method's tolerance proportionality, final errors against exact flows.
+
+use hamilton_jacobi::integrate::{
+    integrate, Dop853, Method, Problem, Samples, Taylor, TaylorControl, VectorFieldRecord,
+};
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::num_dual::{Dual64, DualNum};
+use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
+use hamilton_jacobi::phase::State;
+use hamilton_jacobi::record::{gradient, record, Jets, Op, Recorded};
+use hamilton_jacobi::systems::{ExactFlow, HenonHeiles, Kepler2, Kepler3, Pendulum};
+use hamilton_jacobi::{Error, Hamiltonian};
+use std::f64::consts::PI;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1.0)
+}
+
+/// `H` and Hamilton's equations from the record agree with the direct (dual-number) evaluation
+/// to rounding at points away from the recording point.
+fn check_system<S: Hamiltonian<N>, const N: usize>(
+    name: &str,
+    system: &S,
+    points: &[(SVector<f64, N>, SVector<f64, N>)],
+) {
+    let (q0, p0) = points[0];
+    let start = State::new(0.3, q0, p0).unwrap();
+    let field = VectorFieldRecord::new(system, &start).unwrap();
+    let mut x0 = vec![0.3];
+    x0.extend(q0.iter().chain(p0.iter()));
+    let h_record = record(&x0, |v| {
+        let q = SVector::<Recorded, N>::from_fn(|i, _| v[1 + i]);
+        let p = SVector::<Recorded, N>::from_fn(|i, _| v[1 + N + i]);
+        Ok(vec![system.hamiltonian(v[0], &q, &p)])
+    })
+    .unwrap();
+    let mut worst: f64 = 0.0;
+    for (q, p) in points {
+        let (qd, pd) = system.vector_field(0.3, q, p).unwrap();
+        let (rq, rp) = field.eval(0.3, q, p).unwrap();
+        for i in 0..N {
+            worst = worst.max(rel(rq[i], qd[i])).max(rel(rp[i], pd[i]));
+        }
+        let mut x = vec![0.3];
+        x.extend(q.iter().chain(p.iter()));
+        let h = h_record.eval(&x).unwrap()[0];
+        worst = worst.max(rel(h, system.value(0.3, q, p).unwrap()));
+        // The record is itself a function for every number type: ∂H/∂p₀ by a dual number.
+        let xd: Vec<Dual64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                if i == 1 + N {
+                    Dual64::from_re(v).derivative()
+                } else {
+                    Dual64::from_re(v)
+                }
+            })
+            .collect();
+        let hd = h_record.eval(&xd).unwrap()[0];
+        worst = worst.max(rel(hd.eps, qd[0]));
+    }
+    println!(
+        "{name}: record of H {} operations, of Hamilton's equations {}; worst relative \
+         difference {worst:e}",
+        h_record.len(),
+        field.record().len()
+    );
+    assert!(worst < 1e-14, "{name}: {worst:e}");
+}
+
+#[test]
+fn recorded_values_and_gradients_equal_the_direct_evaluation() {
+    let pendulum = Pendulum::new(1.3).unwrap();
+    let pts: Vec<_> = [(1.0, 0.2), (-2.5, 1.7), (3.0, -0.4)]
+        .iter()
+        .map(|&(q, p)| (SVector::from([q]), SVector::from([p])))
+        .collect();
+    check_system("pendulum", &pendulum, &pts);
+
+    let kepler = Kepler3::new(1.5).unwrap();
+    let pts: Vec<_> = [
+        ([0.5, 0.1, -0.2], [0.1, 1.7, 0.3]),
+        ([-1.5, 2.0, 0.7], [0.4, -0.2, 0.1]),
+        ([0.01, -0.02, 0.03], [3.0, 2.0, -1.0]),
+    ]
+    .iter()
+    .map(|&(q, p)| (SVector::from(q), SVector::from(p)))
+    .collect();
+    check_system("Kepler", &kepler, &pts);
+
+    let pts: Vec<_> = [([0.1, -0.2], [0.3, 0.05]), ([0.4, 0.3], [-0.1, 0.2])]
+        .iter()
+        .map(|&(q, p)| (SVector::from(q), SVector::from(p)))
+        .collect();
+    check_system("Hénon–Heiles", &HenonHeiles, &pts);
+
+    let j2 = PerturbedTwoBody::<_, NoForce, 3>::conservative(1.0, J2::new(1.0, 1e-3, 1.0).unwrap())
+        .unwrap();
+    let pts: Vec<_> = [
+        ([1.8, 0.0, 0.0], [0.0, 0.69, 0.38]),
+        ([-0.3, 1.9, 0.8], [0.5, -0.1, 0.2]),
+    ]
+    .iter()
+    .map(|&(q, p)| (SVector::from(q), SVector::from(p)))
+    .collect();
+    check_system("Kepler + J2", &j2, &pts);
+}
+
+/// `G(t)` written once with every elementary function the record has; its derivative by the
+/// adjoint sweep, integrated by the jets: `x(t₀ + τ) − x(t₀) = G(t₀ + τ) − G(t₀)`.
+fn g<D: DualNum<f64> + Copy>(t: D) -> D {
+    let a = (t * 0.7).sin() * (t / 3.0).exp() + (t + 2.0).ln() + (t * t + 1.0).sqrt();
+    let b = t.atan2(D::from(2.0)) + (t + 1.0).powf(1.5) + t.cosh() + (t * 0.5).tan();
+    let c = (t * 0.3).asin() + (t * 0.2).acos() + t.atan() + t.tanh() + (t + 3.0).recip();
+    a + b + c + (t * 0.4).cos().powi(3) - t.powi(-2) * 0.01 + (t * 0.1).exp_m1() + t.cbrt()
+}
+
+#[test]
+fn jets_integrate_every_elementary_function_to_rounding() {
+    let t0 = 0.8;
+    let order = 24;
+    let taus = [-0.05, 0.01, 0.03, 0.06];
+    // The derivative by the adjoint sweep, integrated by the jets.
+    let rec = record(&[t0, 0.0], |v| Ok(gradient(g(v[0]), &v[..1]))).unwrap();
+    let mut jets = Jets::new(&rec, order).unwrap();
+    jets.ode(&rec, t0, &[0.0], order).unwrap();
+    let x = jets.coefficients(1);
+    let mut worst: f64 = 0.0;
+    for tau in taus {
+        let series: f64 = x.iter().rev().fold(0.0, |s, c| s * tau + c);
+        worst = worst.max((series - (g(t0 + tau) - g(t0))).abs());
+    }
+    println!(
+        "G′: {} operations; worst |∫ series − closed form| {worst:e}",
+        rec.len()
+    );
+    assert!(worst < 1e-13, "{worst:e}");
+    // G itself as the right-hand side: the jet of its output operation is G's Taylor series.
+    let rec = record(&[t0, 0.0], |v| Ok(vec![g(v[0])])).unwrap();
+    let mut jets = Jets::new(&rec, order).unwrap();
+    jets.ode(&rec, t0, &[0.0], order).unwrap();
+    let gk = &jets.coefficients(rec.outputs()[0])[..order];
+    let mut worst: f64 = 0.0;
+    for tau in taus {
+        let series: f64 = gk.iter().rev().fold(0.0, |s, c| s * tau + c);
+        worst = worst.max((series - g(t0 + tau)).abs());
+    }
+    println!(
+        "G: {} operations; worst |series − closed form| {worst:e}",
+        rec.len()
+    );
+    assert!(worst < 1e-13, "{worst:e}");
+    // The kinds recorded include every operation with a recurrence.
+    let kinds = |f: fn(&Op) -> bool| rec.ops().iter().any(f);
+    assert!(kinds(|o| matches!(o, Op::Sin { .. })) && kinds(|o| matches!(o, Op::Cos { .. })));
+    assert!(kinds(|o| matches!(o, Op::Atan2 { .. })) && kinds(|o| matches!(o, Op::Powf(..))));
+    assert!(kinds(|o| matches!(o, Op::Ln(_))) && kinds(|o| matches!(o, Op::Exp(_))));
+    assert!(kinds(|o| matches!(o, Op::Sqrt(_))) && kinds(|o| matches!(o, Op::Div(..))));
+    assert!(kinds(|o| matches!(o, Op::Recip(_))) && kinds(|o| matches!(o, Op::Mul(..))));
+}
+
+fn kepler_start() -> (SVector<f64, 2>, SVector<f64, 2>) {
+    // e = 0.5, a = 1, μ = 1, at periapsis.
+    (SVector::from([0.5, 0.0]), SVector::from([0.0, 3f64.sqrt()]))
+}
+
+fn kepler_error(method: &Taylor, periods: f64) -> (f64, usize) {
+    let kepler = Kepler2::new(1.0).unwrap();
+    let (q0, p0) = kepler_start();
+    let t1 = 2.0 * PI * periods;
+    let problem = Problem::new(&kepler, 0.0, q0, p0, t1).unwrap();
+    let run = integrate(&problem, method, &mut ()).unwrap();
+    let (q, p) = kepler.exact_flow(0.0, &q0, &p0, t1).unwrap();
+    let err = (run.last.q - q).amax().max((run.last.p - p).amax());
+    (err, run.work.steps)
+}
+
+#[test]
+fn fixed_order_fixed_step_has_its_order() {
+    for order in [4usize, 6, 8] {
+        let (e1, _) = kepler_error(&Taylor::fixed(order, 200).unwrap(), 1.0);
+        let (e2, _) = kepler_error(&Taylor::fixed(order, 400).unwrap(), 1.0);
+        let observed = (e1 / e2).log2();
+        println!("order {order}: errors {e1:e}, {e2:e}, observed order {observed:.2}");
+        assert!(
+            (observed - order as f64).abs() < 0.5,
+            "order {order}: observed {observed}"
+        );
+    }
+}
+
+#[test]
+fn adaptive_error_is_proportional_to_the_tolerance() {
+    let tols = [1e-7, 1e-8, 1e-9, 1e-10, 1e-11];
+    let errs: Vec<f64> = tols
+        .iter()
+        .map(|&tol| kepler_error(&Taylor::new(tol).unwrap(), 10.0).0)
+        .collect();
+    for (t, e) in tols.iter().zip(&errs) {
+        println!("tol {t:e}: final error {e:e} (ratio {:.2})", e / t);
+    }
+    // Least-squares slope of log(error) against log(tol) over the decade range: 1 ± 0.2, and
+    // no error more than 100× its tolerance.
+    let n = tols.len() as f64;
+    let xs: Vec<f64> = tols.iter().map(|t| t.ln()).collect();
+    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
+    println!("slope {slope:.3}");
+    assert!((slope - 1.0).abs() < 0.2, "slope {slope}");
+    for (t, e) in tols.iter().zip(&errs) {
+        assert!(*e < 100.0 * t, "tol {t:e}: {e:e}");
+    }
+}
+
+#[test]
+fn errors_against_exact_flows() {
+    // Kepler e = 0.5 over 100 periods: the local error ≈ ε per step of ≈ 38 per period, and the
+    // along-track drift it causes, give final errors of 10³–10⁴ ε (measured 1.5e−6, 1.2e−8,
+    // 2.7e−11 at ε = 1e−9, 1e−12, 1e−15).
+    for tol in [1e-9, 1e-12, 1e-15] {
+        let (err, steps) = kepler_error(&Taylor::new(tol).unwrap(), 100.0);
+        println!("Kepler e = 0.5, 100 periods, tol {tol:e}: error {err:e} in {steps} steps");
+        assert!(err < (3e4 * tol).max(1e-10), "tol {tol:e}: {err:e}");
+    }
+    // The pendulum q₀ = 1, 100 time units, against its exact flow (Jacobi elliptic functions).
+    let pendulum = Pendulum::new(1.0).unwrap();
+    let (q0, p0) = (SVector::from([1.0]), SVector::from([0.0]));
+    for tol in [1e-9, 1e-12] {
+        let problem = Problem::new(&pendulum, 0.0, q0, p0, 100.0).unwrap();
+        let mut samples = Samples::uniform(0.0, 100.0, 37).unwrap();
+        let run = integrate(&problem, &Taylor::new(tol).unwrap(), &mut samples).unwrap();
+        let mut worst: f64 = 0.0;
+        for s in &samples.states {
+            let (q, p) = pendulum.exact_flow(0.0, &q0, &p0, s.t).unwrap();
+            worst = worst.max((s.q - q).amax()).max((s.p - p).amax());
+        }
+        println!(
+            "pendulum q₀ = 1, tol {tol:e}: {} steps, worst error at 38 dense-output samples \
+             {worst:e}",
+            run.work.steps
+        );
+        assert!(worst < 500.0 * tol, "tol {tol:e}: {worst:e}");
+    }
+}
+
+/// At equal tolerance the Taylor method reaches a smaller error than DOP853 on the Kepler problem
+/// in fewer steps.
+#[test]
+fn fewer_steps_than_dop853_at_equal_tolerance() {
+    let kepler = Kepler2::new(1.0).unwrap();
+    let (q0, p0) = kepler_start();
+    let t1 = 20.0 * PI;
+    let problem = Problem::new(&kepler, 0.0, q0, p0, t1).unwrap();
+    let (q, _) = kepler.exact_flow(0.0, &q0, &p0, t1).unwrap();
+    let t = integrate(&problem, &Taylor::new(1e-12).unwrap(), &mut ()).unwrap();
+    let d = integrate(&problem, &Dop853::new(1e-12, 1e-12).unwrap(), &mut ()).unwrap();
+    let et = (t.last.q - q).amax();
+    let ed = (d.last.q - q).amax();
+    println!(
+        "Taylor {} steps error {et:e}; DOP853 {} steps error {ed:e}",
+        t.work.steps, d.work.steps
+    );
+    assert!(t.work.steps < d.work.steps && et < ed);
+}
+
+#[test]
+fn labels_and_control() {
+    let m = Taylor::new(1e-9).unwrap();
+    assert_eq!(m.order(), 12);
+    assert_eq!(Taylor::new(1e-12).unwrap().order(), 15);
+    assert_eq!(m.control, TaylorControl::Tolerance(1e-9));
+    let label = Method::<Pendulum, 1>::label(&m);
+    assert!(
+        label.contains("Taylor") && label.contains("1e-9"),
+        "{label}"
+    );
+}
+
+#[test]
+fn hostile_knobs_and_records_are_typed_errors() {
+    for tol in [0.0, -1e-9, f64::NAN, f64::INFINITY, 1.0, 1e-40] {
+        assert!(Taylor::new(tol).is_err(), "{tol}");
+    }
+    assert!(Taylor::fixed(0, 10).is_err());
+    assert!(Taylor::fixed(10_000, 10).is_err());
+    assert!(Taylor::fixed(usize::MAX, 10).is_err());
+    assert!(Taylor::fixed(5, 0).is_err());
+    assert!(Taylor::fixed(5, usize::MAX).is_err());
+    assert!(Taylor::new(1e-9).unwrap().with_max_steps(0).is_err());
+    // Operations without a recurrence, a value of another record, nesting, no inputs/outputs.
+    let e = record(&[1.0], |v| Ok(vec![v[0].sph_j0()])).unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidInput { .. }) && e.to_string().contains("j₀"),
+        "{e}"
+    );
+    assert!(record(&[1.0, 2.0], |v| Ok(vec![v[0] % v[1]])).is_err());
+    let mut stolen = None;
+    let _ = record(&[1.0], |v| {
+        stolen = Some(v[0]);
+        Ok(vec![v[0]])
+    });
+    assert!(record(&[1.0], |v| Ok(vec![v[0] + stolen.unwrap()])).is_err());
+    assert!(record(&[1.0], |v| {
+        assert!(record(&[1.0], |w| Ok(vec![w[0]])).is_err());
+        Ok(vec![v[0]])
+    })
+    .is_ok());
+    assert!(record(&[], |_| Ok(vec![Recorded::constant(1.0)])).is_err());
+    assert!(record(&[1.0], |_| Ok(vec![])).is_err());
+    assert!(record(&[1.0], |v| Ok(gradient(v[0] * v[0], &[v[0] * 2.0]))).is_err());
+    // Outside a record the gradient is zeros.
+    assert_eq!(
+        gradient(Recorded::constant(2.0), &[Recorded::constant(1.0)])[0].value(),
+        0.0
+    );
+    // A record made at NaN is still a record; evaluating it with a wrong length is an error.
+    let r = record(&[f64::NAN], |v| Ok(vec![v[0].sin()])).unwrap();
+    assert!(r.eval(&[1.0, 2.0]).is_err());
+    assert!((r.eval(&[1.0]).unwrap()[0] - 1f64.sin()).abs() < 1e-16);
+    // Jets of orders 0 and beyond the limit; a record that is not a differential equation.
+    assert!(Jets::new(&r, 0).is_err());
+    assert!(Jets::new(&r, usize::MAX).is_err());
+    let mut j = Jets::new(&r, 5).unwrap();
+    assert!(j.ode(&r, 0.0, &[1.0], 5).is_err());
+    // A start at the Kepler collision, and a run that meets a singularity: errors, not panics.
+    let kepler = Kepler2::new(1.0).unwrap();
+    let at_origin = Problem::new(
+        &kepler,
+        0.0,
+        SVector::from([0.0, 0.0]),
+        SVector::from([0.0, 1.0]),
+        1.0,
+    )
+    .unwrap();
+    assert!(integrate(&at_origin, &Taylor::new(1e-9).unwrap(), &mut ()).is_err());
+    let radial = Problem::new(
+        &kepler,
+        0.0,
+        SVector::from([1.0, 0.0]),
+        SVector::from([0.0, 0.0]),
+        3.0,
+    )
+    .unwrap();
+    match integrate(&radial, &Taylor::new(1e-9).unwrap(), &mut ()) {
+        Err(e) => println!("radial fall: {e}"),
+        Ok(r) => assert!(r.last.q.iter().all(|v| v.is_finite())),
+    }
+    let small = Taylor::new(1e-9).unwrap().with_max_steps(3).unwrap();
+    let (q0, p0) = kepler_start();
+    let long = Problem::new(&kepler, 0.0, q0, p0, 100.0).unwrap();
+    assert!(matches!(
+        integrate(&long, &small, &mut ()),
+        Err(Error::WorkLimit { .. })
+    ));
+}
