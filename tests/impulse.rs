@@ -111,32 +111,36 @@ fn a_momentum_jump_of_a_relativistic_particle() {
     }
 }
 
-/// The last point of the chain suddenly held (`v_N = 0`): an inert constraint.
-struct HoldLast;
-impl PfaffianConstraints<4, 1> for HoldLast {
+/// `K` constant Pfaffian constraints `B q̇ + b = 0` on the chain's four points.
+struct Forms<const K: usize> {
+    rows: [[f64; 4]; K],
+    b: [f64; K],
+}
+
+impl<const K: usize> PfaffianConstraints<4, K> for Forms<K> {
     fn forms<D: DualNum<f64> + Copy>(
         &self,
         _t: D,
         _q: &SVector<D, 4>,
-    ) -> (SMatrix<D, 1, 4>, SVector<D, 1>) {
-        let (z, one) = (D::from(0.0), D::from(1.0));
-        (SMatrix::from_row_slice(&[z, z, z, one]), SVector::from([z]))
+    ) -> (SMatrix<D, K, 4>, SVector<D, K>) {
+        (
+            SMatrix::from_fn(|r, c| D::from(self.rows[r][c])),
+            SVector::from_fn(|r, _| D::from(self.b[r])),
+        )
     }
 }
 
+/// The last point of the chain suddenly held (`v₄ = 0`): an inert constraint.
+const HOLD_LAST: Forms<1> = Forms {
+    rows: [[0.0, 0.0, 0.0, 1.0]],
+    b: [0.0],
+};
+
 /// The first point given the velocity `V` (a live constraint `v₁ − V = 0`).
-struct DriveFirst(f64);
-impl PfaffianConstraints<4, 1> for DriveFirst {
-    fn forms<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 4>,
-    ) -> (SMatrix<D, 1, 4>, SVector<D, 1>) {
-        let (z, one) = (D::from(0.0), D::from(1.0));
-        (
-            SMatrix::from_row_slice(&[one, z, z, z]),
-            SVector::from([D::from(-self.0)]),
-        )
+fn drive_first(v: f64) -> Forms<1> {
+    Forms {
+        rows: [[1.0, 0.0, 0.0, 0.0]],
+        b: [-v],
     }
 }
 
@@ -154,7 +158,7 @@ fn a_suddenly_held_point_loses_the_energy_of_the_velocity_change() {
     let v0 = SVector::from([0.3, -1.2, 0.8, 2.0]);
     let jump = impose_constraints(
         &rods,
-        &HoldLast,
+        &HOLD_LAST,
         0.0,
         &SVector::zeros(),
         &v0,
@@ -209,7 +213,7 @@ fn the_jump_minimises_gauss_constraint() {
     let rods = HingedRods::<4>::new(1.0).unwrap();
     let v0 = SVector::from([0.1, 0.2, -0.3, 0.4]);
     let p_hat = SVector::from([1.0, 0.0, 0.0, 0.0]);
-    let jump = impose_constraints(&rods, &HoldLast, 0.0, &SVector::zeros(), &v0, &p_hat).unwrap();
+    let jump = impose_constraints(&rods, &HOLD_LAST, 0.0, &SVector::zeros(), &v0, &p_hat).unwrap();
     let a = rods.mass_matrix(0.0, &SVector::zeros(), &v0).unwrap();
     let free = a.try_inverse().unwrap() * p_hat;
     let z = |x: &DVector<f64>| {
@@ -231,7 +235,7 @@ fn the_jump_minimises_gauss_constraint() {
 fn kelvin_and_bertrand() {
     let rods = HingedRods::<4>::new(1.0).unwrap();
     let zero = SVector::<f64, 4>::zeros();
-    let jump = impose_constraints(&rods, &DriveFirst(1.0), 0.0, &zero, &zero, &zero).unwrap();
+    let jump = impose_constraints(&rods, &drive_first(1.0), 0.0, &zero, &zero, &zero).unwrap();
     assert!((jump.velocity_after[0] - 1.0).abs() < 16.0 * EPS);
     let t = |x: &DVector<f64>| kinetic(&rods, &SVector::from([1.0, x[0], x[1], x[2]]));
     let best = minimise(t, DVector::zeros(3));
@@ -244,7 +248,7 @@ fn kelvin_and_bertrand() {
 
     let p_hat = SVector::from([0.7, 0.0, -0.2, 0.0]);
     let free = apply_impulse(&rods, 0.0, &zero, &zero, &p_hat).unwrap();
-    let held = impose_constraints(&rods, &HoldLast, 0.0, &zero, &zero, &p_hat).unwrap();
+    let held = impose_constraints(&rods, &HOLD_LAST, 0.0, &zero, &zero, &p_hat).unwrap();
     let diff = kinetic(&rods, &(free.velocity_after - held.velocity_after));
     assert!(held.energy_after < free.energy_after);
     assert!((free.energy_after - held.energy_after - diff).abs() < 64.0 * EPS * free.energy_after);
@@ -262,26 +266,22 @@ fn energy_change_of_free_impulses() {
 }
 
 /// Two copies of the same constraint are dependent: a typed error naming the configuration.
-struct HoldLastTwice;
-impl PfaffianConstraints<4, 2> for HoldLastTwice {
-    fn forms<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        _q: &SVector<D, 4>,
-    ) -> (SMatrix<D, 2, 4>, SVector<D, 2>) {
-        let (z, one) = (D::from(0.0), D::from(1.0));
-        (
-            SMatrix::from_row_slice(&[z, z, z, one, z, z, z, one]),
-            SVector::from([z, z]),
-        )
-    }
-}
-
 #[test]
 fn bad_impacts_are_typed_errors() {
     let rods = HingedRods::<4>::new(1.0).unwrap();
     let zero = SVector::<f64, 4>::zeros();
-    let e = impose_constraints(&rods, &HoldLastTwice, 0.0, &zero, &zero, &zero).unwrap_err();
+    let e = impose_constraints(
+        &rods,
+        &Forms {
+            rows: [[0.0, 0.0, 0.0, 1.0]; 2],
+            b: [0.0; 2],
+        },
+        0.0,
+        &zero,
+        &zero,
+        &zero,
+    )
+    .unwrap_err();
     assert!(matches!(e, Error::Singular { .. }), "{e}");
     let nan = SVector::from([f64::NAN, 0.0, 0.0, 0.0]);
     assert!(apply_impulse(&rods, 0.0, &zero, &zero, &nan).is_err());
@@ -324,14 +324,14 @@ proptest! {
         prop_assert!((free.energy_change() - de).abs() <= 1e-13 * scale);
 
         let from_rest = apply_impulse(&rods, 0.0, &zero, &zero, &p_hat).unwrap();
-        let held = impose_constraints(&rods, &HoldLast, 0.0, &zero, &zero, &p_hat).unwrap();
+        let held = impose_constraints(&rods, &HOLD_LAST, 0.0, &zero, &zero, &p_hat).unwrap();
         let diff = kinetic(&rods, &(from_rest.velocity_after - held.velocity_after));
         prop_assert!(
             (from_rest.energy_after - held.energy_after - diff).abs()
                 <= 1e-13 * from_rest.energy_after.max(1e-300)
         );
 
-        let carnot = impose_constraints(&rods, &HoldLast, 0.0, &zero, &v0, &zero).unwrap();
+        let carnot = impose_constraints(&rods, &HOLD_LAST, 0.0, &zero, &v0, &zero).unwrap();
         let loss = kinetic(&rods, &carnot.velocity_jump());
         prop_assert!(
             (carnot.energy_before - carnot.energy_after - loss).abs()

@@ -12,7 +12,7 @@
 //! Symmetry*, 2nd ed., §15.3).
 
 use super::inertia::InertiaTensor;
-use super::rotation::{chart_value, chart_vector_field, check_chart, euler313_matrix};
+use super::rotation::{check_chart, euler313_matrix, euler_chart_entry_points};
 use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::check_phase;
@@ -244,20 +244,7 @@ impl Hamiltonian<3> for FreeRigidBody {
         self.energy_generic(&Self::body_momentum_generic(q, p))
     }
 
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        chart_value(self, t, q, p)
-    }
-
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn vector_field(
-        &self,
-        t: f64,
-        q: &SVector<f64, 3>,
-        p: &SVector<f64, 3>,
-    ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        chart_vector_field(self, t, q, p)
-    }
+    euler_chart_entry_points!();
 }
 
 impl Invariants<3> for FreeRigidBody {

@@ -22,7 +22,7 @@
 
 use super::euler::FreeRigidBody;
 use super::inertia::InertiaTensor;
-use super::rotation::{chart_value, chart_vector_field, euler313_matrix};
+use super::rotation::{euler313_matrix, euler_chart_entry_points};
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::lagrangian::NaturalSystem;
@@ -169,20 +169,7 @@ impl Hamiltonian<3> for HeavyRigidBody {
         self.body.hamiltonian(t, q, p) + self.potential_generic(q)
     }
 
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        chart_value(self, t, q, p)
-    }
-
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn vector_field(
-        &self,
-        t: f64,
-        q: &SVector<f64, 3>,
-        p: &SVector<f64, 3>,
-    ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        chart_vector_field(self, t, q, p)
-    }
+    euler_chart_entry_points!();
 }
 
 impl Invariants<3> for HeavyRigidBody {

@@ -70,6 +70,34 @@ pub(crate) fn chart_vector_field<H: Hamiltonian<3>>(
     checked_vector_field(h, t, q, p)
 }
 
+/// The checked entry points [`Hamiltonian::value`] and [`Hamiltonian::vector_field`] of a
+/// Hamiltonian in 3-1-3 angles: as the defaults, after refusing the chart singularity `sin θ = 0`
+/// ([`Error::Singular`], [`check_chart`]). Expands inside `impl Hamiltonian<3> for …`.
+macro_rules! euler_chart_entry_points {
+    () => {
+        /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
+        fn value(
+            &self,
+            t: f64,
+            q: &nalgebra::SVector<f64, 3>,
+            p: &nalgebra::SVector<f64, 3>,
+        ) -> $crate::error::Result<f64> {
+            $crate::systems::rigid_body::rotation::chart_value(self, t, q, p)
+        }
+
+        /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
+        fn vector_field(
+            &self,
+            t: f64,
+            q: &nalgebra::SVector<f64, 3>,
+            p: &nalgebra::SVector<f64, 3>,
+        ) -> $crate::error::Result<(nalgebra::SVector<f64, 3>, nalgebra::SVector<f64, 3>)> {
+            $crate::systems::rigid_body::rotation::chart_vector_field(self, t, q, p)
+        }
+    };
+}
+pub(crate) use euler_chart_entry_points;
+
 /// The matrix `B(θ, ψ)` of the 3-1-3 kinematics, `ω = B (φ̇, θ̇, ψ̇)` (module docs), for any
 /// number type.
 pub fn euler313_matrix<D: DualNum<f64> + Copy>(theta: D, psi: D) -> SMatrix<D, 3, 3> {

@@ -3,7 +3,7 @@
 
 pub mod motion;
 
-use super::rigid_body::rotation::{chart_value, chart_vector_field, check_chart};
+use super::rigid_body::rotation::{check_chart, euler_chart_entry_points};
 use super::rigid_body::HeavyRigidBody;
 use super::{ExactFlow, Invariant, Invariants};
 use crate::error::{finite, positive, Error, Result};
@@ -269,20 +269,7 @@ impl Hamiltonian<3> for HeavyTop {
         self.body.hamiltonian(t, q, p)
     }
 
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn value(&self, t: f64, q: &SVector<f64, 3>, p: &SVector<f64, 3>) -> Result<f64> {
-        chart_value(self, t, q, p)
-    }
-
-    /// As the default, after refusing the chart singularity `sin θ = 0` ([`Error::Singular`]).
-    fn vector_field(
-        &self,
-        t: f64,
-        q: &SVector<f64, 3>,
-        p: &SVector<f64, 3>,
-    ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
-        chart_vector_field(self, t, q, p)
-    }
+    euler_chart_entry_points!();
 }
 
 impl Invariants<3> for HeavyTop {
