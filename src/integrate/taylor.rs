@@ -49,9 +49,7 @@
 //! * F. Biscani & D. Izzo, "Revisiting high-order Taylor methods for astrodynamics and celestial
 //!   mechanics", MNRAS 504 (2021) 2614–2628 (the same decomposition and step control in heyoka).
 
-use super::{
-    methods, stop_time, Control, Dense, Fixed, Method, Observer, Problem, Report, StepView, Work,
-};
+use super::{methods, observe, settle, Dense, Fixed, Method, Observer, Problem, Report, Work};
 use crate::error::{Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::State;
@@ -348,34 +346,19 @@ impl Taylor {
                 order,
                 _n: PhantomData::<[(); N]>,
             };
-            let control = observer.step(&StepView {
-                prev: &state,
-                next: &next,
-                dense: &dense,
-            });
-            match control {
-                Control::Continue if !last => state = next,
-                Control::Continue => {
-                    state = next;
-                    break;
-                }
-                Control::Stop => {
-                    return Ok(Report {
-                        last: next,
-                        stopped: !last,
-                        work,
-                        elapsed: clock.elapsed(),
-                    });
-                }
-                Control::StopAt(ts) => {
-                    let at = dense.at(stop_time(ts, &state, &next)?);
-                    return Ok(Report {
-                        stopped: at.t != t1,
-                        last: at,
-                        work,
-                        elapsed: clock.elapsed(),
-                    });
-                }
+            let (control, stop_state) = observe(observer, &state, &next, &dense)?;
+            let end;
+            (state, end) = settle(control, next, stop_state, last, t1);
+            if let Some(stopped) = end {
+                return Ok(Report {
+                    last: state,
+                    stopped,
+                    work,
+                    elapsed: clock.elapsed(),
+                });
+            }
+            if last {
+                break;
             }
         }
         Ok(Report {
