@@ -129,6 +129,22 @@ where
         velocity_jet(&self.constraints, t, q, qdot)
     }
 
+    /// The constraint jet with its matrix `G = ∂g/∂q̇` checked for full rank, and the terms
+    /// `(a, f)` of Lagrange's equations: what both acceleration routes start from.
+    fn checked_terms(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qdot: &SVector<f64, N>,
+    ) -> Result<(VelocityJet<N, K>, SMatrix<f64, N, N>, SVector<f64, N>)> {
+        let jet = self.jet(t, q, qdot)?;
+        check_rank(&jet.gradient, "constraint matrix ∂g/∂q̇", t, || {
+            at(q, qdot).to_string()
+        })?;
+        let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
+        Ok((jet, a, f))
+    }
+
     /// Accelerations and multipliers from the index-1 system (SPEC M16 with the Appell–Chetaev
     /// rule of M67): `a q̈ + Gᵀλ = f`, `G q̈ = −(∂g/∂q q̇ + ∂g/∂t)`, solved by the Schur complement
     /// `G a⁻¹ Gᵀ λ = G a⁻¹ f + ∂g/∂q q̇ + ∂g/∂t`.
@@ -143,12 +159,8 @@ where
         q: &SVector<f64, N>,
         qdot: &SVector<f64, N>,
     ) -> Result<Multipliers<N, K>> {
-        let jet = self.jet(t, q, qdot)?;
+        let (jet, a, f) = self.checked_terms(t, q, qdot)?;
         let g = &jet.gradient;
-        check_rank(g, "constraint matrix ∂g/∂q̇", t, || {
-            at(q, qdot).to_string()
-        })?;
-        let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
         let ainv = checked_inverse(&a, "mass matrix ∂²L/∂q̇²", || {
             format!("t = {t}, {}", at(q, qdot))
         })?;
@@ -187,12 +199,8 @@ where
         q: &SVector<f64, N>,
         qdot: &SVector<f64, N>,
     ) -> Result<SVector<f64, N>> {
-        let jet = self.jet(t, q, qdot)?;
+        let (jet, a, f) = self.checked_terms(t, q, qdot)?;
         let g = &jet.gradient;
-        check_rank(g, "constraint matrix ∂g/∂q̇", t, || {
-            at(q, qdot).to_string()
-        })?;
-        let (a, f) = lagrange_terms(&self.lagrangian, t, q, qdot)?;
         // Dependent velocities by greedy column pivoting (largest remaining column first).
         let mut dep: Vec<usize> = Vec::new();
         let mut basis: Vec<SVector<f64, K>> = Vec::new();

@@ -273,27 +273,20 @@ impl Hamiltonian<3> for HeavyTop {
 }
 
 impl Invariants<3> for HeavyTop {
-    /// `energy` (H), `p_phi` (vertical angular momentum) and `p_psi` (axial angular momentum).
+    /// Those of every heavy body, `energy` (H) and `p_phi` (vertical angular momentum)
+    /// ([`HeavyRigidBody`]), and Lagrange's `p_psi` (axial angular momentum).
     fn invariants(
         &self,
         t: f64,
         q: &SVector<f64, 3>,
         p: &SVector<f64, 3>,
     ) -> Result<Vec<Invariant>> {
-        Ok(vec![
-            Invariant {
-                name: "energy",
-                value: self.value(t, q, p)?,
-            },
-            Invariant {
-                name: "p_phi",
-                value: p[0],
-            },
-            Invariant {
-                name: "p_psi",
-                value: p[2],
-            },
-        ])
+        let mut invariants = self.body.invariants(t, q, p)?;
+        invariants.push(Invariant {
+            name: "p_psi",
+            value: p[2],
+        });
+        Ok(invariants)
     }
 }
 
