@@ -162,6 +162,25 @@ pub enum Error {
         /// Every root that was found, each as the full result (e.g. `(Q₁, …, P₁, …)`).
         candidates: Vec<Vec<f64>>,
     },
+    /// The motion reaches a finite-time singularity: the phase-space rate grows like
+    /// `(t* − t)^{−α}` (detected by [`crate::integrate::BlowUpDetector`]), so no step size resolves
+    /// the motion beyond `t*`.
+    #[error(
+        "{what}: finite-time blow-up at t* ≈ {} (rate ∝ (t* − t)^−{}, run stopped at t = {})",
+        fmt_num(*t_star),
+        fmt_num(*exponent),
+        fmt_num(*t_reached)
+    )]
+    BlowUp {
+        /// Which computation.
+        what: String,
+        /// The extrapolated singular time.
+        t_star: f64,
+        /// The exponent `α` of the rate's growth.
+        exponent: f64,
+        /// The time the run reached.
+        t_reached: f64,
+    },
 }
 
 /// The candidate roots of [`Error::NoRootOnSheet`] in exponent notation.

@@ -3126,6 +3126,7 @@ fn every_entry_point_survives_hostile_input() {
     add_rigid_bodies(&mut calls);
     add_impulse(&mut calls);
     add_particles(&mut calls);
+    add_blow_up(&mut calls);
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
@@ -4399,4 +4400,76 @@ mod stability_calls {
             },
         );
     }
+}
+
+/// The folded rope's closed forms (SPEC T23) and the blow-up detector's knob (SPEC X8).
+fn add_blow_up(c: &mut Vec<Call>) {
+    use hamilton_jacobi::integrate::BlowUpDetector;
+    use hamilton_jacobi::systems::FoldedRope;
+    let rope = || FoldedRope::new(1.0, 1.0, 0.5, 9.81).unwrap();
+    sweep(c, "FoldedRope::new", &[1.0, 2.0, 0.5, 9.81], &[], |a| {
+        let valid =
+            fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] > 0.0 && (a[0] * a[1] + a[2]).is_finite();
+        judge(FoldedRope::new(a[0], a[1], a[2], a[3]), valid, |r| {
+            near_rel("M = m/(ρℓ)", r.mass_ratio(), a[2] / (a[0] * a[1]), 1e-15)
+        })
+    });
+    sweep(
+        c,
+        "FoldedRope::time_from_start",
+        &[0.5, 2.0],
+        &[(0, 1.0), (0, 0.0), (0, -0.1)],
+        move |a| {
+            let valid = fin(a) && (0.0..=1.0).contains(&a[0]) && a[1] > 0.0;
+            judge(rope().time_from_start(a[0], a[1]), valid, |t| {
+                // t ∝ 1/μ̇(0): the scaling law against the unit-rate value.
+                let unit = rope().time_from_start(a[0], 1.0).unwrap();
+                near_rel("t·μ̇(0)", t * a[1], unit, 1e-14)
+            })
+        },
+    );
+    sweep(
+        c,
+        "FoldedRope::straightening_time",
+        &[1.0],
+        &[(0, 0.0)],
+        move |a| {
+            judge(rope().straightening_time(a[0]), fin(a) && a[0] > 0.0, |t| {
+                near_rel("t₁·μ̇(0)", t * a[0], 0.729222220287991, 1e-14)
+            })
+        },
+    );
+    sweep(
+        c,
+        "FoldedRope::relative_invariant",
+        &[0.2, 1.0],
+        &[],
+        move |a| {
+            judge(
+                rope().relative_invariant(a[0], a[1]),
+                fin(a) && (a[1] * a[1] * 2.2).is_finite(),
+                |v| {
+                    near_rel(
+                        "μ̇²(1 − μ)(2 + μ)",
+                        v,
+                        a[1] * a[1] * (1.0 - a[0]) * (2.0 + a[0]),
+                        1e-15,
+                    )
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "BlowUpDetector::with_growth",
+        &[10.0],
+        &[(0, 1.0), (0, 0.5)],
+        |a| {
+            judge(
+                BlowUpDetector::new().with_growth(a[0]),
+                fin(a) && a[0] >= 1.0,
+                |_| Good,
+            )
+        },
+    );
 }

@@ -30,6 +30,7 @@
 //!   its wall time, so that cost can be compared as counts as well as time.
 
 pub mod any;
+pub mod blow_up;
 pub mod coefficients;
 pub mod dop853;
 pub mod exact;
@@ -46,6 +47,7 @@ pub mod taylor;
 pub mod wisdom_holman;
 
 pub use any::{AnyMethod, GeneralMethod};
+pub use blow_up::{BlowUpDetector, Singularity};
 pub use dop853::Dop853;
 pub use exact::ExactStep;
 pub use gauss::{Gauss, ImplicitMidpoint};

@@ -20,6 +20,7 @@
 //! | [`SphereOnTurntable`], [`SphereOnTurntableInTime`] | 5, two rheonomic rolling constraints | force-free circle at the rate `ΩI/(I + Ma²)` [Ardema 14.4] |
 //! | [`ArealVelocity`] | 2, areal quasi-coordinate | Gibbs function; Kepler's second law [Ardema 14.4] |
 //! | [`RodOnCircle`] | 3, two holonomic constraints | a pendulum, `(c² + a²/3)θ̈ + gc sin θ = 0` [Ardema 14.4] |
+//! | [`FoldedRope`] | 2 (Lagrangian) | straightening time and `t(μ)` in closed form; finite-time blow-up of `μ̇` [Ardema 9.3] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
 
 use crate::error::Result;
@@ -30,6 +31,7 @@ mod bead;
 mod cart;
 mod central;
 mod cone_constraint;
+mod folded_rope;
 mod gearing;
 mod harmonic;
 pub mod henon_heiles;
@@ -51,6 +53,7 @@ pub use bead::BeadOnHoop;
 pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
 pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
+pub use folded_rope::FoldedRope;
 pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use henon_heiles::HenonHeiles;

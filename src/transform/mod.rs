@@ -12,4 +12,4 @@ pub mod point;
 pub use compose::{Compose, Inverse};
 pub use generating::{CanonicalTransformation, GeneratingFunction, Kind, Transformed};
 pub use lie::{lie_flow, Ict, LieSeries};
-pub use point::{point_transformation, PointTransformation};
+pub use point::{point_transformation, PointTransformation, TransformedLagrangian};

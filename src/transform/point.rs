@@ -12,8 +12,9 @@
 
 use super::generating::{CanonicalTransformation, GeneratingFunction, Kind};
 use crate::error::{Error, Result};
+use crate::lagrangian::Lagrangian;
 use nalgebra::SVector;
-use num_dual::DualNum;
+use num_dual::{Dual, DualNum};
 
 /// A change of coordinates `q = f(t, Q)`, written once for every dual type.
 pub trait PointTransformation<const N: usize> {
@@ -91,6 +92,94 @@ pub fn point_transformation<F: PointTransformation<N>, const N: usize>(
     f: F,
 ) -> CanonicalTransformation<PointGenerator<F>, N> {
     CanonicalTransformation::new(PointGenerator(f))
+}
+
+/// A [`Lagrangian`] written in new coordinates `Q` by a point transformation `q = f(t, Q)`
+/// [Ardema 6.5]:
+///
+/// $$ L'(t, Q, \dot Q) = L\big(t,\ f(t, Q),\ \tfrac{\partial f}{\partial Q}\dot Q
+///    + \tfrac{\partial f}{\partial t}\big), $$
+///
+/// the velocity being the derivative of `f` along `(Q̇, 1)` in `(Q, t)` (one evaluation of `f` on
+/// dual numbers nested over the caller's number type, so `L′` is generic over [`DualNum`] like
+/// `L`). Generalized forces transform as covectors, `Q′ = (∂f/∂Q)ᵀ Q^nc`, and a dissipation
+/// function is carried over by substitution. Lagrange's equations are covariant (SPEC M18): with
+/// `E_s = d/dt ∂L/∂q̇_s − ∂L/∂q_s − Q_s`, the equations in the new chart are
+/// `E′_r = Σ_s (∂f_s/∂Q_r) E_s` at corresponding states.
+#[derive(Clone, Copy, Debug)]
+pub struct TransformedLagrangian<L, F> {
+    /// The Lagrangian in the old coordinates `q`.
+    pub lagrangian: L,
+    /// The point transformation `q = f(t, Q)`.
+    pub map: F,
+}
+
+impl<L, F> TransformedLagrangian<L, F> {
+    /// `L` written in the coordinates `Q` of `q = f(t, Q)`.
+    pub fn new(lagrangian: L, map: F) -> Self {
+        Self { lagrangian, map }
+    }
+
+    /// `(q, q̇)` at the new state `(t, Q, Q̇)`.
+    pub fn old_state<D: DualNum<f64> + Copy, const N: usize>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_qdot: &SVector<D, N>,
+    ) -> (SVector<D, N>, SVector<D, N>)
+    where
+        F: PointTransformation<N>,
+    {
+        let tt = Dual::new(t, D::from(1.0));
+        let qq = SVector::from_fn(|i, _| Dual::new(big_q[i], big_qdot[i]));
+        let q = self.map.coordinates(tt, &qq);
+        (q.map(|x| x.re), q.map(|x| x.eps))
+    }
+}
+
+impl<L: Lagrangian<N>, F: PointTransformation<N>, const N: usize> Lagrangian<N>
+    for TransformedLagrangian<L, F>
+{
+    fn lagrangian<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_qdot: &SVector<D, N>,
+    ) -> D {
+        let (q, qdot) = self.old_state(t, big_q, big_qdot);
+        self.lagrangian.lagrangian(t, &q, &qdot)
+    }
+
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_qdot: &SVector<D, N>,
+    ) -> Option<SVector<D, N>> {
+        let (q, qdot) = self.old_state(t, big_q, big_qdot);
+        let force = self.lagrangian.generalized_force(t, &q, &qdot)?;
+        // (∂f/∂Q)ᵀ Q: column r of the Jacobian is the derivative of f along e_r.
+        Some(SVector::from_fn(|r, _| {
+            let qq = SVector::from_fn(|i, _| {
+                Dual::new(big_q[i], D::from(if i == r { 1.0 } else { 0.0 }))
+            });
+            let column = self.map.coordinates(Dual::from_re(t), &qq);
+            column
+                .iter()
+                .zip(force.iter())
+                .fold(D::from(0.0), |acc, (c, &f)| acc + c.eps * f)
+        }))
+    }
+
+    fn dissipation<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        big_q: &SVector<D, N>,
+        big_qdot: &SVector<D, N>,
+    ) -> Option<D> {
+        let (q, qdot) = self.old_state(t, big_q, big_qdot);
+        self.lagrangian.dissipation(t, &q, &qdot)
+    }
 }
 
 /// Polar coordinates `Q = (r, θ)`: `x = r cos θ`, `y = r sin θ` [Ardema 16.3]; singular at `r = 0`.
