@@ -10,6 +10,7 @@ pub mod hamiltonian;
 pub mod implicit;
 pub mod impulse;
 pub mod integrate;
+pub mod inverse_problem;
 pub mod lagrangian;
 pub mod nonholonomic;
 pub mod particles;

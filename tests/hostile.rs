@@ -3127,6 +3127,7 @@ fn every_entry_point_survives_hostile_input() {
     add_impulse(&mut calls);
     add_particles(&mut calls);
     add_blow_up(&mut calls);
+    add_inverse_problem(&mut calls);
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
@@ -4470,6 +4471,86 @@ fn add_blow_up(c: &mut Vec<Call>) {
                 fin(a) && a[0] >= 1.0,
                 |_| Good,
             )
+        },
+    );
+}
+
+/// The inverse problem for one degree of freedom (SPEC M11): the Lagrangian of a damped
+/// oscillator and the Helmholtz multiplier along a trajectory.
+fn add_inverse_problem(c: &mut Vec<Call>) {
+    use hamilton_jacobi::inverse_problem::{
+        helmholtz_multiplier, AffineEquation, InverseLagrangian,
+    };
+    use hamilton_jacobi::Lagrangian;
+    #[derive(Clone, Copy)]
+    struct Damped;
+    impl AffineEquation for Damped {
+        fn damping<D: num_dual::DualNum<f64> + Copy>(&self, _t: D) -> D {
+            D::from(0.3)
+        }
+        fn potential<D: num_dual::DualNum<f64> + Copy>(&self, _t: D, x: D) -> D {
+            x * x
+        }
+    }
+    sweep(
+        c,
+        "InverseLagrangian::with_panel",
+        &[0.5],
+        &[(0, 0.0)],
+        |a| {
+            judge(
+                InverseLagrangian::new(Damped).with_panel(a[0]),
+                fin(a) && a[0] > 0.0,
+                |f| {
+                    // A panel so short that C(2) would need more than 1e6 panels is refused by the
+                    // checked evaluation.
+                    match f.value(2.0, &SVector::from([0.0]), &SVector::from([1.0])) {
+                        Err(_) => Typed,
+                        Ok(l) => near_rel("e^{C(2)}/2", l, 0.5 * 0.6f64.exp(), 1e-14),
+                    }
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "InverseLagrangian::value",
+        &[1.5, 0.4, -0.7],
+        &[(0, 1e7)],
+        |a| {
+            let f = InverseLagrangian::new(Damped);
+            let (q, v) = (SVector::from([a[1]]), SVector::from([a[2]]));
+            let want = (0.3 * a[0]).exp() * (0.5 * a[2] * a[2] - a[1] * a[1]);
+            judge(
+                f.value(a[0], &q, &v),
+                fin(a) && want.is_finite() && a[0].abs() <= 1e6,
+                |l| near_rel("e^{ct}(½ẋ² − x²)", l, want, 1e-13),
+            )
+        },
+    );
+    sweep(
+        c,
+        "inverse_problem::helmholtz_multiplier",
+        &[0.0, 1.0, 0.0, 1.0, 2.0],
+        &[(4, -1.0)],
+        |a| {
+            let valid = fin(a) && a[3] > 0.0 && (a[4] - a[0]) >= 0.0 && a[4] - a[0] <= 1e3;
+            let r = helmholtz_multiplier(&Damped, a[0], a[1], a[2], a[3], &[a[4]], 1e-10);
+            match r {
+                // Far or huge requests may be refused by the integrator's budget: a typed error.
+                Err(_) => Typed,
+                Ok(_) if !valid && !(fin(a) && a[3] > 0.0) => {
+                    Wrong("accepted an invalid input".into())
+                }
+                Ok(s) => {
+                    let want = a[3] * (0.3 * (a[4] - a[0])).exp();
+                    if want.is_finite() {
+                        near_rel("M = M₀e^{c(t − t₀)}", s[0].multiplier, want, 1e-8)
+                    } else {
+                        finite_ok("M", s[0].multiplier)
+                    }
+                }
+            }
         },
     );
 }

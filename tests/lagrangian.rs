@@ -520,3 +520,88 @@ fn routhian_detects_a_coordinate_that_is_not_ignorable() {
             > 1.0
     );
 }
+
+/// A planar particle with a rheonomic potential, a follower force and linear damping, in
+/// Cartesian coordinates.
+struct ForcedParticle;
+impl Lagrangian<2> for ForcedParticle {
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+        // ½m|v|² − (½k|q|² + t·x + q_x q_y²), m = 1.3, k = 0.7.
+        v.dot(v) * 0.65 - q.dot(q) * 0.35 - t * q[0] - q[0] * q[1] * q[1]
+    }
+    fn generalized_force<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 2>,
+        _v: &SVector<D, 2>,
+    ) -> Option<SVector<D, 2>> {
+        Some(SVector::from([q[1] * 0.2 + t.sin(), -q[0] * 0.2]))
+    }
+    fn dissipation<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        _q: &SVector<D, 2>,
+        v: &SVector<D, 2>,
+    ) -> Option<D> {
+        Some(v.dot(v) * 0.15)
+    }
+}
+
+/// Polar coordinates in a frame rotating at ω = 0.4: `q = R(ωt)(r cos θ, r sin θ)`.
+struct RotatingPolar;
+impl hamilton_jacobi::transform::PointTransformation<2> for RotatingPolar {
+    fn coordinates<D: DualNum<f64> + Copy>(&self, t: D, big_q: &SVector<D, 2>) -> SVector<D, 2> {
+        let (s, c) = (big_q[1] + t * 0.4).sin_cos();
+        SVector::from([big_q[0] * c, big_q[0] * s])
+    }
+}
+
+/// SPEC M18: Lagrange's expressions in two charts related by a time-dependent point
+/// transformation satisfy `E′_r = Σ_s (∂q_s/∂Q_r) E_s` at corresponding states, on a path that is
+/// not a motion (so that `E ≠ 0`). The old state `(q, q̇, q̈)` comes from the path `Q(t)` pushed
+/// through the map on second-order (nested) dual numbers in `t`, independently of the adapter.
+#[test]
+fn lagrange_equations_are_covariant_under_time_dependent_point_transformations() {
+    use hamilton_jacobi::transform::TransformedLagrangian;
+    use num_dual::Dual;
+    type D2 = Dual<Dual<f64, f64>, f64>;
+    let path = |t: D2| -> SVector<D2, 2> {
+        SVector::from([
+            t * 0.3 + t * t * 0.1 + 1.0,
+            t.powi(3) * 0.05 - t * 0.2 + 0.5,
+        ])
+    };
+    let map = RotatingPolar;
+    let new = TransformedLagrangian::new(ForcedParticle, RotatingPolar);
+    for &t0 in &[0.0, 0.7, 2.3] {
+        let t = D2::new(Dual::new(t0, 1.0), Dual::new(1.0, 0.0));
+        let big = path(t);
+        let small = hamilton_jacobi::transform::PointTransformation::coordinates(&map, t, &big);
+        let split = |x: &SVector<D2, 2>| {
+            (
+                x.map(|c| c.re.re),
+                x.map(|c| c.re.eps),
+                x.map(|c| c.eps.eps),
+            )
+        };
+        let (bq, bv, ba) = split(&big);
+        let (q, v, a) = split(&small);
+        let e_old = ForcedParticle.lagrange_residual(t0, &q, &v, &a).unwrap();
+        let e_new = new.lagrange_residual(t0, &bq, &bv, &ba).unwrap();
+        // ∂q/∂Q of the rotating polar map at (t0, Q).
+        let phi = bq[1] + 0.4 * t0;
+        let jac = hamilton_jacobi::nalgebra::Matrix2::new(
+            phi.cos(),
+            -bq[0] * phi.sin(),
+            phi.sin(),
+            bq[0] * phi.cos(),
+        );
+        let want = jac.transpose() * e_old;
+        let scale = e_old.norm().max(1.0) * bq[0].max(1.0);
+        assert!(e_old.norm() > 0.1, "the path must not be a motion");
+        assert!(
+            (e_new - want).norm() <= 64.0 * f64::EPSILON * scale,
+            "t = {t0}: E′ = {e_new:?}, Jᵀ E = {want:?}"
+        );
+    }
+}
