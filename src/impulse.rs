@@ -37,6 +37,7 @@ use crate::ad::{gradient, GradDual};
 use crate::constraints::PfaffianConstraints;
 use crate::error::{all_finite, Error, Result};
 use crate::lagrangian::{velocity_from_momentum, Lagrangian};
+use crate::particles::ParticleSystem;
 use crate::phase::checked_inverse;
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
@@ -188,6 +189,41 @@ where
 pub trait ImpactPoint<const N: usize, const M: usize> {
     /// The position `x(t, q)`.
     fn position<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> SVector<D, M>;
+}
+
+/// Particle `r` of a [`ParticleSystem`] as an [`ImpactPoint`]: the position the system already
+/// defines, so a blow on one of its particles needs no second description of it.
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleOf<'a, S: ?Sized, const P: usize> {
+    system: &'a S,
+    index: usize,
+}
+
+impl<'a, S: ?Sized, const P: usize> ParticleOf<'a, S, P> {
+    /// Particle `index` (`< P`) of `system`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for an index beyond the system's `P` particles.
+    pub fn new(system: &'a S, index: usize) -> Result<Self> {
+        if index >= P {
+            return Err(Error::invalid(
+                "particle index",
+                format!(
+                    "{index} is not one of the system's {P} particles (0 … {})",
+                    P.saturating_sub(1)
+                ),
+            ));
+        }
+        Ok(Self { system, index })
+    }
+}
+
+impl<S: ParticleSystem<N, P> + ?Sized, const N: usize, const P: usize> ImpactPoint<N, 3>
+    for ParticleOf<'_, S, P>
+{
+    fn position<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> SVector<D, 3> {
+        self.system.positions(t, q)[self.index]
+    }
 }
 
 /// The generalized impulse of an impulse `P` at the point `x(t, q)`: `P̂ = (∂x/∂q)ᵀ P`

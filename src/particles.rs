@@ -152,6 +152,36 @@ pub fn checked_generalized_forces<
     Ok(g)
 }
 
+/// The power of the applied forces `Σ_r F_r·u̇_r` (those not derived from `V`) at `(t, q, q̇)`
+/// [Ardema 4.1, eqs. 4.9–4.12; SPEC M7]. Along a motion of a catastatic system (positions
+/// independent of `t`) with a time-independent potential, the work–energy relation reads
+///
+/// $$ \frac{d}{dt}(T + V) = \sum_r F_r\cdot\dot u_r,\qquad
+///    T + V = \int \sum_r F_r\cdot du_r + h ; $$
+///
+/// for moving constraints the power of the constraint forces enters as well (the Jacobi integral
+/// replaces `T + V`, [`Lagrangian::jacobi_integral`]). Zero without applied forces.
+///
+/// # Errors
+/// [`crate::Error::NonFinite`] for non-finite input or result.
+pub fn applied_power<S: ParticleSystem<N, P> + ?Sized, const N: usize, const P: usize>(
+    system: &S,
+    t: f64,
+    q: &SVector<f64, N>,
+    qdot: &SVector<f64, N>,
+) -> Result<f64> {
+    check_state(t, q, qdot)?;
+    let Some(forces) = system.applied_forces(t, q, qdot) else {
+        return Ok(0.0);
+    };
+    let velocities = particle_velocities(system, t, q, qdot);
+    let power = forces
+        .iter()
+        .zip(velocities.iter())
+        .fold(0.0, |acc, (f, v)| acc + f.dot(v));
+    finite("power of the applied forces Σ F·u̇", power)
+}
+
 /// A [`ParticleSystem`] of `P` particles as a [`Lagrangian`]: `L = T − V`, with the generalized
 /// forces of its applied forces as `Q^nc`.
 #[derive(Clone, Copy, Debug)]

@@ -3128,6 +3128,7 @@ fn every_entry_point_survives_hostile_input() {
     add_particles(&mut calls);
     add_blow_up(&mut calls);
     add_inverse_problem(&mut calls);
+    add_drag_power(&mut calls);
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
@@ -4548,6 +4549,64 @@ fn add_inverse_problem(c: &mut Vec<Call>) {
                     }
                 }
             }
+        },
+    );
+}
+
+/// The power of applied forces (SPEC M7) and a blow on a particle of a particle system.
+fn add_drag_power(c: &mut Vec<Call>) {
+    use hamilton_jacobi::impulse::{generalized_impulse, ParticleOf};
+    use hamilton_jacobi::nalgebra::Vector3;
+    use hamilton_jacobi::particles::{applied_power, ParticleSystem};
+    /// A particle in the plane under linear drag `F = −0.5 u̇`.
+    struct Dragged;
+    impl ParticleSystem<2, 1> for Dragged {
+        fn masses(&self) -> [f64; 1] {
+            [1.0]
+        }
+        fn positions<D: num_dual::DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 2>,
+        ) -> [Vector3<D>; 1] {
+            [Vector3::new(q[0], q[1], D::from(0.0))]
+        }
+        fn applied_forces<D: num_dual::DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            _q: &SVector<D, 2>,
+            v: &SVector<D, 2>,
+        ) -> Option<[Vector3<D>; 1]> {
+            Some([Vector3::new(v[0] * -0.5, v[1] * -0.5, D::from(0.0))])
+        }
+    }
+    sweep(
+        c,
+        "particles::applied_power",
+        &[0.0, 1.0, 2.0, 0.5, -1.5],
+        &[(3, 1e200)],
+        |a| {
+            let (q, v) = (SVector::from([a[1], a[2]]), SVector::from([a[3], a[4]]));
+            let want = -0.5 * (a[3] * a[3] + a[4] * a[4]);
+            judge(
+                applied_power(&Dragged, a[0], &q, &v),
+                fin(a) && want.is_finite(),
+                |p| near_rel("−½|u̇|²", p, want, 1e-15),
+            )
+        },
+    );
+    sweep(
+        c,
+        "ParticleOf + generalized_impulse",
+        &[0.0, 1.0, 2.0, 3.0, -4.0],
+        &[],
+        |a| {
+            let q = SVector::from([a[1], a[2]]);
+            let point = ParticleOf::<_, 1>::new(&Dragged, 0).unwrap();
+            let p = Vector3::new(a[3], a[4], 0.0);
+            judge(generalized_impulse(&point, a[0], &q, &p), fin(a), |g| {
+                all([near("P̂_x", g[0], a[3], 0.0), near("P̂_y", g[1], a[4], 0.0)])
+            })
         },
     );
 }

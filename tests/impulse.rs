@@ -339,3 +339,50 @@ proptest! {
         );
     }
 }
+
+/// Two bobs of a double pendulum (lengths 1.2 and 0.7), written once as a particle system.
+struct TwoBobs;
+impl hamilton_jacobi::particles::ParticleSystem<2, 2> for TwoBobs {
+    fn masses(&self) -> [f64; 2] {
+        [1.0, 0.5]
+    }
+    fn positions<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+    ) -> [hamilton_jacobi::nalgebra::Vector3<D>; 2] {
+        use hamilton_jacobi::nalgebra::Vector3;
+        let (s1, c1) = q[0].sin_cos();
+        let (s2, c2) = q[1].sin_cos();
+        let first = Vector3::new(s1 * 1.2, -c1 * 1.2, D::from(0.0));
+        [
+            first,
+            first + Vector3::new(s2 * 0.7, -c2 * 0.7, D::from(0.0)),
+        ]
+    }
+}
+
+/// A blow on a particle the system already defines: the generalized impulse through
+/// `ParticleOf` against the closed form `P̂_i = ℓ_i (P_x cos θ_i + P_y sin θ_i)` and against the
+/// projection of the same vector as an applied force (`particles::generalized_forces`).
+#[test]
+fn blow_on_a_particle_of_a_particle_system() {
+    use hamilton_jacobi::impulse::ParticleOf;
+    use hamilton_jacobi::nalgebra::Vector3;
+    use hamilton_jacobi::particles::checked_generalized_forces;
+    let q = SVector::from([0.4, -0.9]);
+    let p = Vector3::new(0.8, -0.3, 0.0);
+    let bob = ParticleOf::<_, 2>::new(&TwoBobs, 1).unwrap();
+    let got = generalized_impulse(&bob, 0.0, &q, &p).unwrap();
+    let want = SVector::from([
+        1.2 * (p.x * q[0].cos() + p.y * q[0].sin()),
+        0.7 * (p.x * q[1].cos() + p.y * q[1].sin()),
+    ]);
+    assert!((got - want).norm() <= 4.0 * f64::EPSILON * want.norm());
+    let as_force = checked_generalized_forces(&TwoBobs, 0.0, &q, &[Vector3::zeros(), p]).unwrap();
+    assert!((got - as_force).norm() <= 4.0 * f64::EPSILON * want.norm());
+    assert!(matches!(
+        ParticleOf::<_, 2>::new(&TwoBobs, 2),
+        Err(hamilton_jacobi::Error::InvalidInput { .. })
+    ));
+}
