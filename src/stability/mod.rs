@@ -21,13 +21,24 @@
 //! *Theoretische Mechanik*, Springer 1949, art. 243–244.
 
 pub mod continuation;
+pub mod direct;
 pub mod equilibrium;
+pub mod floquet;
+pub mod hamiltonian_spectrum;
 pub mod linearization;
 pub mod spectrum;
 
-pub use continuation::{real_part_crossings, spectra, Crossing, CrossingKind, SpectrumAt};
+pub use continuation::{
+    hamiltonian_crossings, real_part_crossings, spectra, Crossing, CrossingKind, SpectrumAt,
+};
+pub use direct::{dirichlet_check, lyapunov_derivative, DirichletCheck};
 pub use equilibrium::{
     equilibrium, hamiltonian_equilibrium, Equilibrium, PhaseEquilibrium, EQUILIBRIUM_TOLERANCE,
+};
+pub use floquet::{monodromy, Monodromy, Variational};
+pub use hamiltonian_spectrum::{
+    check_spectrum_symmetry, hamiltonian_linearization, hamiltonian_spectrum, BoxSymmetry,
+    HamiltonianSpectrum, SpectralBlock, EIGENVALUE_CLUSTER,
 };
 pub use linearization::{linearize, Reduced, Slot, SplitVectorField};
 pub use spectrum::{spectrum, steady_motion_spectrum, Spectrum, Stability, C64};
