@@ -25,11 +25,11 @@
 
 use super::hamiltonian_spectrum::j_times;
 use super::spectrum::C64;
+use crate::ad::tangent_rates;
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::integrate::{integrate, Dop853, FirstOrderSystem, Problem};
 use nalgebra::{DMatrix, DVector, Matrix2, SVector};
-use num_dual::Dual64;
 
 /// Hamilton's equations augmented with the variational equations `Φ̇ = A Φ`; the augmented `q`
 /// block is `(q, Φ_q e₁, …, Φ_q e_{2N})`, the `p` block `(p, Φ_p e₁, …)`. `K = N(1 + 2N)`.
@@ -107,36 +107,14 @@ impl<H: Hamiltonian<N>, const N: usize, const K: usize> FirstOrderSystem<K>
         qa: &SVector<f64, K>,
         pa: &SVector<f64, K>,
     ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
-        let q = qa.fixed_rows::<N>(0).into_owned();
-        let p = pa.fixed_rows::<N>(0).into_owned();
-        let mut dq = SVector::<f64, K>::zeros();
-        let mut dp = SVector::<f64, K>::zeros();
-        let td = Dual64::from(t);
-        for j in 0..2 * N {
-            let off = N * (1 + j);
-            let qs = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(q[i], qa[off + i]));
-            let ps = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(p[i], pa[off + i]));
-            let (fq, fp) = self.system.vector_field_generic(td, &qs, &ps);
-            for i in 0..N {
-                if j == 0 {
-                    dq[i] = fq[i].re;
-                    dp[i] = fp[i].re;
-                }
-                dq[off + i] = fq[i].eps;
-                dp[off + i] = fp[i].eps;
-            }
-        }
-        if dq.iter().chain(dp.iter()).all(|v| v.is_finite()) {
-            Ok((dq, dp))
-        } else {
-            Err(Error::NonFinite {
-                what: format!(
-                    "variational equations at t = {t:e}, q = {q:?}, p = {p:?} (outside the \
-                     system's domain?)"
-                ),
-                value: f64::NAN,
-            })
-        }
+        tangent_rates(
+            "variational equations",
+            t,
+            qa,
+            pa,
+            2 * N,
+            |_, td, qs, ps| self.system.vector_field_generic(td, qs, ps),
+        )
     }
 }
 

@@ -1,10 +1,15 @@
-//! Stability of equilibria and steady motions (SPEC M33–M34, M70) for holonomic and
-//! non-holonomic systems, from the one definition of the system: equilibria by Newton's method
-//! with the AD Jacobian ([`equilibrium`](mod@equilibrium)), the linearisation `η̇ = A η` by AD and the
-//! reduction of a steady motion to an equilibrium of the non-cyclic variables ([`linearization`]),
-//! the eigenvalues of `A` with the zero eigenvalues of a family of steady motions factored out
-//! and reported, and the classification of the rest ([`spectrum`](mod@spectrum)); spectra against
-//! a parameter and the parameter values where a real part crosses zero ([`continuation`]).
+//! Stability of equilibria, steady motions and periodic orbits (SPEC M33–M37, M70) for
+//! holonomic and non-holonomic systems, from the one definition of the system: equilibria by
+//! Newton's method with the AD Jacobian ([`equilibrium`](mod@equilibrium)), the linearisation
+//! `η̇ = A η` by AD and the reduction of a steady motion to an equilibrium of the non-cyclic
+//! variables ([`linearization`]), the eigenvalues of `A` with the zero eigenvalues of a family of
+//! steady motions factored out and reported, and the classification of the rest
+//! ([`spectrum`](mod@spectrum)); spectra against a parameter and the parameter values where a real
+//! part crosses zero or two Hamiltonian pairs collide ([`continuation`]). For Hamiltonian systems:
+//! the box symmetry, Krein signatures and spectral blocks of `J∇²H`
+//! ([`hamiltonian_spectrum`](mod@hamiltonian_spectrum)); monodromy matrices and Floquet
+//! multipliers of periodic orbits ([`floquet`]). Without linearising: the Lagrange–Dirichlet test
+//! and Lyapunov's derivative ([`direct`]).
 //!
 //! ```text
 //! ż = f(t, z)  ──equilibrium──▶  z*  ──linearize──▶  A = ∂f/∂z  ──steady_motion_spectrum──▶

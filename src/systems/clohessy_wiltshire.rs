@@ -51,12 +51,22 @@ impl ClohessyWiltshire {
         self.n
     }
     /// The momentum `p = (ẋ − n y, ẏ + n x, ż)` of a relative position and velocity.
-    pub fn momentum(&self, r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
-        Vector3::new(v[0] - self.n * r[1], v[1] + self.n * r[0], v[2])
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`](crate::Error::NonFinite) for NaN/∞ input or an overflowing result.
+    pub fn momentum(&self, r: &Vector3<f64>, v: &Vector3<f64>) -> Result<Vector3<f64>> {
+        let p = Vector3::new(v[0] - self.n * r[1], v[1] + self.n * r[0], v[2]);
+        all_finite("momentum p", p.as_slice())?;
+        Ok(p)
     }
     /// The velocity `(p_x + n y, p_y − n x, p_z)` of a relative position and momentum.
-    pub fn velocity(&self, r: &Vector3<f64>, p: &Vector3<f64>) -> Vector3<f64> {
-        Vector3::new(p[0] + self.n * r[1], p[1] - self.n * r[0], p[2])
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`](crate::Error::NonFinite) for NaN/∞ input or an overflowing result.
+    pub fn velocity(&self, r: &Vector3<f64>, p: &Vector3<f64>) -> Result<Vector3<f64>> {
+        let v = Vector3::new(p[0] + self.n * r[1], p[1] - self.n * r[0], p[2]);
+        all_finite("velocity", v.as_slice())?;
+        Ok(v)
     }
     /// The along-track velocity `ẏ₀ = −2n x₀` of bounded (drift-free) relative motion.
     pub fn bounded_along_track_velocity(&self, x0: f64) -> Result<f64> {
@@ -134,8 +144,8 @@ impl ExactFlow<3> for ClohessyWiltshire {
         t: f64,
     ) -> Result<(SVector<f64, 3>, SVector<f64, 3>)> {
         check_phase(t0, q0, p0)?;
-        let v0 = self.velocity(q0, p0);
+        let v0 = self.velocity(q0, p0)?;
         let (r, v) = self.propagate(q0, &v0, finite("t", t)? - t0)?;
-        Ok((r, self.momentum(&r, &v)))
+        Ok((r, self.momentum(&r, &v)?))
     }
 }

@@ -14,7 +14,7 @@
 //! ([`DumbbellSatellite::tangential_rate`]). The radial orientation is stable, the tangential one
 //! unstable (the gravity-gradient torque; pitch frequency and rate `≈ √3 ω` for `z ≪ r₀`).
 
-use crate::error::{finite, positive, Error, Result};
+use crate::error::{all_finite, finite, positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -92,19 +92,30 @@ impl DumbbellSatellite {
         };
         Ok((
             SVector::from([r0, 0.0, theta]),
-            self.momenta(r0, omega, 0.0, 0.0),
+            self.momenta(r0, omega, 0.0, 0.0)?,
             omega,
         ))
     }
     /// The momenta `(p_r, p_ρ, p_θ) = (m ṙ, m r² ρ̇ + m z² (ρ̇ − θ̇), −m z² (ρ̇ − θ̇))` of the
     /// velocities `(ṙ, ρ̇, θ̇)` at radius `r`, in the order of the arguments `(r, ρ̇, ṙ, θ̇)`.
-    pub fn momenta(&self, r: f64, rho_dot: f64, r_dot: f64, theta_dot: f64) -> SVector<f64, 3> {
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ input or an overflowing result.
+    pub fn momenta(
+        &self,
+        r: f64,
+        rho_dot: f64,
+        r_dot: f64,
+        theta_dot: f64,
+    ) -> Result<SVector<f64, 3>> {
         let (m, z2) = (self.m, self.z * self.z);
-        SVector::from([
+        let p = SVector::from([
             m * r_dot,
             m * r * r * rho_dot + m * z2 * (rho_dot - theta_dot),
             -m * z2 * (rho_dot - theta_dot),
-        ])
+        ]);
+        all_finite("dumbbell momenta", p.as_slice())?;
+        Ok(p)
     }
 }
 

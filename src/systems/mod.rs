@@ -21,6 +21,7 @@
 //! | [`ArealVelocity`] | 2, areal quasi-coordinate | Gibbs function; Kepler's second law [Ardema 14.4] |
 //! | [`RodOnCircle`] | 3, two holonomic constraints | a pendulum, `(c² + a²/3)θ̈ + gc sin θ = 0` [Ardema 14.4] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
+//! | [`DoublePendulum`] | 2 (point masses) | — (equilibria and their spectra) [Ardema 12.3] |
 //! | [`RestrictedThreeBody`] | 2 (planar), 3 | — (Jacobi integral; L4 stable below Routh's ratio) [Szebehely §4.4] |
 //! | [`ClohessyWiltshire`] | 3, quadratic | closed form (Hill's equations) [Ardema 12.4] |
 //! | [`DumbbellSatellite`] | 3, `ρ` cyclic | relative equilibria, radial and tangential [Ardema 15.3] |
@@ -34,6 +35,7 @@ mod cart;
 mod central;
 pub mod clohessy_wiltshire;
 mod cone_constraint;
+pub mod double_pendulum;
 pub mod dumbbell;
 mod gearing;
 mod harmonic;
@@ -58,6 +60,7 @@ pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
 pub use clohessy_wiltshire::ClohessyWiltshire;
 pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
+pub use double_pendulum::DoublePendulum;
 pub use dumbbell::{DumbbellOrientation, DumbbellSatellite};
 pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
