@@ -457,55 +457,6 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use approx::assert_relative_eq;
-
-    fn f<D: DualNum<f64> + Copy>(q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
-        // F = q0² p1 + sin(q1) exp(p0) + sqrt(q0² + q1²)
-        q[0] * q[0] * p[1] + q[1].sin() * p[0].exp() + (q[0] * q[0] + q[1] * q[1]).sqrt()
-    }
-
-    #[test]
-    fn gradient_matches_hand_derivatives() {
-        let q = SVector::from([0.7, -0.4]);
-        let p = SVector::from([0.3, 1.9]);
-        let (v, gq, gp) = phase_gradient(f, &q, &p);
-        let r = (q[0] * q[0] + q[1] * q[1]).sqrt();
-        assert_relative_eq!(v, f(&q, &p), epsilon = 1e-15);
-        assert_relative_eq!(gq[0], 2.0 * q[0] * p[1] + q[0] / r, epsilon = 1e-15);
-        assert_relative_eq!(gq[1], q[1].cos() * p[0].exp() + q[1] / r, epsilon = 1e-15);
-        assert_relative_eq!(gp[0], q[1].sin() * p[0].exp(), epsilon = 1e-15);
-        assert_relative_eq!(gp[1], q[0] * q[0], epsilon = 1e-15);
-    }
-
-    #[test]
-    fn grad_dual_matches_phase_dual() {
-        let q = SVector::from([0.7, -0.4]);
-        let p = SVector::from([0.3, 1.9]);
-        let (v, gq, _) = phase_gradient(f, &q, &p);
-        let (w, g) = gradient(|qd| f(qd, &p.map(GradDual::from_re)), &q);
-        assert_eq!(v, w);
-        assert_relative_eq!(g, gq, epsilon = 1e-15);
-    }
-
-    #[test]
-    fn hessian_matches_hand_derivatives_and_is_symmetric() {
-        let q = SVector::from([0.7, -0.4]);
-        let p = SVector::from([0.3, 1.9]);
-        let (_, _, _, h) = phase_hessian(f, &q, &p);
-        let e = p[0].exp();
-        // ∂²F/∂q0∂p1 = 2 q0, ∂²F/∂q1∂p0 = cos(q1) e^{p0}, ∂²F/∂p0² = sin(q1) e^{p0}
-        assert_relative_eq!(h.qp[(0, 1)], 2.0 * q[0], epsilon = 1e-15);
-        assert_relative_eq!(h.qp[(1, 0)], q[1].cos() * e, epsilon = 1e-15);
-        assert_relative_eq!(h.pp[(0, 0)], q[1].sin() * e, epsilon = 1e-15);
-        assert_relative_eq!(h.pp[(1, 1)], 0.0, epsilon = 1e-15);
-        assert_relative_eq!(h.qp, h.pq.transpose(), epsilon = 1e-15);
-        assert_relative_eq!(h.qq, h.qq.transpose(), epsilon = 1e-15);
-    }
-}
-
 /// The rates of a state `(q, p)` carried with `columns` tangent vectors `(δq_j, δp_j)`: the
 /// augmented blocks are `(q, δq₁, …, δq_C)` and `(p, δp₁, …, δp_C)` (`K = N(1 + C)`). Column `j`
 /// moves with the directional derivative of the field along it, `eval(j, q + ε δq_j, p + ε δp_j)`
@@ -564,5 +515,54 @@ pub(crate) fn tangent_rates<const N: usize, const K: usize>(
             ),
             value: f64::NAN,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn f<D: DualNum<f64> + Copy>(q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+        // F = q0² p1 + sin(q1) exp(p0) + sqrt(q0² + q1²)
+        q[0] * q[0] * p[1] + q[1].sin() * p[0].exp() + (q[0] * q[0] + q[1] * q[1]).sqrt()
+    }
+
+    #[test]
+    fn gradient_matches_hand_derivatives() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (v, gq, gp) = phase_gradient(f, &q, &p);
+        let r = (q[0] * q[0] + q[1] * q[1]).sqrt();
+        assert_relative_eq!(v, f(&q, &p), epsilon = 1e-15);
+        assert_relative_eq!(gq[0], 2.0 * q[0] * p[1] + q[0] / r, epsilon = 1e-15);
+        assert_relative_eq!(gq[1], q[1].cos() * p[0].exp() + q[1] / r, epsilon = 1e-15);
+        assert_relative_eq!(gp[0], q[1].sin() * p[0].exp(), epsilon = 1e-15);
+        assert_relative_eq!(gp[1], q[0] * q[0], epsilon = 1e-15);
+    }
+
+    #[test]
+    fn grad_dual_matches_phase_dual() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (v, gq, _) = phase_gradient(f, &q, &p);
+        let (w, g) = gradient(|qd| f(qd, &p.map(GradDual::from_re)), &q);
+        assert_eq!(v, w);
+        assert_relative_eq!(g, gq, epsilon = 1e-15);
+    }
+
+    #[test]
+    fn hessian_matches_hand_derivatives_and_is_symmetric() {
+        let q = SVector::from([0.7, -0.4]);
+        let p = SVector::from([0.3, 1.9]);
+        let (_, _, _, h) = phase_hessian(f, &q, &p);
+        let e = p[0].exp();
+        // ∂²F/∂q0∂p1 = 2 q0, ∂²F/∂q1∂p0 = cos(q1) e^{p0}, ∂²F/∂p0² = sin(q1) e^{p0}
+        assert_relative_eq!(h.qp[(0, 1)], 2.0 * q[0], epsilon = 1e-15);
+        assert_relative_eq!(h.qp[(1, 0)], q[1].cos() * e, epsilon = 1e-15);
+        assert_relative_eq!(h.pp[(0, 0)], q[1].sin() * e, epsilon = 1e-15);
+        assert_relative_eq!(h.pp[(1, 1)], 0.0, epsilon = 1e-15);
+        assert_relative_eq!(h.qp, h.pq.transpose(), epsilon = 1e-15);
+        assert_relative_eq!(h.qq, h.qq.transpose(), epsilon = 1e-15);
     }
 }

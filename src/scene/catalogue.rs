@@ -864,7 +864,7 @@ fn double_pendulum_spectrum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>
     let g = s.positive_or("g", 1.0)?;
     let samples = s.positive_or("samples", 201.0)?;
     s.finish()?;
-    if !(lo < hi) || samples.fract() != 0.0 || !(2.0..=100_000.0).contains(&samples) {
+    if lo >= hi || samples.fract() != 0.0 || !(2.0..=100_000.0).contains(&samples) {
         return Err(s.error(
             "samples",
             "need ratio_min < ratio_max and an integer number of samples in [2, 100000]",

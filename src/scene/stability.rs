@@ -1,6 +1,6 @@
 //! Scenes of stability: the eigenvalues of the double pendulum's equilibria against its mass
 //! ratio (SPEC T27, M35), from the classified spectra of `J∇²H` by AD
-//! ([`hamiltonian_spectrum`]).
+//! ([`hamiltonian_spectrum()`]).
 
 use super::case::Table;
 use crate::error::{fmt_num, Result};
@@ -17,12 +17,12 @@ pub const SPECTRUM_FIGURE: &str = "lambda-squared";
 /// The names of the equilibria of [`DoublePendulum::equilibria`].
 const NAMES: [&str; 4] = ["(0, 0)", "(π, 0)", "(0, π)", "(π, π)"];
 
+/// `λ²` of each pair, the stability and the Krein signatures `(ω, ±1)` of one equilibrium.
+type Squares = (Vec<f64>, Stability, Vec<(f64, i8)>);
+
 /// The values `s = λ²` of one equilibrium's spectrum (one per pair `±λ`, increasing: `−ω²` for
 /// an elliptic pair, `λ²` for a hyperbolic one), its stability and Krein signatures.
-fn squares(
-    h: &DoublePendulum,
-    q: &SVector<f64, 2>,
-) -> Result<(Vec<f64>, Stability, Vec<(f64, i8)>)> {
+fn squares(h: &DoublePendulum, q: &SVector<f64, 2>) -> Result<Squares> {
     let hess = h.hessian(0.0, q, &SVector::zeros())?.to_dmatrix();
     let sp = hamiltonian_spectrum(&hess)?;
     let mut s = Vec::new();
@@ -51,7 +51,7 @@ fn squares(
 /// values of T27 (`m₂ = m₁`, `ℓ₁ = ℓ₂`, `g/ℓ = 1`) marked when the parameters are those.
 ///
 /// # Errors
-/// The errors of [`DoublePendulum::new`] and [`hamiltonian_spectrum`].
+/// The errors of [`DoublePendulum::new`] and [`hamiltonian_spectrum()`].
 #[allow(clippy::type_complexity)]
 pub fn double_pendulum_spectrum(
     lo: f64,

@@ -274,7 +274,7 @@ where
 /// [`Error::NonFinite`] for NaN/∞ bounds or tolerance; [`Error::InvalidInput`] for `lo ≥ hi`,
 /// `tol ≤ 0`, fewer than 2 or more than [`MAX_SAMPLES`] samples, or a bracket in which neither
 /// test function changes sign; [`Error::NotConverged`] when Brent's method fails; the errors of
-/// `hessian_at` and of [`hamiltonian_spectrum`].
+/// `hessian_at` and of [`hamiltonian_spectrum()`].
 pub fn hamiltonian_crossings<F>(
     hessian_at: F,
     lo: f64,

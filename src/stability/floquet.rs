@@ -179,7 +179,7 @@ pub fn monodromy<H: Hamiltonian<N>, const N: usize, const K: usize>(
     let (_, hq, hp) = h.gradient(t0, q0, p0);
     let grad = DVector::from_iterator(dim, hq.iter().chain(hp.iter()).copied());
     let g2 = grad.norm_squared();
-    if !(g2 > 0.0) || !g2.is_finite() {
+    if g2 <= 0.0 || !g2.is_finite() {
         return Err(Error::invalid(
             "periodic orbit",
             format!("∇H = {grad:?} at the initial point: an equilibrium, not a periodic orbit"),

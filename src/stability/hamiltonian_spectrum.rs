@@ -21,7 +21,7 @@
 //!   Systems*, 2nd ed., §4.7 and §5.2; M. G. Krein, *Amer. Math. Soc. Transl.* (2) 1, 1955;
 //!   Mackay, "Stability of equilibria of Hamiltonian systems", in *Nonlinear Phenomena and Chaos*,
 //!   1986).
-//! * **Classification** ([`hamiltonian_spectrum`]): the eigenvalues of `A` in clusters (a
+//! * **Classification** ([`hamiltonian_spectrum()`]): the eigenvalues of `A` in clusters (a
 //!   repeated eigenvalue, semisimple or a Jordan block), each set `{λ, −λ, λ̄, −λ̄}` reported as one
 //!   [`SpectralBlock`] — elliptic `±iω` with its Krein inertia, hyperbolic `±λ`, complex saddle
 //!   `±a ± ib`, or zero. The equilibrium is linearly stable when every block is elliptic and

@@ -7,7 +7,7 @@
 //! ([`spectrum`](mod@spectrum)); spectra against a parameter and the parameter values where a real
 //! part crosses zero or two Hamiltonian pairs collide ([`continuation`]). For Hamiltonian systems:
 //! the box symmetry, Krein signatures and spectral blocks of `J∇²H`
-//! ([`hamiltonian_spectrum`](mod@hamiltonian_spectrum)); monodromy matrices and Floquet
+//! ([`hamiltonian_spectrum()`](mod@hamiltonian_spectrum)); monodromy matrices and Floquet
 //! multipliers of periodic orbits ([`floquet`]). Without linearising: the Lagrange–Dirichlet test
 //! and Lyapunov's derivative ([`direct`]).
 //!

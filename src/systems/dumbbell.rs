@@ -55,7 +55,7 @@ impl DumbbellSatellite {
     /// [`Error::OutOfDomain`] for `r₀ ≤ z` (the near mass at or beyond the centre of attraction).
     pub fn radial_rate(&self, r0: f64) -> Result<f64> {
         let r0 = finite("radius r₀", r0)?;
-        if !(r0 > self.z) {
+        if r0 <= self.z {
             return Err(Error::out_of_domain("radius r₀", r0, "(z, ∞)"));
         }
         let (a, b) = (r0 + self.z, r0 - self.z);
