@@ -457,6 +457,29 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
     }
 }
 
+/// The augmented state of [`tangent_rates`]: `(q₀, δq₁, …, δq_C)`, `(p₀, δp₁, …, δp_C)` with the
+/// tangent columns `(δq_j, δp_j)_i = column(i, j)` (`i < N` the `q` rows, `N ≤ i < 2N` the `p`
+/// rows).
+pub(crate) fn augmented_state<const N: usize, const K: usize>(
+    q0: &SVector<f64, N>,
+    p0: &SVector<f64, N>,
+    columns: usize,
+    column: impl Fn(usize, usize) -> f64,
+) -> (SVector<f64, K>, SVector<f64, K>) {
+    let mut qa = SVector::<f64, K>::zeros();
+    let mut pa = SVector::<f64, K>::zeros();
+    qa.fixed_rows_mut::<N>(0).copy_from(q0);
+    pa.fixed_rows_mut::<N>(0).copy_from(p0);
+    for j in 0..columns {
+        let off = N * (1 + j);
+        for i in 0..N {
+            qa[off + i] = column(i, j);
+            pa[off + i] = column(N + i, j);
+        }
+    }
+    (qa, pa)
+}
+
 /// The rates of a state `(q, p)` carried with `columns` tangent vectors `(δq_j, δp_j)`: the
 /// augmented blocks are `(q, δq₁, …, δq_C)` and `(p, δp₁, …, δp_C)` (`K = N(1 + C)`). Column `j`
 /// moves with the directional derivative of the field along it, `eval(j, q + ε δq_j, p + ε δp_j)`

@@ -17,26 +17,12 @@ use hamilton_jacobi::systems::{
 };
 use hamilton_jacobi::{DualNum, Hamiltonian};
 
-/// `H = a(q₁p₁ + q₂p₂) + b(q₁p₂ − q₂p₁)` (T29).
-struct Box2 {
-    a: f64,
-    b: f64,
-}
-
-impl Hamiltonian<2> for Box2 {
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        (q[0] * p[0] + q[1] * p[1]) * self.a + (q[0] * p[1] - q[1] * p[0]) * self.b
-    }
-}
+mod common;
+use common::{BoxHamiltonian, DampedOscillator};
 
 #[test]
 fn t29_box_spectrum_of_a_complex_saddle_and_of_the_fixed_hessian() {
-    let h = Box2 { a: 0.3, b: 2.0 };
+    let h = BoxHamiltonian { a: 0.3, b: 2.0 };
     let a =
         hamiltonian_linearization(&h, 0.0, &Vector2::new(0.4, -0.2), &Vector2::zeros()).unwrap();
     // The eigenvalues of a 4×4 matrix of O(1) entries from a backward-stable QR iteration are
@@ -135,7 +121,7 @@ fn m35_box_symmetry_of_random_hessians_and_x10_asymmetry_detected() {
     }
     // X10: a Hessian from differences good to 1e−6 (an asymmetric error in A) breaks the box
     // visibly: the defect is of the size of the error, far above rounding.
-    let h = Box2 { a: 0.3, b: 2.0 };
+    let h = BoxHamiltonian { a: 0.3, b: 2.0 };
     let mut a = hamiltonian_linearization(&h, 0.0, &Vector2::zeros(), &Vector2::zeros()).unwrap();
     a[(0, 0)] += 1e-6;
     let err = check_spectrum_symmetry(&a, 1e-10).unwrap_err();
@@ -458,17 +444,6 @@ fn m37_lagrange_dirichlet_by_the_ad_hessian() {
     assert!((c.eigenvalues - Vector2::new(1.0, 2.0)).amax() < 1e-15);
 }
 
-/// `ẋ = v, v̇ = −x − c v`.
-struct Damped {
-    c: f64,
-}
-
-impl VectorField<2> for Damped {
-    fn field<D: DualNum<f64> + Copy>(&self, _t: D, z: &SVector<D, 2>) -> SVector<D, 2> {
-        SVector::from([z[1], -z[0] - z[1] * self.c])
-    }
-}
-
 /// `V = ½(x² + v²) + ε x v`.
 struct Quadratic {
     eps: f64,
@@ -527,16 +502,23 @@ fn m37_t41_lyapunov_derivatives_by_ad() {
         let (x, v) = (z[0], z[1]);
         // Harmonic oscillator (c = 0): the energy is conserved, V̇ = 0 — stable, not
         // asymptotically.
-        let vd = lyapunov_derivative(&Quadratic { eps: 0.0 }, &Damped { c: 0.0 }, 0.0, &z).unwrap();
+        let vd = lyapunov_derivative(
+            &Quadratic { eps: 0.0 },
+            &DampedOscillator { c: 0.0 },
+            0.0,
+            &z,
+        )
+        .unwrap();
         assert!(vd.abs() < 1e-15 * z.norm_squared().max(1.0));
         // Damped oscillator: V̇ = −c v² ≤ 0 (only negative semi-definite).
         let c = 0.4;
-        let vd = lyapunov_derivative(&Quadratic { eps: 0.0 }, &Damped { c }, 0.0, &z).unwrap();
+        let vd =
+            lyapunov_derivative(&Quadratic { eps: 0.0 }, &DampedOscillator { c }, 0.0, &z).unwrap();
         assert!((vd + c * v * v).abs() < 1e-15 * z.norm_squared().max(1.0));
         // With the cross term ε x v: V̇ = −(c − ε)v² − ε x² − ε c x v, negative definite for
         // small ε — asymptotic stability.
         let eps = 0.1;
-        let vd = lyapunov_derivative(&Quadratic { eps }, &Damped { c }, 0.0, &z).unwrap();
+        let vd = lyapunov_derivative(&Quadratic { eps }, &DampedOscillator { c }, 0.0, &z).unwrap();
         let want = -(c - eps) * v * v - eps * x * x - eps * c * x * v;
         assert!((vd - want).abs() < 1e-14 * z.norm_squared().max(1.0));
         assert!(vd < 0.0);
@@ -551,7 +533,7 @@ fn m37_t41_lyapunov_derivatives_by_ad() {
     // Hostile: non-finite point.
     assert!(lyapunov_derivative(
         &Quadratic { eps: 0.0 },
-        &Damped { c: 0.0 },
+        &DampedOscillator { c: 0.0 },
         0.0,
         &Vector2::new(f64::NAN, 0.0)
     )

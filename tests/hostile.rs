@@ -56,6 +56,8 @@ use std::f64::consts::{PI, TAU};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
+mod common;
+
 /// One reference row of tests/oracles/hostile_reference.rs.
 struct Reference {
     function: &'static str,
@@ -4403,8 +4405,9 @@ mod stability_calls {
 }
 
 mod hamiltonian_stability_calls {
+    use super::common::{BoxHamiltonian, DampedOscillator};
     use super::*;
-    use hamilton_jacobi::hamilton_jacobi::{ScalarField, VectorField};
+    use hamilton_jacobi::hamilton_jacobi::ScalarField;
     use hamilton_jacobi::nalgebra::{DMatrix, Vector2};
     use hamilton_jacobi::scene::stability::double_pendulum_spectrum;
     use hamilton_jacobi::stability::{
@@ -4416,35 +4419,12 @@ mod hamiltonian_stability_calls {
         RestrictedThreeBody,
     };
 
-    /// `H = a(q₁p₁ + q₂p₂) + b(q₁p₂ − q₂p₁)`: eigenvalues `±a ± ib`.
-    struct Box2(f64, f64);
-
-    impl Hamiltonian<2> for Box2 {
-        fn hamiltonian<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            q: &SVector<D, 2>,
-            p: &SVector<D, 2>,
-        ) -> D {
-            (q[0] * p[0] + q[1] * p[1]) * self.0 + (q[0] * p[1] - q[1] * p[0]) * self.1
-        }
-    }
-
     /// `V = 1 − cos q`.
     struct Cosine;
 
     impl ScalarField<1> for Cosine {
         fn eval<D: DualNum<f64> + Copy>(&self, _t: D, x: &SVector<D, 1>) -> D {
             -x[0].cos() + 1.0
-        }
-    }
-
-    /// `ẋ = v, v̇ = −x − c v`.
-    struct Damped(f64);
-
-    impl VectorField<2> for Damped {
-        fn field<D: DualNum<f64> + Copy>(&self, _t: D, z: &SVector<D, 2>) -> SVector<D, 2> {
-            SVector::from([z[1], -z[0] - z[1] * self.0])
         }
     }
 
@@ -4492,7 +4472,7 @@ mod hamiltonian_stability_calls {
             &[(2, -1.0), (0, 1e300), (1, 1e-300)],
             |a| {
                 let r = hamiltonian_linearization(
-                    &Box2(a[0], a[1]),
+                    &BoxHamiltonian { a: a[0], b: a[1] },
                     0.0,
                     &SVector::zeros(),
                     &SVector::zeros(),
@@ -4637,7 +4617,7 @@ mod hamiltonian_stability_calls {
             |a| {
                 let z = Vector2::new(a[1], a[2]);
                 judge(
-                    lyapunov_derivative(&Energy, &Damped(a[0]), 0.0, &z),
+                    lyapunov_derivative(&Energy, &DampedOscillator { c: a[0] }, 0.0, &z),
                     fin(a),
                     |v| {
                         let want = -a[0] * a[2] * a[2];

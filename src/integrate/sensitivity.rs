@@ -21,7 +21,7 @@
 //! [`Dop853`]: super::Dop853
 
 use super::FirstOrderSystem;
-use crate::ad::{phase_gradient, tangent_rates, PhaseDual};
+use crate::ad::{augmented_state, phase_gradient, tangent_rates, PhaseDual};
 use crate::error::{Error, Result};
 use crate::hamiltonian::Parametric;
 use nalgebra::{Const, SMatrix, SVector};
@@ -88,11 +88,7 @@ impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
         q0: &SVector<f64, N>,
         p0: &SVector<f64, N>,
     ) -> (SVector<f64, K>, SVector<f64, K>) {
-        let mut qa = SVector::<f64, K>::zeros();
-        let mut pa = SVector::<f64, K>::zeros();
-        qa.fixed_rows_mut::<N>(0).copy_from(q0);
-        pa.fixed_rows_mut::<N>(0).copy_from(p0);
-        (qa, pa)
+        augmented_state(q0, p0, M, |_, _| 0.0)
     }
 
     /// Split an augmented state into `(q, p, ∂q/∂k, ∂p/∂k)`.

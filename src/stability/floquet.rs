@@ -25,7 +25,7 @@
 
 use super::hamiltonian_spectrum::j_times;
 use super::spectrum::C64;
-use crate::ad::tangent_rates;
+use crate::ad::{augmented_state, tangent_rates};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::integrate::{integrate, Dop853, FirstOrderSystem, Problem};
@@ -62,19 +62,7 @@ impl<'a, H: Hamiltonian<N>, const N: usize, const K: usize> Variational<'a, H, N
         q0: &SVector<f64, N>,
         p0: &SVector<f64, N>,
     ) -> (SVector<f64, K>, SVector<f64, K>) {
-        let mut qa = SVector::<f64, K>::zeros();
-        let mut pa = SVector::<f64, K>::zeros();
-        qa.fixed_rows_mut::<N>(0).copy_from(q0);
-        pa.fixed_rows_mut::<N>(0).copy_from(p0);
-        for j in 0..2 * N {
-            let off = N * (1 + j);
-            if j < N {
-                qa[off + j] = 1.0;
-            } else {
-                pa[off + j - N] = 1.0;
-            }
-        }
-        (qa, pa)
+        augmented_state(q0, p0, 2 * N, |i, j| if i == j { 1.0 } else { 0.0 })
     }
 
     /// Split an augmented state into `(q, p, Φ)` (`Φ` in the order `(q, p)`).
