@@ -457,6 +457,90 @@ pub fn jacobian<M: PhaseMap<N> + ?Sized, const N: usize>(
     }
 }
 
+/// The augmented state of [`tangent_rates`]: `(q₀, δq₁, …, δq_C)`, `(p₀, δp₁, …, δp_C)` with the
+/// tangent columns `(δq_j, δp_j)_i = column(i, j)` (`i < N` the `q` rows, `N ≤ i < 2N` the `p`
+/// rows).
+pub(crate) fn augmented_state<const N: usize, const K: usize>(
+    q0: &SVector<f64, N>,
+    p0: &SVector<f64, N>,
+    columns: usize,
+    column: impl Fn(usize, usize) -> f64,
+) -> (SVector<f64, K>, SVector<f64, K>) {
+    let mut qa = SVector::<f64, K>::zeros();
+    let mut pa = SVector::<f64, K>::zeros();
+    qa.fixed_rows_mut::<N>(0).copy_from(q0);
+    pa.fixed_rows_mut::<N>(0).copy_from(p0);
+    for j in 0..columns {
+        let off = N * (1 + j);
+        for i in 0..N {
+            qa[off + i] = column(i, j);
+            pa[off + i] = column(N + i, j);
+        }
+    }
+    (qa, pa)
+}
+
+/// The rates of a state `(q, p)` carried with `columns` tangent vectors `(δq_j, δp_j)`: the
+/// augmented blocks are `(q, δq₁, …, δq_C)` and `(p, δp₁, …, δp_C)` (`K = N(1 + C)`). Column `j`
+/// moves with the directional derivative of the field along it, `eval(j, q + ε δq_j, p + ε δp_j)`
+/// on [`Dual64`](num_dual::Dual64) (the closure adds what else column `j` carries, e.g. a seeded
+/// parameter); the state moves with the real part. Variational and sensitivity equations are
+/// both of this form [Hairer, Nørsett & Wanner, *Solving ODEs I*, §I.14].
+///
+/// # Errors
+/// [`Error::NonFinite`](crate::error::Error::NonFinite) for a non-finite rate, naming `what`.
+#[allow(clippy::type_complexity)]
+pub(crate) fn tangent_rates<const N: usize, const K: usize>(
+    what: &str,
+    t: f64,
+    qa: &SVector<f64, K>,
+    pa: &SVector<f64, K>,
+    columns: usize,
+    eval: impl Fn(
+        usize,
+        num_dual::Dual64,
+        &SVector<num_dual::Dual64, N>,
+        &SVector<num_dual::Dual64, N>,
+    ) -> (SVector<num_dual::Dual64, N>, SVector<num_dual::Dual64, N>),
+) -> crate::error::Result<(SVector<f64, K>, SVector<f64, K>)> {
+    use num_dual::Dual64;
+    let mut dq = SVector::<f64, K>::zeros();
+    let mut dp = SVector::<f64, K>::zeros();
+    let td = Dual64::from(t);
+    for j in 0..columns.max(1) {
+        let off = N * (1 + j);
+        let seed = |x: &SVector<f64, K>, i: usize| {
+            Dual64::new(x[i], if j < columns { x[off + i] } else { 0.0 })
+        };
+        let qs = SVector::<Dual64, N>::from_fn(|i, _| seed(qa, i));
+        let ps = SVector::<Dual64, N>::from_fn(|i, _| seed(pa, i));
+        let (fq, fp) = eval(j, td, &qs, &ps);
+        for i in 0..N {
+            // The real parts are the field itself (the same for every column).
+            if j == 0 {
+                dq[i] = fq[i].re;
+                dp[i] = fp[i].re;
+            }
+            if j < columns {
+                dq[off + i] = fq[i].eps;
+                dp[off + i] = fp[i].eps;
+            }
+        }
+    }
+    if dq.iter().chain(dp.iter()).all(|v| v.is_finite()) {
+        Ok((dq, dp))
+    } else {
+        Err(crate::error::Error::NonFinite {
+            what: format!(
+                "{what} at t = {t:e}, q = {:?}, p = {:?} (outside the system's domain?)",
+                qa.fixed_rows::<N>(0),
+                pa.fixed_rows::<N>(0)
+            ),
+            value: f64::NAN,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

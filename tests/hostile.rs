@@ -56,6 +56,8 @@ use std::f64::consts::{PI, TAU};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
+mod common;
+
 /// One reference row of tests/oracles/hostile_reference.rs.
 struct Reference {
     function: &'static str,
@@ -3131,6 +3133,7 @@ fn every_entry_point_survives_hostile_input() {
     add_drag_power(&mut calls);
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
+    hamiltonian_stability_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -4609,4 +4612,383 @@ fn add_drag_power(c: &mut Vec<Call>) {
             })
         },
     );
+mod hamiltonian_stability_calls {
+    use super::common::{BoxHamiltonian, DampedOscillator};
+    use super::*;
+    use hamilton_jacobi::hamilton_jacobi::ScalarField;
+    use hamilton_jacobi::nalgebra::{DMatrix, Vector2};
+    use hamilton_jacobi::scene::stability::double_pendulum_spectrum;
+    use hamilton_jacobi::stability::{
+        check_spectrum_symmetry, dirichlet_check, hamiltonian_crossings, hamiltonian_linearization,
+        hamiltonian_spectrum, lyapunov_derivative, monodromy, CrossingKind, Stability, Variational,
+    };
+    use hamilton_jacobi::systems::{
+        ClohessyWiltshire, DoublePendulum, DumbbellOrientation, DumbbellSatellite,
+        RestrictedThreeBody,
+    };
+
+    /// `V = 1 − cos q`.
+    struct Cosine;
+
+    impl ScalarField<1> for Cosine {
+        fn eval<D: DualNum<f64> + Copy>(&self, _t: D, x: &SVector<D, 1>) -> D {
+            -x[0].cos() + 1.0
+        }
+    }
+
+    /// `V = ½(x² + v²)`.
+    struct Energy;
+
+    impl ScalarField<2> for Energy {
+        fn eval<D: DualNum<f64> + Copy>(&self, _t: D, z: &SVector<D, 2>) -> D {
+            (z[0] * z[0] + z[1] * z[1]) * 0.5
+        }
+    }
+
+    fn l4_hessian(mu: f64) -> Result<DMatrix<f64>> {
+        let h = RestrictedThreeBody::new(mu)?;
+        let (q, p) = h.l4();
+        Ok(Hamiltonian::<2>::hessian(&h, 0.0, &q, &p)?.to_dmatrix())
+    }
+
+    const ROUTH: f64 = 0.038520896504551;
+
+    pub fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "stability::hamiltonian_linearization(L4)",
+            &[0.01, 0.0, 0.0],
+            &[(0, 1.0), (0, -0.5), (1, 1e300)],
+            |a| {
+                let r = (|| {
+                    let h = RestrictedThreeBody::new(a[0])?;
+                    let (q, p) = h.l4();
+                    let dq = SVector::<f64, 2>::from([a[1], a[2]]);
+                    hamiltonian_linearization(&h, 0.0, &(q + dq), &p)
+                })();
+                let valid = fin(a) && a[0] > 0.0 && a[0] < 1.0;
+                judge(r, valid, |m| {
+                    // A Hamiltonian matrix has zero trace.
+                    near("tr A", m.trace(), 0.0, 1e-12 * m.norm().max(1.0))
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::check_spectrum_symmetry",
+            &[0.3, 2.0, 1e-12],
+            &[(2, -1.0), (0, 1e300), (1, 1e-300)],
+            |a| {
+                let r = hamiltonian_linearization(
+                    &BoxHamiltonian { a: a[0], b: a[1] },
+                    0.0,
+                    &SVector::zeros(),
+                    &SVector::zeros(),
+                )
+                .and_then(|m| check_spectrum_symmetry(&m, a[2]));
+                judge(r, fin(a) && a[2] > 0.0, |s| {
+                    if s.defect <= a[2]
+                        && s.eigenvalues
+                            .iter()
+                            .all(|l| l.re.is_finite() && l.im.is_finite())
+                    {
+                        Good
+                    } else {
+                        Wrong(format!("defect {:e} above {:e}", s.defect, a[2]))
+                    }
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::hamiltonian_spectrum",
+            &[1.0, 0.2, 2.0],
+            &[(0, -1.0), (1, 1e300), (2, 1e-300)],
+            |a| {
+                let s = DMatrix::from_row_slice(2, 2, &[a[0], a[1], a[1], a[2]]);
+                judge(hamiltonian_spectrum(&s), fin(a), |sp| {
+                    // λ² = s₁₂² − s₁₁ s₂₂: elliptic when negative, hyperbolic when positive.
+                    let d = a[1] * a[1] - a[0] * a[2];
+                    let count: usize = sp.spectral_type().iter().sum();
+                    let scale = (a[0].abs() + a[1].abs() + a[2].abs()).powi(2);
+                    let want = if d < -1e-6 * scale {
+                        Some(Stability::Stable)
+                    } else if d > 1e-6 * scale {
+                        Some(Stability::Unstable)
+                    } else {
+                        None
+                    };
+                    if count != 2 {
+                        Wrong(format!("{count} eigenvalues classified"))
+                    } else if want.is_some_and(|w| w != sp.stability) && d.is_finite() {
+                        Wrong(format!("{:?} with λ² = {d:e}", sp.stability))
+                    } else {
+                        Good
+                    }
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::hamiltonian_crossings(L4)",
+            &[0.01, 0.1, 1e-12],
+            &[(0, 0.1), (2, -1.0), (0, 0.0), (1, 1.0)],
+            |a| {
+                let r = hamiltonian_crossings(l4_hessian, a[0], a[1], 6, a[2]);
+                let valid = fin(a) && a[0] < a[1] && a[2] > 0.0 && a[0] > 0.0 && a[1] < 1.0;
+                judge(r, valid, |cs| {
+                    // Besides Routh's collision, the slow frequency √(27μ/4) passes below the
+                    // spectrum's resolution (1e−6 ‖A‖) as μ → 0: a lower bound below ~1e−13
+                    // sees the pair through zero at the bound itself.
+                    all(cs.iter().map(|x| {
+                        if x.kind == CrossingKind::ThroughZero && x.parameter <= 1e-12 {
+                            Good
+                        } else {
+                            near("μ_R", x.parameter, ROUTH, 1e-10 + a[2])
+                        }
+                    }))
+                })
+            },
+        );
+        sweep(
+            c,
+            "stability::monodromy(pendulum)",
+            &[1.0, 7.0],
+            &[(1, -1.0), (0, 0.0), (1, 1e6)],
+            |a| {
+                let r = (|| {
+                    let method = Dop853::new(1e-10, 1e-10)?.with_max_steps(20_000)?;
+                    monodromy::<_, 1, 3>(
+                        &Pendulum::new(1.0)?,
+                        0.0,
+                        &SVector::from([a[0]]),
+                        &SVector::zeros(),
+                        a[1],
+                        &method,
+                    )
+                })();
+                judge(r, fin(a) && a[1] > 0.0 && a[0].sin() != 0.0, |m| {
+                    // Liouville: det M = 1 for any time.
+                    near(
+                        "det M",
+                        m.matrix.determinant(),
+                        1.0,
+                        1e-6 * m.matrix.norm_squared().max(1.0),
+                    )
+                })
+            },
+        );
+        c.push(Call {
+            label: "stability::Variational::new".into(),
+            body: Box::new(|| {
+                let h = Pendulum::new(1.0).unwrap();
+                match (
+                    Variational::<_, 1, 3>::new(&h),
+                    Variational::<_, 1, 2>::new(&h),
+                ) {
+                    (Ok(_), Err(_)) => Good,
+                    _ => Wrong("K = N(1 + 2N) not enforced".into()),
+                }
+            }),
+        });
+        sweep(
+            c,
+            "stability::dirichlet_check",
+            &[0.0],
+            &[(0, PI), (0, 0.3)],
+            |a| {
+                judge(
+                    dirichlet_check(&Cosine, 0.0, &SVector::from([a[0]])),
+                    fin(a),
+                    |d| {
+                        let min = a[0].cos() > 0.0;
+                        all([
+                            near("sin q*", a[0].sin(), 0.0, 1e-10),
+                            if d.strict_minimum == min {
+                                Good
+                            } else {
+                                Wrong(format!(
+                                    "strict minimum {} at q = {}",
+                                    d.strict_minimum, a[0]
+                                ))
+                            },
+                        ])
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "stability::lyapunov_derivative",
+            &[0.4, 1.0, -2.0],
+            &[(1, 1e200), (2, 1e-300)],
+            |a| {
+                let z = Vector2::new(a[1], a[2]);
+                judge(
+                    lyapunov_derivative(&Energy, &DampedOscillator { c: a[0] }, 0.0, &z),
+                    fin(a),
+                    |v| {
+                        let want = -a[0] * a[2] * a[2];
+                        near(
+                            "V̇",
+                            v,
+                            want,
+                            1e-14 * (want.abs() + z.norm_squared()).max(1e-300),
+                        )
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "systems::RestrictedThreeBody::new",
+            &[0.01],
+            &[(0, 1.0), (0, 0.5), (0, -0.1)],
+            |a| {
+                judge(
+                    RestrictedThreeBody::new(a[0]),
+                    fin(a) && a[0] > 0.0 && a[0] < 1.0,
+                    |h| {
+                        let (q, p) = h.l4();
+                        all([
+                            near("x(L4)", q[0], 0.5 - a[0], 0.0),
+                            finite_ok("p_y(L4)", p[1]),
+                        ])
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "systems::ClohessyWiltshire::propagate",
+            &[0.0011, 10.0, -0.02, 6000.0],
+            &[(0, -1.0), (3, 1e20)],
+            |a| {
+                let r = (|| {
+                    let cw = ClohessyWiltshire::new(a[0])?;
+                    let r0 = Vector3::new(a[1], 0.0, 0.0);
+                    let v0 = Vector3::new(0.0, a[2], 0.0);
+                    let (r, v) = cw.propagate(&r0, &v0, a[3])?;
+                    let (rb, vb) = cw.propagate(&r, &v, -a[3])?;
+                    let p = cw.momentum(&r, &v)?;
+                    let vv = cw.velocity(&r, &p)?;
+                    Ok((
+                        (rb - r0).amax(),
+                        (vb - v0).amax(),
+                        (vv - v).amax(),
+                        r.amax() + v.amax() / a[0],
+                    ))
+                })();
+                judge(r, fin(a) && a[0] > 0.0, |(dr, dv, dp, scale)| {
+                    // Round trip t, −t: rounding of the state at its size.
+                    let tol = 1e-9 * (scale + a[1].abs() + a[2].abs() / a[0]).max(1e-300);
+                    all([
+                        near("round trip r", dr, 0.0, tol),
+                        near("round trip v", dv, 0.0, tol * a[0].max(1.0)),
+                        near("v(p(v))", dp, 0.0, tol * a[0].max(1.0)),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::ClohessyWiltshire::along_track_drift",
+            &[0.0011, 10.0, -0.02],
+            &[(0, -1.0)],
+            |a| {
+                let r = (|| {
+                    let cw = ClohessyWiltshire::new(a[0])?;
+                    let vy = cw.bounded_along_track_velocity(a[1])?;
+                    Ok((
+                        cw.along_track_drift(a[1], a[2])?,
+                        cw.along_track_drift(a[1], vy)?,
+                    ))
+                })();
+                judge(r, fin(a) && a[0] > 0.0, |(d, d0)| {
+                    let want = -3.0 * (a[2] + 2.0 * a[0] * a[1]);
+                    all([
+                        near(
+                            "drift",
+                            d,
+                            want,
+                            1e-15 * (a[2].abs() + (a[0] * a[1]).abs() * 6.0),
+                        ),
+                        near("bounded drift", d0, 0.0, 1e-15 * (a[0] * a[1]).abs() * 12.0),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::DoublePendulum::new",
+            &[1.0, 1.0, 1.0, 1.0, 1.0],
+            &[(1, -1.0), (4, 0.0)],
+            |a| {
+                let r = DoublePendulum::new(a[0], a[1], a[2], a[3], a[4]).and_then(|h| {
+                    let q = DoublePendulum::equilibria()[0];
+                    Hamiltonian::<2>::hessian(&h, 0.0, &q, &SVector::zeros())
+                });
+                judge(r, fin(a) && a.iter().all(|x| *x > 0.0), |m| {
+                    // V_qq at the hanging equilibrium: diag((m₁ + m₂) g ℓ₁, m₂ g ℓ₂).
+                    let want = (a[0] + a[1]) * a[4] * a[2];
+                    if m.qq[(0, 0)].is_finite() && want.is_finite() {
+                        near_rel("V_q₁q₁", m.qq[(0, 0)], want, 1e-14)
+                    } else {
+                        finite_ok("V_q₁q₁", m.qq[(0, 0)])
+                    }
+                })
+            },
+        );
+        sweep(
+            c,
+            "scene::stability::double_pendulum_spectrum",
+            &[0.1, 10.0, 1.0, 1.0, 1.0],
+            &[(0, 20.0), (0, 0.0), (2, -1.0)],
+            |a| {
+                let r = double_pendulum_spectrum(a[0], a[1], 5, a[2], a[3], a[4]);
+                let valid = fin(a) && a.iter().all(|x| *x > 0.0);
+                judge(r, valid, |(table, figures)| {
+                    if figures.len() == 1 && !table.rows.is_empty() || table.rows.is_empty() {
+                        Good
+                    } else {
+                        Wrong(format!("{} figures", figures.len()))
+                    }
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::DumbbellSatellite::relative_equilibrium",
+            &[1.0, 1.0, 0.1, 1.0],
+            &[(3, 0.05), (2, 2.0)],
+            |a| {
+                let r = (|| {
+                    let d = DumbbellSatellite::new(a[0], a[1], a[2])?;
+                    let (_, p, w) = d.relative_equilibrium(a[3], DumbbellOrientation::Radial)?;
+                    let (_, _, wt) =
+                        d.relative_equilibrium(a[3], DumbbellOrientation::Tangential)?;
+                    let (rr, rt) = (d.radial_rate(a[3])?, d.tangential_rate(a[3])?);
+                    Ok((p, w, wt, rr, rt))
+                })();
+                let valid = fin(a) && a[0] > 0.0 && a[1] > 0.0 && a[2] > 0.0 && a[3] > a[2];
+                judge(r, valid, |(p, w, wt, rr, rt)| {
+                    let (m, mu, z, r0) = (a[0], a[1], a[2], a[3]);
+                    // ω from the factorised form, compared where μ/r₀ is a normal number.
+                    let want = (mu / (2.0 * r0)).sqrt()
+                        * (1.0 / ((r0 + z) * (r0 + z)) + 1.0 / ((r0 - z) * (r0 - z))).sqrt();
+                    let normal = mu / r0 > 1e-290 && want.is_finite() && want > 1e-290;
+                    all([
+                        near("radial ω", w, rr, 0.0),
+                        near("tangential ω", wt, rt, 0.0),
+                        if normal {
+                            near_rel("radial ω", w, want, 1e-13)
+                        } else {
+                            finite_ok("radial ω", w)
+                        },
+                        finite_ok("p_ρ", p[1] / m.max(1e-300)),
+                    ])
+                })
+            },
+        );
+    }
 }

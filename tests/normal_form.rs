@@ -679,6 +679,7 @@ mod n_dof {
     };
     use hamilton_jacobi::special::elliptic::complete_k_from_complementary;
     use hamilton_jacobi::stability::hamiltonian_equilibrium;
+    use hamilton_jacobi::systems::RestrictedThreeBody;
     use hamilton_jacobi::{DualNum, Error, Hamiltonian};
     use std::f64::consts::PI;
 
@@ -956,31 +957,10 @@ mod n_dof {
         }
     }
 
-    /// Circular restricted three-body problem in the rotating frame (n = 1, primaries at
-    /// `(−μ, 0, 0)` and `(1 − μ, 0, 0)`).
-    struct Cr3bp(f64);
-    impl Hamiltonian<3> for Cr3bp {
-        fn hamiltonian<D: DualNum<f64> + Copy>(
-            &self,
-            _t: D,
-            q: &SVector<D, 3>,
-            p: &SVector<D, 3>,
-        ) -> D {
-            let mu = self.0;
-            let (x, y, z) = (q[0], q[1], q[2]);
-            let r1 = ((x + mu) * (x + mu) + y * y + z * z).sqrt();
-            let r2 = ((x - (1.0 - mu)) * (x - (1.0 - mu)) + y * y + z * z).sqrt();
-            (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) * 0.5 + y * p[0]
-                - x * p[1]
-                - r1.recip() * (1.0 - mu)
-                - r2.recip() * mu
-        }
-    }
-
     #[test]
     fn cr3bp_l1_linear_frequencies_and_centre_manifold() {
         let mu = 0.012_150_585_609_624;
-        let h = Cr3bp(mu);
+        let h = RestrictedThreeBody::new(mu).unwrap();
         let guess_x = 0.8;
         let eq = hamiltonian_equilibrium(
             &h,
@@ -1029,8 +1009,8 @@ mod n_dof {
             }
         }
         // … and the reduction is a valid normal form: remainder O(ρ⁷).
-        let r1 = nf.remainder(&h, 0.0, 0.01, 100).unwrap();
-        let r2 = nf.remainder(&h, 0.0, 0.02, 100).unwrap();
+        let r1 = nf.remainder::<_, 3>(&h, 0.0, 0.01, 100).unwrap();
+        let r2 = nf.remainder::<_, 3>(&h, 0.0, 0.02, 100).unwrap();
         let s = (r2 / r1).log2();
         assert!((s - 7.0).abs() < 0.5, "slope {s} ({r1:e}, {r2:e})");
     }

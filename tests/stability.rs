@@ -9,7 +9,7 @@ use hamilton_jacobi::stability::{
     equilibrium, linearize, real_part_crossings, spectra, spectrum, steady_motion_spectrum,
     CrossingKind, Reduced, Slot, Spectrum, Stability,
 };
-use hamilton_jacobi::systems::{ChaplyginSleigh, RollingDisk};
+use hamilton_jacobi::systems::{ChaplyginSleigh, DoublePendulum, RollingDisk};
 use hamilton_jacobi::{DualNum, Hamiltonian, Result};
 
 const G: f64 = 9.81;
@@ -215,26 +215,10 @@ fn x5_sleigh_straight_motion_attracts_with_the_centre_ahead_and_repels_behind() 
     assert_eq!(sp.stability, Stability::Stable);
 }
 
-/// The double pendulum of equal point masses and lengths, `m = ℓ = 1`, `g/ℓ = 1` (T27):
-/// `H = (p₁² + 2p₂² − 2p₁p₂ cos Δ)/(2(1 + sin² Δ)) − 2 cos q₁ − cos q₂`, `Δ = q₁ − q₂`.
-struct DoublePendulum;
-
-impl Hamiltonian<2> for DoublePendulum {
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        let (s, c) = (q[0] - q[1]).sin_cos();
-        (p[0] * p[0] + p[1] * p[1] * 2.0 - p[0] * p[1] * c * 2.0) / ((s * s + 1.0) * 2.0)
-            - q[0].cos() * 2.0
-            - q[1].cos()
-    }
-}
-
 #[test]
 fn t27_double_pendulum_equilibria_and_their_eigenvalues() {
+    // Equal point masses and lengths, g/ℓ = 1.
+    let double = DoublePendulum::new(1.0, 1.0, 1.0, 1.0, 1.0).unwrap();
     use std::f64::consts::PI;
     let s2 = 2f64.sqrt();
     let (fast, slow, quartic) = ((2.0 + s2).sqrt(), (2.0 - s2).sqrt(), s2.sqrt());
@@ -266,7 +250,7 @@ fn t27_double_pendulum_equilibria_and_their_eigenvalues() {
     ];
     for (guess, at, stability, [re1, re2, im1, im2]) in cases {
         let reduced = Reduced::new(
-            &DoublePendulum,
+            &double,
             &SVector::zeros(),
             &SVector::zeros(),
             [Slot::Q(0), Slot::Q(1), Slot::P(0), Slot::P(1)],

@@ -21,7 +21,7 @@
 //! [`Dop853`]: super::Dop853
 
 use super::FirstOrderSystem;
-use crate::ad::{phase_gradient, PhaseDual};
+use crate::ad::{augmented_state, phase_gradient, tangent_rates, PhaseDual};
 use crate::error::{Error, Result};
 use crate::hamiltonian::Parametric;
 use nalgebra::{Const, SMatrix, SVector};
@@ -88,11 +88,7 @@ impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
         q0: &SVector<f64, N>,
         p0: &SVector<f64, N>,
     ) -> (SVector<f64, K>, SVector<f64, K>) {
-        let mut qa = SVector::<f64, K>::zeros();
-        let mut pa = SVector::<f64, K>::zeros();
-        qa.fixed_rows_mut::<N>(0).copy_from(q0);
-        pa.fixed_rows_mut::<N>(0).copy_from(p0);
-        (qa, pa)
+        augmented_state(q0, p0, M, |_, _| 0.0)
     }
 
     /// Split an augmented state into `(q, p, ∂q/∂k, ∂p/∂k)`.
@@ -124,44 +120,11 @@ impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> FirstO
         qa: &SVector<f64, K>,
         pa: &SVector<f64, K>,
     ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
-        let q = qa.fixed_rows::<N>(0).into_owned();
-        let p = pa.fixed_rows::<N>(0).into_owned();
-        let mut dq = SVector::<f64, K>::zeros();
-        let mut dp = SVector::<f64, K>::zeros();
-        if M == 0 {
-            let (qd, pd) = parametric_vector_field(self.system, &self.k, t, &q, &p);
-            dq.fixed_rows_mut::<N>(0).copy_from(&qd);
-            dp.fixed_rows_mut::<N>(0).copy_from(&pd);
-        }
-        let td = Dual64::from(t);
-        for j in 0..M {
-            let off = N * (1 + j);
-            let qs = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(q[i], qa[off + i]));
-            let ps = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(p[i], pa[off + i]));
+        tangent_rates("sensitivity equations", t, qa, pa, M, |j, td, qs, ps| {
             let ks = SVector::<Dual64, M>::from_fn(|i, _| {
                 Dual64::new(self.k[i], if i == j { 1.0 } else { 0.0 })
             });
-            let (fq, fp) = parametric_vector_field(self.system, &ks, td, &qs, &ps);
-            for i in 0..N {
-                // The real parts are the vector field itself (the same for every direction).
-                if j == 0 {
-                    dq[i] = fq[i].re;
-                    dp[i] = fp[i].re;
-                }
-                dq[off + i] = fq[i].eps;
-                dp[off + i] = fp[i].eps;
-            }
-        }
-        if dq.iter().chain(dp.iter()).all(|v| v.is_finite()) {
-            Ok((dq, dp))
-        } else {
-            Err(Error::NonFinite {
-                what: format!(
-                    "sensitivity equations at t = {t:e}, q = {q:?}, p = {p:?} (outside the \
-                     system's domain?)"
-                ),
-                value: f64::NAN,
-            })
-        }
+            parametric_vector_field(self.system, &ks, td, qs, ps)
+        })
     }
 }

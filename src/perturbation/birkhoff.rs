@@ -86,7 +86,10 @@ use crate::series::{scope, Monomials, Polynomial, Series};
 use crate::stability::equilibrium::{phase_gradient_dense, phase_hessian_dense};
 #[cfg(doc)]
 use crate::stability::hamiltonian_equilibrium;
-use crate::stability::PhaseEquilibrium;
+use crate::stability::hamiltonian_spectrum::{
+    complex_null_space, eigenvalue_clusters, j_times, krein_form, symplectic_form,
+};
+use crate::stability::{PhaseEquilibrium, EIGENVALUE_CLUSTER};
 use nalgebra::{Complex, DMatrix, DVector, SVector};
 use std::sync::Arc;
 
@@ -99,10 +102,6 @@ pub const MAX_NORMAL_FORM_DEGREE: usize = 64;
 
 /// Relative size `|⟨λ, k⟩| / max|λ_j|` below which a divisor counts as a resonance.
 pub const SMALL_DIVISOR: f64 = 1e-8;
-
-/// Relative distance `|μ − μ'| / max(1, ‖M‖)` within which eigenvalues of `M = J∇²H` are one
-/// cluster (a repeated frequency, semisimple or a Jordan block).
-pub const EIGENVALUE_CLUSTER: f64 = 1e-6;
 
 /// Largest `‖SᵀJS − J‖_max` accepted for the linear normal form.
 pub const MAX_SYMPLECTIC_DEFECT: f64 = 1e-9;
@@ -508,32 +507,6 @@ impl LinearNormalForm {
     }
 }
 
-fn omega_form<T: nalgebra::ComplexField>(u: &DVector<T>, v: &DVector<T>, n: usize) -> T {
-    // uᵀ J v = Σ u_i v_{n+i} − u_{n+i} v_i
-    let mut s = T::zero();
-    for i in 0..n {
-        s += u[i].clone() * v[n + i].clone() - u[n + i].clone() * v[i].clone();
-    }
-    s
-}
-
-/// Null space of a complex square matrix (right singular vectors of singular values below `tol`).
-fn null_space(a: DMatrix<C64>, tol: f64) -> Vec<DVector<C64>> {
-    let n = a.ncols();
-    // SVD of AᴴA-free route: the SVD of A itself.
-    let svd = a.svd(false, true);
-    let Some(vt) = svd.v_t else {
-        return Vec::new();
-    };
-    let mut out = Vec::new();
-    for k in 0..n {
-        if svd.singular_values[k] <= tol {
-            out.push(vt.row(k).adjoint().into_owned());
-        }
-    }
-    out
-}
-
 /// A basis of the elliptic eigenspace `E_{iω}` (columns `v`) diagonal for the Hermitian Krein
 /// form `K` (matrix `kh` in the basis `v`): pairs `(κ, v_k)` with `K(v_k, v_l) = κ_k δ_kl`.
 ///
@@ -658,38 +631,15 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
     if (hessian - hessian.transpose()).amax() > 1e-10 {
         return Err(Error::invalid("Hessian of H", "not symmetric"));
     }
-    // M = J A.
-    let mut m = DMatrix::<f64>::zeros(dim, dim);
-    for i in 0..n {
-        for j in 0..dim {
-            m[(i, j)] = hessian[(n + i, j)];
-            m[(n + i, j)] = -hessian[(i, j)];
-        }
-    }
+    let m = j_times(hessian);
     let mnorm = m.amax().max(1e-300);
     let eig = m.clone().complex_eigenvalues();
     let ctol = EIGENVALUE_CLUSTER * mnorm.max(1.0);
-    // Cluster the eigenvalues.
-    let mut clusters: Vec<(C64, usize)> = Vec::new();
-    for &e in eig.iter() {
-        if let Some(c) = clusters
-            .iter_mut()
-            .find(|(c, k)| (*c / *k as f64 - e).norm() <= ctol)
-        {
-            c.0 += e;
-            c.1 += 1;
-        } else {
-            clusters.push((e, 1));
-        }
-    }
-    let clusters: Vec<(C64, usize)> = clusters
-        .into_iter()
-        .map(|(s, k)| (s / k as f64, k))
-        .collect();
+    let clusters = eigenvalue_clusters(eig.as_slice(), ctol);
     let mc: DMatrix<C64> = m.map(|x| C64::new(x, 0.0));
     let eigenspace = |mu: C64, mult: usize| -> Result<Vec<DVector<C64>>> {
         let shifted = &mc - DMatrix::<C64>::identity(dim, dim) * mu;
-        let v = null_space(shifted, 1e-7 * mnorm.max(1.0));
+        let v = complex_null_space(shifted, 1e-7 * mnorm.max(1.0));
         if v.len() != mult {
             return Err(Error::invalid(
                 "quadratic part of H",
@@ -721,10 +671,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
             // Elliptic: E_{iω}, Hermitian form K(v, w) = Ω(v̄, w)/(2i).
             let mu = C64::new(0.0, mu.im);
             let v = eigenspace(mu, mult)?;
-            let kmat = DMatrix::<C64>::from_fn(mult, mult, |a, b| {
-                omega_form(&v[a].conjugate(), &v[b], n) / C64::new(0.0, 2.0)
-            });
-            let kh = (&kmat + kmat.adjoint()) * C64::new(0.5, 0.0);
+            let kh = krein_form(&v, n);
             for (kappa, vk) in krein_basis(&kh, &v, n, dim)? {
                 let sc = 1.0 / (2.0 * kappa.abs()).sqrt();
                 let (freq, vk) = if kappa > 0.0 {
@@ -760,7 +707,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
             };
             let vp = real_null(lam)?;
             let vm = real_null(-lam)?;
-            let g = DMatrix::<f64>::from_fn(mult, mult, |a, b| omega_form(&vp[a], &vm[b], n));
+            let g = DMatrix::<f64>::from_fn(mult, mult, |a, b| symplectic_form(&vp[a], &vm[b], n));
             let gi = g.try_inverse().ok_or_else(|| {
                 Error::invalid("quadratic part of H", "singular pairing of ±λ eigenspaces")
             })?;
@@ -774,7 +721,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
         } else if mu.re > 0.0 && mu.im > 0.0 {
             let vp = eigenspace(mu, mult)?;
             let vm = eigenspace(-mu, mult)?;
-            let g = DMatrix::<C64>::from_fn(mult, mult, |a, b| omega_form(&vp[a], &vm[b], n));
+            let g = DMatrix::<C64>::from_fn(mult, mult, |a, b| symplectic_form(&vp[a], &vm[b], n));
             let gi = g.try_inverse().ok_or_else(|| {
                 Error::invalid("quadratic part of H", "singular pairing of ±μ eigenspaces")
             })?;

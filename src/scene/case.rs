@@ -162,12 +162,18 @@ pub trait Case {
     fn has_table(&self) -> bool {
         false
     }
-    /// A table the case computes on its own, for cases without a time span.
+    /// A table the case computes on its own, for cases without a time span, with the figures
+    /// that go with it as `(what, figure)` (written as `figures/<name>-<what>`).
     ///
     /// # Errors
     /// If the computation fails.
-    fn table(&self) -> Option<Result<Table>> {
+    #[allow(clippy::type_complexity)]
+    fn table(&self) -> Option<Result<(Table, Vec<(String, crate::plot::Figure)>)>> {
         None
+    }
+    /// The `what` of each figure [`Case::table`] returns, known before it runs.
+    fn table_figures(&self) -> Vec<&'static str> {
+        Vec::new()
     }
 }
 

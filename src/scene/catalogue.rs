@@ -7,6 +7,7 @@
 //! | `j2-orbit` | `mu` (1), `j2` (1.08e−3), `radius` (0.9), `a`, `e`, `i`, `raan`, `argp`, `mean_anomaly` | splitting, Wisdom–Holman/SABA, osculating and mean elements |
 //! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
+//! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
 //! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form only |
 //! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | DOP853 on the multiplier form only |
 //!
@@ -240,6 +241,11 @@ impl Catalogue {
             "transformation-gallery",
             "canonical transformations certified by AD (table only)",
             Box::new(gallery),
+        );
+        c.register(
+            "double-pendulum-spectrum",
+            "eigenvalues of the double pendulum's equilibria against the mass ratio (table and figure)",
+            Box::new(double_pendulum_spectrum),
         );
         c
     }
@@ -756,12 +762,31 @@ fn heavy_top(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
     Ok(Box::new(case))
 }
 
-/// The transformation gallery: no motion, a table.
-struct Gallery;
+/// The computed output of a case without motion: a table and its figures `(what, figure)`.
+type Computed = Result<(Table, Vec<(String, crate::plot::Figure)>)>;
 
-impl Case for Gallery {
+/// A case without motion or methods that computes its own table and figures (the transformation
+/// gallery, the spectra of equilibria against a parameter).
+struct TableCase {
+    /// What the case is, for its description.
+    description: String,
+    /// How it is named in refusals (`"the transformation gallery"`).
+    what: &'static str,
+    /// The `what` of each figure the computation returns.
+    figures: Vec<&'static str>,
+    /// The computation.
+    compute: Box<dyn Fn() -> Computed>,
+}
+
+impl TableCase {
+    fn no_motion(&self, what: &str) -> Error {
+        Error::invalid(what, format!("{} has no motion", self.what))
+    }
+}
+
+impl Case for TableCase {
     fn describe(&self) -> String {
-        "canonical transformations certified by AD: MᵀJM − J, MJMᵀ − J, det M − 1".into()
+        self.description.clone()
     }
     fn period(&self) -> Option<f64> {
         None
@@ -781,7 +806,7 @@ impl Case for Gallery {
     fn run(&self, kind: MethodKind, _knob: f64) -> Result<super::case::Outcome> {
         Err(Error::invalid(
             format!("method {}", kind.key()),
-            "the transformation gallery runs no methods",
+            format!("{} runs no methods", self.what),
         ))
     }
     fn history(
@@ -793,16 +818,10 @@ impl Case for Gallery {
         self.run(kind, knob).map(|_| Default::default())
     }
     fn energy(&self, _t: f64, _q: &[f64], _p: &[f64]) -> Result<f64> {
-        Err(Error::invalid(
-            "energy",
-            "the transformation gallery has no motion",
-        ))
+        Err(self.no_motion("energy"))
     }
     fn reference_coordinates(&self, _times: &[f64]) -> Result<Vec<Vec<f64>>> {
-        Err(Error::invalid(
-            "reference solution",
-            "the transformation gallery has no motion",
-        ))
+        Err(self.no_motion("reference solution"))
     }
     fn portrait(&self) -> Portrait {
         Portrait {
@@ -816,13 +835,58 @@ impl Case for Gallery {
     fn has_table(&self) -> bool {
         true
     }
-    fn table(&self) -> Option<Result<Table>> {
-        Some(super::gallery::transformation_gallery())
+    fn table(&self) -> Option<Computed> {
+        Some((self.compute)())
+    }
+    fn table_figures(&self) -> Vec<&'static str> {
+        self.figures.clone()
     }
 }
 
 fn gallery(_s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
-    Ok(Box::new(Gallery))
+    Ok(Box::new(TableCase {
+        description: "canonical transformations certified by AD: MᵀJM − J, MJMᵀ − J, det M − 1"
+            .into(),
+        what: "the transformation gallery",
+        figures: Vec::new(),
+        compute: Box::new(|| Ok((super::gallery::transformation_gallery()?, Vec::new()))),
+    }))
+}
+
+/// The spectra of the double pendulum's four equilibria (SPEC T27) against the mass ratio
+/// `m₂/m₁` on `[ratio_min, ratio_max]` (logarithmic, `samples` values), lengths `l1`, `l2`,
+/// gravity `g`.
+fn double_pendulum_spectrum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let lo = s.positive_or("ratio_min", 0.01)?;
+    let hi = s.positive_or("ratio_max", 100.0)?;
+    let l1 = s.positive_or("l1", 1.0)?;
+    let l2 = s.positive_or("l2", 1.0)?;
+    let g = s.positive_or("g", 1.0)?;
+    let samples = s.positive_or("samples", 201.0)?;
+    s.finish()?;
+    if lo >= hi || samples.fract() != 0.0 || !(2.0..=100_000.0).contains(&samples) {
+        return Err(s.error(
+            "samples",
+            "need ratio_min < ratio_max and an integer number of samples in [2, 100000]",
+        ));
+    }
+    let description = format!(
+        "double pendulum of point masses, ℓ₁ = {}, ℓ₂ = {}, g = {}: eigenvalues of the four \
+         equilibria against m₂/m₁ ∈ [{}, {}]",
+        fmt_num(l1),
+        fmt_num(l2),
+        fmt_num(g),
+        fmt_num(lo),
+        fmt_num(hi)
+    );
+    Ok(Box::new(TableCase {
+        description,
+        what: "the spectrum scene",
+        figures: vec![super::stability::SPECTRUM_FIGURE],
+        compute: Box::new(move || {
+            super::stability::double_pendulum_spectrum(lo, hi, samples as usize, l1, l2, g)
+        }),
+    }))
 }
 
 /// The Chaplygin sleigh (SPEC T16) from the origin heading along x with forward speed `v` and

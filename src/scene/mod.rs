@@ -78,6 +78,7 @@ pub mod constrained;
 pub mod gallery;
 pub mod runner;
 pub mod spec;
+pub mod stability;
 
 pub use case::{Case, HamiltonianCase, History, Outcome, Table};
 pub use catalogue::{Catalogue, Params};
@@ -85,7 +86,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 15] = [
+pub const BUILTIN: [(&str, &str); 16] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -121,6 +122,10 @@ pub const BUILTIN: [(&str, &str); 15] = [
     (
         "transformation-gallery",
         include_str!("builtin/transformation-gallery.toml"),
+    ),
+    (
+        "double-pendulum-spectrum",
+        include_str!("builtin/double-pendulum-spectrum.toml"),
     ),
 ];
 

@@ -712,6 +712,9 @@ impl Scene {
         if o.work_precision {
             figure(&mut v, self.figure_path("work-precision"));
         }
+        for what in self.case.table_figures() {
+            figure(&mut v, self.figure_path(what));
+        }
         for (list, key) in history_outputs(o) {
             if !list.is_empty() {
                 figure(&mut v, self.figure_path(&key.replace('_', "-")));
@@ -741,13 +744,20 @@ impl Scene {
         let o = self.spec.output.clone();
         let mut md = format!("## {}\n\n{}\n\n", self.title, self.case.describe());
         if let Some(table) = self.case.table() {
-            let table = table.map_err(|e| self.err("system", e))?;
+            let (table, figures) = table.map_err(|e| self.err("system", e))?;
             md += &table.to_markdown();
-            let artifacts = if o.table {
+            let mut artifacts = if o.table {
                 self.tables(&md, table.to_csv())
             } else {
                 Vec::new()
             };
+            for (what, fig) in figures {
+                artifacts.push(Artifact {
+                    rel: self.figure_path(&what),
+                    key: "system",
+                    content: Content::Figure(Box::new(fig)),
+                });
+            }
             return self.write(opts, md, artifacts);
         }
         let t1 = self.prepare(opts)?;

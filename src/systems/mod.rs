@@ -22,6 +22,10 @@
 //! | [`RodOnCircle`] | 3, two holonomic constraints | a pendulum, `(c² + a²/3)θ̈ + gc sin θ = 0` [Ardema 14.4] |
 //! | [`FoldedRope`] | 2 (Lagrangian) | straightening time and `t(μ)` in closed form; finite-time blow-up of `μ̇` [Ardema 9.3] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
+//! | [`DoublePendulum`] | 2 (point masses) | — (equilibria and their spectra) [Ardema 12.3] |
+//! | [`RestrictedThreeBody`] | 2 (planar), 3 | — (Jacobi integral; L4 stable below Routh's ratio) [Szebehely §4.4] |
+//! | [`ClohessyWiltshire`] | 3, quadratic | closed form (Hill's equations) [Ardema 12.4] |
+//! | [`DumbbellSatellite`] | 3, `ρ` cyclic | relative equilibria, radial and tangential [Ardema 15.3] |
 
 use crate::error::Result;
 use nalgebra::SVector;
@@ -30,8 +34,11 @@ mod areal;
 mod bead;
 mod cart;
 mod central;
+pub mod clohessy_wiltshire;
 mod cone_constraint;
 mod folded_rope;
+pub mod double_pendulum;
+pub mod dumbbell;
 mod gearing;
 mod harmonic;
 pub mod henon_heiles;
@@ -40,6 +47,7 @@ pub mod kepler;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
+pub mod restricted_three_body;
 pub mod rigid_body;
 mod rod_on_circle;
 mod rolling_disk;
@@ -52,8 +60,11 @@ pub use areal::ArealVelocity;
 pub use bead::BeadOnHoop;
 pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
+pub use clohessy_wiltshire::ClohessyWiltshire;
 pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
 pub use folded_rope::FoldedRope;
+pub use double_pendulum::DoublePendulum;
+pub use dumbbell::{DumbbellOrientation, DumbbellSatellite};
 pub use gearing::{Gearing, GearingInTime};
 pub use harmonic::{HarmonicFlow, HarmonicOscillator};
 pub use henon_heiles::HenonHeiles;
@@ -61,6 +72,7 @@ pub use hinged_rods::HingedRods;
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
+pub use restricted_three_body::RestrictedThreeBody;
 pub use rigid_body::FreeRigidBody;
 pub use rod_on_circle::RodOnCircle;
 pub use rolling_disk::RollingDisk;

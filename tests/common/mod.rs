@@ -188,3 +188,32 @@ pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
 pub fn halving_orders(errors: &[f64]) -> Vec<f64> {
     errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
+
+/// `H = a(q₁p₁ + q₂p₂) + b(q₁p₂ − q₂p₁)` (SPEC T29): the eigenvalues of `J∇²H` are exactly
+/// `±a ± ib`.
+pub struct BoxHamiltonian {
+    pub a: f64,
+    pub b: f64,
+}
+
+impl Hamiltonian<2> for BoxHamiltonian {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, 2>,
+        p: &SVector<D, 2>,
+    ) -> D {
+        (q[0] * p[0] + q[1] * p[1]) * self.a + (q[0] * p[1] - q[1] * p[0]) * self.b
+    }
+}
+
+/// The damped oscillator `ẋ = v, v̇ = −x − c v`.
+pub struct DampedOscillator {
+    pub c: f64,
+}
+
+impl hamilton_jacobi::hamilton_jacobi::VectorField<2> for DampedOscillator {
+    fn field<D: DualNum<f64> + Copy>(&self, _t: D, z: &SVector<D, 2>) -> SVector<D, 2> {
+        SVector::from([z[1], -z[0] - z[1] * self.c])
+    }
+}

@@ -1,0 +1,224 @@
+//! Periodic orbits: the monodromy matrix from the variational equations, its Floquet
+//! multipliers, and the trivial multipliers of an autonomous Hamiltonian system identified
+//! [Ardema 12.3; Meyer, Hall & Offin, *Introduction to Hamiltonian Dynamical Systems*, 2nd ed.,
+//! §4.5 and §8.2] (SPEC M34).
+//!
+//! * Along a motion `z(t)` of `ż = J∇H + (0, Q^nc)` the perturbations obey the variational
+//!   equations `Φ̇ = A(t) Φ`, `Φ(t₀) = I`, `A = ∂f/∂z` on the motion. [`Variational`] is the
+//!   augmented system `(z, Φ)`: each column `Φ e_j` is the directional derivative of the one
+//!   vector field along it, one evaluation on dual numbers per column, so the variational
+//!   equations come from the same Hamiltonian by AD and any integrator of first-order systems
+//!   (the crate's [`Dop853`]) controls their error together with that of the state.
+//! * For a periodic orbit of period `T` the **monodromy matrix** is `M = Φ(t₀ + T)`, its
+//!   eigenvalues the **Floquet multipliers**. For an autonomous Hamiltonian the flow direction
+//!   `X = J∇H(z₀)` is invariant, `M X = X`, and energy is conserved, `∇H(z₀)ᵀ M = ∇H(z₀)ᵀ`: two
+//!   multipliers equal one. In the basis `(X, η, W)` with `∇H · η = 1` and `W` a basis of the
+//!   invariant complement `{w : ∇H · w = 0, Ω(η, w) = 0}`, the monodromy is block triangular with
+//!   the **trivial block** `[[1, −T′(E)], [0, 1]]` in `(X, η)` — the shear `−T′(E)` is the change
+//!   of the period with the energy along the family of orbits — and the reduced monodromy on `W`,
+//!   whose eigenvalues are the non-trivial multipliers (orbital stability in the linear
+//!   approximation when they lie on the unit circle and are semisimple).
+//!
+//! Stable Rust cannot write the augmented dimension `N(1 + 2N)` from a generic `N`, so it is a
+//! second const parameter `K`, checked at run time (as for
+//! [`ParameterSensitivity`](crate::integrate::ParameterSensitivity)).
+
+use super::hamiltonian_spectrum::j_times;
+use super::spectrum::C64;
+use crate::ad::{augmented_state, tangent_rates};
+use crate::error::{finite, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::integrate::{integrate, Dop853, FirstOrderSystem, Problem};
+use nalgebra::{DMatrix, DVector, Matrix2, SVector};
+
+/// Hamilton's equations augmented with the variational equations `Φ̇ = A Φ`; the augmented `q`
+/// block is `(q, Φ_q e₁, …, Φ_q e_{2N})`, the `p` block `(p, Φ_p e₁, …)`. `K = N(1 + 2N)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Variational<'a, H, const N: usize, const K: usize> {
+    system: &'a H,
+}
+
+impl<'a, H: Hamiltonian<N>, const N: usize, const K: usize> Variational<'a, H, N, K> {
+    /// The augmented system; an error unless `K = N(1 + 2N)`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for `K ≠ N(1 + 2N)`.
+    pub fn new(system: &'a H) -> Result<Self> {
+        if K != N * (1 + 2 * N) {
+            return Err(Error::invalid(
+                format!("augmented dimension K = {K} of the variational equations"),
+                format!(
+                    "with N = {N} degrees of freedom K must be N(1 + 2N) = {}",
+                    N * (1 + 2 * N)
+                ),
+            ));
+        }
+        Ok(Self { system })
+    }
+
+    /// The augmented initial state `(z₀, Φ = I)`.
+    pub fn initial_state(
+        &self,
+        q0: &SVector<f64, N>,
+        p0: &SVector<f64, N>,
+    ) -> (SVector<f64, K>, SVector<f64, K>) {
+        augmented_state(q0, p0, 2 * N, |i, j| if i == j { 1.0 } else { 0.0 })
+    }
+
+    /// Split an augmented state into `(q, p, Φ)` (`Φ` in the order `(q, p)`).
+    #[allow(clippy::type_complexity)]
+    pub fn split(
+        &self,
+        qa: &SVector<f64, K>,
+        pa: &SVector<f64, K>,
+    ) -> (SVector<f64, N>, SVector<f64, N>, DMatrix<f64>) {
+        let q = qa.fixed_rows::<N>(0).into_owned();
+        let p = pa.fixed_rows::<N>(0).into_owned();
+        let phi = DMatrix::from_fn(2 * N, 2 * N, |i, j| {
+            let off = N * (1 + j);
+            if i < N {
+                qa[off + i]
+            } else {
+                pa[off + i - N]
+            }
+        });
+        (q, p, phi)
+    }
+}
+
+impl<H: Hamiltonian<N>, const N: usize, const K: usize> FirstOrderSystem<K>
+    for Variational<'_, H, N, K>
+{
+    fn field(
+        &self,
+        t: f64,
+        qa: &SVector<f64, K>,
+        pa: &SVector<f64, K>,
+    ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
+        tangent_rates(
+            "variational equations",
+            t,
+            qa,
+            pa,
+            2 * N,
+            |_, td, qs, ps| self.system.vector_field_generic(td, qs, ps),
+        )
+    }
+}
+
+/// The monodromy matrix of a periodic orbit and its Floquet multipliers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Monodromy {
+    /// `M = Φ(t₀ + T)`, `2N × 2N` in the order `(q, p)`.
+    pub matrix: DMatrix<f64>,
+    /// The Floquet multipliers (eigenvalues of `M`).
+    pub multipliers: Vec<C64>,
+    /// `|z(t₀ + T) − z₀| / max(1, |z₀|)`: how well the orbit closes.
+    pub closure_defect: f64,
+    /// `|M X − X| / |X|` for the flow direction `X = J∇H(z₀)`.
+    pub flow_defect: f64,
+    /// The basis `(X, η, W)` (columns) of the [module docs](self).
+    pub basis: DMatrix<f64>,
+    /// The monodromy in that basis on `(X, η)`: `[[1, −T′(E)], [0, 1]]` up to the integration
+    /// error.
+    pub trivial_block: Matrix2<f64>,
+    /// The shear `trivial_block[(0, 1)] = −T′(E)`.
+    pub shear: f64,
+    /// The reduced monodromy on `W` (`2N − 2` square).
+    pub reduced: DMatrix<f64>,
+    /// The non-trivial multipliers (eigenvalues of [`Monodromy::reduced`]).
+    pub nontrivial: Vec<C64>,
+}
+
+/// The monodromy matrix of the periodic orbit of the autonomous Hamiltonian `h` through
+/// `(q₀, p₀)` at `t₀` with period `T`: the variational equations ([`Variational`], `K = N(1 + 2N)`)
+/// integrated over one period by `method`, the Floquet multipliers, and the trivial block and the
+/// non-trivial multipliers in the basis `(X, η, W)` (see the [module docs](self)). The period is
+/// the caller's (from a closed form, or from a section crossing); [`Monodromy::closure_defect`]
+/// reports how well the orbit closes with it.
+///
+/// # Errors
+/// [`Error::NonFinite`] for NaN/∞ input or a non-finite motion; [`Error::OutOfDomain`] for
+/// `T ≤ 0`; [`Error::InvalidInput`] for `K ≠ N(1 + 2N)` or a point where `∇H = 0` (an
+/// equilibrium, no orbit); the errors of the integration.
+pub fn monodromy<H: Hamiltonian<N>, const N: usize, const K: usize>(
+    h: &H,
+    t0: f64,
+    q0: &SVector<f64, N>,
+    p0: &SVector<f64, N>,
+    period: f64,
+    method: &Dop853,
+) -> Result<Monodromy> {
+    crate::phase::check_phase(t0, q0, p0)?;
+    let period = finite("period T", period)?;
+    if period <= 0.0 {
+        return Err(Error::out_of_domain("period T", period, "(0, ∞)"));
+    }
+    let var = Variational::<H, N, K>::new(h)?;
+    let (qa, pa) = var.initial_state(q0, p0);
+    let problem = Problem::new(&var, t0, qa, pa, t0 + period)?;
+    let report = integrate(&problem, method, &mut ())?;
+    let (q1, p1, m) = var.split(&report.last.q, &report.last.p);
+    crate::error::all_finite("monodromy matrix", m.as_slice())?;
+    let dim = 2 * N;
+    let z0 = DVector::from_iterator(dim, q0.iter().chain(p0.iter()).copied());
+    let z1 = DVector::from_iterator(dim, q1.iter().chain(p1.iter()).copied());
+    let closure_defect = (&z1 - &z0).norm() / z0.norm().max(1.0);
+    let (_, hq, hp) = h.gradient(t0, q0, p0);
+    let grad = DVector::from_iterator(dim, hq.iter().chain(hp.iter()).copied());
+    let g2 = grad.norm_squared();
+    if g2 <= 0.0 || !g2.is_finite() {
+        return Err(Error::invalid(
+            "periodic orbit",
+            format!("∇H = {grad:?} at the initial point: an equilibrium, not a periodic orbit"),
+        ));
+    }
+    // X = J∇H, η = ∇H/|∇H|².
+    let x = j_times(&DMatrix::from_column_slice(dim, 1, grad.as_slice()))
+        .column(0)
+        .into_owned();
+    let eta = &grad / g2;
+    // W: the null space of the rows ∇Hᵀ and ηᵀJ (Ω(η, w) = ηᵀ J w).
+    let jt_eta = -j_times(&DMatrix::from_column_slice(dim, 1, eta.as_slice()));
+    let mut c = DMatrix::<f64>::zeros(dim, dim);
+    c.set_row(0, &grad.transpose());
+    c.set_row(1, &jt_eta.column(0).transpose());
+    let svd = c.svd(false, true);
+    let vt = svd
+        .v_t
+        .ok_or_else(|| Error::invalid("basis of the complement", "SVD failed"))?;
+    let mut rows: Vec<usize> = (0..dim).collect();
+    rows.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
+    let mut basis = DMatrix::<f64>::zeros(dim, dim);
+    basis.set_column(0, &x);
+    basis.set_column(1, &eta);
+    for (k, &r) in rows.iter().take(dim - 2).enumerate() {
+        basis.set_column(2 + k, &vt.row(r).transpose());
+    }
+    let inv = basis
+        .clone()
+        .try_inverse()
+        .ok_or_else(|| Error::invalid("basis (X, η, W)", "singular: X and η are dependent"))?;
+    let mb = &inv * &m * &basis;
+    let trivial_block = Matrix2::new(mb[(0, 0)], mb[(0, 1)], mb[(1, 0)], mb[(1, 1)]);
+    let reduced = mb.view((2, 2), (dim - 2, dim - 2)).into_owned();
+    let eig = |a: &DMatrix<f64>| -> Vec<C64> {
+        if a.nrows() == 0 {
+            Vec::new()
+        } else {
+            a.complex_eigenvalues().iter().copied().collect()
+        }
+    };
+    let flow_defect = (&m * &x - &x).norm() / x.norm();
+    Ok(Monodromy {
+        multipliers: eig(&m),
+        nontrivial: eig(&reduced),
+        matrix: m,
+        closure_defect,
+        flow_defect,
+        basis,
+        shear: trivial_block[(0, 1)],
+        trivial_block,
+        reduced,
+    })
+}
