@@ -4,7 +4,8 @@
 //! reduction of a steady motion to an equilibrium of the non-cyclic variables ([`linearization`]),
 //! the eigenvalues of `A` with the zero eigenvalues of a family of steady motions factored out
 //! and reported, and the classification of the rest ([`spectrum`](mod@spectrum)); spectra against
-//! a parameter and the parameter values where a real part crosses zero ([`continuation`]).
+//! a parameter and the parameter values where a real part crosses zero ([`continuation`]); upright
+//! rolling of a body of revolution ([`rolling`]).
 //!
 //! ```text
 //! ż = f(t, z)  ──equilibrium──▶  z*  ──linearize──▶  A = ∂f/∂z  ──steady_motion_spectrum──▶
@@ -23,11 +24,16 @@
 pub mod continuation;
 pub mod equilibrium;
 pub mod linearization;
+pub mod rolling;
 pub mod spectrum;
 
-pub use continuation::{real_part_crossings, spectra, Crossing, CrossingKind, SpectrumAt};
+pub use continuation::{
+    parameter_study, real_part_crossings, spectra, Crossing, CrossingKind, ParameterStudy,
+    SpectrumAt,
+};
 pub use equilibrium::{
     equilibrium, hamiltonian_equilibrium, Equilibrium, PhaseEquilibrium, EQUILIBRIUM_TOLERANCE,
 };
 pub use linearization::{linearize, Reduced, Slot, SplitVectorField};
+pub use rolling::{upright_rolling, upright_rolling_spectrum, RollingEquations, UPRIGHT_KEPT};
 pub use spectrum::{spectrum, steady_motion_spectrum, Spectrum, Stability, C64};
