@@ -19,7 +19,8 @@ use std::cell::Cell;
 pub struct Action {
     /// `S = ∫ L dt`.
     pub value: f64,
-    /// The quadrature's estimate of its absolute error.
+    /// The estimate of its absolute error: the larger of the quadrature's own and the difference
+    /// from the sum over the two halves of the span.
     pub error_estimate: f64,
     /// Evaluations of the Lagrangian.
     pub evaluations: usize,
@@ -32,8 +33,9 @@ pub struct Action {
 /// # Errors
 /// [`Error::NonFinite`] for NaN/∞ bounds or tolerance, or a path or Lagrangian that is not
 /// finite somewhere on the span (naming the time); [`Error::InvalidInput`] for `t₀ = t₁` or a
-/// tolerance outside `[1e-15, 1)`; [`Error::NotConverged`] when the quadrature's error estimate
-/// exceeds 100 times its target.
+/// tolerance outside `[1e-15, 1)`; [`Error::NotConverged`] when the quadrature's error estimate,
+/// or its disagreement with the sum over the two halves of the span, exceeds 100 times its
+/// target.
 pub fn action<L, P, const N: usize>(
     lagrangian: &L,
     path: P,
@@ -81,23 +83,30 @@ where
         return Err(non_finite(t, value));
     }
     let target = (tolerance * scale * span.abs()).max(f64::MIN_POSITIVE);
-    let out = quadrature::double_exponential::integrate(&integrand, t0, t1, target);
+    let out = quadrature::double_exponential::integrate(integrand, t0, t1, target);
+    // The same integral over the two halves of the span: a path the quadrature does not resolve
+    // (e.g. far too many oscillations on the span) gives two sums that disagree.
+    let tm = 0.5 * t0 + 0.5 * t1;
+    let left = quadrature::double_exponential::integrate(integrand, t0, tm, 0.5 * target);
+    let right = quadrature::double_exponential::integrate(integrand, tm, t1, 0.5 * target);
     if let Some((t, value)) = bad.get() {
         return Err(non_finite(t, value));
     }
     let value = finite("action ∫ L dt", out.integral)?;
-    if !(out.error_estimate <= 100.0 * target) {
+    let disagreement = (out.integral - (left.integral + right.integral)).abs();
+    let estimate = out.error_estimate.max(disagreement);
+    if estimate.is_nan() || estimate > 100.0 * target {
         return Err(Error::NotConverged {
             what: format!(
                 "tanh–sinh quadrature of the action over [{t0}, {t1}] (target error {target:e})"
             ),
             iterations: out.num_function_evaluations as usize,
-            residual: out.error_estimate,
+            residual: estimate,
         });
     }
     Ok(Action {
         value,
-        error_estimate: out.error_estimate,
+        error_estimate: estimate,
         evaluations: count.get(),
     })
 }

@@ -499,34 +499,16 @@ impl ConstrainedMethod {
         L: Lagrangian<N>,
         C: PfaffianConstraints<N, K>,
     {
-        let grid = |n: usize| -> Result<Samples<N>> { Samples::uniform(t0, t1, n) };
-        let ode = |report: Report<N>, states: Vec<State<N>>| (report.last, report.work, states);
-        match self {
-            Self::Reduced(m) => match samples {
-                Some(n) => {
-                    let mut g = grid(n)?;
-                    let r = sys.integrate(m, t0, q0, qdot0, t1, velocity_tolerance, &mut g)?;
-                    Ok(ode(r, g.states))
-                }
-                None => sys
-                    .integrate(m, t0, q0, qdot0, t1, velocity_tolerance, &mut ())
-                    .map(|r| ode(r, Vec::new())),
-            },
-            Self::Projected(m) => match samples {
-                Some(n) => {
-                    let mut g = grid(n)?;
-                    let r = sys.integrate(m, t0, q0, qdot0, t1, velocity_tolerance, &mut g)?;
-                    Ok(ode(r, g.states))
-                }
-                None => sys
-                    .integrate(m, t0, q0, qdot0, t1, velocity_tolerance, &mut ())
-                    .map(|r| ode(r, Vec::new())),
-            },
+        let problem = Problem::new(sys, t0, q0, qdot0, t1)?;
+        check_velocities(&sys.constraints, t0, &q0, &qdot0, velocity_tolerance)?;
+        let (last, work, states) = match self {
+            Self::Reduced(m) => ode_run(&problem, m, samples)?,
+            Self::Projected(m) => ode_run(&problem, m, samples)?,
             Self::LagrangeDAlembert(m) => {
                 let stride = samples.map(|n| m.steps.div_ceil(n.max(1)).max(1));
                 let mut states = Vec::new();
                 if stride.is_some() {
-                    states.push(State::new(t0, q0, qdot0)?);
+                    states.push(problem.start);
                 }
                 let mut k = 0usize;
                 let run = m.run(sys, t0, q0, qdot0, t1, velocity_tolerance, |s| {
@@ -536,9 +518,20 @@ impl ConstrainedMethod {
                     }
                     Control::Continue
                 })?;
-                Ok((run.last, run.work, states))
+                (run.last, run.work, states)
             }
+        };
+        for s in states.iter().chain(std::iter::once(&last)) {
+            all_finite(
+                format_args!("state at t = {} of {}", s.t, self.label()),
+                s.q.iter()
+                    .chain(s.p.iter())
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .as_slice(),
+            )?;
         }
+        Ok((last, work, states))
     }
 
     /// A label for tables and figures.
@@ -551,6 +544,24 @@ impl ConstrainedMethod {
             ),
             Self::LagrangeDAlembert(m) => format!("discrete Lagrange–d'Alembert n={}", m.steps),
         }
+    }
+}
+
+/// An ODE method on the index-reduced equations: the end state, the work, and the states at
+/// `samples + 1` uniform times when asked.
+#[allow(clippy::type_complexity)]
+fn ode_run<S, M: Method<S, N>, const N: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &M,
+    samples: Option<usize>,
+) -> Result<(State<N>, Work, Vec<State<N>>)> {
+    match samples {
+        Some(n) => {
+            let mut grid = Samples::uniform(problem.start.t, problem.t1, n)?;
+            let r = integrate(problem, method, &mut grid)?;
+            Ok((r.last, r.work, grid.states))
+        }
+        None => integrate(problem, method, &mut ()).map(|r| (r.last, r.work, Vec::new())),
     }
 }
 

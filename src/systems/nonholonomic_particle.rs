@@ -49,9 +49,7 @@ impl NonholonomicParticle {
     /// # Errors
     /// [`Error::NonFinite`] for NaN/∞ input or value.
     pub fn energy(&self, q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> Result<f64> {
-        all_finite("q", q.as_slice())?;
-        all_finite("q̇", qdot.as_slice())?;
-        let y = q[1];
+        let y = checked_y(q, qdot)?;
         finite(
             "energy",
             0.5 * qdot.norm_squared() + 0.5 * self.kappa * y * y + self.k * y,
@@ -63,14 +61,19 @@ impl NonholonomicParticle {
     /// # Errors
     /// [`Error::NonFinite`] for NaN/∞ input or value.
     pub fn first_integral(&self, q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> Result<f64> {
-        all_finite("q", q.as_slice())?;
-        all_finite("q̇", qdot.as_slice())?;
-        let y = q[1];
+        let y = checked_y(q, qdot)?;
         finite(
             "first integral √(1 + y²) ẋ − B arsinh y",
             (1.0 + y * y).sqrt() * qdot[0] - self.b * y.asinh(),
         )
     }
+}
+
+/// `y` of a finite state `(q, q̇)`.
+fn checked_y(q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> Result<f64> {
+    all_finite("q", q.as_slice())?;
+    all_finite("q̇", qdot.as_slice())?;
+    Ok(q[1])
 }
 
 impl Lagrangian<3> for NonholonomicParticle {
