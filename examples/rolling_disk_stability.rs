@@ -6,25 +6,10 @@
 //!
 //! Writes `out/rolling-disk-stability.{svg,png}` with the data beside them.
 
-use hamilton_jacobi::nalgebra::SVector;
-use hamilton_jacobi::nonholonomic::BoltzmannHamel;
 use hamilton_jacobi::plot::{DataFormat, Figure, Format, Style};
-use hamilton_jacobi::stability::{
-    real_part_crossings, spectra, steady_motion_spectrum, Reduced, Slot, Spectrum,
-};
+use hamilton_jacobi::stability::{parameter_study, upright_rolling_spectrum};
 use hamilton_jacobi::systems::RollingDisk;
 use hamilton_jacobi::Result;
-
-// ANCHOR: spectrum
-/// The spectrum of upright rolling at speed `v`: `x, y, ϑ, φ` cyclic, `(ψ, ϑ̇, ψ̇, φ̇)` kept.
-fn upright(body: RollingDisk, v: f64) -> Result<Spectrum> {
-    let equations = BoltzmannHamel::new(body, body);
-    let omega = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, v]);
-    let kept = [Slot::Q(3), Slot::P(2), Slot::P(3), Slot::P(4)];
-    let reduced = Reduced::new(&equations, &SVector::zeros(), &omega, kept)?;
-    steady_motion_spectrum(&reduced, 0.0, &reduced.state())
-}
-// ANCHOR_END: spectrum
 
 fn main() -> Result<()> {
     let g = 9.81;
@@ -37,10 +22,12 @@ fn main() -> Result<()> {
         ("disk", RollingDisk::disk(1.0, 1.0, g)?, 1.80831413200251),
         ("hoop", RollingDisk::hoop(1.0, 1.0, g)?, 1.56604597633658),
     ] {
-        let speeds: Vec<f64> = (0..=240).map(|i| 0.5 + 3.0 * i as f64 / 240.0).collect();
-        let sweep = spectra(|v| upright(body, v), &speeds)?;
+        // ANCHOR: spectrum
+        let study = parameter_study(|v| upright_rolling_spectrum(body, v), 0.5, 3.5, 241, 1e-14)?;
+        // ANCHOR_END: spectrum
         let branch = |k: usize| -> Vec<(f64, f64)> {
-            sweep
+            study
+                .spectra
                 .iter()
                 .map(|s| (s.parameter, s.spectrum.transverse[k].re))
                 .collect()
@@ -48,8 +35,8 @@ fn main() -> Result<()> {
         fig = fig
             .curve(format!("{name}: Re λ₁"), branch(0), Style::Line)
             .curve(format!("{name}: Re λ₂"), branch(1), Style::Line);
-        let crossings = real_part_crossings(|v| upright(body, v), 0.5, 3.5, 13, 1e-14)?;
-        for c in &crossings {
+        let crossings = &study.crossings;
+        for c in crossings {
             println!(
                 "{name}: Re λ crosses zero at v = {:.15} (Brent, {} iterations); \
                  v_c = {:.15} from A m g r³/(C(C + m r²)); SPEC {oracle}; difference {:.1e}",
@@ -64,7 +51,7 @@ fn main() -> Result<()> {
                 Style::Markers,
             );
         }
-        let s = upright(body, 3.0)?;
+        let s = upright_rolling_spectrum(body, 3.0)?;
         println!(
             "{name} at v = 3: family of steady motions of dimension {}, transverse {:?}, {:?}",
             s.family_dimension(),

@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
+pub mod action;
 pub mod ad;
 pub mod brackets;
 pub mod constraints;

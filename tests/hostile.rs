@@ -3134,6 +3134,7 @@ fn every_entry_point_survives_hostile_input() {
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
     hamiltonian_stability_calls::add(&mut calls);
+    constrained_methods::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -4612,6 +4613,8 @@ fn add_drag_power(c: &mut Vec<Call>) {
             })
         },
     );
+}
+
 mod hamiltonian_stability_calls {
     use super::common::{BoxHamiltonian, DampedOscillator};
     use super::*;
@@ -4987,6 +4990,245 @@ mod hamiltonian_stability_calls {
                         },
                         finite_ok("p_ρ", p[1] / m.max(1e-300)),
                     ])
+                })
+            },
+        );
+    }
+}
+
+/// The action of a path, the non-holonomic particle, the constrained methods of the scene kinds,
+/// the parameter study and the spectrum of upright rolling.
+mod constrained_methods {
+    use super::*;
+    use hamilton_jacobi::action::action;
+    use hamilton_jacobi::nonholonomic::{
+        Constrained, ConstrainedInfo, ConstrainedMethod, CONSTRAINED_METHODS,
+    };
+    use hamilton_jacobi::stability::{parameter_study, upright_rolling_spectrum};
+    use hamilton_jacobi::systems::{NonholonomicParticle, RollingDisk};
+    use hamilton_jacobi::Lagrangian;
+
+    /// `L = ½ q̇² − ½ q²`.
+    struct Unit;
+
+    impl Lagrangian<1> for Unit {
+        fn lagrangian<D: DualNum<f64> + Copy>(
+            &self,
+            _t: D,
+            q: &SVector<D, 1>,
+            v: &SVector<D, 1>,
+        ) -> D {
+            (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    const V_C: f64 = 1.80831413200251;
+
+    pub fn add(c: &mut Vec<Call>) {
+        // S = −¼ A² (sin 2t₁ − sin 2t₀) on the motion A cos t.
+        sweep(
+            c,
+            "action::action",
+            &[0.0, 2.0, 1e-12, 0.7],
+            &[(1, 1e6), (2, 0.5), (2, 1.0), (1, 0.0)],
+            |a| {
+                let amp = a[3];
+                let path = move |t: Dual64| SVector::from([t.cos() * amp]);
+                let valid = fin(a) && a[0] != a[1] && (1e-15..1.0).contains(&a[2]);
+                judge(action(&Unit, path, a[0], a[1], a[2]), valid, |s| {
+                    // |S| ≤ ½ A² for every span: the closed form bounds it where sin 2t has no
+                    // digits left.
+                    let want = -0.25 * amp * amp * ((2.0 * a[1]).sin() - (2.0 * a[0]).sin());
+                    if !want.is_finite() || a[0].abs().max(a[1].abs()) > 1e15 {
+                        return if s.value.abs() <= 0.5 * amp * amp * (1.0 + 1e-12) {
+                            Good
+                        } else {
+                            Wrong(format!("|S| = {:e} > ½A²", s.value.abs()))
+                        };
+                    }
+                    let scale = (1.0 + amp * amp) * (1.0 + (a[1] - a[0]).abs());
+                    near("S", s.value, want, 1e-6 * scale)
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::NonholonomicParticle",
+            &[1.0, 1.0, 0.5, 0.3, 1.0, 0.2],
+            &[(1, -1.0)],
+            |a| {
+                let q = SVector::from([0.0, a[3], 0.0]);
+                let v = SVector::from([a[4], a[5], a[3] * a[4]]);
+                let valid = fin(&a[..3]) && a[1] > 0.0;
+                judge(NonholonomicParticle::new(a[0], a[1], a[2]), valid, |p| {
+                    let e = 0.5 * v.norm_squared() + 0.5 * a[1] * a[3] * a[3] + a[2] * a[3];
+                    let i = (1.0 + a[3] * a[3]).sqrt() * a[4] - a[0] * a[3].asinh();
+                    let got_e = p.energy(&q, &v);
+                    let got_i = p.first_integral(&q, &v);
+                    match (got_e, got_i) {
+                        (Ok(ge), Ok(gi)) => all([
+                            near("E", ge, e, 1e-14 * (1.0 + e.abs())),
+                            near("I", gi, i, 1e-14 * (1.0 + i.abs())),
+                        ]),
+                        (Err(_), _) | (_, Err(_)) if !(e.is_finite() && i.is_finite()) => Typed,
+                        (e, i) => Wrong(format!("refused finite values: {e:?}, {i:?}")),
+                    }
+                })
+            },
+        );
+        for info in &CONSTRAINED_METHODS {
+            let key = info.key;
+            sweep(
+                c,
+                &format!("nonholonomic::ConstrainedMethod::new[{key}]"),
+                &[
+                    if info.knob == hamilton_jacobi::integrate::methods::Knob::Steps {
+                        100.0
+                    } else {
+                        1e-8
+                    },
+                ],
+                &[(0, 0.5), (0, 2.5), (0, 1e13), (0, 1.0)],
+                move |a| {
+                    let info = ConstrainedInfo::find(key).unwrap();
+                    match ConstrainedMethod::new(info, a[0], 10_000) {
+                        Err(_) => Typed,
+                        Ok(ConstrainedMethod::Projected(p)) => {
+                            near("rtol", p.method.rtol, a[0], 0.0)
+                        }
+                        Ok(ConstrainedMethod::LagrangeDAlembert(m)) => {
+                            near("steps", m.steps as f64, a[0], 0.0)
+                        }
+                        Ok(m) => Wrong(format!("{m:?}")),
+                    }
+                },
+            );
+        }
+        // Each method on the particle from y = 0 (ż = 0): the energy of the ODE methods' end
+        // state against E₀.
+        for (name, which) in [
+            ("reduced", 0usize),
+            ("projected", 1),
+            ("lagrange-dalembert", 2),
+        ] {
+            sweep(
+                c,
+                &format!("nonholonomic::ConstrainedMethod::run[{name}]"),
+                &[2.0, 1.0, 0.2],
+                &[(0, 1e6), (1, 1e150)],
+                move |a| {
+                    let p = NonholonomicParticle::new(1.0, 1.0, 0.5).unwrap();
+                    let sys = Constrained::new(p, p);
+                    let q0 = SVector::zeros();
+                    let v0 = SVector::from([a[1], a[2], 0.0]);
+                    let m = match which {
+                        0 => Dop853::new(1e-10, 1e-10)
+                            .and_then(|d| d.with_max_steps(10_000))
+                            .map(ConstrainedMethod::Reduced),
+                        1 => ConstrainedMethod::new(&CONSTRAINED_METHODS[0], 1e-10, 10_000),
+                        _ => ConstrainedMethod::new(&CONSTRAINED_METHODS[1], 200.0, 10_000),
+                    }
+                    .unwrap();
+                    let valid = fin(a) && a[0] != 0.0;
+                    judge(
+                        m.run(&sys, 0.0, q0, v0, a[0], 1e-12, Some(10)),
+                        valid,
+                        |(last, _, states)| {
+                            if !(fin(last.q.as_slice()) && fin(last.p.as_slice())) {
+                                return NonFinite(format!("{last:?}"));
+                            }
+                            let e0 = p.energy(&q0, &v0).unwrap();
+                            let s = states.last().unwrap();
+                            let e = p.energy(&s.q, &s.p).unwrap_or(f64::NAN);
+                            // Order 2 with h = t/200 for the midpoint scheme, the tolerance for
+                            // DOP853.
+                            let h = a[0] / 200.0;
+                            let tol = if which == 2 {
+                                10.0 * h * h + 1e-12
+                            } else {
+                                1e-7
+                            } * (1.0 + e0);
+                            near("E", e, e0, tol)
+                        },
+                    )
+                },
+            );
+        }
+        sized(
+            c,
+            "stability::parameter_study(samples)",
+            &[0, 1, 2, 7, 1_000_001],
+            |n| {
+                let disk = RollingDisk::disk(1.0, 1.0, 9.81).unwrap();
+                judge(
+                    parameter_study(|v| upright_rolling_spectrum(disk, v), 0.5, 3.0, n, 1e-12),
+                    (2..=1_000_000).contains(&n),
+                    |s| {
+                        if s.spectra.len() != n {
+                            return Wrong(format!("{} spectra", s.spectra.len()));
+                        }
+                        // A coarse grid may miss nothing here: one simple crossing in [0.5, 3].
+                        match s.crossings.as_slice() {
+                            [c] => near("v_c", c.parameter, V_C, 1e-10),
+                            other => Wrong(format!("{} crossings", other.len())),
+                        }
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "stability::parameter_study",
+            &[0.5, 3.0, 1e-12],
+            &[(0, 3.0), (0, 2.0), (1, 1.0), (2, -1.0)],
+            |a| {
+                let disk = RollingDisk::disk(1.0, 1.0, 9.81).unwrap();
+                let valid = fin(a) && a[0] < a[1] && a[2] > 0.0;
+                judge(
+                    parameter_study(|v| upright_rolling_spectrum(disk, v), a[0], a[1], 9, a[2]),
+                    valid,
+                    |s| {
+                        let inside = [-V_C, V_C]
+                            .iter()
+                            .filter(|v| a[0] < **v && **v < a[1])
+                            .count();
+                        if s.crossings.len() != inside {
+                            return Wrong(format!(
+                                "{} crossings, {inside} expected",
+                                s.crossings.len()
+                            ));
+                        }
+                        all(s
+                            .crossings
+                            .iter()
+                            .map(|c| near("|v_c|", c.parameter.abs(), V_C, a[2].max(1e-10))))
+                    },
+                )
+            },
+        );
+        // M70: det of the transverse block = a² = (BD − AF)/(AE), B = Cv/r, D = (mr + C/r)v,
+        // E = A + mr², F = mgr, for the disk A = mr²/4, C = mr²/2.
+        sweep(
+            c,
+            "stability::upright_rolling_spectrum",
+            &[1.0, 2.0, 9.81, 2.2],
+            &[(0, -1.0), (1, -1.0), (3, 1e200)],
+            |a| {
+                let (m, r, g, v) = (a[0], a[1], a[2], a[3]);
+                let disk = match RollingDisk::disk(m, r, g) {
+                    Ok(d) => d,
+                    Err(_) => return Typed,
+                };
+                judge(upright_rolling_spectrum(disk, v), fin(a), |s| {
+                    let (ia, c) = (0.25 * m * r * r, 0.5 * m * r * r);
+                    let (b, d, e, f) = (c / r * v, (m * r + c / r) * v, ia + m * r * r, m * g * r);
+                    let want = (b * d - ia * f) / (ia * e);
+                    let det = s.transverse_matrix.determinant();
+                    let scale = s.transverse_matrix.norm().powi(2).max(1.0);
+                    if !want.is_finite() {
+                        return finite_ok("det", det);
+                    }
+                    near("det", det, want, 1e-10 * scale)
                 })
             },
         );

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! core        error, phase, ad, vector_space, implicit, special, series, record
-//! mechanics   hamiltonian, lagrangian, brackets, constraints
+//! mechanics   hamiltonian, lagrangian, brackets, constraints, particles, action
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability,
 //!             impulse, inverse_problem
@@ -41,6 +41,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "brackets",
             "constraints",
             "particles",
+            "action",
         ],
     ),
     ("models", &["systems"]),

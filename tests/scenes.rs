@@ -878,6 +878,41 @@ fn constrained_scenes_sleigh_and_disk() {
     let h = case.history(dop, 1e-10, 1000).unwrap();
     let lean = h.q.iter().map(|q| q[3].abs()).fold(0.0, f64::max);
     assert!((lean - 0.021).abs() < 5e-4, "max |ψ| = {lean}");
+    // The constrained methods of the scene kinds: the discrete Lagrange–d'Alembert integrator
+    // converges at order 2 to the reference, the projected DOP853 to its tolerance, and the
+    // midpoint velocities of the former and the projected velocities of the latter satisfy the
+    // constraints to rounding (the residual is the second invariant).
+    let lda = MethodKind::from_key("lagrange-dalembert").unwrap();
+    let projected = MethodKind::from_key("dop853-projection").unwrap();
+    assert!(case.supports(lda) && case.supports(projected));
+    let (e1, e3) = (
+        case.run(lda, 1000.0).unwrap(),
+        case.run(lda, 3000.0).unwrap(),
+    );
+    let order = (e1.error / e3.error).ln() / 3f64.ln();
+    assert!((order - 2.0).abs() < 0.05, "order {order}");
+    assert_eq!(e3.work.steps, 3000);
+    let p = case.run(projected, 1e-10).unwrap().error;
+    assert!(p < 1e-8, "projected: {p:e}");
+    for kind in [lda, projected] {
+        let knob = if kind == lda { 3000.0 } else { 1e-10 };
+        let h = case.history(kind, knob, 50).unwrap();
+        assert!(h.t.len() >= 50, "{}: {} samples", kind.key(), h.t.len());
+        let last = h.t.len() - 1;
+        let inv = case.invariants(h.t[last], &h.q[last], &h.p[last]).unwrap();
+        assert!(
+            inv[1].value < 1e-11,
+            "{}: residual {:e}",
+            kind.key(),
+            inv[1].value
+        );
+    }
+    // The spectrum of upright rolling against the speed: the threshold v_c of SPEC T17.
+    assert_eq!(case.steady_motion_parameter(), Some("v"));
+    let study = case.parameter_study(0.5, 3.5, 31).unwrap();
+    assert_eq!(study.spectra.len(), 31);
+    assert_eq!(study.crossings.len(), 1);
+    assert!((study.crossings[0].parameter - 1.80831413200251).abs() < 1e-12);
     // A non-positive radius is refused, naming the system table.
     let flat: toml::Table = toml::from_str("name = \"rolling-disk\"\nr = 0.0").unwrap();
     match Catalogue::builtin().build("d.toml", &flat) {

@@ -7,34 +7,12 @@ use hamilton_jacobi::nalgebra::{DMatrix, SVector, Vector2, Vector3};
 use hamilton_jacobi::nonholonomic::BoltzmannHamel;
 use hamilton_jacobi::stability::{
     equilibrium, linearize, real_part_crossings, spectra, spectrum, steady_motion_spectrum,
-    CrossingKind, Reduced, Slot, Spectrum, Stability,
+    upright_rolling, upright_rolling_spectrum, CrossingKind, Reduced, Slot, Stability,
 };
 use hamilton_jacobi::systems::{ChaplyginSleigh, DoublePendulum, RollingDisk};
-use hamilton_jacobi::{DualNum, Hamiltonian, Result};
+use hamilton_jacobi::{DualNum, Hamiltonian};
 
 const G: f64 = 9.81;
-
-/// The rolling body's reduced equations about upright rolling at speed `v` (m = r = 1): the
-/// variables `(ψ, ϑ̇, ψ̇, φ̇)` of the Boltzmann–Hamel equations, the cyclic `x, y, ϑ, φ` held.
-fn upright_reduced(
-    bh: &BoltzmannHamel<RollingDisk, RollingDisk, 5>,
-    v: f64,
-) -> Result<Reduced<'_, BoltzmannHamel<RollingDisk, RollingDisk, 5>, 5, 4>> {
-    let w = SVector::<f64, 5>::from([0.0, 0.0, 0.0, 0.0, v]);
-    Reduced::new(
-        bh,
-        &SVector::zeros(),
-        &w,
-        [Slot::Q(3), Slot::P(2), Slot::P(3), Slot::P(4)],
-    )
-}
-
-/// The spectrum of upright rolling at speed `v`.
-fn upright(body: RollingDisk, v: f64) -> Result<Spectrum> {
-    let bh = BoltzmannHamel::new(body, body);
-    let reduced = upright_reduced(&bh, v)?;
-    steady_motion_spectrum(&reduced, 0.0, &reduced.state())
-}
 
 /// M70: `a² = (BD − AF)/(AE)` with `B = Cv/r`, `D = (mr + C/r)v`, `E = A + mr²`, `F = mgr`.
 fn a_squared(a: f64, c: f64, v: f64) -> f64 {
@@ -48,14 +26,14 @@ fn m70_disk_linearisation_against_speed_matches_hamels_frequency() {
     let disk = RollingDisk::disk(1.0, 1.0, G).unwrap();
     let bh = BoltzmannHamel::new(disk, disk);
     for v in [0.3, 1.0, 1.5, 1.7, 1.9, 2.2, 3.0, 6.0] {
-        let reduced = upright_reduced(&bh, v).unwrap();
+        let reduced = upright_rolling(&bh, v).unwrap();
         // x, y, ϑ, φ are cyclic and the constrained quasi-velocities at rest: a valid reduction.
         let (defect, rate) = reduced.cyclic_defect(0.0, &reduced.state()).unwrap();
         assert!(
             defect <= 1e-14 && rate <= 1e-14,
             "v = {v}: {defect:e}, {rate:e}"
         );
-        let s = upright(disk, v).unwrap();
+        let s = upright_rolling_spectrum(disk, v).unwrap();
         // Steady rolling at every speed and steady turning at constant lean: a double zero of
         // the family, reported and not classified [Hamel art. 244].
         assert_eq!(s.family_dimension(), 2, "v = {v}");
@@ -86,14 +64,14 @@ fn m70_disk_linearisation_against_speed_matches_hamels_frequency() {
         assert!(!s.attracting);
     }
     // T17: v = 1.5, a² = −2.448 (growth rate 1.5646 s⁻¹); v = 3, a = 3.70836891368699 rad/s.
-    let s = upright(disk, 1.5).unwrap();
+    let s = upright_rolling_spectrum(disk, 1.5).unwrap();
     assert!(
         (s.transverse[0].re - 1.5646).abs() < 5e-5,
         "{:?}",
         s.transverse
     );
     assert!((a_squared(0.25, 0.5, 1.5) + 2.448).abs() < 5e-4);
-    let s = upright(disk, 3.0).unwrap();
+    let s = upright_rolling_spectrum(disk, 3.0).unwrap();
     let omega = s.transverse[0].im.abs();
     assert!((omega - 3.70836891368699).abs() < 1e-12, "{omega}");
 }
@@ -107,7 +85,9 @@ fn t17_disk_and_hoop_thresholds_by_root_finding_the_real_part_crossing() {
         // Brent's tolerance 1e−14 in v: its stopping rule bounds the error by
         // 2ε|v| + 0.5e−14 ≈ 1e−14; the test function det(WᵀAW) = a² has slope
         // d(a²)/dv = O(1) at v_c and is computed to O(ε‖A‖²), so the root is good to ~1e−15.
-        let crossings = real_part_crossings(|v| upright(body, v), 0.5, 4.0, 15, 1e-14).unwrap();
+        let crossings =
+            real_part_crossings(|v| upright_rolling_spectrum(body, v), 0.5, 4.0, 15, 1e-14)
+                .unwrap();
         assert_eq!(crossings.len(), 1, "{crossings:?}");
         let c = &crossings[0];
         assert_eq!(c.kind, CrossingKind::ThroughZero);
@@ -127,7 +107,7 @@ fn t17_disk_and_hoop_thresholds_by_root_finding_the_real_part_crossing() {
     }
     // X2: just below and just above the disk's threshold.
     let disk = RollingDisk::disk(1.0, 1.0, G).unwrap();
-    let sweep = spectra(|v| upright(disk, v), &[1.7, 1.9]).unwrap();
+    let sweep = spectra(|v| upright_rolling_spectrum(disk, v), &[1.7, 1.9]).unwrap();
     assert_eq!(sweep[0].spectrum.stability, Stability::Unstable);
     assert_eq!(sweep[1].spectrum.stability, Stability::Stable);
 }
@@ -366,4 +346,33 @@ fn m34_classification_of_given_spectra() {
     let s = spectrum(&a, &good).unwrap();
     assert_eq!(s.stability, Stability::Stable);
     assert!(s.attracting);
+}
+
+/// The speed of upright rolling is `v = r φ̇`: for a disk of radius 2 the crossing of the
+/// spectrum against `v` is the critical speed `v_c² = A m g r³/(C(C + m r²))` [Hamel art. 244],
+/// here `√(2g/3)`.
+#[test]
+fn upright_rolling_threshold_scales_with_the_radius() {
+    let disk = RollingDisk::disk(1.0, 2.0, G).unwrap();
+    let v_c = disk.critical_speed().unwrap();
+    assert!((v_c - (2.0 * G / 3.0).sqrt()).abs() < 1e-14);
+    let study = hamilton_jacobi::stability::parameter_study(
+        |v| upright_rolling_spectrum(disk, v),
+        1.0,
+        4.0,
+        31,
+        1e-14,
+    )
+    .unwrap();
+    assert_eq!(study.spectra.len(), 31);
+    assert_eq!(study.crossings.len(), 1, "{:?}", study.crossings);
+    let c = &study.crossings[0];
+    assert!(
+        (c.parameter - v_c).abs() < 1e-11,
+        "{} vs {v_c}",
+        c.parameter
+    );
+    // The grid spectra are those of the function at the grid values.
+    let direct = upright_rolling_spectrum(disk, study.spectra[7].parameter).unwrap();
+    assert_eq!(direct, study.spectra[7].spectrum);
 }

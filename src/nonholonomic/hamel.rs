@@ -379,19 +379,6 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
     }
 }
 
-impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N>
-    for BoltzmannHamel<L, Q, N>
-{
-    fn field(
-        &self,
-        t: f64,
-        q: &SVector<f64, N>,
-        w: &SVector<f64, N>,
-    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
-        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
-    }
-}
-
 /// The Gibbs–Appell equations of `L` in the quasi-velocities `Q` (see the [module docs](self)).
 #[derive(Clone, Copy, Debug)]
 pub struct GibbsAppell<L, Q, const N: usize> {
@@ -512,15 +499,24 @@ impl<const N: usize> AppellTerms<N> {
     }
 }
 
-impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N>
-    for GibbsAppell<L, Q, N>
-{
-    fn field(
-        &self,
-        t: f64,
-        q: &SVector<f64, N>,
-        w: &SVector<f64, N>,
-    ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
-        transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
-    }
+/// The first-order system `(q̇, ω̇) = (B(q) ω, ω̇(t, q, ω))` of equations of motion in
+/// quasi-velocities whose type has `quasi` and `quasi_accelerations` (the transition equations
+/// beside the equations of motion, SPEC M63–M65) [Hamel art. 236–237].
+macro_rules! quasi_velocity_system {
+    ($($equations:ident),+) => {$(
+        impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> FirstOrderSystem<N>
+            for $equations<L, Q, N>
+        {
+            fn field(
+                &self,
+                t: f64,
+                q: &SVector<f64, N>,
+                w: &SVector<f64, N>,
+            ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+                transition(&self.quasi, q, w, self.quasi_accelerations(t, q, w)?)
+            }
+        }
+    )+};
 }
+
+quasi_velocity_system!(BoltzmannHamel, GibbsAppell);

@@ -34,6 +34,7 @@ use super::{at, Constrained};
 use crate::ad::{phase_gradient, PhaseDual};
 use crate::constraints::{check_rank, check_velocities, PfaffianConstraints};
 use crate::error::{all_finite, finite, Error, Result};
+use crate::integrate::methods::{whole_steps, Knob};
 use crate::integrate::rattle::newton;
 use crate::integrate::{
     integrate, Control, Dop853, Method, Observer, Problem, Report, Samples, StepView, Work,
@@ -391,7 +392,148 @@ pub enum ConstrainedMethod {
     LagrangeDAlembert(LagrangeDAlembert),
 }
 
+/// How a method of [`CONSTRAINED_METHODS`] is built from its knob.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ConstrainedConstruction {
+    /// [`Projection`] of [`Dop853`] (`rtol = atol` the knob) over [`PROJECTION_SEGMENTS`]
+    /// segments.
+    Projected,
+    /// [`LagrangeDAlembert`] with the knob's number of steps.
+    LagrangeDAlembert,
+}
+
+/// A method for constrained systems beyond the index-reduced equations (which any method of
+/// [`METHODS`](crate::integrate::METHODS) integrates), described once: its key in scene files,
+/// its label in tables and legends, its knob, and its source.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstrainedInfo {
+    /// Key in scene files, e.g. `"lagrange-dalembert"`.
+    pub key: &'static str,
+    /// Label in tables and legends.
+    pub label: &'static str,
+    /// What it is, for `hj list`.
+    pub description: &'static str,
+    /// The knob it is swept over.
+    pub knob: Knob,
+    /// How it is built.
+    pub construction: ConstrainedConstruction,
+    /// Where it comes from.
+    pub reference: &'static str,
+}
+
+/// Number of segments of a run of the projected method of [`CONSTRAINED_METHODS`]: the
+/// velocities are projected onto the constraints 10 times over the span.
+pub const PROJECTION_SEGMENTS: usize = 10;
+
+/// The methods for constrained systems with Pfaffian constraints, in the order `hj list` shows
+/// them.
+pub static CONSTRAINED_METHODS: [ConstrainedInfo; 2] = [
+    ConstrainedInfo {
+        key: "dop853-projection",
+        label: "Dormand–Prince + projection",
+        description: "Dormand–Prince 8(5,3) on the index-reduced equations, the velocities \
+                      projected onto the constraints after each of 10 segments; Pfaffian \
+                      constraints",
+        knob: Knob::Tolerance,
+        construction: ConstrainedConstruction::Projected,
+        reference: "Hairer, Lubich & Wanner 2006, §IV.4, Algorithm 4.2",
+    },
+    ConstrainedInfo {
+        key: "lagrange-dalembert",
+        label: "discrete Lagrange–d'Alembert (midpoint), order 2",
+        description: "discrete Lagrange–d'Alembert, midpoint discrete Lagrangian, order 2; \
+                      Pfaffian constraints",
+        knob: Knob::Steps,
+        construction: ConstrainedConstruction::LagrangeDAlembert,
+        reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006) 283–328, §3",
+    },
+];
+
+impl ConstrainedInfo {
+    /// The entry with key `key`, if there is one.
+    pub fn find(key: &str) -> Option<&'static ConstrainedInfo> {
+        CONSTRAINED_METHODS.iter().find(|m| m.key == key)
+    }
+}
+
 impl ConstrainedMethod {
+    /// The method `info` describes at `knob` (a tolerance or a number of steps), DOP853 limited
+    /// to `max_steps` steps per run.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] or [`Error::OutOfDomain`] for a knob out of range (a tolerance
+    /// outside DOP853's range, a step count that is not a whole number ≥ 1).
+    pub fn new(info: &ConstrainedInfo, knob: f64, max_steps: usize) -> Result<Self> {
+        match info.construction {
+            ConstrainedConstruction::Projected => Ok(Self::Projected(Projection::new(
+                Dop853::new(knob, knob)?.with_max_steps(max_steps)?,
+                PROJECTION_SEGMENTS,
+            )?)),
+            ConstrainedConstruction::LagrangeDAlembert => {
+                LagrangeDAlembert::new(whole_steps(knob)?).map(Self::LagrangeDAlembert)
+            }
+        }
+    }
+
+    /// Run from `(q₀, q̇₀)` at `t₀` to `t₁`: the end state (`(t₁, q, q̇)` for the ODE methods,
+    /// the last node `(t₁, q, p)` of [`LagrangeDAlembert`]), the work, and the states at
+    /// about `samples` times when asked (`samples + 1` uniform times from dense output for the
+    /// ODE methods; every `⌈steps/samples⌉`-th midpoint state `(t, q, q̇)` and the start for
+    /// [`LagrangeDAlembert`]).
+    ///
+    /// # Errors
+    /// [`Error::ConstraintViolated`] for initial velocities violating the constraints beyond
+    /// `velocity_tolerance`; the errors of the method.
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    pub fn run<L, C, const N: usize, const K: usize>(
+        &self,
+        sys: &Constrained<L, C, N, K>,
+        t0: f64,
+        q0: SVector<f64, N>,
+        qdot0: SVector<f64, N>,
+        t1: f64,
+        velocity_tolerance: f64,
+        samples: Option<usize>,
+    ) -> Result<(State<N>, Work, Vec<State<N>>)>
+    where
+        L: Lagrangian<N>,
+        C: PfaffianConstraints<N, K>,
+    {
+        let problem = Problem::new(sys, t0, q0, qdot0, t1)?;
+        check_velocities(&sys.constraints, t0, &q0, &qdot0, velocity_tolerance)?;
+        let (last, work, states) = match self {
+            Self::Reduced(m) => ode_run(&problem, m, samples)?,
+            Self::Projected(m) => ode_run(&problem, m, samples)?,
+            Self::LagrangeDAlembert(m) => {
+                let stride = samples.map(|n| m.steps.div_ceil(n.max(1)).max(1));
+                let mut states = Vec::new();
+                if stride.is_some() {
+                    states.push(problem.start);
+                }
+                let mut k = 0usize;
+                let run = m.run(sys, t0, q0, qdot0, t1, velocity_tolerance, |s| {
+                    k += 1;
+                    if stride.is_some_and(|d| k.is_multiple_of(d) || k == m.steps) {
+                        states.push(*s);
+                    }
+                    Control::Continue
+                })?;
+                (run.last, run.work, states)
+            }
+        };
+        for s in states.iter().chain(std::iter::once(&last)) {
+            all_finite(
+                format_args!("state at t = {} of {}", s.t, self.label()),
+                s.q.iter()
+                    .chain(s.p.iter())
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .as_slice(),
+            )?;
+        }
+        Ok((last, work, states))
+    }
+
     /// A label for tables and figures.
     pub fn label(&self) -> String {
         match self {
@@ -402,6 +544,24 @@ impl ConstrainedMethod {
             ),
             Self::LagrangeDAlembert(m) => format!("discrete Lagrange–d'Alembert n={}", m.steps),
         }
+    }
+}
+
+/// An ODE method on the index-reduced equations: the end state, the work, and the states at
+/// `samples + 1` uniform times when asked.
+#[allow(clippy::type_complexity)]
+fn ode_run<S, M: Method<S, N>, const N: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &M,
+    samples: Option<usize>,
+) -> Result<(State<N>, Work, Vec<State<N>>)> {
+    match samples {
+        Some(n) => {
+            let mut grid = Samples::uniform(problem.start.t, problem.t1, n)?;
+            let r = integrate(problem, method, &mut grid)?;
+            Ok((r.last, r.work, grid.states))
+        }
+        None => integrate(problem, method, &mut ()).map(|r| (r.last, r.work, Vec::new())),
     }
 }
 
@@ -501,56 +661,26 @@ where
     L: Lagrangian<N>,
     C: PfaffianConstraints<N, K>,
 {
-    let problem = Problem::new(sys, t0, q0, qdot0, t1)?;
+    Problem::new(sys, t0, q0, qdot0, t1)?;
     check_velocities(&sys.constraints, t0, &q0, &qdot0, 1e-12)?;
-    let mut grid = Samples::uniform(t0, t1, samples)?;
+    Samples::<N>::uniform(t0, t1, samples)?;
     let (e0, _) = measure(sys, t0, &q0, &qdot0)?;
-    let mut out = Vec::new();
-    let mut record = |s: &State<N>| -> Result<()> {
-        let (e, r) = measure(sys, s.t, &s.q, &s.p)?;
-        out.push(DriftSample {
-            t: s.t,
-            energy_error: e - e0,
-            residual: r,
-        });
-        Ok(())
-    };
-    let work = match method {
-        ConstrainedMethod::Reduced(m) => {
-            let r = integrate(&problem, m, &mut grid)?;
-            grid.states.iter().try_for_each(&mut record)?;
-            r.work
-        }
-        ConstrainedMethod::Projected(m) => {
-            let r = integrate(&problem, m, &mut grid)?;
-            grid.states.iter().try_for_each(&mut record)?;
-            r.work
-        }
-        ConstrainedMethod::LagrangeDAlembert(m) => {
-            let stride = m.steps.div_ceil(samples).max(1);
-            record(&problem.start)?;
-            let mut k = 0usize;
-            let mut failure = None;
-            let run = m.run(sys, t0, q0, qdot0, t1, 1e-12, |s| {
-                k += 1;
-                if k.is_multiple_of(stride) || k == m.steps {
-                    if let Err(e) = record(s) {
-                        failure = Some(e);
-                        return Control::Stop;
-                    }
-                }
-                Control::Continue
-            })?;
-            if let Some(e) = failure {
-                return Err(e);
-            }
-            run.work
-        }
-    };
+    let (_, work, states) = method.run(sys, t0, q0, qdot0, t1, 1e-12, Some(samples))?;
+    let samples = states
+        .iter()
+        .map(|s| {
+            let (e, r) = measure(sys, s.t, &s.q, &s.p)?;
+            Ok(DriftSample {
+                t: s.t,
+                energy_error: e - e0,
+                residual: r,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
     Ok(Drift {
         method: method.label(),
         energy: e0,
-        samples: out,
+        samples,
         work,
     })
 }

@@ -30,8 +30,8 @@ pub use gauss::{
 };
 pub use hamel::{BoltzmannHamel, GibbsAppell};
 pub use integrators::{
-    drift, ConstrainedMethod, DiscreteRun, DiscreteStep, Drift, DriftSample, LagrangeDAlembert,
-    Projection,
+    drift, ConstrainedConstruction, ConstrainedInfo, ConstrainedMethod, DiscreteRun, DiscreteStep,
+    Drift, DriftSample, LagrangeDAlembert, Projection, CONSTRAINED_METHODS, PROJECTION_SEGMENTS,
 };
 
 use crate::constraints::{

@@ -12,6 +12,7 @@ use crate::integrate::{
 };
 use crate::nalgebra::SVector;
 use crate::phase::State;
+use crate::stability::ParameterStudy;
 use crate::systems::{ExactFlow, Invariant, Invariants};
 use crate::{Hamiltonian, Separable};
 
@@ -156,6 +157,23 @@ pub trait Case {
         Err(Error::invalid(
             "elements",
             "this system has no osculating elements",
+        ))
+    }
+    /// The parameter of the case's family of steady motions (e.g. `"v"`, the forward speed),
+    /// if it has one: see [`Case::parameter_study`].
+    fn steady_motion_parameter(&self) -> Option<&'static str> {
+        None
+    }
+    /// The spectra of the steady motions at `samples` equally spaced parameter values in
+    /// `[from, to]` and the values where a real part crosses zero
+    /// ([`crate::stability::parameter_study`]).
+    ///
+    /// # Errors
+    /// If the case has no family of steady motions; the errors of the study.
+    fn parameter_study(&self, _from: f64, _to: f64, _samples: usize) -> Result<ParameterStudy> {
+        Err(Error::invalid(
+            "spectrum",
+            "this system has no family of steady motions",
         ))
     }
     /// Whether the case is a table of its own (no span, no methods): see [`Case::table`].

@@ -8,8 +8,8 @@
 //! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
 //! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
-//! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form only |
-//! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | DOP853 on the multiplier form only |
+//! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form, with projection, discrete Lagrange–d'Alembert (no other) |
+//! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | as the sleigh; the spectrum of upright rolling against the speed `v` |
 //!
 //! The general methods (RK4, implicit midpoint, Gauss–Legendre, DOP853) apply to every
 //! Hamiltonian system. The constrained systems ([`ConstrainedCase`]) start at the origin heading
@@ -34,6 +34,7 @@ use crate::perturbation::normal_form::{PendulumNormalForm, PENDULUM_WARNING_MU};
 use crate::perturbation::ode::Ode;
 use crate::perturbation::variation::GeneralSolution;
 use crate::phase::CanonicalPair;
+use crate::stability::upright_rolling_spectrum;
 use crate::systems::kepler::{self, elements::state_to_classical, elements::Classical};
 use crate::systems::pendulum_exact::{exact_state, period_from_gap, separatrix_gap};
 use crate::systems::top::motion::Nutation;
@@ -229,12 +230,12 @@ impl Catalogue {
         );
         c.register(
             "chaplygin-sleigh",
-            "Chaplygin sleigh (blade), one non-holonomic constraint (multiplier form)",
+            "Chaplygin sleigh (blade), one non-holonomic constraint",
             Box::new(chaplygin_sleigh),
         );
         c.register(
             "rolling-disk",
-            "disk rolling upright on a plane, two non-holonomic constraints (multiplier form)",
+            "disk rolling upright on a plane, two non-holonomic constraints",
             Box::new(rolling_disk),
         );
         c.register(
@@ -951,6 +952,7 @@ fn rolling_disk(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError
         SVector::from([v, 0.0, 0.0, 0.0, v / r]),
         description,
     )
-    .map_err(|x| s.library(x))?;
+    .map_err(|x| s.library(x))?
+    .with_steady_motions("v", Box::new(move |v| upright_rolling_spectrum(disk, v)));
     Ok(Box::new(case))
 }

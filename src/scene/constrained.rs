@@ -1,21 +1,30 @@
-//! A constrained Lagrangian system as a scene [`Case`]: the multiplier form of
-//! [`Constrained`] (the index-1 equations in `(q, q̇)`, SPEC M16/M67) integrated by DOP853, with
-//! the Jacobi integral `h = q̇·∂L/∂q̇ − L` as the energy and the largest constraint residual
-//! `max_r |g_r(t, q, q̇)|` beside it as the quantities whose drift the scene draws, and the path
-//! `(q₀, q₁)` of the contact point as the portrait.
+//! A constrained Lagrangian system with Pfaffian constraints as a scene [`Case`]: the multiplier
+//! form of [`Constrained`] (the index-1 equations in `(q, q̇)`, SPEC M16) integrated by DOP853
+//! (`dop853`), the same with projection of the velocities (`dop853-projection`) and the discrete
+//! Lagrange–d'Alembert integrator (`lagrange-dalembert`) of
+//! [`CONSTRAINED_METHODS`](crate::nonholonomic::CONSTRAINED_METHODS) (SPEC X6); the Jacobi
+//! integral `h = q̇·∂L/∂q̇ − L` as the energy and the largest constraint residual
+//! `max_r |g_r(t, q, q̇)|` beside it as the quantities whose drift the scene draws, the path
+//! `(q₀, q₁)` of the contact point as the portrait, and, where the catalogue gives one, the
+//! spectrum of a family of steady motions against its parameter.
 
 use super::case::{
     reference_run_coordinates, Case, History, Outcome, Portrait, Sampler, ADAPTIVE_MAX_STEPS,
     REFERENCE_RTOL,
 };
 use super::spec::MethodKind;
-use crate::constraints::{check_velocities, velocity_jet, VelocityConstraints};
+use crate::constraints::{check_velocities, velocity_jet, PfaffianConstraints};
 use crate::error::{Error, Result};
-use crate::integrate::{Dop853, GeneralMethod};
+use crate::integrate::{Dop853, GeneralMethod, Work};
 use crate::lagrangian::Lagrangian;
 use crate::nalgebra::SVector;
-use crate::nonholonomic::Constrained;
+use crate::nonholonomic::{Constrained, ConstrainedMethod};
+use crate::phase::State;
+use crate::stability::{parameter_study, ParameterStudy, Spectrum};
 use crate::systems::Invariant;
+
+/// The spectrum of a steady motion at a value of its parameter.
+pub type SteadyMotions = Box<dyn Fn(f64) -> Result<Spectrum>>;
 
 /// A constrained system with its initial state (see the [module docs](self)).
 pub struct ConstrainedCase<L, C, const N: usize, const K: usize> {
@@ -23,13 +32,14 @@ pub struct ConstrainedCase<L, C, const N: usize, const K: usize> {
     q0: SVector<f64, N>,
     v0: SVector<f64, N>,
     description: String,
+    steady_motions: Option<(&'static str, SteadyMotions)>,
     prepared: Option<(f64, SVector<f64, N>, String)>,
 }
 
 impl<L, C, const N: usize, const K: usize> ConstrainedCase<L, C, N, K>
 where
     L: Lagrangian<N>,
-    C: VelocityConstraints<N, K>,
+    C: PfaffianConstraints<N, K>,
 {
     /// The system `lagrangian` under `constraints` from `(q₀, q̇₀)` at `t = 0`.
     ///
@@ -49,8 +59,16 @@ where
             q0,
             v0,
             description: description.into(),
+            steady_motions: None,
             prepared: None,
         })
+    }
+
+    /// A family of steady motions with parameter `name`: `spectrum(μ)` is the spectrum of the
+    /// steady motion at `μ` (drawn by the scene's `output.spectrum`).
+    pub fn with_steady_motions(mut self, name: &'static str, spectrum: SteadyMotions) -> Self {
+        self.steady_motions = Some((name, spectrum));
+        self
     }
 
     fn end(&self) -> Result<&(f64, SVector<f64, N>, String)> {
@@ -59,16 +77,35 @@ where
             .ok_or_else(|| Error::invalid("case", "run before prepare: no end time"))
     }
 
-    fn dop853(kind: MethodKind, knob: f64) -> Result<Dop853> {
+    /// The method `kind` at `knob`: DOP853 on the index-reduced equations, or a method of
+    /// [`CONSTRAINED_METHODS`](crate::nonholonomic::CONSTRAINED_METHODS).
+    fn method(kind: MethodKind, knob: f64) -> Result<ConstrainedMethod> {
+        if let Some(info) = kind.constrained() {
+            return ConstrainedMethod::new(info, knob, ADAPTIVE_MAX_STEPS);
+        }
         match kind.integrator().map(|info| GeneralMethod::new(info, knob)) {
-            Some(Ok(GeneralMethod::Dop853(m))) => m.with_max_steps(ADAPTIVE_MAX_STEPS),
+            Some(Ok(GeneralMethod::Dop853(m))) => m
+                .with_max_steps(ADAPTIVE_MAX_STEPS)
+                .map(ConstrainedMethod::Reduced),
             Some(Err(e)) => Err(e),
             _ => Err(Error::invalid(
                 format!("method {}", kind.key()),
                 "does not apply to this system (constrained systems run DOP853 on the \
-                 multiplier form)",
+                 multiplier form, with or without projection, and the discrete \
+                 Lagrange–d'Alembert integrator)",
             )),
         }
+    }
+
+    /// The run of `method` to `t1`: the end state, the work, and the states at about `samples`
+    /// times when asked.
+    fn drive_method(
+        &self,
+        method: &ConstrainedMethod,
+        t1: f64,
+        samples: Option<usize>,
+    ) -> Result<(State<N>, Work, Vec<State<N>>)> {
+        method.run(&self.system, 0.0, self.q0, self.v0, t1, 1e-12, samples)
     }
 
     /// The run to `t1` with `method`, sampled by `sampler`.
@@ -97,7 +134,7 @@ fn slice<const N: usize>(x: &[f64], what: &str) -> Result<SVector<f64, N>> {
 impl<L, C, const N: usize, const K: usize> Case for ConstrainedCase<L, C, N, K>
 where
     L: Lagrangian<N>,
-    C: VelocityConstraints<N, K>,
+    C: PfaffianConstraints<N, K>,
 {
     fn describe(&self) -> String {
         self.description.clone()
@@ -108,7 +145,7 @@ where
     }
 
     fn supports(&self, kind: MethodKind) -> bool {
-        kind.key() == "dop853"
+        kind.key() == "dop853" || kind.constrained().is_some()
     }
 
     fn error_label(&self) -> String {
@@ -146,26 +183,37 @@ where
 
     fn run(&self, kind: MethodKind, knob: f64) -> Result<Outcome> {
         let (t1, q_ref, _) = self.end()?;
-        let method = Self::dop853(kind, knob)?;
-        let report = self.drive(&method, *t1, &mut Sampler::at(Vec::new()))?;
+        let (last, work, _) = self.drive_method(&Self::method(kind, knob)?, *t1, None)?;
         Ok(Outcome {
-            error: (report.last.q - q_ref).norm(),
-            work: report.work,
+            error: (last.q - q_ref).norm(),
+            work,
         })
     }
 
     fn history(&self, kind: MethodKind, knob: f64, samples: usize) -> Result<History> {
         let t1 = self.end()?.0;
-        let method = Self::dop853(kind, knob)?;
-        let mut sampler = Sampler::uniform(0.0, t1, samples);
-        self.drive(&method, t1, &mut sampler)?;
+        let (_, _, states) = self.drive_method(&Self::method(kind, knob)?, t1, Some(samples))?;
         let mut h = History::default();
-        for s in &sampler.states {
+        for s in &states {
             h.t.push(s.t);
             h.q.push(s.q.as_slice().to_vec());
             h.p.push(s.p.as_slice().to_vec());
         }
         Ok(h)
+    }
+
+    fn steady_motion_parameter(&self) -> Option<&'static str> {
+        self.steady_motions.as_ref().map(|(name, _)| *name)
+    }
+
+    fn parameter_study(&self, from: f64, to: f64, samples: usize) -> Result<ParameterStudy> {
+        match &self.steady_motions {
+            Some((_, spectrum)) => parameter_study(spectrum, from, to, samples, 1e-12),
+            None => Err(Error::invalid(
+                "spectrum",
+                "this system has no family of steady motions",
+            )),
+        }
     }
 
     fn energy(&self, t: f64, q: &[f64], p: &[f64]) -> Result<f64> {

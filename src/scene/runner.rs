@@ -5,7 +5,7 @@ use super::case::{Case, History, ADAPTIVE_MAX_STEPS};
 use super::catalogue::Catalogue;
 use super::spec::{
     Knob, Length, MethodKind, MethodSpec, OutputSpec, PortraitAxes, RunSpec, SceneError, SceneFile,
-    TheoryKind,
+    SpectrumSpec, TheoryKind,
 };
 use crate::error::fmt_num;
 use crate::integrate::methods::Construction;
@@ -653,6 +653,9 @@ impl Scene {
                 run_knob(file, &k, r)?;
             }
         }
+        if let Some(sp) = &o.spectrum {
+            check_spectrum(file, sp, &*case)?;
+        }
         if !o.elements.is_empty() && case.element_names().is_none() {
             return Err(SceneError::new(
                 file,
@@ -719,6 +722,9 @@ impl Scene {
             if !list.is_empty() {
                 figure(&mut v, self.figure_path(&key.replace('_', "-")));
             }
+        }
+        if o.spectrum.is_some() {
+            figure(&mut v, self.figure_path("spectrum"));
         }
         v
     }
@@ -799,6 +805,11 @@ impl Scene {
             md += &notes;
         }
         spinner.finish_and_clear();
+        if let Some(sp) = &o.spectrum {
+            let (figure, notes) = self.spectrum(sp)?;
+            artifacts.push(figure);
+            md += &notes;
+        }
         // The tables last, so that they carry every note of the histories too.
         if o.table {
             artifacts.extend(self.tables(&md, csv));
@@ -1187,6 +1198,70 @@ impl Scene {
         ))
     }
 
+    /// `output.spectrum`: the real parts of the transverse eigenvalues of the steady motions
+    /// against their parameter, one curve per eigenvalue, each crossing of zero marked on the
+    /// axis; and a note for the table listing the crossings.
+    fn spectrum(&self, sp: &SpectrumSpec) -> Result<(Artifact, String), SceneError> {
+        let key = "output.spectrum";
+        let name = self.case.steady_motion_parameter().unwrap_or("μ");
+        let study = self
+            .case
+            .parameter_study(sp.from, sp.to, sp.samples)
+            .map_err(|e| self.err(key, e))?;
+        let branches = study
+            .spectra
+            .iter()
+            .map(|s| s.spectrum.transverse.len())
+            .max()
+            .unwrap_or(0);
+        let caption = format!(
+            "Real parts of the transverse eigenvalues of the linearisation about the steady \
+             motions against {name} ({} values in [{}, {}]; the zero eigenvalues of the family \
+             of steady motions factored out); the markers on the axis are the values of {name} \
+             where a real part crosses zero, located by Brent's method to 1e−12.",
+            sp.samples,
+            fmt_num(sp.from),
+            fmt_num(sp.to)
+        );
+        let mut fig = Figure::new(
+            format!("{} — eigenvalues against {name}", self.title),
+            name,
+            "Re λ",
+        )
+        .caption(caption);
+        for k in 0..branches {
+            let pts: Vec<(f64, f64)> = study
+                .spectra
+                .iter()
+                .map(|s| {
+                    let re = s.spectrum.transverse.get(k).map_or(f64::NAN, |l| l.re);
+                    (s.parameter, re)
+                })
+                .collect();
+            fig = fig.curve(format!("Re λ{}", subscript(k + 1)), pts, Style::Line);
+        }
+        let mut notes = String::new();
+        if study.crossings.is_empty() {
+            notes += &format!(
+                "No real part crosses zero for {name} in [{}, {}].\n\n",
+                fmt_num(sp.from),
+                fmt_num(sp.to)
+            );
+        }
+        for c in &study.crossings {
+            fig = fig.curve(
+                format!("{name}* = {:.12}", c.parameter),
+                vec![(c.parameter, 0.0)],
+                Style::Markers,
+            );
+            notes += &format!(
+                "A real part crosses zero at {name} = {:.15} ({:?}; unstable eigenvalues {} → {}).\n\n",
+                c.parameter, c.kind, c.unstable_counts.0, c.unstable_counts.1
+            );
+        }
+        Ok((self.figure_artifact("spectrum", key, fig), notes))
+    }
+
     /// `output.table`: the report as Markdown and the sweep as CSV.
     fn tables(&self, md: &str, csv: String) -> Vec<Artifact> {
         vec![
@@ -1256,6 +1331,54 @@ fn variable(name: &str) -> Option<(bool, usize)> {
         "p" => Some((false, i)),
         _ => None,
     }
+}
+
+/// `output.spectrum`: the system has a family of steady motions, the range is finite and
+/// increasing, and the number of values in `2..=100000`.
+fn check_spectrum(file: &str, sp: &SpectrumSpec, case: &dyn Case) -> Result<(), SceneError> {
+    let key = "output.spectrum";
+    if case.steady_motion_parameter().is_none() {
+        return Err(SceneError::new(
+            file,
+            key,
+            "this system has no family of steady motions",
+        ));
+    }
+    if !(sp.from.is_finite()
+        && sp.to.is_finite()
+        && sp.from < sp.to
+        && (sp.to - sp.from).is_finite())
+    {
+        return Err(SceneError::new(
+            file,
+            format!("{key}.to"),
+            format!(
+                "expected finite `from` < `to`, found from = {}, to = {}",
+                fmt_num(sp.from),
+                fmt_num(sp.to)
+            ),
+        ));
+    }
+    if !(2..=100_000).contains(&sp.samples) {
+        return Err(SceneError::new(
+            file,
+            format!("{key}.samples"),
+            format!("expected 2..=100000 values, found {}", sp.samples),
+        ));
+    }
+    Ok(())
+}
+
+/// `n` in subscript digits.
+fn subscript(n: usize) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| {
+            c.to_digit(10)
+                .and_then(|d| char::from_u32(0x2080 + d))
+                .unwrap_or(c)
+        })
+        .collect()
 }
 
 /// Whether the element named `name` is an angle (Ω, ω, ϖ), continued across 2π.

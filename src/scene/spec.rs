@@ -4,6 +4,7 @@
 //! expected, on one line: [`SceneError`].
 
 use crate::integrate::methods::{self, MethodInfo, METHODS};
+use crate::nonholonomic::{ConstrainedInfo, CONSTRAINED_METHODS};
 use serde::Deserialize;
 use std::fmt;
 
@@ -138,13 +139,16 @@ impl TheoryKind {
 }
 
 /// What a scene names in `[[method]] kind = "…"` (and a history's `method = "…"`): an
-/// integration method of [`METHODS`] or a theory of [`THEORIES`], by key. Everything said about
-/// it — key, label, description, knob — comes from those two tables.
+/// integration method of [`METHODS`], a method for constrained systems of
+/// [`CONSTRAINED_METHODS`] or a theory of [`THEORIES`], by key. Everything said about it — key,
+/// label, description, knob — comes from those three tables.
 #[derive(Clone, Copy, Debug, Deserialize)]
 #[serde(try_from = "String")]
 pub enum MethodKind {
     /// An integration method.
     Integrator(&'static MethodInfo),
+    /// A method for constrained systems.
+    Constrained(&'static ConstrainedInfo),
     /// A theory.
     Theory(TheoryKind),
 }
@@ -227,12 +231,13 @@ impl Knob {
 }
 
 impl MethodKind {
-    /// Every kind, in the order `hj list` shows them: the integration methods, then the
-    /// theories.
+    /// Every kind, in the order `hj list` shows them: the integration methods, the methods for
+    /// constrained systems, then the theories.
     pub fn all() -> impl Iterator<Item = MethodKind> {
         METHODS
             .iter()
             .map(MethodKind::Integrator)
+            .chain(CONSTRAINED_METHODS.iter().map(MethodKind::Constrained))
             .chain(THEORIES.iter().map(|t| MethodKind::Theory(t.kind)))
     }
 
@@ -245,6 +250,7 @@ impl MethodKind {
     pub fn key(self) -> &'static str {
         match self {
             MethodKind::Integrator(m) => m.key,
+            MethodKind::Constrained(m) => m.key,
             MethodKind::Theory(t) => t.info().key,
         }
     }
@@ -253,6 +259,7 @@ impl MethodKind {
     pub fn label(self) -> String {
         match self {
             MethodKind::Integrator(m) => m.label(),
+            MethodKind::Constrained(m) => m.label.to_string(),
             MethodKind::Theory(t) => t.info().label.to_string(),
         }
     }
@@ -261,6 +268,7 @@ impl MethodKind {
     pub fn description(self) -> String {
         match self {
             MethodKind::Integrator(m) => m.description(),
+            MethodKind::Constrained(m) => m.description.to_string(),
             MethodKind::Theory(t) => t.info().description.to_string(),
         }
     }
@@ -269,6 +277,7 @@ impl MethodKind {
     pub fn knob(self) -> Knob {
         match self {
             MethodKind::Integrator(m) => m.knob.into(),
+            MethodKind::Constrained(m) => m.knob.into(),
             MethodKind::Theory(t) => t.info().knob,
         }
     }
@@ -277,7 +286,15 @@ impl MethodKind {
     pub fn integrator(self) -> Option<&'static MethodInfo> {
         match self {
             MethodKind::Integrator(m) => Some(m),
-            MethodKind::Theory(_) => None,
+            MethodKind::Constrained(_) | MethodKind::Theory(_) => None,
+        }
+    }
+
+    /// The method for constrained systems, if the kind is one.
+    pub fn constrained(self) -> Option<&'static ConstrainedInfo> {
+        match self {
+            MethodKind::Constrained(m) => Some(m),
+            MethodKind::Integrator(_) | MethodKind::Theory(_) => None,
         }
     }
 }
@@ -359,6 +376,9 @@ pub struct OutputSpec {
     /// Osculating-element histories of these runs (Kepler-type systems).
     #[serde(default)]
     pub elements: Vec<RunSpec>,
+    /// The real parts of the transverse eigenvalues of the system's steady motions against
+    /// their parameter (the forward speed of a rolling body), the crossings of zero marked.
+    pub spectrum: Option<SpectrumSpec>,
     /// Points per history: every k-th step end of a fixed-step method (never interpolated; at
     /// most `steps + 1` points), uniform times for adaptive methods (dense output) and theories.
     #[serde(default = "default_samples")]
@@ -382,6 +402,19 @@ pub struct OutputSpec {
     /// How the data behind each figure is written: `"csv"` (every point in the table, the
     /// default) or `"npy"` (a CSV header and the points in a NumPy file).
     pub data: Option<String>,
+}
+
+/// `spectrum = { from = 0.5, to = 3.5, samples = 241 }`: the parameter range of a stability
+/// study ([`crate::stability::parameter_study`]).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpectrumSpec {
+    /// Lowest parameter value.
+    pub from: f64,
+    /// Highest parameter value.
+    pub to: f64,
+    /// Number of equally spaced parameter values (at least 2).
+    pub samples: usize,
 }
 
 /// `portrait = { x = "q0", y = "p0" }`: the variables of a phase portrait.
@@ -415,6 +448,7 @@ impl Default for OutputSpec {
             position_error: Vec::new(),
             invariants: Vec::new(),
             elements: Vec::new(),
+            spectrum: None,
             samples: default_samples(),
             portrait: None,
             width: None,

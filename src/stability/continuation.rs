@@ -214,8 +214,37 @@ pub fn real_part_crossings<F>(
 where
     F: Fn(f64) -> Result<Spectrum>,
 {
+    parameter_study(spectrum_at, lo, hi, samples, tol).map(|s| s.crossings)
+}
+
+/// A parameter study: the spectra on the grid of `μ` and the crossings located between them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterStudy {
+    /// The spectra at the `samples` equally spaced values of `μ` in `[lo, hi]`.
+    pub spectra: Vec<SpectrumAt>,
+    /// The parameter values where a real part crosses zero, in increasing `μ`.
+    pub crossings: Vec<Crossing>,
+}
+
+/// The spectra `spectrum_at(μ)` on `samples ≥ 2` equally spaced values of `μ` in `[lo, hi]` and
+/// the crossings of [`real_part_crossings`] located between them (one evaluation of each grid
+/// spectrum serves both).
+///
+/// # Errors
+/// As [`real_part_crossings`].
+pub fn parameter_study<F>(
+    spectrum_at: F,
+    lo: f64,
+    hi: f64,
+    samples: usize,
+    tol: f64,
+) -> Result<ParameterStudy>
+where
+    F: Fn(f64) -> Result<Spectrum>,
+{
     let grid = sweep_grid(lo, hi, samples, tol)?;
     let mut out = Vec::new();
+    let mut grid_spectra = Vec::with_capacity(samples);
     let mut prev = (grid[0], spectrum_at(grid[0])?);
     for &mu in &grid[1..] {
         let here = (mu, spectrum_at(mu)?);
@@ -257,9 +286,19 @@ where
                 iterations,
             });
         }
-        prev = here;
+        grid_spectra.push(SpectrumAt {
+            parameter: prev.0,
+            spectrum: std::mem::replace(&mut prev, here).1,
+        });
     }
-    Ok(out)
+    grid_spectra.push(SpectrumAt {
+        parameter: prev.0,
+        spectrum: prev.1,
+    });
+    Ok(ParameterStudy {
+        spectra: grid_spectra,
+        crossings: out,
+    })
 }
 
 /// The parameter values in `[lo, hi]` where the spectral type of the Hamiltonian matrix

@@ -5,11 +5,11 @@
 //! variables ([`linearization`]), the eigenvalues of `A` with the zero eigenvalues of a family of
 //! steady motions factored out and reported, and the classification of the rest
 //! ([`spectrum`](mod@spectrum)); spectra against a parameter and the parameter values where a real
-//! part crosses zero or two Hamiltonian pairs collide ([`continuation`]). For Hamiltonian systems:
-//! the box symmetry, Krein signatures and spectral blocks of `J∇²H`
-//! ([`hamiltonian_spectrum()`](mod@hamiltonian_spectrum)); monodromy matrices and Floquet
-//! multipliers of periodic orbits ([`floquet`]). Without linearising: the Lagrange–Dirichlet test
-//! and Lyapunov's derivative ([`direct`]).
+//! part crosses zero or two Hamiltonian pairs collide ([`continuation`]); upright rolling of a
+//! body of revolution ([`rolling`]). For Hamiltonian systems: the box symmetry, Krein signatures
+//! and spectral blocks of `J∇²H` ([`hamiltonian_spectrum()`](mod@hamiltonian_spectrum));
+//! monodromy matrices and Floquet multipliers of periodic orbits ([`floquet`]). Without
+//! linearising: the Lagrange–Dirichlet test and Lyapunov's derivative ([`direct`]).
 //!
 //! ```text
 //! ż = f(t, z)  ──equilibrium──▶  z*  ──linearize──▶  A = ∂f/∂z  ──steady_motion_spectrum──▶
@@ -31,10 +31,12 @@ pub mod equilibrium;
 pub mod floquet;
 pub mod hamiltonian_spectrum;
 pub mod linearization;
+pub mod rolling;
 pub mod spectrum;
 
 pub use continuation::{
-    hamiltonian_crossings, real_part_crossings, spectra, Crossing, CrossingKind, SpectrumAt,
+    hamiltonian_crossings, parameter_study, real_part_crossings, spectra, Crossing,
+    CrossingKind, ParameterStudy, SpectrumAt,
 };
 pub use direct::{dirichlet_check, lyapunov_derivative, DirichletCheck};
 pub use equilibrium::{
@@ -46,4 +48,5 @@ pub use hamiltonian_spectrum::{
     HamiltonianSpectrum, SpectralBlock, EIGENVALUE_CLUSTER,
 };
 pub use linearization::{linearize, Reduced, Slot, SplitVectorField};
+pub use rolling::{upright_rolling, upright_rolling_spectrum, RollingEquations, UPRIGHT_KEPT};
 pub use spectrum::{spectrum, steady_motion_spectrum, Spectrum, Stability, C64};

@@ -56,6 +56,11 @@ impl RollingDisk {
         Self::new(m, r, 0.5 * m * r * r, m * r * r, g)
     }
 
+    /// The radius `r`.
+    pub fn radius(&self) -> f64 {
+        self.r
+    }
+
     /// The critical speed `v_c = √(A m g r³/(C(C + m r²)))` above which upright rolling is
     /// oscillatory [Hamel art. 244] (SPEC T17).
     ///
