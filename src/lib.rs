@@ -3,6 +3,7 @@
 
 pub mod ad;
 pub mod brackets;
+pub mod chaos;
 pub mod constraints;
 pub mod error;
 pub mod hamilton_jacobi;

@@ -5,7 +5,7 @@
 //! core        error, phase, ad, vector_space, implicit, special, series, record
 //! mechanics   hamiltonian, lagrangian, brackets, constraints
 //! models      systems
-//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability
+//! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability, chaos
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -53,6 +53,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "nonholonomic",
             "impulse",
             "stability",
+            "chaos",
         ],
     ),
     ("harness", &["workprecision"]),

@@ -42,6 +42,7 @@ pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
+pub mod tangent;
 pub mod taylor;
 pub mod wisdom_holman;
 
@@ -56,8 +57,9 @@ pub use observers::{
 };
 pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
-pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
+pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
+pub use tangent::{variational_tangent_map, TangentMap, TangentMethod};
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
 pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
 
@@ -380,7 +382,7 @@ impl<M> Fixed<M> {
         Ok(m)
     }
 
-    fn check_steps(&self) -> Result<()> {
+    pub(crate) fn check_steps(&self) -> Result<()> {
         if self.steps == 0 {
             return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
         }
@@ -403,12 +405,13 @@ impl<M> Fixed<M> {
     }
 }
 
-/// Kahan-compensated `x += dx`.
+/// Kahan-compensated `x += dx`, for any number type (on dual numbers the real parts round
+/// exactly as on reals, so a run differentiated by [`tangent`] follows the real run bit for bit).
 #[inline]
-fn compensated_add<const N: usize>(
-    x: &mut SVector<f64, N>,
-    carry: &mut SVector<f64, N>,
-    dx: &SVector<f64, N>,
+pub(crate) fn compensated_add<D: DualNum<f64> + Copy, const N: usize>(
+    x: &mut SVector<D, N>,
+    carry: &mut SVector<D, N>,
+    dx: &SVector<D, N>,
 ) {
     for i in 0..N {
         let y = dx[i] - carry[i];
