@@ -59,7 +59,10 @@ pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
-pub use tangent::{variational_tangent_map, TangentMap, TangentMethod};
+pub use tangent::{
+    parameter_tangent_map, variational_tangent_map, ParameterCoordinates, ParameterTangent,
+    TangentMap, TangentMethod,
+};
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
 pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
 

@@ -28,8 +28,11 @@
 //! * The Taylor method propagates series over a record of real operations; its tangent map is
 //!   not available (an error naming the alternatives).
 //!
-//! Derivatives with respect to the parameters of a [`Parametric`](crate::hamiltonian::Parametric)
-//! system follow from [`ParameterSensitivity`] through any first-order integrator.
+//! Derivatives with respect to the parameters `k` of a [`Parametric`] system come from the same
+//! machinery: the parameters become coordinates that do not move ([`ParameterCoordinates`]), so
+//! that `∂z(t₁)/∂k` is a block of the extended system's tangent map
+//! ([`parameter_tangent_map`]); or, with the variational equations in the error norm, from
+//! [`ParameterSensitivity`] through any first-order integrator.
 
 use super::dop853::stages;
 use super::sensitivity::{ParameterSensitivity, Unparametrised};
@@ -39,9 +42,9 @@ use super::{
 };
 use crate::ad::{jacobian, PhaseMap};
 use crate::error::{Error, Result};
-use crate::hamiltonian::Hamiltonian;
+use crate::hamiltonian::{Hamiltonian, Parametric};
 use crate::phase::{CanonicalPair, PhaseMatrix, State};
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
 /// The final state of a run and the tangent map `Φ = ∂z(t₁)/∂z(t₀)` of the method that computed
@@ -285,4 +288,103 @@ impl<S: crate::hamiltonian::Separable<N>, const N: usize> TangentMethod<S, N> fo
             Self::Splitting(m) => m.tangent_map(problem),
         }
     }
+}
+
+/// A [`Parametric`] system with its parameters `k` as `M` further coordinates that do not move:
+/// `H̃(q, k; p, π) = H(k; q, p)` on `ℝᴷ × ℝᴷ`, `K = N + M`, so that `k̇ = ∂H̃/∂π = 0` and `(q, p)`
+/// move as in the system at `k`. Any method for a general Hamiltonian runs on it unchanged (the
+/// stages see `k` exactly constant), and its tangent map contains `∂(q, p)/∂k`:
+/// [`parameter_tangent_map`].
+#[derive(Clone, Copy, Debug)]
+pub struct ParameterCoordinates<'a, S, const N: usize, const M: usize, const K: usize> {
+    system: &'a S,
+}
+
+impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
+    ParameterCoordinates<'a, S, N, M, K>
+{
+    /// The extended system; an error unless `K = N + M`.
+    pub fn new(system: &'a S) -> Result<Self> {
+        if K != N + M {
+            return Err(Error::invalid(
+                format!("dimension K = {K} of a system with its parameters as coordinates"),
+                format!("with N = {N} degrees of freedom and M = {M} parameters K must be N + M"),
+            ));
+        }
+        Ok(Self { system })
+    }
+}
+
+impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> Hamiltonian<K>
+    for ParameterCoordinates<'_, S, N, M, K>
+{
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, K>, p: &SVector<D, K>) -> D {
+        let k = SVector::<D, M>::from_fn(|i, _| q[N + i]);
+        let qs = SVector::<D, N>::from_fn(|i, _| q[i]);
+        let ps = SVector::<D, N>::from_fn(|i, _| p[i]);
+        self.system.hamiltonian_with(&k, t, &qs, &ps)
+    }
+}
+
+/// The final state of a run of a [`Parametric`] system at its nominal parameters and the
+/// derivatives of that state with respect to the initial state and to the parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParameterTangent<const N: usize, const M: usize> {
+    /// The final state.
+    pub last: State<N>,
+    /// `∂(q, p)(t₁)/∂(q, p)(t₀)`.
+    pub jacobian: PhaseMatrix<N>,
+    /// `∂q(t₁)/∂k`.
+    pub dq_dk: SMatrix<f64, N, M>,
+    /// `∂p(t₁)/∂k`.
+    pub dp_dk: SMatrix<f64, N, M>,
+}
+
+/// The tangent map of `method` on `problem` with respect to the initial state and to the
+/// system's parameters `k`: the method runs on [`ParameterCoordinates`] (`K = N + M`) from
+/// `(q₀, k; p₀, 0)` and its tangent map is differentiated through its own steps
+/// ([`TangentMethod`]). Applies to the methods for a general Hamiltonian (Gauss–Legendre, RK4,
+/// DOP853 with frozen steps); for the variational equations in DOP853's error norm use
+/// [`ParameterSensitivity`].
+///
+/// # Errors
+/// [`Error::InvalidInput`] unless `K = N + M`; [`Error::NonFinite`] for non-finite parameters;
+/// the errors of the run.
+pub fn parameter_tangent_map<S, T, const N: usize, const M: usize, const K: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &T,
+) -> Result<ParameterTangent<N, M>>
+where
+    S: Parametric<N, M>,
+    T: for<'b> TangentMethod<ParameterCoordinates<'b, S, N, M, K>, K>,
+{
+    let extended = ParameterCoordinates::<S, N, M, K>::new(problem.system)?;
+    let k = problem.system.parameters();
+    if let Some((i, v)) = k.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::NonFinite {
+            what: format!("parameter {} of the system", S::NAMES[i]),
+            value: *v,
+        });
+    }
+    let s = &problem.start;
+    let q = SVector::<f64, K>::from_fn(|i, _| if i < N { s.q[i] } else { k[i - N] });
+    let p = SVector::<f64, K>::from_fn(|i, _| if i < N { s.p[i] } else { 0.0 });
+    let big = Problem::new(&extended, s.t, q, p, problem.t1)?;
+    let tm = method.tangent_map(&big)?;
+    let j = &tm.jacobian;
+    Ok(ParameterTangent {
+        last: State::new(
+            tm.last.t,
+            SVector::from_fn(|i, _| tm.last.q[i]),
+            SVector::from_fn(|i, _| tm.last.p[i]),
+        )?,
+        jacobian: PhaseMatrix {
+            qq: SMatrix::from_fn(|r, c| j.qq[(r, c)]),
+            qp: SMatrix::from_fn(|r, c| j.qp[(r, c)]),
+            pq: SMatrix::from_fn(|r, c| j.pq[(r, c)]),
+            pp: SMatrix::from_fn(|r, c| j.pp[(r, c)]),
+        },
+        dq_dk: SMatrix::from_fn(|r, c| j.qq[(r, N + c)]),
+        dp_dk: SMatrix::from_fn(|r, c| j.pq[(r, N + c)]),
+    })
 }
