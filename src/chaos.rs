@@ -14,7 +14,7 @@
 //!   & Simó, *Physica D* 182 (2003) 151–178):
 //!
 //!   $$ Y(t) = \frac{2}{t} \int_0^t \frac{\dot\delta\cdot\delta}{\delta\cdot\delta}\, s\, ds,
-//!      \qquad \langle Y\rangle(t) = \frac1t \int_0^t Y(s)\, ds, $$
+//!   \qquad \langle Y\rangle(t) = \frac1t \int_0^t Y(s)\, ds, $$
 //!
 //!   with `∫ (δ̇·δ/|δ|²) s ds` summed as `Σ r_k (s_{k−1} + s_k)/2` and the mean by the trapezoidal
 //!   rule over the steps (`s` the time elapsed). For quasi-periodic motion `⟨Y⟩ → 2` (linear
@@ -94,7 +94,7 @@ pub fn energy_surface_deviation<S: Hamiltonian<N>, const N: usize>(
     let d = (deviation.0 - hq * c, deviation.1 - hp * c);
     let n = (d.0.norm_squared() + d.1.norm_squared()).sqrt();
     let n0 = (deviation.0.norm_squared() + deviation.1.norm_squared()).sqrt();
-    if !(n > 1e-12 * n0) {
+    if n.partial_cmp(&(1e-12 * n0)) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::invalid(
             "deviation on the energy surface",
             "the deviation is parallel to ∇H",
@@ -223,7 +223,7 @@ pub fn chaos_indicators<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize>(
             mean_megno: area / s,
             lyapunov: growth / s,
         };
-        if (k + 1) % every == 0 || (records > 0 && k + 1 == steps && (k + 1) % every != 0) {
+        if (k + 1) % every == 0 || (records > 0 && k + 1 == steps) {
             history.push(last);
         }
     }

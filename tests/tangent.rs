@@ -134,34 +134,23 @@ fn ad_tangent_maps_agree_with_central_differences() {
     // divided by h: each final state carries a rounding error of about √n ε ‖z‖ ‖Φ‖ after n
     // steps (Kahan-compensated sums; the error made at step k is propagated by Φ), so the
     // rounding term is √n ε ‖z(t₁)‖ ‖Φ‖ / h. The check allows twice the sum.
-    let cases: Vec<(&str, Box<dyn Fn() -> AnyMethod>, State<2>, f64)> = vec![
-        (
-            "Verlet, QP1",
-            Box::new(|| AnyMethod::verlet(1000).unwrap()),
-            qp1(),
-            50.0,
-        ),
-        (
-            "Verlet, CH1",
-            Box::new(|| AnyMethod::verlet(1000).unwrap()),
-            ch1(),
-            50.0,
-        ),
+    let cases = [
+        ("Verlet, QP1", AnyMethod::verlet(1000).unwrap(), qp1(), 50.0),
+        ("Verlet, CH1", AnyMethod::verlet(1000).unwrap(), ch1(), 50.0),
         (
             "Gauss 3, CH1",
-            Box::new(|| AnyMethod::gauss(3, 500).unwrap()),
+            AnyMethod::gauss(3, 500).unwrap(),
             ch1(),
             50.0,
         ),
         (
             "DOP853, QP1",
-            Box::new(|| AnyMethod::dop853(1e-10, 1e-10).unwrap()),
+            AnyMethod::dop853(1e-10, 1e-10).unwrap(),
             qp1(),
             50.0,
         ),
     ];
-    for (name, method, start, t1) in cases {
-        let m = method();
+    for (name, m, start, t1) in cases {
         let problem = Problem::new(&HenonHeiles, 0.0, start.q, start.p, t1).unwrap();
         let tm: TangentMap<2> = m.tangent_map(&problem).unwrap();
         let h = 1e-5;
