@@ -19,7 +19,7 @@
 //! `Φ̇ = (∂f/∂z) Φ`, `Φ(t₀) = I` (the tangent map `Φ = ∂z/∂z₀`; HNW I.14, Theorem 14.1):
 //! [`ParameterSensitivity::with_initial_state`] appends its `2N` columns (derivatives with respect
 //! to `q₀₁ … q₀N, p₀₁ … p₀N`) to those of the parameters, and [`Unparametrised`] lets any
-//! [`Hamiltonian`](crate::Hamiltonian) use them with `M = 0`.
+//! [`Hamiltonian`] use them with `M = 0`.
 //!
 //! Stable Rust cannot write the augmented dimension `N(1 + M)` (or `N(1 + M + 2N)`) from generic
 //! `N` and `M`, so it is a third const parameter `K`, checked by the constructors. The augmented
