@@ -5,7 +5,7 @@
 //!   by AD through the steps; `tangent/dop853-variational`: the variational equations integrated
 //!   by DOP853 at the loosest tolerance (of 10^(−k/2), k = 4 … 28) whose tangent map is at least
 //!   as accurate as Verlet's. Both errors are measured against the variational equations at
-//!   rtol = 1e-14; the printout gives them, the tolerance chosen, and the ratio of the best wall
+//!   rtol = 1e-14; the printout gives them, the tolerance chosen, and the ratio of the mean wall
 //!   times.
 //! * `megno/map-16x16`: a 16 × 16 MEGNO map of the section at `E = 1/8` to `t = 100` (Verlet,
 //!   `h = 0.1`) on every core (`examples/megno_map.rs` times the 512 × 512 map to `t = 10³`).
@@ -18,19 +18,7 @@ use hamilton_jacobi::integrate::{
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::systems::HenonHeiles;
 use std::hint::black_box;
-use std::time::{Duration, Instant};
-
-/// Best wall time of `f` over `runs` runs.
-fn best<R>(runs: usize, mut f: impl FnMut() -> R) -> Duration {
-    (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            black_box(f());
-            t.elapsed()
-        })
-        .min()
-        .unwrap_or_default()
-}
+use std::time::Instant;
 
 fn bench(c: &mut Criterion) {
     let start = HenonHeiles::section_start(1.0 / 12.0, 0.0, 0.25).unwrap();

@@ -174,25 +174,16 @@ fn chaotic_orbit_megno_grows_as_half_the_lyapunov_exponent() {
     assert!((run.last.lyapunov / lambda - 1.0).abs() <= 0.05);
 }
 
-/// The planar double pendulum of two equal point masses on massless rods,
-/// `m₁ = m₂ = 1`, `l₁ = l₂ = 1`, `g = 1` (Ardema M21):
-/// `H = (p₁² + 2p₂² − 2p₁p₂ cos Δ) / (2(1 + sin²Δ)) − 2 cos θ₁ − cos θ₂`, `Δ = θ₁ − θ₂`.
-struct DoublePendulum;
-
-impl Hamiltonian<2> for DoublePendulum {
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        let delta = q[0] - q[1];
-        let s = delta.sin();
-        (p[0] * p[0] + p[1] * p[1] * 2.0 - p[0] * p[1] * delta.cos() * 2.0) / ((s * s + 1.0) * 2.0)
-            - q[0].cos() * 2.0
-            - q[1].cos()
-    }
-}
+// The planar double pendulum of two equal point masses on massless rods,
+// `m₁ = m₂ = 1`, `l₁ = l₂ = 1`, `g = 1` (Ardema M21):
+// `H = (p₁² + 2p₂² − 2p₁p₂ cos Δ) / (2(1 + sin²Δ)) − 2 cos θ₁ − cos θ₂`, `Δ = θ₁ − θ₂`.
+hamilton_jacobi::hamiltonian!(DoublePendulum<2> |_t, q, p| {
+    let delta = q[0] - q[1];
+    let s = delta.sin();
+    (p[0] * p[0] + p[1] * p[1] * 2.0 - p[0] * p[1] * delta.cos() * 2.0) / ((s * s + 1.0) * 2.0)
+        - q[0].cos() * 2.0
+        - q[1].cos()
+});
 
 #[test]
 fn double_pendulum_regular_and_chaotic_orbits() {
