@@ -4,6 +4,7 @@
 pub mod action;
 pub mod ad;
 pub mod brackets;
+pub mod chaos;
 pub mod constraints;
 pub mod error;
 pub mod hamilton_jacobi;

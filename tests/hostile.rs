@@ -3135,6 +3135,7 @@ fn every_entry_point_survives_hostile_input() {
     stability_calls::add(&mut calls);
     hamiltonian_stability_calls::add(&mut calls);
     constrained_methods::add(&mut calls);
+    tangent_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -5232,5 +5233,270 @@ mod constrained_methods {
                 })
             },
         );
+    }
+}
+
+mod tangent_calls {
+    use super::*;
+    use hamilton_jacobi::chaos::{chaos_indicators, chaos_map, energy_surface_deviation};
+    use hamilton_jacobi::hamiltonian::Parametric;
+    use hamilton_jacobi::integrate::{
+        parameter_tangent_map, variational_tangent_map, ParameterCoordinates, ParameterSensitivity,
+        TangentMap, TangentMethod, Unparametrised,
+    };
+    use hamilton_jacobi::systems::HenonHeiles;
+
+    hamilton_jacobi::hamiltonian!(Spring<1> [k] |_t, q, p| p[0] * p[0] * 0.5 + k * q[0] * q[0] * 0.5);
+
+    /// A tangent map of Hénon–Heiles: finite, symplectic to `tol` relative to ‖Φ‖², the state's
+    /// energy that of the start to `energy_tol` (relative).
+    fn symplectic(tm: TangentMap<2>, h0: f64, tol: f64, energy_tol: f64) -> Verdict {
+        let size = tm.jacobian.max_abs();
+        let defect = tm.jacobian.symplectic_defect();
+        let h1 = HenonHeiles
+            .value(tm.last.t, &tm.last.q, &tm.last.p)
+            .unwrap_or(f64::NAN);
+        all([
+            finite_ok("‖Φ‖", size),
+            finite_ok("state", tm.last.q.amax() + tm.last.p.amax()),
+            near("symplectic defect", defect / (1.0 + size * size), 0.0, tol),
+            near("energy", (h1 - h0) / h0.abs().max(1e-300), 0.0, energy_tol),
+        ])
+    }
+
+    fn hh_problem(a: &[f64]) -> Result<(Problem<'static, HenonHeiles, 2>, f64)> {
+        let p = Problem::new(
+            &HenonHeiles,
+            0.0,
+            SVector::from([a[0], a[1]]),
+            SVector::from([a[2], a[3]]),
+            a[4],
+        )?;
+        let h0 = HenonHeiles.value(0.0, &p.start.q, &p.start.p)?;
+        Ok((p, h0))
+    }
+
+    pub fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "HenonHeiles::section_start",
+            &[0.125, -0.1, 0.0],
+            &[(1, 5.0), (0, -1.0)],
+            |a| {
+                let px2 = 2.0 * a[0] - a[2] * a[2] - a[1] * a[1] + 2.0 * a[1].powi(3) / 3.0;
+                judge(
+                    HenonHeiles::section_start(a[0], a[1], a[2]),
+                    fin(a) && px2 >= 0.0 && px2.is_finite(),
+                    |s| {
+                        let e = HenonHeiles.value(0.0, &s.q, &s.p).unwrap_or(f64::NAN);
+                        all([
+                            near("x", s.q[0], 0.0, 0.0),
+                            near(
+                                "E",
+                                e,
+                                a[0],
+                                1e-14 * (1.0 + a[0].abs() + a[1].powi(3).abs()),
+                            ),
+                        ])
+                    },
+                )
+            },
+        );
+        // (name, tangent map of the run, symplectic tolerance, energy tolerance at span t₁):
+        // DOP853's energy error grows with the span.
+        type Run = fn(&Problem<'static, HenonHeiles, 2>) -> Result<TangentMap<2>>;
+        let runs: [(&str, Run, f64, fn(f64) -> f64); 4] = [
+            (
+                "TangentMethod::tangent_map(Verlet)",
+                |p| Fixed::new(Splitting::VERLET_KDK, 400)?.tangent_map(p),
+                1e-12,
+                |_| 1e-2,
+            ),
+            (
+                "TangentMethod::tangent_map(Gauss)",
+                |p| Fixed::new(Gauss::<2>::new()?, 200)?.tangent_map(p),
+                1e-12,
+                |_| 1e-4,
+            ),
+            (
+                "TangentMethod::tangent_map(Dop853)",
+                |p| Dop853::new(1e-10, 1e-10)?.tangent_map(p),
+                1e-6,
+                |t1| 1e-9 * t1.abs().max(1e3),
+            ),
+            (
+                "integrate::variational_tangent_map",
+                |p| variational_tangent_map::<_, 2, 10>(p, &Dop853::new(1e-10, 1e-10)?),
+                1e-6,
+                |t1| 1e-9 * t1.abs().max(1e3),
+            ),
+        ];
+        for (name, run, tol, energy_tol) in runs {
+            sweep(
+                c,
+                name,
+                &[0.0, -0.1, 0.4, 0.05, 20.0],
+                &[(4, 1e6), (0, 1e3), (4, -20.0)],
+                move |a| match hh_problem(a) {
+                    Err(_) => Typed,
+                    Ok((p, h0)) => judge(run(&p), fin(a), |t| {
+                        symplectic(t, h0, tol, energy_tol(a[4]))
+                    }),
+                },
+            );
+        }
+        sized(c, "integrate::variational_tangent_map(K)", &[9, 10], |k| {
+            let p = Problem::new(
+                &HenonHeiles,
+                0.0,
+                SVector::from([0.0, 0.1]),
+                SVector::from([0.3, 0.0]),
+                1.0,
+            )
+            .unwrap();
+            let m = Dop853::new(1e-10, 1e-10).unwrap();
+            let r = if k == 10 {
+                variational_tangent_map::<_, 2, 10>(&p, &m)
+            } else {
+                variational_tangent_map::<_, 2, 9>(&p, &m)
+            };
+            judge(r, k == 10, |t| symplectic(t, 0.045, 1e-6, 1.0))
+        });
+        sweep(
+            c,
+            "ParameterSensitivity::with_initial_state",
+            &[4.0, 0.5, 0.1],
+            &[(0, -1.0)],
+            |a| {
+                let s = Spring { k: a[0] };
+                let valid = a[0].is_finite();
+                match ParameterSensitivity::<_, 1, 1, 4>::with_initial_state(&s) {
+                    Err(_) if !valid => Typed,
+                    Err(e) => Wrong(format!("refused a finite parameter: {e}")),
+                    Ok(aug) if valid => {
+                        let (qa, pa) =
+                            aug.initial_state(&SVector::from([a[1]]), &SVector::from([a[2]]));
+                        judge(aug.tangent(&qa, &pa), true, |m| {
+                            near(
+                                "Φ(t₀) − I",
+                                m.sub(&hamilton_jacobi::phase::PhaseMatrix::identity())
+                                    .max_abs(),
+                                0.0,
+                                0.0,
+                            )
+                        })
+                    }
+                    Ok(_) => Wrong("accepted a non-finite parameter".into()),
+                }
+            },
+        );
+        sweep(
+            c,
+            "integrate::parameter_tangent_map",
+            &[4.0, 0.5, 0.1, 3.0],
+            &[(0, -1.0), (3, 1e5)],
+            |a| {
+                // x(t) = x₀ cos ωt + (p₀/ω) sin ωt, ω = √k: ∂x/∂x₀ = cos ωt.
+                let s = Spring { k: a[0] };
+                let m = Fixed::new(Gauss::<3>::new().unwrap(), 300).unwrap();
+                let r = Problem::new(&s, 0.0, SVector::from([a[1]]), SVector::from([a[2]]), a[3])
+                    .and_then(|p| parameter_tangent_map::<_, _, 1, 1, 2>(&p, &m));
+                let valid = fin(a) && a[3] != 0.0;
+                judge(r, valid, |t| {
+                    let w = a[0].sqrt();
+                    if a[0] <= 0.0 || !(w * a[3]).is_finite() || (w * a[3]).abs() > 100.0 {
+                        // Unbounded or resolved coarsely: finite is all that is asked.
+                        return finite_ok("∂x/∂k", t.dq_dk[(0, 0)] + t.jacobian.max_abs());
+                    }
+                    let h = w * a[3] / 300.0;
+                    near(
+                        "∂x/∂x₀",
+                        t.jacobian.qq[(0, 0)],
+                        (w * a[3]).cos(),
+                        h.powi(6).max(1e-12),
+                    )
+                })
+            },
+        );
+        let _ = ParameterCoordinates::<Spring, 1, 1, 2>::new(&Spring { k: 1.0 });
+        let _ = Unparametrised(&HenonHeiles).parameters();
+        sweep(
+            c,
+            "chaos::energy_surface_deviation",
+            &[0.0, -0.1, 0.4, 0.05, 1.0, 0.5, 0.3, -0.7],
+            &[],
+            |a| {
+                let r = State::new(
+                    0.0,
+                    SVector::from([a[0], a[1]]),
+                    SVector::from([a[2], a[3]]),
+                )
+                .and_then(|s| {
+                    energy_surface_deviation(
+                        &HenonHeiles,
+                        &s,
+                        &(SVector::from([a[4], a[5]]), SVector::from([a[6], a[7]])),
+                    )
+                    .map(|d| (s, d))
+                });
+                let valid = fin(a) && a[4..].iter().any(|&x| x != 0.0);
+                judge(r, valid, |(s, d)| {
+                    let (_, hq, hp) = HenonHeiles.gradient(0.0, &s.q, &s.p);
+                    let dot = hq.dot(&d.0) + hp.dot(&d.1);
+                    let scale = (hq.norm() + hp.norm()) * (d.0.norm() + d.1.norm());
+                    all([
+                        finite_ok("δ", d.0.amax() + d.1.amax()),
+                        near("∇H·δ / (|∇H||δ|)", dot / scale, 0.0, 1e-14),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "chaos::chaos_indicators",
+            &[-0.1, 0.0, 1.0, 0.5, 300.0],
+            &[(4, 1e9), (0, 5.0)],
+            |a| {
+                let r = HenonHeiles::section_start(0.125, a[0], a[1]).and_then(|s| {
+                    let p = Problem::new(&HenonHeiles, 0.0, s.q, s.p, a[4])?;
+                    let m = Fixed::new(Splitting::VERLET_KDK, 3000)?;
+                    chaos_indicators(
+                        &p,
+                        &m,
+                        &(SVector::from([a[2], a[3]]), SVector::from([0.1, 0.0])),
+                        5,
+                    )
+                });
+                judge(r, fin(a), |run| {
+                    let l = run.last;
+                    all([
+                        finite_ok("⟨Y⟩", l.mean_megno),
+                        finite_ok("λ", l.lyapunov),
+                        near("t", l.t, a[4], 0.0),
+                    ])
+                })
+            },
+        );
+        sweep(c, "chaos::chaos_map", &[200.0, 1.0, 0.5], &[], |a| {
+            let starts: Vec<State<2>> = [(-0.1, 0.0), (0.1, 0.1), (5.0, 0.0)]
+                .iter()
+                .filter_map(|&(y, py)| HenonHeiles::section_start(0.125, y, py).ok())
+                .collect();
+            let m = Fixed::new(Splitting::VERLET_KDK, 2000).unwrap();
+            let r = chaos_map(
+                &HenonHeiles,
+                &starts,
+                a[0],
+                &m,
+                &(SVector::from([a[1], a[2]]), SVector::from([0.0, 0.0])),
+            );
+            let valid = fin(a) && a[0] != 0.0 && (a[1] != 0.0 || a[2] != 0.0);
+            judge(r, valid, |cells| {
+                all(cells.iter().map(|c| match c {
+                    Some(c) => finite_ok("⟨Y⟩", c.mean_megno + c.lyapunov),
+                    None => Good,
+                }))
+            })
+        });
     }
 }

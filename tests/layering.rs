@@ -6,7 +6,7 @@
 //! mechanics   hamiltonian, lagrangian, brackets, constraints, particles, action
 //! models      systems
 //! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability,
-//!             impulse, inverse_problem
+//!             impulse, inverse_problem, chaos
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -56,6 +56,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "impulse",
             "stability",
             "inverse_problem",
+            "chaos",
         ],
     ),
     ("harness", &["workprecision"]),

@@ -90,6 +90,7 @@ use super::{
 use crate::error::{finite, positive, Error, Result};
 use crate::phase::CanonicalPair;
 use nalgebra::SVector;
+use num_dual::DualNum;
 use std::cell::{Cell, OnceCell};
 use std::time::Instant;
 
@@ -325,28 +326,60 @@ const D: [[(usize, f64); 12]; 4] = [
 /// Hairer's unit roundoff `UROUND = 2.3·10⁻¹⁶` (slightly above `ε/2`).
 const UROUND: f64 = 2.3e-16;
 
-/// `Σⱼ coeffs_j k_j` (without the factor `h`).
+/// `Σⱼ coeffs_j k_j` (without the factor `h`), for any number type (the step is differentiated
+/// by replaying it on dual numbers: [`super::tangent`]).
 #[inline(always)]
-fn combine<const N: usize>(coeffs: &[(usize, f64)], k: &[CanonicalPair<N>]) -> CanonicalPair<N> {
-    let mut q = SVector::<f64, N>::zeros();
-    let mut p = SVector::<f64, N>::zeros();
+fn combine<D: DualNum<f64> + Copy, const N: usize>(
+    coeffs: &[(usize, f64)],
+    k: &[CanonicalPair<N, D>],
+) -> CanonicalPair<N, D> {
+    let mut q = SVector::<D, N>::zeros();
+    let mut p = SVector::<D, N>::zeros();
     for &(j, a) in coeffs {
-        q += k[j].0 * a;
-        p += k[j].1 * a;
+        for i in 0..N {
+            q[i] += k[j].0[i] * a;
+            p[i] += k[j].1[i] * a;
+        }
     }
     (q, p)
 }
 
 /// `y + h Σⱼ coeffs_j k_j`.
 #[inline(always)]
-fn advance<const N: usize>(
-    y: &CanonicalPair<N>,
-    h: f64,
+fn advance<D: DualNum<f64> + Copy, const N: usize>(
+    y: &CanonicalPair<N, D>,
+    h: D,
     coeffs: &[(usize, f64)],
-    k: &[CanonicalPair<N>],
-) -> CanonicalPair<N> {
+    k: &[CanonicalPair<N, D>],
+) -> CanonicalPair<N, D> {
     let (dq, dp) = combine(coeffs, k);
-    (y.0 + dq * h, y.1 + dp * h)
+    (
+        SVector::from_fn(|i, _| y.0[i] + dq[i] * h),
+        SVector::from_fn(|i, _| y.1[i] + dp[i] * h),
+    )
+}
+
+/// Stages 2–12 of one step of size `h` from `(t, y)`, with `k[0] = f(t, y)` given, and the
+/// eighth-order solution `y₁ = y + h Σᵢ bᵢ kᵢ`: the step written once for every number type, run
+/// on reals by [`Dop853`] and on dual numbers over a frozen step sequence by
+/// [`super::tangent`].
+#[inline(always)]
+pub(crate) fn stages<D, F, const N: usize>(
+    field: &mut F,
+    t: D,
+    y: &CanonicalPair<N, D>,
+    h: D,
+    k: &mut [CanonicalPair<N, D>; 16],
+) -> Result<CanonicalPair<N, D>>
+where
+    D: DualNum<f64> + Copy,
+    F: FnMut(D, &SVector<D, N>, &SVector<D, N>) -> Result<CanonicalPair<N, D>>,
+{
+    for i in 1..12 {
+        let (q, p) = advance(y, h, A[i], &k[..]);
+        k[i] = field(t + h * C[i], &q, &p)?;
+    }
+    Ok(advance(y, h, &B, &k[..]))
 }
 
 /// The `2N` components of `(q, p)`.
@@ -559,7 +592,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Dop853Dense<'_, S, N> {
         let y0 = (self.prev.q, self.prev.p);
         let mut k = *self.k;
         for i in 13..16 {
-            let (q, p) = advance(&y0, h, A[i], &k);
+            let (q, p) = advance(&y0, h, A[i], &k[..]);
             // A failure inside the dense output shows as NaN in the interpolant.
             k[i] = self.system.field(t0 + C[i] * h, &q, &p).unwrap_or((
                 SVector::from_element(f64::NAN),
@@ -575,7 +608,7 @@ impl<S: FirstOrderSystem<N>, const N: usize> Dop853Dense<'_, S, N> {
         );
         let mut r = [y0, ydiff, bspl, r3, y0, y0, y0, y0];
         for (slot, d) in r[4..].iter_mut().zip(D.iter()) {
-            let (q, p) = combine(d, &k);
+            let (q, p) = combine(d, &k[..]);
             *slot = (q * h, p * h);
         }
         r
@@ -776,12 +809,8 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
 
             // Stages 2–12.
             let y = (state.q, state.p);
-            for i in 1..12 {
-                let (q, p) = advance(&y, h, A[i], &k);
-                k[i] = system.field(state.t + C[i] * h, &q, &p)?;
-            }
+            let y1 = stages(&mut |t, q, p| system.field(t, q, p), state.t, &y, h, &mut k)?;
             work.gradients += 11;
-            let y1 = advance(&y, h, &B, &k);
             let t_new = if last { t1 } else { state.t + h };
 
             // Error estimate (8(5,3)).

@@ -43,6 +43,7 @@ pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
+pub mod tangent;
 pub mod taylor;
 pub mod wisdom_holman;
 
@@ -58,8 +59,12 @@ pub use observers::{
 };
 pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use rk4::{rk4_increment, Rk4};
-pub use sensitivity::{parametric_vector_field, ParameterSensitivity};
+pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
+pub use tangent::{
+    parameter_tangent_map, variational_tangent_map, ParameterCoordinates, ParameterTangent,
+    TangentMap, TangentMethod,
+};
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
 pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
 
@@ -382,7 +387,7 @@ impl<M> Fixed<M> {
         Ok(m)
     }
 
-    fn check_steps(&self) -> Result<()> {
+    pub(crate) fn check_steps(&self) -> Result<()> {
         if self.steps == 0 {
             return Err(Error::out_of_domain("number of steps", 0.0, "≥ 1"));
         }
@@ -405,12 +410,13 @@ impl<M> Fixed<M> {
     }
 }
 
-/// Kahan-compensated `x += dx`.
+/// Kahan-compensated `x += dx`, for any number type (on dual numbers the real parts round
+/// exactly as on reals, so a run differentiated by [`tangent`] follows the real run bit for bit).
 #[inline]
-fn compensated_add<const N: usize>(
-    x: &mut SVector<f64, N>,
-    carry: &mut SVector<f64, N>,
-    dx: &SVector<f64, N>,
+pub(crate) fn compensated_add<D: DualNum<f64> + Copy, const N: usize>(
+    x: &mut SVector<D, N>,
+    carry: &mut SVector<D, N>,
+    dx: &SVector<D, N>,
 ) {
     for i in 0..N {
         let y = dx[i] - carry[i];

@@ -1,5 +1,6 @@
-//! Derivatives of the motion with respect to the system's parameters, by the forward sensitivity
-//! equations run through any integrator of first-order systems.
+//! Derivatives of the motion with respect to the system's parameters and to the initial state, by
+//! the forward sensitivity (variational) equations run through any integrator of first-order
+//! systems.
 //!
 //! For Hamilton's equations `ż = f(k; t, z)` of a [`Parametric`] system with parameters
 //! `k ∈ ℝᴹ`, the sensitivities `S = ∂z/∂k` (a `2N × M` matrix) obey the variational equations
@@ -14,16 +15,23 @@
 //! augmented system `(z, S)` as a [`FirstOrderSystem`], so adaptive methods ([`Dop853`]) control
 //! the error of the sensitivities together with that of the state.
 //!
-//! Stable Rust cannot write the augmented dimension `N(1 + M)` from generic `N` and `M`, so it is
-//! a third const parameter `K`, checked by [`ParameterSensitivity::new`]. The augmented `q` block
-//! is `(q, ∂q/∂k₁, …, ∂q/∂k_M)`, the `p` block likewise.
+//! With respect to the initial state `z₀` the same equations hold without the source term,
+//! `Φ̇ = (∂f/∂z) Φ`, `Φ(t₀) = I` (the tangent map `Φ = ∂z/∂z₀`; HNW I.14, Theorem 14.1):
+//! [`ParameterSensitivity::with_initial_state`] appends its `2N` columns (derivatives with respect
+//! to `q₀₁ … q₀N, p₀₁ … p₀N`) to those of the parameters, and [`Unparametrised`] lets any
+//! [`Hamiltonian`] use them with `M = 0`.
+//!
+//! Stable Rust cannot write the augmented dimension `N(1 + M)` (or `N(1 + M + 2N)`) from generic
+//! `N` and `M`, so it is a third const parameter `K`, checked by the constructors. The augmented
+//! `q` block is `(q, ∂q/∂k₁, …, ∂q/∂k_M[, ∂q/∂q₀₁, …, ∂q/∂p₀N])`, the `p` block likewise.
 //!
 //! [`Dop853`]: super::Dop853
 
 use super::FirstOrderSystem;
 use crate::ad::{augmented_state, phase_gradient, tangent_rates, PhaseDual};
 use crate::error::{Error, Result};
-use crate::hamiltonian::Parametric;
+use crate::hamiltonian::{Hamiltonian, Parametric};
+use crate::phase::PhaseMatrix;
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::{Dual64, DualNum};
 
@@ -47,12 +55,36 @@ where
     (hp, -hq)
 }
 
+/// Any [`Hamiltonian`] as a [`Parametric`] system without parameters (`M = 0`), so that its
+/// tangent map `∂z/∂z₀` follows from [`ParameterSensitivity::with_initial_state`].
+#[derive(Clone, Copy, Debug)]
+pub struct Unparametrised<'a, H>(pub &'a H);
+
+impl<H: Hamiltonian<N>, const N: usize> Parametric<N, 0> for Unparametrised<'_, H> {
+    const NAMES: [&'static str; 0] = [];
+    fn parameters(&self) -> SVector<f64, 0> {
+        SVector::zeros()
+    }
+    fn hamiltonian_with<D: DualNum<f64> + Copy>(
+        &self,
+        _k: &SVector<D, 0>,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> D {
+        self.0.hamiltonian(t, q, p)
+    }
+}
+
 /// The state `(q, p)` of a [`Parametric`] system augmented with its sensitivities
-/// `∂(q, p)/∂k`; see the [module docs](self). `K` must equal `N(1 + M)`.
+/// `∂(q, p)/∂k` (and, built by [`with_initial_state`](Self::with_initial_state), `∂(q, p)/∂(q₀,
+/// p₀)`); see the [module docs](self). `K` must equal `N(1 + M)` (resp. `N(1 + M + 2N)`).
 #[derive(Clone, Copy, Debug)]
 pub struct ParameterSensitivity<'a, S, const N: usize, const M: usize, const K: usize> {
     system: &'a S,
     k: SVector<f64, M>,
+    /// Whether the last `2N` columns are derivatives with respect to the initial state.
+    initial_state: bool,
 }
 
 impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
@@ -61,13 +93,28 @@ impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
     /// The augmented system at the system's nominal parameters; an error unless `K = N(1 + M)`
     /// and the parameters are finite.
     pub fn new(system: &'a S) -> Result<Self> {
-        if K != N * (1 + M) {
+        Self::build(system, false)
+    }
+
+    /// The augmented system with the derivatives with respect to the initial state as well; an
+    /// error unless `K = N(1 + M + 2N)` and the parameters are finite.
+    pub fn with_initial_state(system: &'a S) -> Result<Self> {
+        Self::build(system, true)
+    }
+
+    fn build(system: &'a S, initial_state: bool) -> Result<Self> {
+        let columns = M + if initial_state { 2 * N } else { 0 };
+        if K != N * (1 + columns) {
             return Err(Error::invalid(
                 format!("augmented dimension K = {K} of a sensitivity system"),
                 format!(
-                    "with N = {N} degrees of freedom and M = {M} parameters K must be \
-                     N(1 + M) = {}",
-                    N * (1 + M)
+                    "with N = {N} degrees of freedom, M = {M} parameters{} K must be {}",
+                    if initial_state {
+                        " and the initial state"
+                    } else {
+                        ""
+                    },
+                    N * (1 + columns)
                 ),
             ));
         }
@@ -78,17 +125,50 @@ impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
                 value: *v,
             });
         }
-        Ok(Self { system, k })
+        Ok(Self {
+            system,
+            k,
+            initial_state,
+        })
     }
 
-    /// The augmented initial state: `(q₀, p₀)` with zero sensitivities (initial conditions that do
-    /// not depend on the parameters).
+    /// The augmented initial state: `(q₀, p₀)` with zero sensitivities to the parameters (initial
+    /// conditions that do not depend on them) and, with the initial state, `∂z/∂z₀ = I`.
     pub fn initial_state(
         &self,
         q0: &SVector<f64, N>,
         p0: &SVector<f64, N>,
     ) -> (SVector<f64, K>, SVector<f64, K>) {
-        augmented_state(q0, p0, M, |_, _| 0.0)
+        let columns = K / N - 1;
+        let initial_state = self.initial_state;
+        // Initial-state column M + r seeds row r of (q, p).
+        augmented_state(q0, p0, columns, |r, j| {
+            if initial_state && j >= M && r == j - M {
+                1.0
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// The tangent map `∂(q, p)/∂(q₀, p₀)` of an augmented state; an error unless the system was
+    /// built [`with_initial_state`](Self::with_initial_state).
+    pub fn tangent(&self, qa: &SVector<f64, K>, pa: &SVector<f64, K>) -> Result<PhaseMatrix<N>> {
+        if !self.initial_state {
+            return Err(Error::invalid(
+                "tangent map of a sensitivity system",
+                "built without the initial state: use ParameterSensitivity::with_initial_state",
+            ));
+        }
+        let col = |v: &SVector<f64, K>, c: usize| {
+            SMatrix::<f64, N, N>::from_fn(|r, j| v[N * (1 + M + c + j) + r])
+        };
+        Ok(PhaseMatrix {
+            qq: col(qa, 0),
+            qp: col(qa, N),
+            pq: col(pa, 0),
+            pp: col(pa, N),
+        })
     }
 
     /// Split an augmented state into `(q, p, ∂q/∂k, ∂p/∂k)`.
@@ -120,7 +200,8 @@ impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> FirstO
         qa: &SVector<f64, K>,
         pa: &SVector<f64, K>,
     ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
-        tangent_rates("sensitivity equations", t, qa, pa, M, |j, td, qs, ps| {
+        tangent_rates("sensitivity equations", t, qa, pa, K / N - 1, |j, td, qs, ps| {
+            // Parameter columns seed their parameter; initial-state columns none.
             let ks = SVector::<Dual64, M>::from_fn(|i, _| {
                 Dual64::new(self.k[i], if i == j { 1.0 } else { 0.0 })
             });

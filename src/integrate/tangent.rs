@@ -1,0 +1,406 @@
+//! Tangent maps through the integrators' own steps: the derivative `Φ = ∂z(t₁)/∂z(t₀)` of the
+//! computed final state with respect to the initial state `z = (q, p)`, by automatic
+//! differentiation of the method itself.
+//!
+//! A numerical method is a map `Ψ = Ψ_{h_n} ∘ … ∘ Ψ_{h_1}`; its Jacobian is the product of the
+//! step Jacobians (chain rule), which AD forms exactly by running the same steps on dual numbers
+//! (Griewank & Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, ch. 3; Hairer, Nørsett &
+//! Wanner, *Solving ODEs I*, 2nd ed., §I.14 and §II.6 "internal numerical differentiation"):
+//!
+//! $$ \Phi = \frac{\partial \Psi}{\partial z_0}
+//!    = \Psi'_{h_n}(z_{n-1}) \cdots \Psi'_{h_1}(z_0). $$
+//!
+//! * Fixed-step methods ([`Fixed`] over any [`OneStep`]: the explicit splittings and
+//!   compositions, RK4, Gauss–Legendre) are written once for every dual type, so the run is
+//!   repeated on [`PhaseDual64`](crate::ad::PhaseDual64) numbers whose `2N`-wide infinitesimal
+//!   parts carry all of `Φ` in one pass. For a symplectic method `Φ` is symplectic to rounding.
+//!   Gauss–Legendre's implicit stages are differentiated by the implicit-function theorem at the
+//!   converged stage values ([`super::gauss`], "Exact derivatives of the step"), not through the
+//!   Newton iterations. The real parts of the dual run round exactly as the real run (the
+//!   compensated summation included), so the final state is the real run's.
+//! * [`Dop853`] runs once on reals, choosing its steps by its error control on `z` alone; the
+//!   accepted step sequence is recorded and the same steps are replayed on dual numbers (the
+//!   step sizes frozen, not differentiated). Whether the tangent components enter the error norm
+//!   is the user's choice: [`variational_tangent_map`] integrates the variational equations
+//!   `Φ̇ = (∂f/∂z) Φ`, `Φ(t₀) = I` of [`ParameterSensitivity`] together with `z`, so the steps are
+//!   controlled on `(z, Φ)`. Both are the tangent map of a DOP853 run (an explicit Runge–Kutta
+//!   method commutes with linearisation, HNW I.14 / II.6), on different step sequences.
+//! * The Taylor method propagates series over a record of real operations; its tangent map is
+//!   not available (an error naming the alternatives).
+//!
+//! Derivatives with respect to the parameters `k` of a [`Parametric`] system come from the same
+//! machinery: the parameters become coordinates that do not move ([`ParameterCoordinates`]), so
+//! that `∂z(t₁)/∂k` is a block of the extended system's tangent map
+//! ([`parameter_tangent_map`]); or, with the variational equations in the error norm, from
+//! [`ParameterSensitivity`] through any first-order integrator.
+
+use super::dop853::stages;
+use super::sensitivity::{ParameterSensitivity, Unparametrised};
+use super::{
+    compensated_add, integrate, AnyMethod, Control, Dop853, Fixed, GeneralMethod, Method, Observer,
+    OneStep, Problem, StepView, Work,
+};
+use crate::ad::{jacobian, PhaseMap};
+use crate::error::{Error, Result};
+use crate::hamiltonian::{Hamiltonian, Parametric};
+use crate::phase::{CanonicalPair, PhaseMatrix, State};
+use nalgebra::{SMatrix, SVector};
+use num_dual::DualNum;
+
+/// The final state of a run and the tangent map `Φ = ∂z(t₁)/∂z(t₀)` of the method that computed
+/// it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentMap<const N: usize> {
+    /// The final state.
+    pub last: State<N>,
+    /// `∂(q, p)(t₁)/∂(q, p)(t₀)`.
+    pub jacobian: PhaseMatrix<N>,
+    /// Work of the real run (the dual replay repeats it on dual numbers).
+    pub work: Work,
+}
+
+/// A method whose run can be differentiated with respect to the initial state.
+pub trait TangentMethod<S, const N: usize> {
+    /// The final state of `problem` and the tangent map of the run.
+    ///
+    /// # Errors
+    /// The errors of the run; [`Error::InvalidInput`] for a method without a tangent map (the
+    /// Taylor method); [`Error::NonFinite`] when the derivatives overflow.
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>>;
+}
+
+/// The fixed-step run of `method` from `(t₀, z₀)` to `t₁` as a map of phase space, on any number
+/// type: the step times and the summation of [`Fixed`]'s driver.
+struct FixedRun<'a, S, M> {
+    system: &'a S,
+    method: &'a Fixed<M>,
+    t1: f64,
+}
+
+impl<S, M: OneStep<S, N>, const N: usize> PhaseMap<N> for FixedRun<'_, S, M> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> CanonicalPair<N, D> {
+        let t0 = t.re();
+        let steps = self.method.steps;
+        let dt = (self.t1 - t0) / steps as f64;
+        let (mut q, mut p) = (*q, *p);
+        let (mut cq, mut cp) = (SVector::<D, N>::zeros(), SVector::<D, N>::zeros());
+        let mut work = Work::default();
+        let mut tk = t0;
+        for k in 0..steps {
+            let Ok((dq, dp)) = self.method.method.increment(
+                self.system,
+                D::from(tk),
+                &q,
+                &p,
+                D::from(dt),
+                &mut work,
+            ) else {
+                let nan = SVector::from_element(D::from(f64::NAN));
+                return (nan, nan);
+            };
+            if self.method.compensated {
+                compensated_add(&mut q, &mut cq, &dq);
+                compensated_add(&mut p, &mut cp, &dp);
+            } else {
+                q += dq;
+                p += dp;
+            }
+            tk = if k + 1 == steps {
+                self.t1
+            } else {
+                t0 + dt * (k + 1) as f64
+            };
+        }
+        (q, p)
+    }
+}
+
+/// The Jacobian of `map` at the problem's initial state, with the errors named after `what`.
+fn run_jacobian<M: PhaseMap<N>, S, const N: usize>(
+    map: &M,
+    problem: &Problem<'_, S, N>,
+    what: &str,
+) -> Result<PhaseMatrix<N>> {
+    let s = &problem.start;
+    jacobian(map, s.t, &s.q, &s.p).map_err(|e| match e {
+        Error::NonFinite { value, .. } => Error::NonFinite {
+            what: format!(
+                "tangent map of {what} from t = {:e} to {:e}",
+                s.t, problem.t1
+            ),
+            value,
+        },
+        e => e,
+    })
+}
+
+impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> TangentMethod<S, N> for Fixed<M> {
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
+        let run = integrate(problem, self, &mut ())?;
+        let map = FixedRun {
+            system: problem.system,
+            method: self,
+            t1: problem.t1,
+        };
+        let jacobian = run_jacobian(&map, problem, &Method::<S, N>::label(self))?;
+        Ok(TangentMap {
+            last: run.last,
+            jacobian,
+            work: run.work,
+        })
+    }
+}
+
+/// Records the times of the accepted steps.
+struct StepTimes(Vec<f64>);
+
+impl<const N: usize> Observer<N> for StepTimes {
+    fn start(&mut self, state: &State<N>) {
+        self.0.push(state.t);
+    }
+    fn step(&mut self, step: &StepView<'_, N>) -> Control {
+        self.0.push(step.next.t);
+        Control::Continue
+    }
+}
+
+/// DOP853's steps between the given times (frozen step sizes), on any number type.
+struct Dop853Replay<'a, S> {
+    system: &'a S,
+    times: &'a [f64],
+}
+
+impl<S: Hamiltonian<N>, const N: usize> PhaseMap<N> for Dop853Replay<'_, S> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> CanonicalPair<N, D> {
+        let mut field = |t: D, q: &SVector<D, N>, p: &SVector<D, N>| {
+            Ok(self.system.vector_field_generic(t, q, p))
+        };
+        let zero = (SVector::<D, N>::zeros(), SVector::<D, N>::zeros());
+        let mut k = [zero; 16];
+        let mut y = (*q, *p);
+        let t0 = D::from(self.times[0]);
+        k[0] = self.system.vector_field_generic(t0, q, p);
+        for w in self.times.windows(2) {
+            let (t, h) = (D::from(w[0]), D::from(w[1] - w[0]));
+            y = match stages(&mut field, t, &y, h, &mut k) {
+                Ok(y1) => y1,
+                Err(_) => {
+                    let nan = SVector::from_element(D::from(f64::NAN));
+                    return (nan, nan);
+                }
+            };
+            k[0] = self.system.vector_field_generic(D::from(w[1]), &y.0, &y.1);
+        }
+        y
+    }
+}
+
+/// `method` with, unless it sets its own, a step budget of [`Dop853::AUTO_STEPS_MAX`]` / c`
+/// attempted steps, `c` the cost of a step relative to one of the state alone, so that the budget
+/// bounds the same work as the longest default run of the state: `c = 1 + 2N` for the replay of
+/// the steps on dual numbers carrying `2N` directions, `c = (1 + 2N)²` for the variational
+/// equations, whose `2N` directions each evaluate the vector field on nested dual numbers
+/// (measured on Hénon–Heiles, `N = 2`: 3.5 and 11 times a step of the state).
+fn tangent_budget(method: &Dop853, cost: usize) -> Dop853 {
+    let mut m = *method;
+    if m.max_steps.is_none() {
+        m.max_steps = Some(Dop853::AUTO_STEPS_MAX / cost);
+    }
+    m
+}
+
+impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for Dop853 {
+    /// The steps chosen by the error control on `z` alone, replayed on dual numbers; see
+    /// [`variational_tangent_map`] for steps controlled on `(z, Φ)`. Unless the method sets its
+    /// own, the step budget is [`Dop853::AUTO_STEPS_MAX`]` / (1 + 2N)`.
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
+        let mut times = StepTimes(Vec::new());
+        let run = integrate(problem, &tangent_budget(self, 1 + 2 * N), &mut times)?;
+        let map = Dop853Replay {
+            system: problem.system,
+            times: &times.0,
+        };
+        let s = &problem.start;
+        let (q, p) = map.apply(s.t, &s.q, &s.p);
+        let last = State::new(run.last.t, q, p)?;
+        let jacobian = run_jacobian(&map, problem, &Method::<S, N>::label(self))?;
+        Ok(TangentMap {
+            last,
+            jacobian,
+            work: run.work,
+        })
+    }
+}
+
+/// The final state and tangent map of `problem` by DOP853 on the variational equations
+/// `ż = f(z)`, `Φ̇ = (∂f/∂z) Φ`, `Φ(t₀) = I` ([`ParameterSensitivity::with_initial_state`] of the
+/// system without parameters): the tangent components enter DOP853's error norm, so its steps
+/// control the error of `Φ` as well as that of `z`. `K` must equal `N(1 + 2N)` (e.g. 10 for
+/// `N = 2`). Unless the method sets its own, the step budget is
+/// [`Dop853::AUTO_STEPS_MAX`]` / (1 + 2N)²`.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for another `K` or a system with non-conservative forces (which the
+/// variational equations of `H` alone do not contain); the errors of the run.
+pub fn variational_tangent_map<S: Hamiltonian<N>, const N: usize, const K: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &Dop853,
+) -> Result<TangentMap<N>> {
+    let s = &problem.start;
+    if problem.system.generalized_force(s.t, &s.q, &s.p).is_some() {
+        return Err(Error::invalid(
+            "system of a variational tangent map",
+            "has non-conservative forces; use the tangent map of the DOP853 run \
+             (TangentMethod::tangent_map), which differentiates them",
+        ));
+    }
+    let plain = Unparametrised(problem.system);
+    let augmented = ParameterSensitivity::<_, N, 0, K>::with_initial_state(&plain)?;
+    let (qa, pa) = augmented.initial_state(&s.q, &s.p);
+    let big = Problem::new(&augmented, s.t, qa, pa, problem.t1)?;
+    let run = integrate(&big, &tangent_budget(method, (1 + 2 * N).pow(2)), &mut ())?;
+    let (q, p, _, _) = augmented.split(&run.last.q, &run.last.p);
+    Ok(TangentMap {
+        last: State::new(run.last.t, q, p)?,
+        jacobian: augmented.tangent(&run.last.q, &run.last.p)?,
+        work: run.work,
+    })
+}
+
+impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for GeneralMethod {
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
+        match self {
+            Self::Rk4(m) => m.tangent_map(problem),
+            Self::Gauss1(m) => m.tangent_map(problem),
+            Self::Gauss2(m) => m.tangent_map(problem),
+            Self::Gauss3(m) => m.tangent_map(problem),
+            Self::Gauss4(m) => m.tangent_map(problem),
+            Self::Gauss5(m) => m.tangent_map(problem),
+            Self::Gauss6(m) => m.tangent_map(problem),
+            Self::Dop853(m) => m.tangent_map(problem),
+            Self::Taylor(_) => Err(Error::invalid(
+                "tangent map of the Taylor method",
+                "not available (its series run on a record of real operations); use DOP853 \
+                 or Gauss–Legendre",
+            )),
+        }
+    }
+}
+
+impl<S: crate::hamiltonian::Separable<N>, const N: usize> TangentMethod<S, N> for AnyMethod {
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
+        match self {
+            Self::General(m) => m.tangent_map(problem),
+            Self::Splitting(m) => m.tangent_map(problem),
+        }
+    }
+}
+
+/// A [`Parametric`] system with its parameters `k` as `M` further coordinates that do not move:
+/// `H̃(q, k; p, π) = H(k; q, p)` on `ℝᴷ × ℝᴷ`, `K = N + M`, so that `k̇ = ∂H̃/∂π = 0` and `(q, p)`
+/// move as in the system at `k`. Any method for a general Hamiltonian runs on it unchanged (the
+/// stages see `k` exactly constant), and its tangent map contains `∂(q, p)/∂k`:
+/// [`parameter_tangent_map`].
+#[derive(Clone, Copy, Debug)]
+pub struct ParameterCoordinates<'a, S, const N: usize, const M: usize, const K: usize> {
+    system: &'a S,
+}
+
+impl<'a, S: Parametric<N, M>, const N: usize, const M: usize, const K: usize>
+    ParameterCoordinates<'a, S, N, M, K>
+{
+    /// The extended system; an error unless `K = N + M`.
+    pub fn new(system: &'a S) -> Result<Self> {
+        if K != N + M {
+            return Err(Error::invalid(
+                format!("dimension K = {K} of a system with its parameters as coordinates"),
+                format!("with N = {N} degrees of freedom and M = {M} parameters K must be N + M"),
+            ));
+        }
+        Ok(Self { system })
+    }
+}
+
+impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> Hamiltonian<K>
+    for ParameterCoordinates<'_, S, N, M, K>
+{
+    fn hamiltonian<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, K>, p: &SVector<D, K>) -> D {
+        let k = SVector::<D, M>::from_fn(|i, _| q[N + i]);
+        let qs = SVector::<D, N>::from_fn(|i, _| q[i]);
+        let ps = SVector::<D, N>::from_fn(|i, _| p[i]);
+        self.system.hamiltonian_with(&k, t, &qs, &ps)
+    }
+}
+
+/// The final state of a run of a [`Parametric`] system at its nominal parameters and the
+/// derivatives of that state with respect to the initial state and to the parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParameterTangent<const N: usize, const M: usize> {
+    /// The final state.
+    pub last: State<N>,
+    /// `∂(q, p)(t₁)/∂(q, p)(t₀)`.
+    pub jacobian: PhaseMatrix<N>,
+    /// `∂q(t₁)/∂k`.
+    pub dq_dk: SMatrix<f64, N, M>,
+    /// `∂p(t₁)/∂k`.
+    pub dp_dk: SMatrix<f64, N, M>,
+}
+
+/// The tangent map of `method` on `problem` with respect to the initial state and to the
+/// system's parameters `k`: the method runs on [`ParameterCoordinates`] (`K = N + M`) from
+/// `(q₀, k; p₀, 0)` and its tangent map is differentiated through its own steps
+/// ([`TangentMethod`]). Applies to the methods for a general Hamiltonian (Gauss–Legendre, RK4,
+/// DOP853 with frozen steps); for the variational equations in DOP853's error norm use
+/// [`ParameterSensitivity`].
+///
+/// # Errors
+/// [`Error::InvalidInput`] unless `K = N + M`; [`Error::NonFinite`] for non-finite parameters;
+/// the errors of the run.
+pub fn parameter_tangent_map<S, T, const N: usize, const M: usize, const K: usize>(
+    problem: &Problem<'_, S, N>,
+    method: &T,
+) -> Result<ParameterTangent<N, M>>
+where
+    S: Parametric<N, M>,
+    T: for<'b> TangentMethod<ParameterCoordinates<'b, S, N, M, K>, K>,
+{
+    let extended = ParameterCoordinates::<S, N, M, K>::new(problem.system)?;
+    let k = problem.system.parameters();
+    if let Some((i, v)) = k.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::NonFinite {
+            what: format!("parameter {} of the system", S::NAMES[i]),
+            value: *v,
+        });
+    }
+    let s = &problem.start;
+    let q = SVector::<f64, K>::from_fn(|i, _| if i < N { s.q[i] } else { k[i - N] });
+    let p = SVector::<f64, K>::from_fn(|i, _| if i < N { s.p[i] } else { 0.0 });
+    let big = Problem::new(&extended, s.t, q, p, problem.t1)?;
+    let tm = method.tangent_map(&big)?;
+    let j = &tm.jacobian;
+    Ok(ParameterTangent {
+        last: State::new(
+            tm.last.t,
+            SVector::from_fn(|i, _| tm.last.q[i]),
+            SVector::from_fn(|i, _| tm.last.p[i]),
+        )?,
+        jacobian: PhaseMatrix {
+            qq: SMatrix::from_fn(|r, c| j.qq[(r, c)]),
+            qp: SMatrix::from_fn(|r, c| j.qp[(r, c)]),
+            pq: SMatrix::from_fn(|r, c| j.pq[(r, c)]),
+            pp: SMatrix::from_fn(|r, c| j.pp[(r, c)]),
+        },
+        dq_dk: SMatrix::from_fn(|r, c| j.qq[(r, N + c)]),
+        dp_dk: SMatrix::from_fn(|r, c| j.pq[(r, N + c)]),
+    })
+}
