@@ -235,19 +235,16 @@ impl Compiler {
                     let a = self.materialise(at(&value, a));
                     self.emit(|w| Instr::Ln { w, a })
                 }
-                Op::Sin { arg, cos } => {
+                Op::Sin { arg, cos: partner } | Op::Cos { arg, sin: partner } => {
                     let a = self.materialise(at(&value, arg));
                     let (s, c) = (self.slot(), self.slot());
                     self.program.push(Instr::SinCos { s, c, a });
-                    value[cos] = Some((c, 1.0));
-                    (s, 1.0)
-                }
-                Op::Cos { arg, sin } => {
-                    let a = self.materialise(at(&value, arg));
-                    let (s, c) = (self.slot(), self.slot());
-                    self.program.push(Instr::SinCos { s, c, a });
-                    value[sin] = Some((s, 1.0));
-                    (c, 1.0)
+                    let (this, other) = match op {
+                        Op::Sin { .. } => (s, c),
+                        _ => (c, s),
+                    };
+                    value[partner] = Some((other, 1.0));
+                    (this, 1.0)
                 }
                 Op::Atan2 { y, x, r } => {
                     let y = self.materialise(at(&value, y));
