@@ -126,8 +126,8 @@ fn jets_integrate_every_elementary_function_to_rounding() {
     // The derivative by the adjoint sweep, integrated by the jets.
     let rec = record(&[t0, 0.0], |v| Ok(gradient(g(v[0]), &v[..1]))).unwrap();
     let mut jets = Jets::new(&rec, order).unwrap();
-    jets.ode(&rec, t0, &[0.0], order).unwrap();
-    let x = jets.coefficients(1);
+    jets.ode(t0, &[0.0], order).unwrap();
+    let x = jets.series(0);
     let mut worst: f64 = 0.0;
     for tau in taus {
         let series: f64 = x.iter().rev().fold(0.0, |s, c| s * tau + c);
@@ -141,8 +141,10 @@ fn jets_integrate_every_elementary_function_to_rounding() {
     // G itself as the right-hand side: the jet of its output operation is G's Taylor series.
     let rec = record(&[t0, 0.0], |v| Ok(vec![g(v[0])])).unwrap();
     let mut jets = Jets::new(&rec, order).unwrap();
-    jets.ode(&rec, t0, &[0.0], order).unwrap();
-    let gk = &jets.coefficients(rec.outputs()[0])[..order];
+    jets.ode(t0, &[0.0], order).unwrap();
+    let gk: Vec<f64> = (0..order)
+        .map(|k| jets.coefficient(rec.outputs()[0], k))
+        .collect();
     let mut worst: f64 = 0.0;
     for tau in taus {
         let series: f64 = gk.iter().rev().fold(0.0, |s, c| s * tau + c);
@@ -329,8 +331,14 @@ fn hostile_knobs_and_records_are_typed_errors() {
     // Jets of orders 0 and beyond the limit; a record that is not a differential equation.
     assert!(Jets::new(&r, 0).is_err());
     assert!(Jets::new(&r, usize::MAX).is_err());
+    assert!(Jets::new(&r, 5).is_err());
+    // A state of the wrong length, and orders beyond the storage.
+    let r = record(&[0.0, 1.0], |v| Ok(vec![v[1].sin()])).unwrap();
     let mut j = Jets::new(&r, 5).unwrap();
-    assert!(j.ode(&r, 0.0, &[1.0], 5).is_err());
+    assert!(j.ode(0.0, &[1.0, 2.0], 5).is_err());
+    assert!(j.ode(0.0, &[1.0], 6).is_err());
+    assert!(j.ode(0.0, &[1.0], 0).is_err());
+    assert!(j.ode(0.0, &[1.0], 5).is_ok());
     // A start at the Kepler collision, and a run that meets a singularity: errors, not panics.
     let kepler = Kepler2::new(1.0).unwrap();
     let at_origin = Problem::new(

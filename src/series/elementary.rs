@@ -119,8 +119,7 @@ fn usc(u: &[f64], s0: f64, c0: f64, sign: f64) -> (Vec<f64>, Vec<f64>) {
     let m = u.len();
     let (mut s, mut c) = (vec![s0; m], vec![c0; m]);
     for k in 1..m {
-        s[k] = recurrences::integral_w_du(u, &c, k);
-        c[k] = sign * recurrences::integral_w_du(u, &s, k);
+        (s[k], c[k]) = recurrences::sin_cos(u, &s, &c, sign, k);
     }
     (s, c)
 }

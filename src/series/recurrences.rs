@@ -30,34 +30,22 @@
 //! (2005) 99–117, §2.2.
 
 /// `Σ_{i<n} (c + i) a_i b_{n−1−i}` over `n = min(len a, len b)` with `c = 0` and weights dropped
-/// when `weighted` is false: the Cauchy sums of every recurrence, in four independent partial
-/// sums (no bounds checks in the loop, four additions in flight).
+/// when `weighted` is false: the Cauchy sums of every recurrence (no bounds checks in the loop).
 #[inline(always)]
 fn cauchy(a: &[f64], b: &[f64], weighted: bool, c: f64) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
-    let (ca, cb) = (a.chunks_exact(4), b.rchunks_exact(4));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
-    let mut acc = [0.0f64; 4];
-    let mut wgt = c;
-    for (x, y) in ca.zip(cb) {
-        if weighted {
-            acc[0] += wgt * x[0] * y[3];
-            acc[1] += (wgt + 1.0) * x[1] * y[2];
-            acc[2] += (wgt + 2.0) * x[2] * y[1];
-            acc[3] += (wgt + 3.0) * x[3] * y[0];
-            wgt += 4.0;
-        } else {
-            acc[0] += x[0] * y[3];
-            acc[1] += x[1] * y[2];
-            acc[2] += x[2] * y[1];
-            acc[3] += x[3] * y[0];
+    let mut s = 0.0;
+    if weighted {
+        let mut w = c;
+        for (x, y) in a.iter().zip(b.iter().rev()) {
+            s += w * x * y;
+            w += 1.0;
         }
-    }
-    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
-    for (x, y) in ra.iter().zip(rb.iter().rev()) {
-        s += if weighted { wgt * x * y } else { x * y };
-        wgt += 1.0;
+    } else {
+        for (x, y) in a.iter().zip(b.iter().rev()) {
+            s += x * y;
+        }
     }
     s
 }
@@ -110,4 +98,22 @@ pub fn atan2(v: &[f64], u: &[f64], r: &[f64], w: &[f64], k: usize) -> f64 {
         - cauchy(&u[1..=k], &v[..k], true, 1.0)
         - cauchy(&w[1..k], &r[1..k], true, 1.0);
     s / (k as f64 * r[0])
+}
+
+/// `(s_k, c_k) = ((1/k) Σ_{j=1}^{k} j u_j c_{k−j}, (σ/k) Σ_{j=1}^{k} j u_j s_{k−j})`, `k ≥ 1`:
+/// with `σ = −1` the pair `s = sin u`, `c = cos u`, with `σ = +1` the pair `s = sinh u`,
+/// `c = cosh u` (`s′ = c u′`, `c′ = σ s u′`), in one pass over `j u_j`.
+#[inline]
+pub fn sin_cos(u: &[f64], s: &[f64], c: &[f64], sigma: f64, k: usize) -> (f64, f64) {
+    let (u, s, c) = (&u[1..=k], &s[..k], &c[..k]);
+    let (mut ss, mut cs) = (0.0, 0.0);
+    let mut j = 1.0;
+    for ((uj, sk), ck) in u.iter().zip(s.iter().rev()).zip(c.iter().rev()) {
+        let ju = j * uj;
+        ss += ju * ck;
+        cs += ju * sk;
+        j += 1.0;
+    }
+    let inv = 1.0 / k as f64;
+    (ss * inv, sigma * cs * inv)
 }
