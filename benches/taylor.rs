@@ -15,19 +15,10 @@ use hamilton_jacobi::systems::{ExactFlow, Pendulum};
 use hamilton_jacobi::Hamiltonian;
 use std::f64::consts::PI;
 use std::hint::black_box;
-use std::time::{Duration, Instant};
 
-/// Best wall time of `f` over `runs` runs.
-fn best<R>(runs: usize, mut f: impl FnMut() -> R) -> Duration {
-    (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            black_box(f());
-            t.elapsed()
-        })
-        .min()
-        .unwrap_or_default()
-}
+mod common;
+use common::best;
+use std::time::Duration;
 
 /// `K(k)` by the arithmetic–geometric mean, `K = π / (2 agm(1, √(1 − k²)))`.
 fn elliptic_k(k: f64) -> f64 {

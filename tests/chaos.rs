@@ -191,8 +191,7 @@ fn double_pendulum_regular_and_chaotic_orbits() {
     for (name, th) in [("DP-R", 0.3), ("DP-C", 2.0)] {
         let start = State::new(0.0, SVector::from([th, th]), SVector::zeros()).unwrap();
         let problem = Problem::new(&pendulum, 0.0, start.q, start.p, t1).unwrap();
-        let run =
-            chaos_indicators(&problem, &method, &deviation(&pendulum, &start), 4).unwrap();
+        let run = chaos_indicators(&problem, &method, &deviation(&pendulum, &start), 4).unwrap();
         println!("{name}: {:?}", run.last);
         out.push(run.last);
     }

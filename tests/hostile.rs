@@ -5305,7 +5305,8 @@ mod tangent_calls {
         // (name, tangent map of the run, symplectic tolerance, energy tolerance at span t₁):
         // DOP853's energy error grows with the span.
         type Run = fn(&Problem<'static, HenonHeiles, 2>) -> Result<TangentMap<2>>;
-        let runs: [(&str, Run, f64, fn(f64) -> f64); 4] = [
+        type EnergyTolerance = fn(f64) -> f64;
+        let runs: [(&str, Run, f64, EnergyTolerance); 4] = [
             (
                 "TangentMethod::tangent_map(Verlet)",
                 |p| Fixed::new(Splitting::VERLET_KDK, 400)?.tangent_map(p),

@@ -200,12 +200,19 @@ impl<S: Parametric<N, M>, const N: usize, const M: usize, const K: usize> FirstO
         qa: &SVector<f64, K>,
         pa: &SVector<f64, K>,
     ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
-        tangent_rates("sensitivity equations", t, qa, pa, K / N - 1, |j, td, qs, ps| {
-            // Parameter columns seed their parameter; initial-state columns none.
-            let ks = SVector::<Dual64, M>::from_fn(|i, _| {
-                Dual64::new(self.k[i], if i == j { 1.0 } else { 0.0 })
-            });
-            parametric_vector_field(self.system, &ks, td, qs, ps)
-        })
+        tangent_rates(
+            "sensitivity equations",
+            t,
+            qa,
+            pa,
+            K / N - 1,
+            |j, td, qs, ps| {
+                // Parameter columns seed their parameter; initial-state columns none.
+                let ks = SVector::<Dual64, M>::from_fn(|i, _| {
+                    Dual64::new(self.k[i], if i == j { 1.0 } else { 0.0 })
+                });
+                parametric_vector_field(self.system, &ks, td, qs, ps)
+            },
+        )
     }
 }

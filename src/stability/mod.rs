@@ -35,8 +35,8 @@ pub mod rolling;
 pub mod spectrum;
 
 pub use continuation::{
-    hamiltonian_crossings, parameter_study, real_part_crossings, spectra, Crossing,
-    CrossingKind, ParameterStudy, SpectrumAt,
+    hamiltonian_crossings, parameter_study, real_part_crossings, spectra, Crossing, CrossingKind,
+    ParameterStudy, SpectrumAt,
 };
 pub use direct::{dirichlet_check, lyapunov_derivative, DirichletCheck};
 pub use equilibrium::{
