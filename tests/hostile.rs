@@ -4624,7 +4624,7 @@ mod hamiltonian_stability_calls {
     use hamilton_jacobi::scene::stability::double_pendulum_spectrum;
     use hamilton_jacobi::stability::{
         check_spectrum_symmetry, dirichlet_check, hamiltonian_crossings, hamiltonian_linearization,
-        hamiltonian_spectrum, lyapunov_derivative, monodromy, CrossingKind, Stability, Variational,
+        hamiltonian_spectrum, lyapunov_derivative, monodromy, CrossingKind, Stability,
     };
     use hamilton_jacobi::systems::{
         ClohessyWiltshire, DoublePendulum, DumbbellOrientation, DumbbellSatellite,
@@ -4783,15 +4783,14 @@ mod hamiltonian_stability_calls {
             },
         );
         c.push(Call {
-            label: "stability::Variational::new".into(),
+            label: "stability::monodromy (augmented dimension K)".into(),
             body: Box::new(|| {
                 let h = Pendulum::new(1.0).unwrap();
-                match (
-                    Variational::<_, 1, 3>::new(&h),
-                    Variational::<_, 1, 2>::new(&h),
-                ) {
-                    (Ok(_), Err(_)) => Good,
-                    _ => Wrong("K = N(1 + 2N) not enforced".into()),
+                let (q, p) = (SVector::from([0.5]), SVector::from([0.0]));
+                let dop = hamilton_jacobi::integrate::Dop853::new(1e-8, 1e-10).unwrap();
+                match monodromy::<_, 1, 2>(&h, 0.0, &q, &p, 6.0, &dop) {
+                    Err(hamilton_jacobi::Error::InvalidInput { .. }) => Good,
+                    other => Wrong(format!("K = N(1 + 2N) not enforced: {other:?}")),
                 }
             }),
         });

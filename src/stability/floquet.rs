@@ -4,11 +4,10 @@
 //! §4.5 and §8.2] (SPEC M34).
 //!
 //! * Along a motion `z(t)` of `ż = J∇H + (0, Q^nc)` the perturbations obey the variational
-//!   equations `Φ̇ = A(t) Φ`, `Φ(t₀) = I`, `A = ∂f/∂z` on the motion. [`Variational`] is the
-//!   augmented system `(z, Φ)`: each column `Φ e_j` is the directional derivative of the one
-//!   vector field along it, one evaluation on dual numbers per column, so the variational
-//!   equations come from the same Hamiltonian by AD and any integrator of first-order systems
-//!   (the crate's [`Dop853`]) controls their error together with that of the state.
+//!   equations `Φ̇ = A(t) Φ`, `Φ(t₀) = I`, `A = ∂f/∂z` on the motion, integrated with the state
+//!   by [`variational_tangent_map`] (each column `Φ e_j` the directional derivative of the one
+//!   vector field along it, by AD), so that [`Dop853`] controls their error together with that of
+//!   the state.
 //! * For a periodic orbit of period `T` the **monodromy matrix** is `M = Φ(t₀ + T)`, its
 //!   eigenvalues the **Floquet multipliers**. For an autonomous Hamiltonian the flow direction
 //!   `X = J∇H(z₀)` is invariant, `M X = X`, and energy is conserved, `∇H(z₀)ᵀ M = ∇H(z₀)ᵀ`: two
@@ -21,90 +20,14 @@
 //!
 //! Stable Rust cannot write the augmented dimension `N(1 + 2N)` from a generic `N`, so it is a
 //! second const parameter `K`, checked at run time (as for
-//! [`ParameterSensitivity`](crate::integrate::ParameterSensitivity)).
+//! [`ParameterSensitivity`](crate::integrate::ParameterSensitivity), which integrates them).
 
 use super::hamiltonian_spectrum::j_times;
 use super::spectrum::C64;
-use crate::ad::{augmented_state, tangent_rates};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
-use crate::integrate::{integrate, Dop853, FirstOrderSystem, Problem};
+use crate::integrate::{variational_tangent_map, Dop853, Problem};
 use nalgebra::{DMatrix, DVector, Matrix2, SVector};
-
-/// Hamilton's equations augmented with the variational equations `Φ̇ = A Φ`; the augmented `q`
-/// block is `(q, Φ_q e₁, …, Φ_q e_{2N})`, the `p` block `(p, Φ_p e₁, …)`. `K = N(1 + 2N)`.
-#[derive(Clone, Copy, Debug)]
-pub struct Variational<'a, H, const N: usize, const K: usize> {
-    system: &'a H,
-}
-
-impl<'a, H: Hamiltonian<N>, const N: usize, const K: usize> Variational<'a, H, N, K> {
-    /// The augmented system; an error unless `K = N(1 + 2N)`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidInput`] for `K ≠ N(1 + 2N)`.
-    pub fn new(system: &'a H) -> Result<Self> {
-        if K != N * (1 + 2 * N) {
-            return Err(Error::invalid(
-                format!("augmented dimension K = {K} of the variational equations"),
-                format!(
-                    "with N = {N} degrees of freedom K must be N(1 + 2N) = {}",
-                    N * (1 + 2 * N)
-                ),
-            ));
-        }
-        Ok(Self { system })
-    }
-
-    /// The augmented initial state `(z₀, Φ = I)`.
-    pub fn initial_state(
-        &self,
-        q0: &SVector<f64, N>,
-        p0: &SVector<f64, N>,
-    ) -> (SVector<f64, K>, SVector<f64, K>) {
-        augmented_state(q0, p0, 2 * N, |i, j| if i == j { 1.0 } else { 0.0 })
-    }
-
-    /// Split an augmented state into `(q, p, Φ)` (`Φ` in the order `(q, p)`).
-    #[allow(clippy::type_complexity)]
-    pub fn split(
-        &self,
-        qa: &SVector<f64, K>,
-        pa: &SVector<f64, K>,
-    ) -> (SVector<f64, N>, SVector<f64, N>, DMatrix<f64>) {
-        let q = qa.fixed_rows::<N>(0).into_owned();
-        let p = pa.fixed_rows::<N>(0).into_owned();
-        let phi = DMatrix::from_fn(2 * N, 2 * N, |i, j| {
-            let off = N * (1 + j);
-            if i < N {
-                qa[off + i]
-            } else {
-                pa[off + i - N]
-            }
-        });
-        (q, p, phi)
-    }
-}
-
-impl<H: Hamiltonian<N>, const N: usize, const K: usize> FirstOrderSystem<K>
-    for Variational<'_, H, N, K>
-{
-    fn field(
-        &self,
-        t: f64,
-        qa: &SVector<f64, K>,
-        pa: &SVector<f64, K>,
-    ) -> Result<(SVector<f64, K>, SVector<f64, K>)> {
-        tangent_rates(
-            "variational equations",
-            t,
-            qa,
-            pa,
-            2 * N,
-            |_, td, qs, ps| self.system.vector_field_generic(td, qs, ps),
-        )
-    }
-}
 
 /// The monodromy matrix of a periodic orbit and its Floquet multipliers.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,7 +54,7 @@ pub struct Monodromy {
 }
 
 /// The monodromy matrix of the periodic orbit of the autonomous Hamiltonian `h` through
-/// `(q₀, p₀)` at `t₀` with period `T`: the variational equations ([`Variational`], `K = N(1 + 2N)`)
+/// `(q₀, p₀)` at `t₀` with period `T`: the variational equations (`K = N(1 + 2N)`)
 /// integrated over one period by `method`, the Floquet multipliers, and the trivial block and the
 /// non-trivial multipliers in the basis `(X, η, W)` (see the [module docs](self)). The period is
 /// the caller's (from a closed form, or from a section crossing); [`Monodromy::closure_defect`]
@@ -154,11 +77,9 @@ pub fn monodromy<H: Hamiltonian<N>, const N: usize, const K: usize>(
     if period <= 0.0 {
         return Err(Error::out_of_domain("period T", period, "(0, ∞)"));
     }
-    let var = Variational::<H, N, K>::new(h)?;
-    let (qa, pa) = var.initial_state(q0, p0);
-    let problem = Problem::new(&var, t0, qa, pa, t0 + period)?;
-    let report = integrate(&problem, method, &mut ())?;
-    let (q1, p1, m) = var.split(&report.last.q, &report.last.p);
+    let problem = Problem::new(h, t0, *q0, *p0, t0 + period)?;
+    let run = variational_tangent_map::<H, N, K>(&problem, method)?;
+    let (q1, p1, m) = (run.last.q, run.last.p, run.jacobian.to_dmatrix());
     crate::error::all_finite("monodromy matrix", m.as_slice())?;
     let dim = 2 * N;
     let z0 = DVector::from_iterator(dim, q0.iter().chain(p0.iter()).copied());

@@ -42,7 +42,7 @@ pub use direct::{dirichlet_check, lyapunov_derivative, DirichletCheck};
 pub use equilibrium::{
     equilibrium, hamiltonian_equilibrium, Equilibrium, PhaseEquilibrium, EQUILIBRIUM_TOLERANCE,
 };
-pub use floquet::{monodromy, Monodromy, Variational};
+pub use floquet::{monodromy, Monodromy};
 pub use hamiltonian_spectrum::{
     check_spectrum_symmetry, hamiltonian_linearization, hamiltonian_spectrum, BoxSymmetry,
     HamiltonianSpectrum, SpectralBlock, EIGENVALUE_CLUSTER,
