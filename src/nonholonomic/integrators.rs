@@ -483,7 +483,8 @@ impl ConstrainedMethod {
     ///
     /// # Errors
     /// [`Error::ConstraintViolated`] for initial velocities violating the constraints beyond
-    /// `velocity_tolerance`; the errors of the method.
+    /// `velocity_tolerance`; [`Error::NonFinite`] for a state, or the energy of a state, that is
+    /// not finite; the errors of the method.
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     pub fn run<L, C, const N: usize, const K: usize>(
         &self,
@@ -530,6 +531,26 @@ impl ConstrainedMethod {
                     .collect::<Vec<_>>()
                     .as_slice(),
             )?;
+        }
+        // States far outside the method's accuracy (a step that moves the state by more than its
+        // scales) can stay finite while their energy overflows: refuse them too. The states are
+        // `(t, q, q̇)` except the last node `(t, q, p)` of the discrete scheme.
+        let last_has_velocity = !matches!(self, Self::LagrangeDAlembert(_));
+        for s in states
+            .iter()
+            .chain(last_has_velocity.then_some(&last).into_iter())
+        {
+            sys.lagrangian
+                .jacobi_integral(s.t, &s.q, &s.p)
+                .map_err(|_| Error::NonFinite {
+                    what: format!(
+                        "energy (Jacobi integral) of the state at t = {} of {}: the run left the \
+                     method's range",
+                        s.t,
+                        self.label()
+                    ),
+                    value: f64::INFINITY,
+                })?;
         }
         Ok((last, work, states))
     }
