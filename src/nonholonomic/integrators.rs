@@ -536,10 +536,7 @@ impl ConstrainedMethod {
         // scales) can stay finite while their energy overflows: refuse them too. The states are
         // `(t, q, q̇)` except the last node `(t, q, p)` of the discrete scheme.
         let last_has_velocity = !matches!(self, Self::LagrangeDAlembert(_));
-        for s in states
-            .iter()
-            .chain(last_has_velocity.then_some(&last).into_iter())
-        {
+        for s in states.iter().chain(last_has_velocity.then_some(&last)) {
             sys.lagrangian
                 .jacobi_integral(s.t, &s.q, &s.p)
                 .map_err(|_| Error::NonFinite {
