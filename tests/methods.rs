@@ -159,9 +159,12 @@ fn scene_kinds_are_the_table_entries() {
     unique.sort_unstable();
     unique.dedup();
     assert_eq!(unique.len(), keys.len(), "{keys:?}");
-    // The integrators and the six theories (Hamilton–Jacobi, normal form, Lindstedt, osculating
-    // and mean elements, Brouwer–Lyddane).
-    assert_eq!(keys.len(), METHODS.len() + 6);
+    // The integrators, the six theories (Hamilton–Jacobi, normal form, Lindstedt, osculating
+    // and mean elements, Brouwer–Lyddane) and the constrained methods.
+    assert_eq!(
+        keys.len(),
+        METHODS.len() + 6 + hamilton_jacobi::nonholonomic::CONSTRAINED_METHODS.len()
+    );
     let e = MethodKind::try_from("gauss-3".to_string()).unwrap_err();
     for info in &METHODS {
         assert!(e.contains(info.key), "{e}");
