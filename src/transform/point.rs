@@ -11,6 +11,7 @@
 //! [`crate::Error::Singular`].
 
 use super::generating::{CanonicalTransformation, GeneratingFunction, Kind};
+use crate::ad::{gradient, GradDual};
 use crate::error::{Error, Result};
 use crate::lagrangian::Lagrangian;
 use nalgebra::SVector;
@@ -158,17 +159,19 @@ impl<L: Lagrangian<N>, F: PointTransformation<N>, const N: usize> Lagrangian<N>
     ) -> Option<SVector<D, N>> {
         let (q, qdot) = self.old_state(t, big_q, big_qdot);
         let force = self.lagrangian.generalized_force(t, &q, &qdot)?;
-        // (∂f/∂Q)ᵀ Q: column r of the Jacobian is the derivative of f along e_r.
-        Some(SVector::from_fn(|r, _| {
-            let qq = SVector::from_fn(|i, _| {
-                Dual::new(big_q[i], D::from(if i == r { 1.0 } else { 0.0 }))
-            });
-            let column = self.map.coordinates(Dual::from_re(t), &qq);
-            column
-                .iter()
-                .zip(force.iter())
-                .fold(D::from(0.0), |acc, (c, &f)| acc + c.eps * f)
-        }))
+        // (∂f/∂Q)ᵀ Q = ∇_Q (Q·f(t, Q)) with Q held fixed: one gradient pass.
+        let (_, projected) = gradient(
+            |qq| {
+                let f = self.map.coordinates(GradDual::from_re(t), qq);
+                f.iter()
+                    .zip(force.iter())
+                    .fold(GradDual::from_re(D::from(0.0)), |acc, (fs, &qs)| {
+                        acc + *fs * GradDual::from_re(qs)
+                    })
+            },
+            big_q,
+        );
+        Some(projected)
     }
 
     fn dissipation<D: DualNum<f64> + Copy>(
