@@ -5,6 +5,9 @@ pub mod action;
 pub mod ad;
 pub mod brackets;
 pub mod chaos;
+/// The `hj` command line as a library: [`cli::cli_main`] on a catalogue of systems.
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod constraints;
 pub mod error;
 pub mod hamilton_jacobi;

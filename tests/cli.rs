@@ -289,3 +289,100 @@ fn running_a_directory_says_it_is_a_directory() {
         .contains("is a directory"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn new_writes_a_commented_template_that_runs() {
+    let dir = temp_dir("new");
+    let stem = dir.join("my-scene");
+    let o = hj(&["new", stem.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let path = dir.join("my-scene.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("name = \"my-scene\""), "{text}");
+    assert!(text.lines().filter(|l| l.starts_with('#')).count() >= 3);
+    // The template is a scene the built-in catalogue runs.
+    let out = dir.join("out");
+    let o = hj(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.join("tables/my-scene.md").exists());
+    // An existing file is kept unless --force.
+    let o = hj(&["new", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
+    let o = hj(&["new", path.to_str().unwrap(), "--force"]);
+    assert!(o.status.success());
+    // No usable name, or a place that cannot be written: one line, no panic.
+    let o = hj(&["new", dir.join(".toml").to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = hj(&["new", "/proc/no-such-dir/scene"]);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+}
+
+#[allow(dead_code)]
+#[path = "../examples/cli_user_system.rs"]
+mod user_system;
+
+#[test]
+fn a_user_system_registered_through_cli_main_runs_a_scene() {
+    use hamilton_jacobi::cli::cli_main_from;
+    use std::process::ExitCode;
+    let dir = temp_dir("user");
+    let scene = dir.join("duffing.toml");
+    std::fs::write(
+        &scene,
+        "[system]\nname = \"duffing\"\nbeta = 0.5\namplitude = 1.2\n[span]\ntime = 20\n\
+         [[method]]\nkind = \"verlet-kdk\"\nsteps = [400, 800]\n\
+         [[method]]\nkind = \"dop853\"\nrtol = [1e-10]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let args = [
+        "hj",
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    let code = cli_main_from(user_system::catalogue(), args);
+    assert_eq!(format!("{code:?}"), format!("{:?}", ExitCode::SUCCESS));
+    let table = std::fs::read_to_string(out.join("tables/duffing.md")).unwrap();
+    assert!(table.contains("Duffing oscillator"), "{table}");
+    // Verlet's error falls by 4 when the step halves: over t = 20 at h = 0.05 the phase error
+    // (≈ h²ω³t/24 ≈ 2e-3) is small, so the final position error is q̇(t)·δt ∝ h² to O(h⁴).
+    let errors: Vec<f64> = table
+        .lines()
+        .filter(|l| l.contains("Störmer–Verlet") && l.contains("steps ="))
+        .map(|l| l.split('|').nth(3).unwrap().trim().parse::<f64>().unwrap())
+        .collect();
+    assert_eq!(errors.len(), 2, "{table}");
+    let ratio = errors[0] / errors[1];
+    assert!(
+        (ratio - 4.0).abs() < 0.4,
+        "Verlet error ratio {ratio}:\n{table}"
+    );
+    // An unknown key of the user's system is refused with the keys it takes.
+    std::fs::write(&scene, "[system]\nname = \"duffing\"\ngamma = 1\n[span]\ntime = 1\n[[method]]\nkind = \"rk4\"\nsteps = [10]\n").unwrap();
+    let code = cli_main_from(
+        user_system::catalogue(),
+        ["hj", "run", scene.to_str().unwrap()],
+    );
+    assert_eq!(format!("{code:?}"), format!("{:?}", ExitCode::from(2)));
+}

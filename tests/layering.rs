@@ -60,7 +60,7 @@ const LAYERS: &[(&str, &[&str])] = &[
         ],
     ),
     ("harness", &["workprecision"]),
-    ("front end", &["plot", "scene", "bin"]),
+    ("front end", &["plot", "scene", "cli", "bin"]),
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
