@@ -3,8 +3,10 @@
 //! Phase-space vectors are ordered `z = (q, p)`; linear maps of phase space are stored as four
 //! `N × N` blocks so that everything stays statically sized:
 //!
-//! $$ M = \begin{pmatrix} M_{qq} & M_{qp} \\ M_{pq} & M_{pp} \end{pmatrix},\qquad
-//!    J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix} \quad\text{[Ardema eq. 15.21]}. $$
+//! ```math
+//! M = \begin{pmatrix} M_{qq} & M_{qp} \\ M_{pq} & M_{pp} \end{pmatrix},\qquad
+//! J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix} \quad\text{[Ardema eq. 15.21]}.
+//! ```
 
 use crate::error::{all_finite, finite, Error, Result};
 use nalgebra::allocator::Allocator;

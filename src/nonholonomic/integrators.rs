@@ -14,8 +14,10 @@
 //!   `L_d(q₀, q₁) = h L(t + h/2, (q₀ + q₁)/2, (q₁ − q₀)/h)` and the discrete forces
 //!   `f^± = (h/2) Q` at the midpoint, a step `(qₖ, pₖ) ↦ (qₖ₊₁, pₖ₊₁)` solves
 //!
-//!   $$ p_k + D_1 L_d(q_k, q_{k+1}) + f^- - h\,B(t_k, q_k)^{\mathsf T}\lambda_k = 0, \qquad
-//!   B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0, $$
+//!   ```math
+//!   p_k + D_1 L_d(q_k, q_{k+1}) + f^- - h\,B(t_k, q_k)^{\mathsf T}\lambda_k = 0, \qquad
+//!   B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0,
+//!   ```
 //!
 //!   `p_{k+1} = D₂ L_d(qₖ, qₖ₊₁) + f^+`, with `q̄ = (qₖ + qₖ₊₁)/2`, `t̄ = tₖ + h/2` (the virtual
 //!   displacements at `qₖ` lie in the constraint distribution, whence the force `−h Bᵀλ`, crate
