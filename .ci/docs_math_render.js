@@ -89,7 +89,17 @@ async function main() {
                         const a = k.querySelector('annotation[encoding="application/x-tex"]');
                         return { display: !!k.closest(".katex-display"), tex: a ? a.textContent : null };
                     }),
-                errors: [...document.querySelectorAll(".katex-error")].map((e) => e.getAttribute("title") || e.textContent),
+                // `.katex-error` marks TeX KaTeX could not parse; a command it does not know is typeset
+                // as red text instead, so each formula's TeX is parsed again with errors thrown.
+                errors: [...document.querySelectorAll(".katex-error")].map((e) => e.getAttribute("title") || e.textContent)
+                    .concat([...document.querySelectorAll('.katex annotation[encoding="application/x-tex"]')].flatMap((a) => {
+                        try {
+                            katex.renderToString(a.textContent, { throwOnError: true, strict: "error" });
+                            return [];
+                        } catch (e) {
+                            return [String(e.message || e)];
+                        }
+                    })),
                 untypeset: document.querySelectorAll("pre.language-math").length,
                 katexLoaded: typeof katex !== "undefined",
             }));

@@ -6,7 +6,8 @@ A doc comment is a run of `///` or `//!` lines; rustdoc removes the indentation 
 non-blank lines, and CommonMark removes from each line of a fence's content as many leading spaces
 as the opening fence is indented.
 
-  docs_math_sources.py [SRC]                  JSON list of {file, line, display, shown, tex}
+  docs_math_sources.py [SRC]     JSON: formulas [{file, line, display, shown, tex}], raw [TeX
+                                 delimiters `$$`, `\\(`, `\\[` left in the Markdown]
   docs_math_sources.py compare SOURCES RENDERED
       compares the sources' TeX with the TeX KaTeX received on the rendered pages (as multisets,
       character for character) and exits non-zero on any difference, KaTeX error or untypeset formula.
@@ -65,11 +66,16 @@ def module_is_public(path):
     return False
 
 
-def formulas(path):
+def formulas(path, raw):
+    """The formulas of the doc comments in `path` (or of the Markdown file `path`, included as
+    docs); TeX left outside a math fence goes to `raw`."""
     lines = open(path, encoding="utf-8").read().split("\n")
     out = []
-    public = module_is_public(path)
-    for start, marker, body in doc_runs(lines):
+    if path.endswith(".md"):
+        runs, public = [(0, "//!", lines)], True
+    else:
+        runs, public = doc_runs(lines), module_is_public(path)
+    for start, marker, body in runs:
         shown = public or marker == "///"
         md = unindent(body)
         i = 0
@@ -99,6 +105,8 @@ def formulas(path):
                     j += 1
                 i = j + 1
                 continue
+            if "$$" in md[i] or "\\(" in md[i] or "\\[" in md[i]:
+                raw.append(f"{path}:{start + i + 1}: {md[i].strip()}")
             for m in INLINE.finditer(md[i]):
                 out.append({"file": path, "line": start + i + 1, "display": False, "shown": shown, "tex": m.group(1)[1:-1]})
             i += 1
@@ -106,12 +114,13 @@ def formulas(path):
 
 
 def compare(sources_json, rendered_json):
-    sources = json.load(open(sources_json, encoding="utf-8"))
+    src = json.load(open(sources_json, encoding="utf-8"))
+    sources = src["formulas"]
     rendered = json.load(open(rendered_json, encoding="utf-8"))
     shown = [f for f in sources if f["shown"]]
     expected = Counter((f["display"], f["tex"]) for f in shown)
     got = Counter()
-    failures = []
+    failures = [f"TeX outside a math fence: {r}" for r in src["raw"]]
     for page in rendered["pages"]:
         for f in page["formulas"]:
             got[(f["display"], f["tex"])] += 1
@@ -143,12 +152,19 @@ def main():
     if len(sys.argv) > 1 and sys.argv[1] == "compare":
         sys.exit(compare(sys.argv[2], sys.argv[3]))
     root = sys.argv[1] if len(sys.argv) > 1 else "src"
-    found = []
+    found, raw = [], []
     for d, _, files in sorted(os.walk(root)):
         for f in sorted(files):
             if f.endswith(".rs"):
-                found += formulas(os.path.join(d, f))
-    json.dump(found, sys.stdout, ensure_ascii=False, indent=0)
+                found += formulas(os.path.join(d, f), raw)
+    # Markdown files the crate includes as docs (`#![doc = include_str!("../README.md")]`).
+    for d, _, files in sorted(os.walk(root)):
+        for f in sorted(files):
+            if f.endswith(".rs"):
+                text = open(os.path.join(d, f), encoding="utf-8").read()
+                for inc in re.findall(r'doc\s*=\s*include_str!\("([^"]+\.md)"\)', text):
+                    found += formulas(os.path.normpath(os.path.join(d, inc)), raw)
+    json.dump({"formulas": found, "raw": raw}, sys.stdout, ensure_ascii=False, indent=0)
 
 
 if __name__ == "__main__":
