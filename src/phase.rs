@@ -17,6 +17,7 @@ use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVecto
 /// [`State::new`] rejects NaN or infinite components with the component named; the fields are
 /// public, so a state built by hand is the caller's to keep finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct State<const N: usize> {
     /// Time.
     pub t: f64,

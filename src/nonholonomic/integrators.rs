@@ -59,6 +59,7 @@ pub struct LagrangeDAlembert {
 
 /// One step of [`LagrangeDAlembert`].
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiscreteStep<const N: usize, const K: usize> {
     /// `qₖ₊₁`.
     pub q: SVector<f64, N>,
@@ -74,6 +75,7 @@ pub struct DiscreteStep<const N: usize, const K: usize> {
 
 /// The end of a [`LagrangeDAlembert`] run.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiscreteRun<const N: usize> {
     /// The last node `(t, q, p)`, `p` the discrete momentum.
     pub last: State<N>,
@@ -587,6 +589,7 @@ fn ode_run<S, M: Method<S, N>, const N: usize>(
 
 /// Energy error and constraint residual at one time.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DriftSample {
     /// Time.
     pub t: f64,
@@ -598,6 +601,7 @@ pub struct DriftSample {
 
 /// The drift of one method along one motion.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Drift {
     /// The method's label.
     pub method: String,

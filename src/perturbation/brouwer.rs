@@ -90,6 +90,7 @@ pub const OSCULATING_TO_MEAN_ITERATIONS: usize = 50;
 
 /// A statement about the model that does not stop the theory.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum TheoryWarning {
     /// The mean perigee radius `a(1 − e)` is smaller than the reference radius `R`: the orbit
     /// passes inside the body, where the exterior `J₂` potential is not the body's field.
