@@ -111,6 +111,8 @@ fn normal_forms() {
     let negative = text.replacen("nu = 1.0", "nu = -1.0", 1);
     assert_ne!(negative, text);
     assert!(toml::from_str::<NormalForm>(&negative).is_err());
+    let not_finite = text.replacen("nu = 1.0", "nu = nan", 1);
+    assert!(toml::from_str::<NormalForm>(&not_finite).is_err());
 
     #[derive(serde::Serialize, serde::Deserialize, PartialEq, Debug)]
     struct Terms {

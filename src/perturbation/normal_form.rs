@@ -332,7 +332,7 @@ fn eval_graded(f: &[PoissonSeries], xi: C64) -> C64 {
 #[cfg_attr(
     feature = "serde",
     derive(serde::Serialize, serde::Deserialize),
-    serde(try_from = "NormalFormRecord")
+    serde(remote = "Self")
 )]
 pub struct NormalForm {
     nu: f64,
@@ -344,61 +344,57 @@ pub struct NormalForm {
     imag_residue: f64,
 }
 
-/// The stored fields of a [`NormalForm`], checked before they become one.
+/// Stored as its fields.
 #[cfg(feature = "serde")]
-#[derive(serde::Deserialize)]
-struct NormalFormRecord {
-    nu: f64,
-    order: usize,
-    generators: Vec<PoissonSeries>,
-    normal: Vec<PoissonSeries>,
-    old_from_new: Vec<PoissonSeries>,
-    new_from_old: Vec<PoissonSeries>,
-    imag_residue: f64,
+impl serde::Serialize for NormalForm {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        NormalForm::serialize(self, serializer)
+    }
 }
 
 /// A stored normal form is accepted with `ν > 0`, `N ∈ 1..=MAX_NORMAL_FORM_ORDER`, `N` generators,
 /// `N + 1` grades in each series and finite coefficients, as [`NormalForm::new`] builds it.
 #[cfg(feature = "serde")]
-impl TryFrom<NormalFormRecord> for NormalForm {
-    type Error = Error;
-    fn try_from(r: NormalFormRecord) -> Result<Self> {
-        let nu = positive("oscillator frequency ν", r.nu)?;
-        if !(1..=MAX_NORMAL_FORM_ORDER).contains(&r.order) {
-            return Err(Error::out_of_domain(
-                "normal-form order N",
-                r.order as f64,
-                format!("{{1, …, {MAX_NORMAL_FORM_ORDER}}}"),
-            ));
-        }
-        let grades = [
-            ("generators", &r.generators, r.order),
-            ("normal form", &r.normal, r.order + 1),
-            ("old from new", &r.old_from_new, r.order + 1),
-            ("new from old", &r.new_from_old, r.order + 1),
-        ];
-        for (what, series, len) in grades {
-            if series.len() != len {
-                return Err(Error::invalid(
-                    what,
-                    format!("{} grades, expected {len}", series.len()),
+impl<'de> serde::Deserialize<'de> for NormalForm {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        let r = NormalForm::deserialize(deserializer)?;
+        let checked = || -> Result<()> {
+            positive("oscillator frequency ν", r.nu)?;
+            if !(1..=MAX_NORMAL_FORM_ORDER).contains(&r.order) {
+                return Err(Error::out_of_domain(
+                    "normal-form order N",
+                    r.order as f64,
+                    format!("{{1, …, {MAX_NORMAL_FORM_ORDER}}}"),
                 ));
             }
-            for (_, c) in series.iter().flat_map(PoissonSeries::iter) {
-                finite(what, c.re)?;
-                finite(what, c.im)?;
+            let grades = [
+                ("generators", &r.generators, r.order),
+                ("normal form", &r.normal, r.order + 1),
+                ("old from new", &r.old_from_new, r.order + 1),
+                ("new from old", &r.new_from_old, r.order + 1),
+            ];
+            for (what, series, len) in grades {
+                if series.len() != len {
+                    return Err(Error::invalid(
+                        what,
+                        format!("{} grades, expected {len}", series.len()),
+                    ));
+                }
+                for (_, c) in series.iter().flat_map(PoissonSeries::iter) {
+                    finite(what, c.re)?;
+                    finite(what, c.im)?;
+                }
             }
-        }
-        let imag_residue = finite("imaginary residue", r.imag_residue)?;
-        Ok(Self {
-            nu,
-            order: r.order,
-            generators: r.generators,
-            normal: r.normal,
-            old_from_new: r.old_from_new,
-            new_from_old: r.new_from_old,
-            imag_residue,
-        })
+            finite("imaginary residue", r.imag_residue)?;
+            Ok(())
+        };
+        checked().map_err(serde::de::Error::custom)?;
+        Ok(r)
     }
 }
 
