@@ -4,7 +4,9 @@
 //! evaluated with [`PhaseDual`] arguments whose infinitesimal parts are seeded with the unit vectors
 //! of phase space. The result carries
 //!
-//! $$ F,\qquad \frac{\partial F}{\partial q_i},\qquad \frac{\partial F}{\partial p_i},\qquad i = 1\dots N $$
+//! ```math
+//! F,\qquad \frac{\partial F}{\partial q_i},\qquad \frac{\partial F}{\partial p_i},\qquad i = 1\dots N
+//! ```
 //!
 //! in its fields `re`, `dq`, `dp`. Keeping the `q` and `p` parts in two blocks of length `N` gives a
 //! `2N`-dimensional gradient with a const-generic `N`, which stable Rust cannot otherwise spell as
@@ -40,8 +42,10 @@ use std::ops::{
 /// A dual number carrying the gradient with respect to the `N` coordinates (`dq`) and the `N`
 /// momenta (`dp`) of phase space.
 ///
-/// $$ x = x_0 + \sum_i x_{q_i}\,\varepsilon_{q_i} + \sum_i x_{p_i}\,\varepsilon_{p_i},\qquad
-///    \varepsilon\varepsilon' = 0 . $$
+/// ```math
+/// x = x_0 + \sum_i x_{q_i}\,\varepsilon_{q_i} + \sum_i x_{p_i}\,\varepsilon_{p_i},\qquad
+/// \varepsilon\varepsilon' = 0 .
+/// ```
 ///
 /// Use the alias [`PhaseDual64`] for real inner numbers; see the [module docs](self).
 #[derive(Clone, Debug)]
@@ -192,7 +196,9 @@ impl_dual!(PhaseDual, [dq, dp], [D], [D]);
 
 /// A dual number carrying a dense gradient with respect to `N` variables.
 ///
-/// $$ x = x_0 + \sum_i x_i\,\varepsilon_i,\qquad \varepsilon_i\varepsilon_j = 0 . $$
+/// ```math
+/// x = x_0 + \sum_i x_i\,\varepsilon_i,\qquad \varepsilon_i\varepsilon_j = 0 .
+/// ```
 ///
 /// Used where a function depends on one half of phase space only (the kinetic energy `T(p)` and
 /// the potential `V(q)` of a [`Separable`](crate::hamiltonian::Separable) system), so no derivative

@@ -2,12 +2,14 @@
 //!
 //! Conventions:
 //!
-//! $$ (F, G) = \sum_r \Big(\frac{\partial F}{\partial q_r}\frac{\partial G}{\partial p_r}
-//!            - \frac{\partial F}{\partial p_r}\frac{\partial G}{\partial q_r}\Big)
-//!    \quad\text{[Ardema eq. 15.25]},\qquad
-//!    [u, v] = \sum_r \Big(\frac{\partial q_r}{\partial u}\frac{\partial p_r}{\partial v}
-//!            - \frac{\partial p_r}{\partial u}\frac{\partial q_r}{\partial v}\Big)
-//!    \quad\text{[Ardema eq. 16.24]}, $$
+//! ```math
+//! (F, G) = \sum_r \Big(\frac{\partial F}{\partial q_r}\frac{\partial G}{\partial p_r}
+//!         - \frac{\partial F}{\partial p_r}\frac{\partial G}{\partial q_r}\Big)
+//! \quad\text{[Ardema eq. 15.25]},\qquad
+//! [u, v] = \sum_r \Big(\frac{\partial q_r}{\partial u}\frac{\partial p_r}{\partial v}
+//!         - \frac{\partial p_r}{\partial u}\frac{\partial q_r}{\partial v}\Big)
+//! \quad\text{[Ardema eq. 16.24]},
+//! ```
 //!
 //! so `(q_r, p_s) = δ_rs`, `dF/dt = ∂F/∂t + (F, H)` and a canonical pair has `[Q, P] = 1`.
 //!

@@ -13,8 +13,10 @@
 //! * MEGNO (Cincotta & Simó, *Astron. Astrophys. Suppl.* 147 (2000) 205–228; Cincotta, Giordano
 //!   & Simó, *Physica D* 182 (2003) 151–178):
 //!
-//!   $$ Y(t) = \frac{2}{t} \int_0^t \frac{\dot\delta\cdot\delta}{\delta\cdot\delta}\, s\, ds,
-//!   \qquad \langle Y\rangle(t) = \frac1t \int_0^t Y(s)\, ds, $$
+//!   ```math
+//!   Y(t) = \frac{2}{t} \int_0^t \frac{\dot\delta\cdot\delta}{\delta\cdot\delta}\, s\, ds,
+//!   \qquad \langle Y\rangle(t) = \frac1t \int_0^t Y(s)\, ds,
+//!   ```
 //!
 //!   with `∫ (δ̇·δ/|δ|²) s ds` summed as `Σ r_k (s_{k−1} + s_k)/2` and the mean by the trapezoidal
 //!   rule over the steps (`s` the time elapsed). For quasi-periodic motion `⟨Y⟩ → 2` (linear

@@ -6,14 +6,18 @@
 //! * Hamilton's equations [Ardema 15.11, eqs. 15.18–15.21] (crate sign of §0.3 for the
 //!   non-conservative forces):
 //!
-//! $$ \dot q = \frac{\partial H}{\partial p},\qquad
-//!    \dot p = -\frac{\partial H}{\partial q} + Q^{nc}(t, q, p); $$
+//! ```math
+//! \dot q = \frac{\partial H}{\partial p},\qquad
+//! \dot p = -\frac{\partial H}{\partial q} + Q^{nc}(t, q, p);
+//! ```
 //!
 //! * the Hessian blocks `H_qq, H_qp, H_pq, H_pp` and the tangent map of the vector field
 //!   (the linearisation, [Ardema 15.4, eq. 15.22]):
 //!
-//! $$ A = \begin{pmatrix} H_{pq} & H_{pp} \\ -H_{qq} & -H_{qp} \end{pmatrix}
-//!      + \begin{pmatrix} 0 & 0 \\ \partial Q^{nc}/\partial q & \partial Q^{nc}/\partial p \end{pmatrix}; $$
+//! ```math
+//! A = \begin{pmatrix} H_{pq} & H_{pp} \\ -H_{qq} & -H_{qp} \end{pmatrix}
+//!   + \begin{pmatrix} 0 & 0 \\ \partial Q^{nc}/\partial q & \partial Q^{nc}/\partial p \end{pmatrix};
+//! ```
 //!
 //! * `∂H/∂t` and the energy balance `dH/dt = ∂H/∂t + Q^{nc}·∂H/∂p`.
 //!
@@ -322,7 +326,9 @@ impl<const N: usize, H: Hamiltonian<N>> PhaseFunction<N> for H {
 /// A system whose parameters (masses, `μ`, `J₂`, `ε`, …) can be differentiated: the Hamiltonian
 /// written once with its `M` parameters `k` as arguments of the same dual type as `(t, q, p)`,
 ///
-/// $$ H = H(k;\ t, q, p),\qquad k\in\mathbb R^M , $$
+/// ```math
+/// H = H(k;\ t, q, p),\qquad k\in\mathbb R^M ,
+/// ```
 ///
 /// so that `∂/∂k` of anything computed from `H` (the vector field, a final state through an
 /// integrator: [`crate::integrate::ParameterSensitivity`]) comes from the same AD as `∂/∂q`.

@@ -261,7 +261,9 @@ pub fn solve<S: ImplicitSystem<N> + ?Sized, D: DualNum<f64> + Copy, const N: usi
 /// inverse of the real Jacobian `J₀ = ∂r/∂u(u₀)` (an inverse matrix, an LU factorisation, a
 /// derivative), `D::NDERIV` frozen-Jacobian Newton steps in `D`,
 ///
-/// $$ u_{k+1} = u_k - J_0^{-1}\,\big(r(u_k) - \operatorname{re} r(u_k)\big). $$
+/// ```math
+/// u_{k+1} = u_k - J_0^{-1}\,\big(r(u_k) - \operatorname{re} r(u_k)\big).
+/// ```
 ///
 /// With `m` the ideal of infinitesimal parts the error obeys `e₊ = (I − J₀⁻¹ J(u*)) e + O(e²)`
 /// with `J(u*) − J₀ ∈ m`, so after `k` steps it lies in `m^{k+1}` [Griewank & Walther,

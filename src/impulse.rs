@@ -6,8 +6,10 @@
 //! Over an impact of vanishing duration the positions do not change and only impulsive forces
 //! count; integrating Lagrange's equations over it gives [Ardema 13.4, eqs. 13.37–13.39]
 //!
-//! $$ \Big[\frac{\partial L}{\partial \dot q_s}\Big]_-^+ = \hat P_s + \sum_r \hat\lambda_r B_{rs},
-//!    \qquad \sum_s B_{rs}\dot q_s^+ + b_r = 0 , $$
+//! ```math
+//! \Big[\frac{\partial L}{\partial \dot q_s}\Big]_-^+ = \hat P_s + \sum_r \hat\lambda_r B_{rs},
+//! \qquad \sum_s B_{rs}\dot q_s^+ + b_r = 0 ,
+//! ```
 //!
 //! with `P̂_s = lim ∫ Q_s dt` the generalized impulses of the applied impulses (for an impulse
 //! `P` at a point `x(q)`, `P̂ = (∂x/∂q)ᵀ P`: [`generalized_impulse`]) and `λ̂` the impulses of the
@@ -20,7 +22,9 @@
 //! For a natural system (`L` quadratic in `q̇`) the momenta are linear in the velocities,
 //! `a(q)(q̇⁺ − q̇⁻) = P̂ + Bᵀλ̂`, and with `Δ₀ = a⁻¹P̂` the jump without constraints,
 //!
-//! $$ (B a^{-1} B^{\mathsf T})\,\hat\lambda = -\big(B(\dot q^- + \Delta_0) + b\big) . $$
+//! ```math
+//! (B a^{-1} B^{\mathsf T})\,\hat\lambda = -\big(B(\dot q^- + \Delta_0) + b\big) .
+//! ```
 //!
 //! For any `L` the same equations are solved by Newton's method on `λ̂`, the velocities from the
 //! momenta by the inverse Legendre map ([`crate::lagrangian::velocity_from_momentum`]); for a

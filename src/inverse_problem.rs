@@ -4,8 +4,10 @@
 //!
 //! Every such `f` has `M = f_ẋẋ` satisfying, along the solutions,
 //!
-//! $$ \frac{dM}{dt} + G_{\dot x}\,M = 0,\qquad M = \Phi(c_1, c_2)\,
-//!    \exp\Big(-\int G_{\dot x}\,dt\Big), $$
+//! ```math
+//! \frac{dM}{dt} + G_{\dot x}\,M = 0,\qquad M = \Phi(c_1, c_2)\,
+//! \exp\Big(-\int G_{\dot x}\,dt\Big),
+//! ```
 //!
 //! and then `f = ∬M dẋ dẋ + ẋλ(t, x) + μ(t, x)` (the Lagrangian is not unique).
 //! - **Affine in ẋ** (`G = −c(t)ẋ − ∂V/∂x(t, x)`): `M = e^{C(t)}` with `C = ∫₀ᵗ c`, and

@@ -3,8 +3,10 @@
 //!
 //! * Lagrange's equations [Ardema 6.4, eq. 6.33] with the Rayleigh function of the sign opposite
 //!   to [Ardema eqs. 6.37–6.38], `D = ½ q̇ᵀ d q̇ ≥ 0`, `Q^d = −∂D/∂q̇`:
-//!   $$ E(t, q, \dot q, \ddot q) = \frac{d}{dt}\frac{\partial L}{\partial \dot q}
-//!      - \frac{\partial L}{\partial q} - Q^{nc} + \frac{\partial D}{\partial \dot q} = 0 . $$
+//!   ```math
+//!   E(t, q, \dot q, \ddot q) = \frac{d}{dt}\frac{\partial L}{\partial \dot q}
+//!   - \frac{\partial L}{\partial q} - Q^{nc} + \frac{\partial D}{\partial \dot q} = 0 .
+//!   ```
 //! * Legendre transform [Ardema 15.1, eqs. 15.3–15.17]: `p = ∂L/∂q̇`,
 //!   `H(t, q, p) = p·q̇ − L(t, q, q̇)` with `q̇` solving `∂L/∂q̇ = p` by Newton's method with the AD
 //!   mass matrix `∂²L/∂q̇²`; for natural systems `T = ½ q̇ᵀ a q̇ + bᵀ q̇ + c` in closed form

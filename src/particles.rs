@@ -5,14 +5,18 @@
 //!
 //! With `u̇_r = Σ_s ∂u_r/∂q_s q̇_s + ∂u_r/∂t`,
 //!
-//! $$ T = \sum_r \tfrac12 m_r |\dot u_r|^2 = T_2 + T_1 + T_0,\quad
-//!    T_2 = \tfrac12 \dot q^{\mathsf T} a\, \dot q,\ T_1 = b^{\mathsf T}\dot q,\
-//!    T_0 = \tfrac12 \sum_r m_r \Big|\frac{\partial u_r}{\partial t}\Big|^2 , $$
+//! ```math
+//! T = \sum_r \tfrac12 m_r |\dot u_r|^2 = T_2 + T_1 + T_0,\quad
+//! T_2 = \tfrac12 \dot q^{\mathsf T} a\, \dot q,\ T_1 = b^{\mathsf T}\dot q,\
+//! T_0 = \tfrac12 \sum_r m_r \Big|\frac{\partial u_r}{\partial t}\Big|^2 ,
+//! ```
 //!
 //! with `a = Σ m_r J_rᵀJ_r`, `b = Σ m_r J_rᵀ ∂u_r/∂t`, `J_r = ∂u_r/∂q` [Ardema eqs. 6.2–6.5], and the
 //! generalized forces of applied forces `F_r` are the projections [Ardema eq. 6.13]
 //!
-//! $$ Q_s = \sum_r F_r\cdot\frac{\partial u_r}{\partial q_s} . $$
+//! ```math
+//! Q_s = \sum_r F_r\cdot\frac{\partial u_r}{\partial q_s} .
+//! ```
 //!
 //! `u̇_r` is the derivative of `u_r` along `(q̇, 1)` in `(q, t)`: one evaluation of the positions
 //! on dual numbers nested over the caller's number type, so the Lagrangian stays generic over
@@ -156,8 +160,10 @@ pub fn checked_generalized_forces<
 /// [Ardema 4.1, eqs. 4.9–4.12; SPEC M7]. Along a motion of a catastatic system (positions
 /// independent of `t`) with a time-independent potential, the work–energy relation reads
 ///
-/// $$ \frac{d}{dt}(T + V) = \sum_r F_r\cdot\dot u_r,\qquad
-///    T + V = \int \sum_r F_r\cdot du_r + h ; $$
+/// ```math
+/// \frac{d}{dt}(T + V) = \sum_r F_r\cdot\dot u_r,\qquad
+/// T + V = \int \sum_r F_r\cdot du_r + h ;
+/// ```
 ///
 /// for moving constraints the power of the constraint forces enters as well (the Jacobi integral
 /// replaces `T + V`, [`Lagrangian::jacobi_integral`]). Zero without applied forces.

@@ -3,8 +3,10 @@
 //! Phase-space vectors are ordered `z = (q, p)`; linear maps of phase space are stored as four
 //! `N × N` blocks so that everything stays statically sized:
 //!
-//! $$ M = \begin{pmatrix} M_{qq} & M_{qp} \\ M_{pq} & M_{pp} \end{pmatrix},\qquad
-//!    J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix} \quad\text{[Ardema eq. 15.21]}. $$
+//! ```math
+//! M = \begin{pmatrix} M_{qq} & M_{qp} \\ M_{pq} & M_{pp} \end{pmatrix},\qquad
+//! J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix} \quad\text{[Ardema eq. 15.21]}.
+//! ```
 
 use crate::error::{all_finite, finite, Error, Result};
 use nalgebra::allocator::Allocator;
@@ -15,6 +17,7 @@ use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVecto
 /// [`State::new`] rejects NaN or infinite components with the component named; the fields are
 /// public, so a state built by hand is the caller's to keep finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct State<const N: usize> {
     /// Time.
     pub t: f64,

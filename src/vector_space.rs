@@ -6,7 +6,9 @@
 //! type ([`DualNum<f64>`]). `Dᵐ` is a free module over the ring `D` (a vector space when `D = ℝ`);
 //! the methods need only its componentwise operations
 //!
-//! $$ u + v,\qquad c\,u\ (c \in D),\qquad u - \operatorname{re} u , $$
+//! ```math
+//! u + v,\qquad c\,u\ (c \in D),\qquad u - \operatorname{re} u ,
+//! ```
 //!
 //! the last being the infinitesimal part of `u` (its component in `m`, the ideal of the
 //! infinitesimals: `D = ℝ ⊕ m`). [`VectorSpace`] derives them from two componentwise maps and is

@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 
 /// One run of a method at one knob value.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Sample {
     /// The knob (number of steps, tolerance, order, …).
     pub knob: f64,
@@ -34,6 +35,7 @@ pub struct Sample {
 
 /// One method swept over its knob.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Series {
     /// The method's label.
     pub label: String,
@@ -90,6 +92,7 @@ impl Series {
 /// in `min_time`". `min_time` is the caller's bound on the work of a sweep; it may not exceed
 /// [`Timing::MAX_MIN_TIME`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Timing {
     /// Repeat each run until at least this much time has elapsed (at most
     /// [`Timing::MAX_MIN_TIME`]).
@@ -183,6 +186,7 @@ pub fn sweep(
 
 /// Several series on one problem.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Comparison {
     /// Title (problem and span).
     pub title: String,

@@ -5,9 +5,11 @@
 //! coordinate `q_k = t` whose row of `b` is the unit row, so that `ω_k = ṫ = 1` (SPEC §0.7).
 //! The transitional relations [Hamel art. 232–233, (13)–(16)] carry Hamel's coefficients
 //!
-//! $$ \beta_\mu^{\tau\rho} = \sum_{\nu,\sigma}
-//!    \Big(\frac{\partial b_{\mu\nu}}{\partial q_\sigma} - \frac{\partial b_{\mu\sigma}}{\partial q_\nu}\Big)
-//!    B_{\sigma\tau} B_{\nu\rho} = -\beta_\mu^{\rho\tau}, $$
+//! ```math
+//! \beta_\mu^{\tau\rho} = \sum_{\nu,\sigma}
+//! \Big(\frac{\partial b_{\mu\nu}}{\partial q_\sigma} - \frac{\partial b_{\mu\sigma}}{\partial q_\nu}\Big)
+//! B_{\sigma\tau} B_{\nu\rho} = -\beta_\mu^{\rho\tau},
+//! ```
 //!
 //! with the index placement of SPEC M64; `ϑ_μ` is a true coordinate iff all `β_μ^{··}` vanish.
 

@@ -4,9 +4,11 @@
 //! For `H = ½ a(q) p² + V(q)` (`a > 0` the inverse mass) and an energy `h` with a libration
 //! between turning points `q₁ < q₂` (roots of `F = p² = 2(h − V)/a`):
 //!
-//! $$ J(h) = \frac{1}{2\pi}\oint p\\,dq = \frac1\pi\int_{q_1}^{q_2}\sqrt{F}\\,dq, \qquad
-//!    T = 2\int_{q_1}^{q_2}\frac{dq}{a\sqrt F} = 2\pi\frac{dJ}{dh}, \qquad
-//!    \omega = \frac{\partial H}{\partial J} = \frac{2\pi}{T}, $$
+//! ```math
+//! J(h) = \frac{1}{2\pi}\oint p\\,dq = \frac1\pi\int_{q_1}^{q_2}\sqrt{F}\\,dq, \qquad
+//! T = 2\int_{q_1}^{q_2}\frac{dq}{a\sqrt F} = 2\pi\frac{dJ}{dh}, \qquad
+//! \omega = \frac{\partial H}{\partial J} = \frac{2\pi}{T},
+//! ```
 //!
 //! and the angle `w = ω (t − t₁)`, with `t − t₁` the time since the lower turning point (`w = π`
 //! at the upper one). `(w, J)` are canonical: `J` is the new momentum, constant, and `w` the new

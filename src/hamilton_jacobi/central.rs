@@ -4,12 +4,16 @@
 //! Per unit mass, with angular momentum `k = r² θ̇` and energy `h`, the characteristic function
 //! separates as `K = kθ + ∫ √F(r) dr` with the radial radicand
 //!
-//! $$ F(r) = \dot r^2 = 2\big(h - V(r)\big) - \frac{k^2}{r^2}, $$
+//! ```math
+//! F(r) = \dot r^2 = 2\big(h - V(r)\big) - \frac{k^2}{r^2},
+//! ```
 //!
 //! and Jacobi's theorem gives the time law and the orbit equation
 //!
-//! $$ t - t_0 = \frac{\partial K}{\partial h} = \int \frac{dr}{\sqrt F}, \qquad
-//!    \theta - \theta_0 = -\frac{\partial}{\partial k}\int \sqrt F\\,dr = \int \frac{k\\,dr}{r^2 \sqrt F}. $$
+//! ```math
+//! t - t_0 = \frac{\partial K}{\partial h} = \int \frac{dr}{\sqrt F}, \qquad
+//! \theta - \theta_0 = -\frac{\partial}{\partial k}\int \sqrt F\\,dr = \int \frac{k\\,dr}{r^2 \sqrt F}.
+//! ```
 //!
 //! Both integrands have inverse-square-root singularities at the apsides `r_p`, `r_a` (roots of
 //! `F`), removed by the substitution of [`Libration`]. For the Kepler potential the

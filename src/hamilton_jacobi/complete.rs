@@ -3,7 +3,9 @@
 //!
 //! A complete integral `S(t, q, α)` solves
 //!
-//! $$ \frac{\partial S}{\partial t} + H\Big(t, q, \frac{\partial S}{\partial q}\Big) = 0 $$
+//! ```math
+//! \frac{\partial S}{\partial t} + H\Big(t, q, \frac{\partial S}{\partial q}\Big) = 0
+//! ```
 //!
 //! for every value of the `N` constants `α`, with `det ∂²S/∂q∂α ≠ 0` [Ardema eq. 17.25]. Used as a
 //! generating function it maps the motion to constant elements `(α, β)`, in one of the two

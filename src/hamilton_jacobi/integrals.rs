@@ -11,7 +11,9 @@ use num_dual::{Dual64, DualNum};
 
 /// Projectile `H = ½(p_x² + p_y²) + g y` (unit mass) [Ardema 17.4]:
 ///
-/// $$ S = -(\tfrac12\gamma^2 + g k)\\,t + \gamma x \mp \tfrac23\sqrt{2g}\\,(k - y)^{3/2}, \qquad \alpha = (\gamma, k), $$
+/// ```math
+/// S = -(\tfrac12\gamma^2 + g k)\\,t + \gamma x \mp \tfrac23\sqrt{2g}\\,(k - y)^{3/2}, \qquad \alpha = (\gamma, k),
+/// ```
 ///
 /// with `γ = p_x` and `k` the apex height; the upper sign is the ascending branch (`p_y ≥ 0`,
 /// [`ProjectileIntegral::new`]), the lower the descending one ([`ProjectileIntegral::descending`]).
@@ -60,7 +62,9 @@ impl CompleteIntegral<2> for ProjectileIntegral {
 
 /// Harmonic oscillator `H = ½(p² + n² x²)`, branch `p ≥ 0` [Ardema 17.4]:
 ///
-/// $$ S = -\tfrac12 n^2\alpha^2 t + \tfrac n2\Big(x\sqrt{\alpha^2 - x^2} + \alpha^2 \arcsin\frac x\alpha\Big), $$
+/// ```math
+/// S = -\tfrac12 n^2\alpha^2 t + \tfrac n2\Big(x\sqrt{\alpha^2 - x^2} + \alpha^2 \arcsin\frac x\alpha\Big),
+/// ```
 ///
 /// `α` the amplitude. Domain `|x| < α`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,8 +104,10 @@ impl CompleteIntegral<1> for OscillatorIntegral {
 /// radial characteristic function in closed form (`A = −2h > 0`, `R = −A r² + 2μ r − k²`,
 /// `e = √(1 − A k²/μ²)`):
 ///
-/// $$ K_r = \sqrt R + \frac{\mu}{\sqrt A}\arcsin\frac{A r - \mu}{\mu e}
-///          - |k| \arcsin\frac{\mu r - k^2}{\mu e r}, \qquad \frac{dK_r}{dr} = \frac{\sqrt R}{r} = p_r. $$
+/// ```math
+/// K_r = \sqrt R + \frac{\mu}{\sqrt A}\arcsin\frac{A r - \mu}{\mu e}
+///       - |k| \arcsin\frac{\mu r - k^2}{\mu e r}, \qquad \frac{dK_r}{dr} = \frac{\sqrt R}{r} = p_r.
+/// ```
 ///
 /// Domain: bound (`h < 0`), non-circular (`e > 0`) orbits, `r_p < r < r_a`. The quadratures of
 /// [`RadialMotion`](super::RadialMotion) give the same function through turning points.

@@ -3,13 +3,17 @@
 //!
 //! A Liouville system has
 //!
-//! $$ T = \tfrac12\, U \sum_s v_s(q_s)\, \dot q_s^2,\qquad V = \frac{W}{U},\qquad
-//!    U = \sum_s u_s(q_s),\quad W = \sum_s w_s(q_s), $$
+//! ```math
+//! T = \tfrac12\, U \sum_s v_s(q_s)\, \dot q_s^2,\qquad V = \frac{W}{U},\qquad
+//! U = \sum_s u_s(q_s),\quad W = \sum_s w_s(q_s),
+//! ```
 //!
 //! every function depending on its own coordinate only. Besides the energy
 //! `h = T + V` it has the `N` separated integrals `γ_s`,
 //!
-//! $$ \tfrac12\, U^2 v_s \dot q_s^2 = h\, u_s - w_s + \gamma_s,\qquad \sum_s \gamma_s = 0 , $$
+//! ```math
+//! \tfrac12\, U^2 v_s \dot q_s^2 = h\, u_s - w_s + \gamma_s,\qquad \sum_s \gamma_s = 0 ,
+//! ```
 //!
 //! (summing over `s` gives `U T = h U − W`, i.e. the energy itself, so only `N − 1` of them are
 //! new). With the new independent variable `dτ = dt/U` each coordinate moves in a one-dimensional

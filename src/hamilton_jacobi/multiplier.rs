@@ -4,7 +4,9 @@
 //! * A **multiplier** of `ẋ = X(t, x)` in `ℝᵐ` is a function `M(t, x)` with (non-autonomous form
 //!   of [Ardema eq. 15.42])
 //!
-//!   $$ \frac{\partial M}{\partial t} + \sum_{r=1}^{m} \frac{\partial (M X_r)}{\partial x_r} = 0 ; $$
+//!   ```math
+//!   \frac{\partial M}{\partial t} + \sum_{r=1}^{m} \frac{\partial (M X_r)}{\partial x_r} = 0 ;
+//!   ```
 //!
 //!   [`multiplier_residual`] (any vector field) and [`hamiltonian_multiplier_residual`] (Hamilton's
 //!   equations with non-conservative forces) return the left side by AD. Hamiltonian flows have
@@ -17,7 +19,9 @@
 //!   momenta solved as `p_i = f_i(q; h, a)`, the form `K = ∫ f₁ dq₁ + f₂ dq₂` is exact and the
 //!   remaining integrals are
 //!
-//!   $$ \frac{\partial K}{\partial a} = \beta \quad\text{(orbit)},\qquad \frac{\partial K}{\partial h} = t - t_0 \quad\text{(time)} ; $$
+//!   ```math
+//!   \frac{\partial K}{\partial a} = \beta \quad\text{(orbit)},\qquad \frac{\partial K}{\partial h} = t - t_0 \quad\text{(time)} ;
+//!   ```
 //!
 //!   [`two_dof_quadrature`] evaluates both between two points of configuration space by
 //!   double-exponential quadrature, differentiating under the integral sign by AD.

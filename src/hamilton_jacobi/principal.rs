@@ -2,12 +2,16 @@
 //!
 //! The principal function is the action along the actual path from `(q⁰, t₀)` to `(q¹, t₁)`,
 //!
-//! $$ S(q^0, q^1, t_0, t_1) = \int_{t_0}^{t_1} L\,dt
-//!    = \int_{t_0}^{t_1} \Big(p\cdot\frac{\partial H}{\partial p} - H\Big)\,dt , $$
+//! ```math
+//! S(q^0, q^1, t_0, t_1) = \int_{t_0}^{t_1} L\,dt
+//! = \int_{t_0}^{t_1} \Big(p\cdot\frac{\partial H}{\partial p} - H\Big)\,dt ,
+//! ```
 //!
 //! and its differential carries the end momenta and energies [Ardema eqs. 17.9–17.13]:
 //!
-//! $$ dS = \sum p^1\,dq^1 - \sum p^0\,dq^0 - H_1\,dt_1 + H_0\,dt_0 . $$
+//! ```math
+//! dS = \sum p^1\,dq^1 - \sum p^0\,dq^0 - H_1\,dt_1 + H_0\,dt_0 .
+//! ```
 //!
 //! In `(q¹, t₁)` it solves the Hamilton–Jacobi equation `∂S/∂t₁ + H(t₁, q¹, ∂S/∂q¹) = 0`, in
 //! `(q⁰, t₀)` the equation `∂S/∂t₀ − H(t₀, q⁰, −∂S/∂q⁰) = 0` [Ardema 17.2].
@@ -30,8 +34,10 @@
 //! propagation error `e_q` of the end point moves the root by `δp⁰ = A⁻¹e_q`, so the reported
 //! (componentwise) error estimates are
 //!
-//! $$ \delta p^0 = |A^{-1}|\,e_q,\qquad \delta p^1 = e_p + |B|\,\delta p^0,\qquad
-//!    \delta S = e_S + |p^1|\cdot e_q,\qquad B = \partial p^1/\partial p^0 $$
+//! ```math
+//! \delta p^0 = |A^{-1}|\,e_q,\qquad \delta p^1 = e_p + |B|\,\delta p^0,\qquad
+//! \delta S = e_S + |p^1|\cdot e_q,\qquad B = \partial p^1/\partial p^0
+//! ```
 //!
 //! (`∂S/∂p⁰ = p¹ᵀA` at fixed `q⁰`, so the action is not amplified by `A⁻¹`, but `p¹` is large
 //! near a focal point).
@@ -952,8 +958,10 @@ struct Estimate<const N: usize> {
 /// Hamilton's principal function `S(q⁰, q¹, t₀, t₁)` with `p⁰`, `p¹`, `H₀`, `H₁` by shooting
 /// [Ardema 17.1, eqs. 17.9–17.13]:
 ///
-/// $$ S = \int_{t_0}^{t_1} L\,dt,\qquad
-///    dS = \sum p^1 dq^1 - \sum p^0 dq^0 - H_1\,dt_1 + H_0\,dt_0 . $$
+/// ```math
+/// S = \int_{t_0}^{t_1} L\,dt,\qquad
+/// dS = \sum p^1 dq^1 - \sum p^0 dq^0 - H_1\,dt_1 + H_0\,dt_0 .
+/// ```
 ///
 /// Method, error estimates and the focal-point test are described in the [module docs](self);
 /// `t₁ < t₀` is allowed (backward time).

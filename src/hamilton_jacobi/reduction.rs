@@ -4,19 +4,25 @@
 //! For an autonomous, conservative Hamiltonian the energy integral `H(q, p) = h` is solved for one
 //! coordinate,
 //!
-//! $$ q_i = \varphi(q_{r \ne i},\, p_1 \dots p_N;\, h), $$
+//! ```math
+//! q_i = \varphi(q_{r \ne i},\, p_1 \dots p_N;\, h),
+//! ```
 //!
 //! and the conjugate momentum `p_i` is taken as the independent variable. Dividing Hamilton's
 //! equations by `ṗ_i = −∂H/∂q_i` and using the implicit-function derivatives
 //! `∂φ/∂x = −(∂H/∂x)/(∂H/∂q_i)` gives a Hamiltonian system of `N − 1` degrees of freedom in which
 //! `φ` plays the role of the Hamiltonian and `p_i` that of time:
 //!
-//! $$ \frac{dq_r}{dp_i} = \frac{\partial\varphi}{\partial p_r},\qquad
-//!    \frac{dp_r}{dp_i} = -\frac{\partial\varphi}{\partial q_r},\qquad r \ne i, $$
+//! ```math
+//! \frac{dq_r}{dp_i} = \frac{\partial\varphi}{\partial p_r},\qquad
+//! \frac{dp_r}{dp_i} = -\frac{\partial\varphi}{\partial q_r},\qquad r \ne i,
+//! ```
 //!
 //! while the time follows by one quadrature of
 //!
-//! $$ \frac{dt}{dp_i} = \frac{1}{\dot p_i} = -\frac{1}{\partial H/\partial q_i}. $$
+//! ```math
+//! \frac{dt}{dp_i} = \frac{1}{\dot p_i} = -\frac{1}{\partial H/\partial q_i}.
+//! ```
 //!
 //! The reduction is singular where `∂H/∂q_i = 0` (a fold of the energy surface over the remaining
 //! variables, i.e. where `p_i` stops being monotonic in time); there every method of

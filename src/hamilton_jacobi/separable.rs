@@ -6,9 +6,11 @@
 //! `K = Σ_r K_r(q_r; c)` depending on `N` separation constants `c` (one of them the energy `h`):
 //! each momentum is a function of its own coordinate, `p_r² = F_r(q_r; c)`, and
 //!
-//! $$ K_r = \int \sqrt{F_r(q_r; c)}\\,dq_r, \qquad
-//!    \frac{\partial K}{\partial c_j} = \sum_r \int \frac{\partial F_r/\partial c_j}{2\sqrt{F_r}}\\,dq_r
-//!    = \beta_j + \delta_{j,h}\\,t . $$
+//! ```math
+//! K_r = \int \sqrt{F_r(q_r; c)}\\,dq_r, \qquad
+//! \frac{\partial K}{\partial c_j} = \sum_r \int \frac{\partial F_r/\partial c_j}{2\sqrt{F_r}}\\,dq_r
+//! = \beta_j + \delta_{j,h}\\,t .
+//! ```
 //!
 //! Jacobi's theorem ([Ardema 17.2], `AlphaMomenta` convention, with `t − t₀` absorbed in `β_h`)
 //! gives the motion implicitly; [`SeparatedMotion::state_at`] solves these `N` equations for the
@@ -440,7 +442,9 @@ fn density<S: SeparatedSystem<N>, const N: usize>(
 /// A [`LiouvilleSystem`] as a [`SeparatedSystem`] in canonical variables (`p_s = U v_s q̇_s`,
 /// `H = Σ p_s²/(2U v_s) + W/U`): constants `c = (h, γ₁, …, γ_{N−1})`, `γ_N = −Σ γ_s`, and
 ///
-/// $$ F_s(q_s; c) = p_s^2 = 2 v_s (h u_s − w_s + γ_s) $$
+/// ```math
+/// F_s(q_s; c) = p_s^2 = 2 v_s (h u_s − w_s + γ_s)
+/// ```
 ///
 /// [Ardema 8.4, eqs. 8.38–8.40; 17.5]. `bounds[s]` is the interval searched for the
 /// turning points of `q_s`.

@@ -5,7 +5,9 @@
 //!
 //! For a rate `r(t) = C (t* − t)^{−α}` the inverse logarithmic derivative is linear in time,
 //!
-//! $$ w(t) = \Big(\frac{d\ln r}{dt}\Big)^{-1} = \frac{t^* - t}{\alpha}, $$
+//! ```math
+//! w(t) = \Big(\frac{d\ln r}{dt}\Big)^{-1} = \frac{t^* - t}{\alpha},
+//! ```
 //!
 //! so a straight line fitted to `w` over the last accepted steps gives `α = −1/w′` and `t*` as its
 //! zero. The rate of a step is its mean phase-space speed `‖z₁ − z₀‖/|h|`, attributed to the

@@ -2,8 +2,10 @@
 //!
 //! A method for `H = A + B` with exactly solvable flows `φ^A_t`, `φ^B_t` is a word
 //!
-//! $$ \Psi_h = \varphi^{X_m}_{c_m h} \circ \dots \circ \varphi^{X_2}_{c_2 h} \circ \varphi^{X_1}_{c_1 h},
-//!    \qquad X_i \in \{A, B\}\ \text{alternating}, $$
+//! ```math
+//! \Psi_h = \varphi^{X_m}_{c_m h} \circ \dots \circ \varphi^{X_2}_{c_2 h} \circ \varphi^{X_1}_{c_1 h},
+//! \qquad X_i \in \{A, B\}\ \text{alternating},
+//! ```
 //!
 //! applied from the right (`c₁` first). For explicit splitting `A = T(p)` (a *drift*) and
 //! `B = V(q)` (a *kick*); for Wisdom–Holman `A` is the Kepler Hamiltonian (an exact Kepler drift)

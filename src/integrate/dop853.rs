@@ -4,16 +4,20 @@
 //! # The method
 //! Twelve stages `kᵢ = f(t + cᵢh, y + h Σⱼ aᵢⱼ kⱼ)` give the eighth-order solution
 //!
-//! $$ y_1 = y_0 + h \sum_i b_i k_i , $$
+//! ```math
+//! y_1 = y_0 + h \sum_i b_i k_i ,
+//! ```
 //!
 //! and two embedded differences estimate its local error: a fifth-order one
 //! `err₅ = h Σ eᵢ kᵢ` and a third-order one `err₃ = h (Σ bᵢkᵢ − b̂₁k₁ − b̂₉k₉ − b̂₁₂k₁₂)`. With
 //! `skᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|)` over the `n = 2N` components of `(q, p)`, DOP853 combines
 //! them as
 //!
-//! $$ \mathrm{err} = |h|\,\frac{E_5^2}{\sqrt{n\,(E_5^2 + 0.01\,E_3^2)}},\qquad
-//!    E_5^2 = \sum_i \Big(\frac{\sum_j e_j k_{j,i}}{sk_i}\Big)^2,\
-//!    E_3^2 = \sum_i \Big(\frac{\sum_j (b_j-\hat b_j) k_{j,i}}{sk_i}\Big)^2 , $$
+//! ```math
+//! \mathrm{err} = |h|\,\frac{E_5^2}{\sqrt{n\,(E_5^2 + 0.01\,E_3^2)}},\qquad
+//! E_5^2 = \sum_i \Big(\frac{\sum_j e_j k_{j,i}}{sk_i}\Big)^2,\
+//! E_3^2 = \sum_i \Big(\frac{\sum_j (b_j-\hat b_j) k_{j,i}}{sk_i}\Big)^2 ,
+//! ```
 //!
 //! which behaves like `O(h⁸)` (`h¹²/h⁴`): the steps are those of an eighth-order-controlled
 //! method, so the global error is proportional to the tolerance (tolerance proportionality).
@@ -40,8 +44,10 @@
 //! with the span: with `h_init` the starting step (HNW II.4, which already reflects the tolerance
 //! and the problem's time scale),
 //!
-//! $$ n_{\max} = \operatorname{clamp}\big(10\,\lceil |t_1 - t_0| / |h_{\rm init}| \rceil,\
-//!    10^5,\ 10^7\big), $$
+//! ```math
+//! n_{\max} = \operatorname{clamp}\big(10\,\lceil |t_1 - t_0| / |h_{\rm init}| \rceil,\
+//! 10^5,\ 10^7\big),
+//! ```
 //!
 //! the lower end being the Fortran default `NMAX = 10⁵` and the upper end bounding the work of one
 //! call (about 20 s for the planar Kepler problem, at 2 µs per step). [`Dop853::with_max_steps`]
@@ -61,7 +67,9 @@
 //! The continuous extension of order 7 (Fortran `CONTD8`): three extra stages `k₁₄, k₁₅, k₁₆`
 //! (`c = 0.1, 0.2, 7/9`) and, with `s = (t − t₀)/h`, `s₁ = 1 − s`,
 //!
-//! $$ y(t) = r_0 + s\big(r_1 + s_1(r_2 + s(r_3 + s_1(r_4 + s(r_5 + s_1(r_6 + s\,r_7)))))\big), $$
+//! ```math
+//! y(t) = r_0 + s\big(r_1 + s_1(r_2 + s(r_3 + s_1(r_4 + s(r_5 + s_1(r_6 + s\,r_7)))))\big),
+//! ```
 //!
 //! `r₀ = y₀`, `r₁ = y₁ − y₀`, `r₂ = h k₁ − r₁`, `r₃ = r₁ − h k₁₃ − r₂`, `r₄…r₇ = h Σ dᵢⱼ kⱼ`.
 //! The extra stages are computed lazily, the first time an observer asks for an interior point of

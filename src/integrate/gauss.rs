@@ -6,13 +6,17 @@
 //! basis on them, `a_ij = ∫₀^{c_i} ℓ_j(τ) dτ` and `b_j = ∫₀¹ ℓ_j(τ) dτ`, one step of size `h` from
 //! `y₀ = (q₀, p₀)` at `t₀` solves the stage equations for `Z_i = Y_i − y₀`
 //!
-//! $$ Z_i = h \sum_{j=1}^{s} a_{ij}\, f\big(t_0 + c_j h,\ y_0 + Z_j\big),\qquad i = 1, \dots, s, $$
+//! ```math
+//! Z_i = h \sum_{j=1}^{s} a_{ij}\, f\big(t_0 + c_j h,\ y_0 + Z_j\big),\qquad i = 1, \dots, s,
+//! ```
 //!
 //! and returns `Δy = h Σ_j b_j f(t₀ + c_j h, y₀ + Z_j)`, where `f = (∂H/∂p, −∂H/∂q + Q^nc)`. The
 //! method is the collocation method on the Gauss points: order `2s`, A-stable, symmetric, and
 //! symplectic because its coefficients satisfy
 //!
-//! $$ b_i a_{ij} + b_j a_{ji} - b_i b_j = 0 \quad\text{for all } i, j $$
+//! ```math
+//! b_i a_{ij} + b_j a_{ji} - b_i b_j = 0 \quad\text{for all } i, j
+//! ```
 //!
 //! [Hairer, Lubich & Wanner, *Geometric Numerical Integration*, 2nd ed., Springer 2006,
 //! doi:10.1007/3-540-30666-8 — II.1.3 (collocation), Theorem II.1.5 (order), Theorem VI.4.3
@@ -27,9 +31,11 @@
 //! shifted Legendre polynomial; `a_ij = ∫₀^{c_i} ℓ_j`, `b_j = ∫₀¹ ℓ_j` of the Lagrange basis
 //! polynomials `ℓ_j`). The unit tests check them against the simplifying assumptions
 //!
-//! $$ B(2s):\ \sum_i b_i c_i^{k-1} = \tfrac1k\ (k \le 2s),\quad
-//!    C(s):\ \sum_j a_{ij} c_j^{k-1} = \tfrac{c_i^k}{k}\ (k \le s),\quad
-//!    D(s):\ \sum_i b_i c_i^{k-1} a_{ij} = \tfrac{b_j}{k}(1 - c_j^k)\ (k \le s) $$
+//! ```math
+//! B(2s):\ \sum_i b_i c_i^{k-1} = \tfrac1k\ (k \le 2s),\quad
+//! C(s):\ \sum_j a_{ij} c_j^{k-1} = \tfrac{c_i^k}{k}\ (k \le s),\quad
+//! D(s):\ \sum_i b_i c_i^{k-1} a_{ij} = \tfrac{b_j}{k}(1 - c_j^k)\ (k \le s)
+//! ```
 //!
 //! and the symplecticity condition, each to an a-priori rounding bound (≈ 1e−16 … 1e−15), and
 //! against an independent double-precision computation (Newton on the Legendre recurrence,

@@ -7,8 +7,10 @@
 //! Phys. Rev. Lett. 71 (1993) 3043; Touma & Wisdom, Astron. J. 107 (1994) 1189). The symmetric
 //! (Strang) composition
 //!
-//! $$ \Phi_h = \varphi^{1}_{h/2} \circ \varphi^{2}_{h/2} \circ \varphi^{3}_{h}
-//!            \circ \varphi^{2}_{h/2} \circ \varphi^{1}_{h/2} $$
+//! ```math
+//! \Phi_h = \varphi^{1}_{h/2} \circ \varphi^{2}_{h/2} \circ \varphi^{3}_{h}
+//!         \circ \varphi^{2}_{h/2} \circ \varphi^{1}_{h/2}
+//! ```
 //!
 //! is a Poisson map of order 2; composing it with the weights of a symmetric composition table
 //! ([`coefficients`](super::coefficients), [`Scheme::Composition`]) raises the order to the

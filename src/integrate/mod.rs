@@ -151,6 +151,7 @@ impl<'a, S, const N: usize> Problem<'a, S, N> {
 
 /// Work done by a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Work {
     /// Accepted steps.
     pub steps: usize,
@@ -186,6 +187,7 @@ impl Work {
 
 /// The outcome of a run.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Report<const N: usize> {
     /// The state where the run ended: `last.t` is the time actually reached — `t₁`, or the end of
     /// the step after which an observer returned [`Control::Stop`], or the time it named in

@@ -6,14 +6,16 @@
 //! `(tₙ, qₙ, pₙ)` solves [Hairer, Lubich & Wanner, *Geometric Numerical Integration*, 2nd ed.,
 //! VII.1.4, eq. (1.26); Andersen, J. Comput. Phys. 52 (1983) 24–34]
 //!
-//! $$ \begin{aligned}
+//! ```math
+//! \begin{aligned}
 //! p_{n+1/2} &= p_n - \tfrac h2\big(H_q(t_n, q_n, p_{n+1/2}) + G(t_n, q_n)^{\mathsf T}\lambda_n\big),\\
 //! q_{n+1} &= q_n + \tfrac h2\big(H_p(t_n, q_n, p_{n+1/2}) + H_p(t_{n+1}, q_{n+1}, p_{n+1/2})\big),
 //! \qquad 0 = g(t_{n+1}, q_{n+1}),\\
 //! p_{n+1} &= p_{n+1/2} - \tfrac h2\big(H_q(t_{n+1}, q_{n+1}, p_{n+1/2})
-//!            + G(t_{n+1}, q_{n+1})^{\mathsf T}\mu_n\big),\\
+//!         + G(t_{n+1}, q_{n+1})^{\mathsf T}\mu_n\big),\\
 //! 0 &= G(t_{n+1}, q_{n+1})\,H_p(t_{n+1}, q_{n+1}, p_{n+1}) + \partial_t g(t_{n+1}, q_{n+1}).
-//! \end{aligned} $$
+//! \end{aligned}
+//! ```
 //!
 //! The map is of order 2, symmetric, and symplectic on the constraint manifold
 //! `{g = 0, G H_p + ∂_t g = 0}` [HLW VII.1, Theorems 1.3–1.4]; for autonomous `H` and `g` the energy

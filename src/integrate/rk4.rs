@@ -1,8 +1,10 @@
 //! The classical fourth-order Runge–Kutta method: one step for states of any shape, and the
 //! (non-symplectic) reference integrator [`Rk4`] of Hamilton's equations built on it.
 //!
-//! $$ k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
-//!    k_4 = f(t + h, y + h k_3),\qquad \Delta y = \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4) $$
+//! ```math
+//! k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
+//! k_4 = f(t + h, y + h k_3),\qquad \Delta y = \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4)
+//! ```
 //!
 //! [Hairer, Nørsett & Wanner, *Solving ODEs I*, 2nd ed., Springer 1993, II.1 (the classical
 //! tableau, order 4)]. [`rk4_increment`] takes the state as any [`VectorSpace`] — a phase-space

@@ -10,7 +10,9 @@
 //!   composition methods, Gauss–Legendre, RK4, Wisdom–Holman/SABA, exact flows) take a *partial
 //!   step* of the same method: from the step's start `zₙ = (tₙ, qₙ, pₙ)`,
 //!
-//!   $$ z(t) = \Psi_{t - t_n}(z_n), $$
+//!   ```math
+//!   z(t) = \Psi_{t - t_n}(z_n),
+//!   ```
 //!
 //!   the method's own map over the shorter step `t − tₙ` (with the run's compensated-summation
 //!   carry, so the result is the one the driver would have stored). The point carries the

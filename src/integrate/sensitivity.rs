@@ -5,7 +5,9 @@
 //! For Hamilton's equations `ż = f(k; t, z)` of a [`Parametric`] system with parameters
 //! `k ∈ ℝᴹ`, the sensitivities `S = ∂z/∂k` (a `2N × M` matrix) obey the variational equations
 //!
-//! $$ \dot S = \frac{\partial f}{\partial z}\,S + \frac{\partial f}{\partial k},\qquad S(t_0) = 0 $$
+//! ```math
+//! \dot S = \frac{\partial f}{\partial z}\,S + \frac{\partial f}{\partial k},\qquad S(t_0) = 0
+//! ```
 //!
 //! (Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, 2nd ed., Springer 1993,
 //! §I.14, "Differentiation with respect to parameters"). Each column `S e_j` is the directional

@@ -3,8 +3,10 @@
 //!
 //! The exact flows of the two parts are explicit:
 //!
-//! $$ \varphi^{T}_{h}:\ q \mapsto q + h\,\nabla T(p)\ \text{(drift)},\qquad
-//!    \varphi^{V}_{h}:\ p \mapsto p - h\,\nabla V(q)\ \text{(kick)}, $$
+//! ```math
+//! \varphi^{T}_{h}:\ q \mapsto q + h\,\nabla T(p)\ \text{(drift)},\qquad
+//! \varphi^{V}_{h}:\ p \mapsto p - h\,\nabla V(q)\ \text{(kick)},
+//! ```
 //!
 //! and a method is a word `Ψ_h = φ^{X_m}_{c_m h} ∘ … ∘ φ^{X_1}_{c_1 h}` in them (Hairer, Lubich &
 //! Wanner, *Geometric Numerical Integration*, 2nd ed., Springer 2006, ch. II.5 and V.3,

@@ -7,8 +7,10 @@
 //! (Griewank & Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, ch. 3; Hairer, Nørsett &
 //! Wanner, *Solving ODEs I*, 2nd ed., §I.14 and §II.6 "internal numerical differentiation"):
 //!
-//! $$ \Phi = \frac{\partial \Psi}{\partial z_0}
-//!    = \Psi'_{h_n}(z_{n-1}) \cdots \Psi'_{h_1}(z_0). $$
+//! ```math
+//! \Phi = \frac{\partial \Psi}{\partial z_0}
+//! = \Psi'_{h_n}(z_{n-1}) \cdots \Psi'_{h_1}(z_0).
+//! ```
 //!
 //! * Fixed-step methods ([`Fixed`] over any [`OneStep`]: the explicit splittings and
 //!   compositions, RK4, Gauss–Legendre) are written once for every dual type, so the run is

@@ -8,7 +8,9 @@
 //! [`crate::record`], the gradient by the adjoint sweep over that record. From `(t₀, x₀)` the
 //! normalised Taylor coefficients of the solution follow order by order,
 //!
-//! $$ x(t_0 + h) = \sum_{k=0}^{p} x_k h^k,\qquad x_{k+1} = \frac{f_k}{k+1}, $$
+//! ```math
+//! x(t_0 + h) = \sum_{k=0}^{p} x_k h^k,\qquad x_{k+1} = \frac{f_k}{k+1},
+//! ```
 //!
 //! where `f_k`, the `k`-th coefficient of `f(t, x(t))`, is computed from `x₀ … x_k` by the
 //! `O(k)` recurrences of each recorded operation ([`Jets`]): `O(p²)` per operation and step, no
@@ -27,13 +29,17 @@
 //! # Order and step (Jorba & Zou 2005, §3.2)
 //! With one tolerance `ε` as both the absolute and the relative tolerance, the order is
 //!
-//! $$ p = \Big\lceil -\tfrac12 \ln \varepsilon + 1 \Big\rceil , $$
+//! ```math
+//! p = \Big\lceil -\tfrac12 \ln \varepsilon + 1 \Big\rceil ,
+//! ```
 //!
 //! and the step, with `‖·‖` the maximum norm over `(q, p)`, divided by `‖x₀‖` when `‖x₀‖ > 1`
 //! (the relative tolerance governs), is
 //!
-//! $$ h = \frac{\rho}{e^2}\, e^{-0.7/(p-1)},\qquad
-//!    \rho = \min\Big( \|x_{p-1}\|^{-1/(p-1)},\ \|x_p\|^{-1/p} \Big): $$
+//! ```math
+//! h = \frac{\rho}{e^2}\, e^{-0.7/(p-1)},\qquad
+//! \rho = \min\Big( \|x_{p-1}\|^{-1/(p-1)},\ \|x_p\|^{-1/p} \Big):
+//! ```
 //!
 //! `ρ` estimates the radius of convergence, and the last terms of the series then lie near
 //! `(h/ρ)^p ≈ e^{-2p} ≈ ε`. Every step is accepted (there is no error estimate to reject

@@ -1,6 +1,8 @@
 //! Wisdom–Holman splitting for a Kepler problem plus a position-dependent perturbation,
 //!
-//! $$ H = \underbrace{\tfrac12|p|^2 - \frac{\mu}{|q|}}_{A = H_K} + \underbrace{H_1(t, q)}_{B}, $$
+//! ```math
+//! H = \underbrace{\tfrac12|p|^2 - \frac{\mu}{|q|}}_{A = H_K} + \underbrace{H_1(t, q)}_{B},
+//! ```
 //!
 //! with the exact Kepler flow as the `A` sub-step (a *Kepler drift*) and the kick
 //! `p ↦ p − h ∇H₁(q)` as the `B` sub-step (J. Wisdom & M. Holman, "Symplectic maps for the

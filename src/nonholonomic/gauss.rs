@@ -1,7 +1,9 @@
 //! Gauss's principle of least constraint (SPEC M43) [Ardema 14.3; Hamel art. 247, 252]: among
 //! the accelerations compatible with the constraints the actual one minimises
 //!
-//! $$ Z(\ddot q) = \tfrac12 (a\ddot q - f)^{\mathsf T} a^{-1} (a\ddot q - f), $$
+//! ```math
+//! Z(\ddot q) = \tfrac12 (a\ddot q - f)^{\mathsf T} a^{-1} (a\ddot q - f),
+//! ```
 //!
 //! `a = ∂²L/∂q̇²`, `a q̈ = f` Lagrange's equations without constraints (for particles
 //! `Z = ½ Σ m |ẍ − F/m|²`). The velocity constraints, differentiated once, restrict `q̈` to the

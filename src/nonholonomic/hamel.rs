@@ -2,11 +2,13 @@
 //! (M41–M42), from `L = T − V` and the quasi-velocity matrix `b(q)` ([`QuasiVelocities`]).
 //!
 //! * Boltzmann–Hamel [Hamel art. 235 (II), 237], ρ = m+1 … n:
-//!   $$ \frac{dP_\rho}{dt} + \sum_{\mu}\sum_{\tau>m}\beta_\mu^{\tau\rho}P_\mu\omega_\tau -
+//!   ```math
+//!   \frac{dP_\rho}{dt} + \sum_{\mu}\sum_{\tau>m}\beta_\mu^{\tau\rho}P_\mu\omega_\tau -
 //!   \frac{\partial T}{\partial\vartheta_\rho} = K_\rho,\qquad
 //!   P_\mu = \frac{\partial T(q,\omega)}{\partial\omega_\mu},\quad
 //!   \frac{\partial T}{\partial\vartheta_\rho} = \sum_\nu \frac{\partial T}{\partial q_\nu}B_{\nu\rho},\quad
-//!   K_\rho = \sum_\nu Q_\nu B_{\nu\rho}, $$
+//!   K_\rho = \sum_\nu Q_\nu B_{\nu\rho},
+//!   ```
 //!   with `T(q, ω) = T(q, B(q)ω)` formed in **all** ω before the constrained ones are set to zero
 //!   (Hamel's rule, art. 237); the potential enters through `L` in place of `T`.
 //! * Gibbs–Appell [Ardema 14.2–14.3, eqs. 14.17–14.19]: the actual quasi-accelerations minimise

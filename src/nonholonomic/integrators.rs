@@ -14,8 +14,10 @@
 //!   `L_d(q₀, q₁) = h L(t + h/2, (q₀ + q₁)/2, (q₁ − q₀)/h)` and the discrete forces
 //!   `f^± = (h/2) Q` at the midpoint, a step `(qₖ, pₖ) ↦ (qₖ₊₁, pₖ₊₁)` solves
 //!
-//!   $$ p_k + D_1 L_d(q_k, q_{k+1}) + f^- - h\,B(t_k, q_k)^{\mathsf T}\lambda_k = 0, \qquad
-//!   B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0, $$
+//!   ```math
+//!   p_k + D_1 L_d(q_k, q_{k+1}) + f^- - h\,B(t_k, q_k)^{\mathsf T}\lambda_k = 0, \qquad
+//!   B(\bar t, \bar q)\,\frac{q_{k+1} - q_k}{h} + b(\bar t, \bar q) = 0,
+//!   ```
 //!
 //!   `p_{k+1} = D₂ L_d(qₖ, qₖ₊₁) + f^+`, with `q̄ = (qₖ + qₖ₊₁)/2`, `t̄ = tₖ + h/2` (the virtual
 //!   displacements at `qₖ` lie in the constraint distribution, whence the force `−h Bᵀλ`, crate
@@ -57,6 +59,7 @@ pub struct LagrangeDAlembert {
 
 /// One step of [`LagrangeDAlembert`].
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiscreteStep<const N: usize, const K: usize> {
     /// `qₖ₊₁`.
     pub q: SVector<f64, N>,
@@ -72,6 +75,7 @@ pub struct DiscreteStep<const N: usize, const K: usize> {
 
 /// The end of a [`LagrangeDAlembert`] run.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiscreteRun<const N: usize> {
     /// The last node `(t, q, p)`, `p` the discrete momentum.
     pub last: State<N>,
@@ -585,6 +589,7 @@ fn ode_run<S, M: Method<S, N>, const N: usize>(
 
 /// Energy error and constraint residual at one time.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DriftSample {
     /// Time.
     pub t: f64,
@@ -596,6 +601,7 @@ pub struct DriftSample {
 
 /// The drift of one method along one motion.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Drift {
     /// The method's label.
     pub method: String,

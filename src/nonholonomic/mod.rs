@@ -4,9 +4,11 @@
 //!
 //! * Lagrange's equations with multipliers (SPEC M16, crate sign §0.3), for constraints linear or
 //!   non-linear in the velocities (Appell–Chetaev rule, M67):
-//!   $$ \frac{d}{dt}\frac{\partial L}{\partial\dot q} - \frac{\partial L}{\partial q}
+//!   ```math
+//!   \frac{d}{dt}\frac{\partial L}{\partial\dot q} - \frac{\partial L}{\partial q}
 //!   = Q - G^{\mathsf T}\lambda,\qquad G = \frac{\partial g}{\partial\dot q},\qquad
-//!   G\ddot q + \frac{\partial g}{\partial q}\dot q + \frac{\partial g}{\partial t} = 0 , $$
+//!   G\ddot q + \frac{\partial g}{\partial q}\dot q + \frac{\partial g}{\partial t} = 0 ,
+//!   ```
 //!   the multipliers returned with the accelerations ([`Constrained::multiplier_accelerations`])
 //!   [Ardema 6.3, eq. 6.29; Hamel art. 228 (I), 247–248].
 //! * Embedding by the null space of `G` (M19) [Ardema 6.6, eqs. 6.42–6.45]

@@ -432,6 +432,7 @@ impl PhasePolynomial {
 
 /// One block of the real symplectic normal form of the quadratic part.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Block {
     /// `(ω/2)(Q_j² + P_j²)` on degree of freedom `j` (eigenvalues `±iω`; `ω < 0` for negative
     /// Krein signature).
@@ -863,6 +864,7 @@ pub fn linear_normal_form(hessian: &DMatrix<f64>) -> Result<LinearNormalForm> {
 
 /// Which monomials `x^a y^b` the normal form keeps.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NormalFormKind {
     /// Birkhoff: `a = b` only (non-resonant frequencies; an undeclared resonance up to the degree
     /// is an error naming it).
@@ -1173,6 +1175,7 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
 
 /// Per-degree sizes and the optimal truncation at an amplitude `ρ`.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Diagnostics {
     /// The amplitude `ρ`.
     pub amplitude: f64,

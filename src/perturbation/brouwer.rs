@@ -6,10 +6,12 @@
 //! near-identity transformation (von Zeipel's method, Brouwer 1959) takes it to the secular
 //! Hamiltonian
 //!
-//! $$ K(L'', G'', H'') = -\frac{\mu^2}{2L''^2}
-//!    + \frac{\mu^2}{L''^2}\Big[\gamma_2'\,\frac{\eta}{2}(1 - 3\theta^2)
-//!    + \gamma_2'^2\,\frac{3\eta}{32}\big(5 - 4\eta - 5\eta^2 + (-10 + 24\eta + 18\eta^2)\theta^2
-//!      - (35 + 36\eta + 5\eta^2)\theta^4\big)\Big] + O(J_2^3), $$
+//! ```math
+//! K(L'', G'', H'') = -\frac{\mu^2}{2L''^2}
+//! + \frac{\mu^2}{L''^2}\Big[\gamma_2'\,\frac{\eta}{2}(1 - 3\theta^2)
+//! + \gamma_2'^2\,\frac{3\eta}{32}\big(5 - 4\eta - 5\eta^2 + (-10 + 24\eta + 18\eta^2)\theta^2
+//!   - (35 + 36\eta + 5\eta^2)\theta^4\big)\Big] + O(J_2^3),
+//! ```
 //!
 //! with `η = G''/L''`, `θ = H''/G''` and `γ₂' = J₂R²μ²/(2G''⁴) = (J₂/2)(R/p'')²`. The mean
 //! elements move uniformly at `l̇ = ∂K/∂L`, `ġ = ∂K/∂G`, `ḣ = ∂K/∂H`: these are Brouwer's
@@ -88,6 +90,7 @@ pub const OSCULATING_TO_MEAN_ITERATIONS: usize = 50;
 
 /// A statement about the model that does not stop the theory.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum TheoryWarning {
     /// The mean perigee radius `a(1 − e)` is smaller than the reference radius `R`: the orbit
     /// passes inside the body, where the exterior `J₂` potential is not the body's field.
@@ -114,9 +117,11 @@ pub enum MeanAxis {
 /// The secular Hamiltonian `K(L, G, H)` of the `J₂` problem to second order (Brouwer 1959,
 /// `F₀ + F₁* + F₂*` without `J₄`, with the sign of an energy), in any dual type:
 ///
-/// $$ K = -\frac{\mu^2}{2L^2} + \frac{\mu^2}{L^2}\Big[\gamma_2'\frac{\eta}{2}(1 - 3\theta^2)
-///    + \gamma_2'^2\frac{3\eta}{32}\big(5 - 4\eta - 5\eta^2
-///    + (-10 + 24\eta + 18\eta^2)\theta^2 - (35 + 36\eta + 5\eta^2)\theta^4\big)\Big], $$
+/// ```math
+/// K = -\frac{\mu^2}{2L^2} + \frac{\mu^2}{L^2}\Big[\gamma_2'\frac{\eta}{2}(1 - 3\theta^2)
+/// + \gamma_2'^2\frac{3\eta}{32}\big(5 - 4\eta - 5\eta^2
+/// + (-10 + 24\eta + 18\eta^2)\theta^2 - (35 + 36\eta + 5\eta^2)\theta^4\big)\Big],
+/// ```
 ///
 /// `η = G/L`, `θ = H/G`, `γ₂' = J₂R²μ²/(2G⁴)`. Its gradient is the vector of secular rates
 /// `(l̇, ġ, ḣ)`. No domain checks (a formula; see [`BrouwerLyddane`]).

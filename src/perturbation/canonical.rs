@@ -5,20 +5,26 @@
 //! generator, `p = ∂S/∂q`, `β = −∂S/∂α`, and the unperturbed new Hamiltonian `H + ∂S/∂t` vanishes.
 //! For `H + K` the new Hamiltonian is therefore
 //!
-//! $$ K^*(\alpha, \beta, t) = K\big(q(\alpha, \beta, t),\, p(\alpha, \beta, t),\, t\big) $$
+//! ```math
+//! K^*(\alpha, \beta, t) = K\big(q(\alpha, \beta, t),\, p(\alpha, \beta, t),\, t\big)
+//! ```
 //!
 //! and the elements obey Hamilton's equations with it [Ardema eqs. 18.29–18.30]:
 //!
-//! $$ \dot\alpha = \frac{\partial K^*}{\partial \beta},\qquad
-//!    \dot\beta = -\frac{\partial K^*}{\partial \alpha}
-//!    \qquad(\text{AlphaCoordinates}), $$
+//! ```math
+//! \dot\alpha = \frac{\partial K^*}{\partial \beta},\qquad
+//! \dot\beta = -\frac{\partial K^*}{\partial \alpha}
+//! \qquad(\text{AlphaCoordinates}),
+//! ```
 //!
 //! and, in the Chapter-17 convention ([`ElementConvention::AlphaMomenta`]: `β = +∂S/∂α` the new
 //! coordinates, `α` the new momenta),
 //!
-//! $$ \dot\beta = \frac{\partial K^*}{\partial \alpha},\qquad
-//!    \dot\alpha = -\frac{\partial K^*}{\partial \beta}
-//!    \qquad(\text{AlphaMomenta}). $$
+//! ```math
+//! \dot\beta = \frac{\partial K^*}{\partial \alpha},\qquad
+//! \dot\alpha = -\frac{\partial K^*}{\partial \beta}
+//! \qquad(\text{AlphaMomenta}).
+//! ```
 //!
 //! The map `(α, β, t) ↦ (q, p)` is anything implementing [`CanonicalElements`]: the
 //! [`Elements`] of a complete integral (Newton on `∂S/∂α = ∓β`, derivatives of the root exact by

@@ -5,7 +5,9 @@
 //! Per unit mass, with `r = q` the position relative to the central body and `v = p` its
 //! velocity, the perturbed motion is
 //!
-//! $$ \dot q = p,\qquad \dot p = -\frac{\mu q}{|q|^3} - \nabla U(t, q) + f(t, q, p), $$
+//! ```math
+//! \dot q = p,\qquad \dot p = -\frac{\mu q}{|q|^3} - \nabla U(t, q) + f(t, q, p),
+//! ```
 //!
 //! that is, Hamilton's equations of `H = |p|²/2 − μ/|q| + U(t, q)` with the non-conservative
 //! generalized force `f` ([`Hamiltonian::generalized_force`](crate::Hamiltonian::generalized_force),
@@ -200,8 +202,10 @@ macro_rules! momentum_force {
 /// The `J₂` (oblateness) term of the potential of an axisymmetric central body whose symmetry
 /// axis is `z`, as a potential energy per unit mass:
 ///
-/// $$ U_{J_2}(q) = \frac{\mu}{r}\,J_2\Big(\frac{R}{r}\Big)^2 P_2\Big(\frac{z}{r}\Big)
-///    = \frac{\mu J_2 R^2}{2 r^3}\Big(\frac{3z^2}{r^2} - 1\Big),\qquad P_2(x) = \tfrac12(3x^2 - 1). $$
+/// ```math
+/// U_{J_2}(q) = \frac{\mu}{r}\,J_2\Big(\frac{R}{r}\Big)^2 P_2\Big(\frac{z}{r}\Big)
+/// = \frac{\mu J_2 R^2}{2 r^3}\Big(\frac{3z^2}{r^2} - 1\Big),\qquad P_2(x) = \tfrac12(3x^2 - 1).
+/// ```
 ///
 /// This is minus the `n = 2` zonal term of the geopotential
 /// `Φ = (μ/r)[1 − Σ_n J_n (R/r)ⁿ P_n(sin φ)]` (force `+∇Φ`; Vallado 2013 eq. 8-19 with
@@ -332,7 +336,9 @@ pub enum ThirdBodyPath {
 /// the central body, as a potential energy per unit mass [Murray & Dermott 1999 eq. 6.44;
 /// Vallado 2013 §8.6.3]:
 ///
-/// $$ U_3(t, q) = -\mu_3\Big(\frac{1}{|q_3 - q|} - \frac{q\cdot q_3}{|q_3|^3}\Big). $$
+/// ```math
+/// U_3(t, q) = -\mu_3\Big(\frac{1}{|q_3 - q|} - \frac{q\cdot q_3}{|q_3|^3}\Big).
+/// ```
 ///
 /// The first term is the direct attraction; the second (the indirect term, included when
 /// `indirect` is set) removes the acceleration `μ₃q₃/|q₃|³` of the central body, which the
@@ -516,7 +522,9 @@ impl MomentumForce<3> for ConstantThrust {
 /// The perturbed two-body problem in Cartesian coordinates, per unit mass, in the plane
 /// (`N = 2`) or in space (`N = 3`, the default):
 ///
-/// $$ H = \tfrac12|p|^2 - \frac{\mu}{|q|} + U(t, q) $$
+/// ```math
+/// H = \tfrac12|p|^2 - \frac{\mu}{|q|} + U(t, q)
+/// ```
 ///
 /// with the generalized force `f(t, q, p)` (absent when the system is built by
 /// [`PerturbedTwoBody::conservative`]): the equations of motion `q̈ = −μq/|q|³ − ∇U + f` of

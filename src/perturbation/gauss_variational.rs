@@ -6,7 +6,9 @@
 //! # Frame
 //! With `h = r × v`, the RTN (radial, transverse, normal) unit vectors are
 //!
-//! $$ \hat r = \frac{r}{|r|},\qquad \hat n = \frac{h}{|h|},\qquad \hat t = \hat n \times \hat r, $$
+//! ```math
+//! \hat r = \frac{r}{|r|},\qquad \hat n = \frac{h}{|h|},\qquad \hat t = \hat n \times \hat r,
+//! ```
 //!
 //! and a perturbing acceleration `a_d` has components `(R, T, N) = (a_d·r̂, a_d·t̂, a_d·n̂)`
 //! ([`inertial_to_rtn`], [`rtn_to_inertial`]; Vallado 2013 §3.3 calls the frame RSW). The frame
@@ -17,14 +19,16 @@
 //! [`ModifiedEquinoctial`]) with `w = 1 + f cos L + g sin L`, `s² = 1 + h² + k²` and
 //! `χ = h sin L − k cos L`, the osculating elements of `r̈ = −μr/|r|³ + a_d` obey
 //!
-//! $$ \begin{aligned}
+//! ```math
+//! \begin{aligned}
 //! \dot p &= \frac{2p}{w}\sqrt{\frac p\mu}\, T, \\
 //! \dot f &= \sqrt{\frac p\mu}\Big[R \sin L + \frac{(w+1)\cos L + f}{w}\,T - \frac{g\,\chi}{w}\,N\Big], \\
 //! \dot g &= \sqrt{\frac p\mu}\Big[-R \cos L + \frac{(w+1)\sin L + g}{w}\,T + \frac{f\,\chi}{w}\,N\Big], \\
 //! \dot h &= \sqrt{\frac p\mu}\,\frac{s^2 \cos L}{2w}\,N, \qquad
 //! \dot k = \sqrt{\frac p\mu}\,\frac{s^2 \sin L}{2w}\,N, \\
 //! \dot L &= \sqrt{\mu p}\Big(\frac wp\Big)^2 + \sqrt{\frac p\mu}\,\frac{\chi}{w}\,N
-//! \end{aligned} $$
+//! \end{aligned}
+//! ```
 //!
 //! (Walker, Ireland & Owens 1985, in the form corrected by their 1986 erratum; the same equations
 //! are in J. T. Betts, *Practical Methods for Optimal Control*, 2nd ed., SIAM 2010).
@@ -43,14 +47,16 @@
 //! `p = a(1 − e²)`, `h = √(μp)`, `r = p/(1 + e cos ν)`, `u = ω + ν`, `b = a√(1 − e²)`
 //! (Vallado 2013 §9.3; Battin 1999 §10.4):
 //!
-//! $$ \begin{aligned}
+//! ```math
+//! \begin{aligned}
 //! \dot a &= \frac{2a^2}{h}\Big(e \sin\nu\, R + \frac pr\, T\Big), &
 //! \dot e &= \frac1h\big(p \sin\nu\, R + ((p + r)\cos\nu + re)\,T\big), \\
 //! \dot i &= \frac{r\cos u}{h}\,N, &
 //! \dot\Omega &= \frac{r \sin u}{h \sin i}\,N, \\
 //! \dot\omega &= \frac{1}{he}\big(-p\cos\nu\, R + (p + r)\sin\nu\, T\big) - \frac{r \sin u \cos i}{h\sin i}\,N, &
 //! \dot M &= n + \frac{b}{ahe}\big((p\cos\nu - 2re)\,R - (p + r)\sin\nu\, T\big).
-//! \end{aligned} $$
+//! \end{aligned}
+//! ```
 //!
 //! `ω̇` and `Ṁ` contain `1/e`, `Ω̇` and `ω̇` contain `1/sin i`: at a circular or equatorial orbit
 //! (`e < CIRCULAR_TOLERANCE`, `|sin i| < CIRCULAR_TOLERANCE`, the tolerance below which
@@ -309,8 +315,10 @@ pub fn gauss_classical(mu: f64, el: &Classical, a_rtn: &Vector3<f64>) -> Result<
 
 /// Quadratic drag in an exponential atmosphere rotating rigidly about the z axis:
 ///
-/// $$ a_d = -\tfrac12\,\rho(|r|)\,B\,|v_{rel}|\,v_{rel},\qquad
-///    \rho = \rho_0\,e^{-(|r| - r_0)/H},\qquad v_{rel} = v - \omega_\oplus \hat z \times r, $$
+/// ```math
+/// a_d = -\tfrac12\,\rho(|r|)\,B\,|v_{rel}|\,v_{rel},\qquad
+/// \rho = \rho_0\,e^{-(|r| - r_0)/H},\qquad v_{rel} = v - \omega_\oplus \hat z \times r,
+/// ```
 ///
 /// with the ballistic coefficient `B = C_D A/m` (Vallado 2013 §8.6: the drag acceleration and
 /// the exponential atmosphere). Units are the caller's: with lengths in km, `ρ` in kg/km³ and

@@ -6,8 +6,10 @@
 //! # The general solution
 //! Per unit mass, `H₀ = |p|²/2 − μ/|q|` [Ardema 10.2]. In classical elements the solution is
 //!
-//! $$ (q, p) = \varphi(a, e, i;\ \Omega, \omega, M_0;\ t),\qquad M = M_0 + n(a)(t - t_0),\quad
-//!    n = \sqrt{\mu/a^3}, $$
+//! ```math
+//! (q, p) = \varphi(a, e, i;\ \Omega, \omega, M_0;\ t),\qquad M = M_0 + n(a)(t - t_0),\quad
+//! n = \sqrt{\mu/a^3},
+//! ```
 //!
 //! ([`ClassicalSolution`], blocks `γ₁ = (a, e, i)`, `γ₂ = (Ω, ω, M₀)`), and in equinoctial
 //! elements `γ₁ = (a, h, k)`, `γ₂ = (p, q, λ₀)` with `λ = λ₀ + n(t − t₀)`
@@ -41,9 +43,11 @@
 //! convergence for these analytic periodic integrands). For `J₂` this reproduces the first-order
 //! secular rates of Brouwer (1959) ([`j2_secular_rates`]):
 //!
-//! $$ \dot\Omega = -\tfrac32 n J_2 \Big(\frac Rp\Big)^2\cos i,\quad
-//!    \dot\omega = \tfrac34 n J_2 \Big(\frac Rp\Big)^2 (5\cos^2 i - 1),\quad
-//!    \dot M - n = \tfrac34 n J_2 \Big(\frac Rp\Big)^2 \sqrt{1 - e^2}\,(3\cos^2 i - 1), $$
+//! ```math
+//! \dot\Omega = -\tfrac32 n J_2 \Big(\frac Rp\Big)^2\cos i,\quad
+//! \dot\omega = \tfrac34 n J_2 \Big(\frac Rp\Big)^2 (5\cos^2 i - 1),\quad
+//! \dot M - n = \tfrac34 n J_2 \Big(\frac Rp\Big)^2 \sqrt{1 - e^2}\,(3\cos^2 i - 1),
+//! ```
 //!
 //! `ȧ = ė = i̇ = 0` (Vallado 2013 eqs. 9-41; D. Brouwer, "Solution of the problem of artificial
 //! satellite theory without drag", Astron. J. 64 (1959) 378–397, doi:10.1086/107958).

@@ -57,6 +57,7 @@ pub const MAX_PHASE_ROUNDING: f64 = 1e-6;
 /// errors stay below 1e−14 at every `k ≤ 64` (the signed errors fed back through the recursion
 /// partly cancel; their absolute values, which the bound adds, do not).
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LindstedtSeries {
     /// `σ_k`: `(ω/n)² = Σ_k σ_k a^{2k}`, `k = 0 … N`.
     pub frequency_squared: Vec<f64>,

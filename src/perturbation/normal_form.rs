@@ -116,8 +116,33 @@ pub const PENDULUM_WARNING_MU: f64 = 0.5;
 
 /// A Poisson series `Σ c_{ab} ξ^a η^b` (see the module documentation for the variables).
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(into = "Vec<((u32, u32), C64)>", from = "Vec<((u32, u32), C64)>")
+)]
 pub struct PoissonSeries {
     terms: BTreeMap<(u32, u32), C64>,
+}
+
+/// Stored as the list of its terms `((a, b), c)` (formats such as JSON and TOML key maps by strings).
+#[cfg(feature = "serde")]
+impl From<PoissonSeries> for Vec<((u32, u32), C64)> {
+    fn from(s: PoissonSeries) -> Self {
+        s.terms.into_iter().collect()
+    }
+}
+
+/// The series `Σ c ξ^a η^b` of a list of terms (repeated exponents add).
+#[cfg(feature = "serde")]
+impl From<Vec<((u32, u32), C64)>> for PoissonSeries {
+    fn from(terms: Vec<((u32, u32), C64)>) -> Self {
+        let mut s = PoissonSeries::zero();
+        for ((a, b), c) in terms {
+            s.add_term(a, b, c);
+        }
+        s
+    }
 }
 
 impl PoissonSeries {
@@ -304,6 +329,11 @@ fn eval_graded(f: &[PoissonSeries], xi: C64) -> C64 {
 
 /// Normal form of `H = ν J + Σ_{k=1}^{N} ε^k H_k` to grade `N` (see the module documentation).
 #[derive(Clone, Debug)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(remote = "Self")
+)]
 pub struct NormalForm {
     nu: f64,
     order: usize,
@@ -312,6 +342,60 @@ pub struct NormalForm {
     old_from_new: Vec<PoissonSeries>,
     new_from_old: Vec<PoissonSeries>,
     imag_residue: f64,
+}
+
+/// Stored as its fields.
+#[cfg(feature = "serde")]
+impl serde::Serialize for NormalForm {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        NormalForm::serialize(self, serializer)
+    }
+}
+
+/// A stored normal form is accepted with `ν > 0`, `N ∈ 1..=MAX_NORMAL_FORM_ORDER`, `N` generators,
+/// `N + 1` grades in each series and finite coefficients, as [`NormalForm::new`] builds it.
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for NormalForm {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        let r = NormalForm::deserialize(deserializer)?;
+        let checked = || -> Result<()> {
+            positive("oscillator frequency ν", r.nu)?;
+            if !(1..=MAX_NORMAL_FORM_ORDER).contains(&r.order) {
+                return Err(Error::out_of_domain(
+                    "normal-form order N",
+                    r.order as f64,
+                    format!("{{1, …, {MAX_NORMAL_FORM_ORDER}}}"),
+                ));
+            }
+            let grades = [
+                ("generators", &r.generators, r.order),
+                ("normal form", &r.normal, r.order + 1),
+                ("old from new", &r.old_from_new, r.order + 1),
+                ("new from old", &r.new_from_old, r.order + 1),
+            ];
+            for (what, series, len) in grades {
+                if series.len() != len {
+                    return Err(Error::invalid(
+                        what,
+                        format!("{} grades, expected {len}", series.len()),
+                    ));
+                }
+                for (_, c) in series.iter().flat_map(PoissonSeries::iter) {
+                    finite(what, c.re)?;
+                    finite(what, c.im)?;
+                }
+            }
+            finite("imaginary residue", r.imag_residue)?;
+            Ok(())
+        };
+        checked().map_err(serde::de::Error::custom)?;
+        Ok(r)
+    }
 }
 
 impl NormalForm {
@@ -651,6 +735,7 @@ pub const SERIES_WARNING_RATIO: f64 = 0.5;
 
 /// Why a perturbative estimate should not be trusted.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ConvergenceWarning {
     /// The terms of a truncated series decrease by less than [`SERIES_WARNING_RATIO`] per order:
     /// the omitted tail may exceed the last term kept.
@@ -675,6 +760,7 @@ pub enum ConvergenceWarning {
 
 /// A truncated-series value with its convergence diagnostics.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SeriesEstimate {
     /// The truncated series.
     pub value: f64,

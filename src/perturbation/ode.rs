@@ -14,8 +14,10 @@
 //! One step of size `h` is the classical RK4 step [`rk4_increment`] [Hairer, Nørsett & Wanner,
 //! *Solving ODEs I*, II.1]:
 //!
-//! $$ k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
-//!    k_4 = f(t + h, y + h k_3),\qquad y_1 = y + \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4). $$
+//! ```math
+//! k_1 = f(t, y),\ k_2 = f(t + \tfrac h2, y + \tfrac h2 k_1),\ k_3 = f(t + \tfrac h2, y + \tfrac h2 k_2),\
+//! k_4 = f(t + h, y + h k_3),\qquad y_1 = y + \tfrac h6 (k_1 + 2k_2 + 2k_3 + k_4).
+//! ```
 //!
 //! Increments are accumulated with Kahan-compensated summation and the step times are computed
 //! from the step index, so rounding grows like `√n` over `n` steps.
@@ -24,8 +26,10 @@
 //! With `y_h` from `n` steps and `y_{h/2}` from `2n` steps, the global error of RK4 is
 //! `C h⁴ + O(h⁵)`, so
 //!
-//! $$ y \approx y_{h/2} + \frac{y_{h/2} - y_h}{15},\qquad
-//!    \mathrm{err}(y_{h/2}) \approx \frac{|y_{h/2} - y_h|}{15} $$
+//! ```math
+//! y \approx y_{h/2} + \frac{y_{h/2} - y_h}{15},\qquad
+//! \mathrm{err}(y_{h/2}) \approx \frac{|y_{h/2} - y_h|}{15}
+//! ```
 //!
 //! [HNW I, II.4 and II.9]. The extrapolated value is of order 5; its error is typically well below
 //! the estimate, which is an estimate for `y_{h/2}`.

@@ -5,10 +5,12 @@
 //! If `x = φ(γ, t)` is the general solution of `ẋ = X(x, t)` (state `x ∈ ℝ²ᴺ`, constants
 //! `γ ∈ ℝ²ᴺ`), the perturbed system `ẋ = X + g(x, t)` is solved by `x = φ(γ(t), t)` with
 //!
-//! $$ \frac{\partial \varphi}{\partial \gamma}\,\dot\gamma = g(\varphi(\gamma, t), t)
-//!    \quad\Longrightarrow\quad
-//!    \dot\gamma = \Big(\frac{\partial \varphi}{\partial \gamma}\Big)^{-1} g
-//!    \qquad\text{[Ardema eqs. 18.5–18.10]}, $$
+//! ```math
+//! \frac{\partial \varphi}{\partial \gamma}\,\dot\gamma = g(\varphi(\gamma, t), t)
+//! \quad\Longrightarrow\quad
+//! \dot\gamma = \Big(\frac{\partial \varphi}{\partial \gamma}\Big)^{-1} g
+//! \qquad\text{[Ardema eqs. 18.5–18.10]},
+//! ```
 //!
 //! because `∂φ/∂t = X(φ, t)` for every fixed `γ`. The Jacobian `∂φ/∂γ` comes by AD from
 //! [`GeneralSolution::state`], written once generic over [`DualNum`]; it is inverted with the
@@ -23,8 +25,10 @@
 //! with its own non-conservative forces [Ardema eq. 18.25]) and a perturbation in the momentum
 //! equation only, `ṗ = −∂H/∂q + R(q, p, t)`, multiplying the general form by `(∂φ/∂γ)ᵀ J` gives
 //!
-//! $$ \sum_s [\gamma_j, \gamma_s]\,\dot\gamma_s = \sum_r R_r \frac{\partial F_r}{\partial \gamma_j},
-//!    \qquad j = 1\dots 2N \qquad\text{[Ardema eq. 18.21]}, $$
+//! ```math
+//! \sum_s [\gamma_j, \gamma_s]\,\dot\gamma_s = \sum_r R_r \frac{\partial F_r}{\partial \gamma_j},
+//! \qquad j = 1\dots 2N \qquad\text{[Ardema eq. 18.21]},
+//! ```
 //!
 //! with the Lagrange brackets,
 //! `[u, v] = Σ_r (∂q_r/∂u ∂p_r/∂v − ∂p_r/∂u ∂q_r/∂v)` [Ardema eq. 16.24]. For a conservative

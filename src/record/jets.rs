@@ -61,7 +61,9 @@ enum Instr {
 /// outputs `(f₁ … f_n)`, [`Jets::ode`] builds the Taylor series of the solution through
 /// `(t₀, x₀)` order by order (Jorba & Zou 2005, §2):
 ///
-/// $$ x_{k+1} = \frac{f_k(x_0, \dots, x_k)}{k + 1},\qquad k = 0, \dots, K - 1, $$
+/// ```math
+/// x_{k+1} = \frac{f_k(x_0, \dots, x_k)}{k + 1},\qquad k = 0, \dots, K - 1,
+/// ```
 ///
 /// with the time input `t(t₀ + τ) = t₀ + τ`. The cost is `O(K²)` per nonlinear operation and no
 /// allocation.

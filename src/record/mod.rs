@@ -4,8 +4,10 @@
 //! A function `y = F(x)`, `x ∈ ℝⁿ`, is a composition of elementary operations
 //! (the *evaluation trace* or *Kantorovich graph* of Griewank & Walther, ch. 2):
 //!
-//! $$ v_i = x_i \ (i < n),\qquad v_i = \varphi_i(v_{j}, v_{k}),\ j, k < i,\qquad
-//!    y_m = v_{o_m}, $$
+//! ```math
+//! v_i = x_i \ (i < n),\qquad v_i = \varphi_i(v_{j}, v_{k}),\ j, k < i,\qquad
+//! y_m = v_{o_m},
+//! ```
 //!
 //! each `φᵢ` one of the operations of [`Op`] (sum, difference, product, quotient, negation,
 //! shift and scaling by a constant, reciprocal, `√`, `exp`, `ln`, `sin`, `cos`, `u^a`,
@@ -27,8 +29,10 @@
 //! over the operations recorded so far (Griewank & Walther, ch. 3.2, the *adjoint* of the
 //! trace):
 //!
-//! $$ \bar v_{\text{out}} = 1,\qquad \bar v_j \mathrel{+}= \bar v_i\,\frac{\partial\varphi_i}{\partial v_j}
-//!    \quad (i = \text{out}, \dots, 0), \qquad \frac{\partial y}{\partial x_i} = \bar v_i , $$
+//! ```math
+//! \bar v_{\text{out}} = 1,\qquad \bar v_j \mathrel{+}= \bar v_i\,\frac{\partial\varphi_i}{\partial v_j}
+//! \quad (i = \text{out}, \dots, 0), \qquad \frac{\partial y}{\partial x_i} = \bar v_i ,
+//! ```
 //!
 //! each partial itself a recorded operation (`∂ sin u/∂u` is the recorded `cos u`, `∂eᵘ/∂u` the
 //! recorded `eᵘ`). The gradient of a Hamiltonian therefore costs a small multiple of the

@@ -600,8 +600,10 @@ fn entries() -> Result<Vec<Entry>> {
 /// Each row is a map `(q, p) ↦ (Q, P)` of phase space at one point `(q, p)` (and time `t`, printed
 /// when not zero). Its exact Jacobian
 ///
-/// $$ M = \frac{\partial(Q, P)}{\partial(q, p)},\qquad
-///    J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix}, $$
+/// ```math
+/// M = \frac{\partial(Q, P)}{\partial(q, p)},\qquad
+/// J = \begin{pmatrix} 0 & I \\ -I & 0 \end{pmatrix},
+/// ```
 ///
 /// is computed by dual-number AD ([`crate::brackets::certify`]) — through Newton's method by implicit
 /// differentiation where the map is defined implicitly (generating functions, inverses, implicit

@@ -22,7 +22,9 @@ pub(crate) const POISON: u32 = u32::MAX - 1;
 
 /// A truncated multivariate power series in `n` variables to total degree `K`,
 ///
-/// $$ s(x) = \sum_{|\alpha| \le K} s_\alpha\, x^\alpha ,\qquad x^{K+1} \equiv 0, $$
+/// ```math
+/// s(x) = \sum_{|\alpha| \le K} s_\alpha\, x^\alpha ,\qquad x^{K+1} \equiv 0,
+/// ```
 ///
 /// as a number type: [`DualNum<f64>`](num_dual::DualNum) + `Copy` + `Send` + `Sync`, so any
 /// function written once for the crate's number types evaluates on it and returns its Taylor

@@ -2,7 +2,9 @@
 //!
 //! With the constant-term split `x = x₀ + x̃` (`x̃` has no constant term, so `x̃^{K+1} = 0`),
 //!
-//! $$ f(x) = \sum_{k=0}^{K} c_k\, \tilde x^{k},\qquad c_k = \frac{f^{(k)}(x_0)}{k!}, $$
+//! ```math
+//! f(x) = \sum_{k=0}^{K} c_k\, \tilde x^{k},\qquad c_k = \frac{f^{(k)}(x_0)}{k!},
+//! ```
 //!
 //! evaluated by Horner's rule (`K` truncated products). The coefficients `c_k` are the Taylor
 //! coefficients of `f` about `x₀`, obtained from the standard recurrences of univariate Taylor

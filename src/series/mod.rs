@@ -2,7 +2,9 @@
 //!
 //! A [`Series`] is the truncated Taylor polynomial
 //!
-//! $$ s(x) = \sum_{|\alpha| \le K} s_\alpha\, x^\alpha,\qquad x \in \mathbb R^n, $$
+//! ```math
+//! s(x) = \sum_{|\alpha| \le K} s_\alpha\, x^\alpha,\qquad x \in \mathbb R^n,
+//! ```
 //!
 //! of the differential algebra `ₖDₙ` (Berz): sums, products and elementary functions act on the
 //! coefficients exactly as on the Taylor expansions they represent, with every term of degree
@@ -397,9 +399,11 @@ impl Polynomial {
 /// The Taylor polynomial to degree `degree` of `f(t, q, p)` about the phase point `(q₀, p₀)`, in
 /// the `2N` variables `x = (q − q₀, p − p₀)` (`x_i = q_i − q₀ᵢ`, `x_{N+i} = p_i − p₀ᵢ`):
 ///
-/// $$ f(t, q_0 + \xi, p_0 + \eta) = \sum_{|\alpha| + |\beta| \le K}
-///    \frac{\partial^{\alpha}_q \partial^{\beta}_p f(t, q_0, p_0)}{\alpha!\,\beta!}\,
-///    \xi^\alpha \eta^\beta + O(K + 1). $$
+/// ```math
+/// f(t, q_0 + \xi, p_0 + \eta) = \sum_{|\alpha| + |\beta| \le K}
+/// \frac{\partial^{\alpha}_q \partial^{\beta}_p f(t, q_0, p_0)}{\alpha!\,\beta!}\,
+/// \xi^\alpha \eta^\beta + O(K + 1).
+/// ```
 ///
 /// `f` receives series arguments; pass a system's own generic function, e.g.
 /// `|t, q, p| system.hamiltonian(t, q, p)` ([`Hamiltonian::taylor_expansion`] does this).

@@ -3,8 +3,10 @@
 //!
 //! For `F(J, θ; ε)` with `J, θ ∈ ℝᴺ`, about the actions `J₀`,
 //!
-//! $$ F(J_0 + \Delta J, \theta; \varepsilon) = \sum_{k} \big[ C_k(\Delta J, \varepsilon)\cos(k\cdot\theta)
-//!    + S_k(\Delta J, \varepsilon)\sin(k\cdot\theta) \big], $$
+//! ```math
+//! F(J_0 + \Delta J, \theta; \varepsilon) = \sum_{k} \big[ C_k(\Delta J, \varepsilon)\cos(k\cdot\theta)
+//! + S_k(\Delta J, \varepsilon)\sin(k\cdot\theta) \big],
+//! ```
 //!
 //! the sum over `k ∈ ℤᴺ` with `|k_i| ≤ H` in the half-space `k = 0` or first non-zero `k_i > 0`,
 //! each `C_k, S_k` a polynomial of degree `≤ K` in the `N + 1` variables `(ΔJ, ε)`. The

@@ -4,22 +4,32 @@
 //! returns `w_k` from `u_0 … u_k`, `v_0 … v_k` and the result's own lower coefficients
 //! `w_0 … w_{k−1}` (`k ≥ 1`; `w_0 = f(u_0, v_0)` is the caller's):
 //!
-//! $$ (uv)_k = \sum_{j=0}^{k} u_j v_{k-j},\qquad
-//!    (u/v)_k = \frac{1}{v_0}\Big(u_k - \sum_{j=1}^{k} v_j w_{k-j}\Big), $$
+//! ```math
+//! (uv)_k = \sum_{j=0}^{k} u_j v_{k-j},\qquad
+//! (u/v)_k = \frac{1}{v_0}\Big(u_k - \sum_{j=1}^{k} v_j w_{k-j}\Big),
+//! ```
 //!
-//! $$ (e^u)_k = \frac1k \sum_{j=1}^{k} j\,u_j w_{k-j},\qquad
-//!    (\ln u)_k = \frac{1}{u_0}\Big(u_k - \frac1k\sum_{j=1}^{k-1} j\,w_j u_{k-j}\Big), $$
+//! ```math
+//! (e^u)_k = \frac1k \sum_{j=1}^{k} j\,u_j w_{k-j},\qquad
+//! (\ln u)_k = \frac{1}{u_0}\Big(u_k - \frac1k\sum_{j=1}^{k-1} j\,w_j u_{k-j}\Big),
+//! ```
 //!
-//! $$ (u^a)_k = \frac{1}{k u_0}\sum_{j=1}^{k} \big((a+1)j - k\big) u_j w_{k-j},\qquad
-//!    (\sqrt u)_k = \frac{1}{2w_0}\Big(u_k - \sum_{j=1}^{k-1} w_j w_{k-j}\Big), $$
+//! ```math
+//! (u^a)_k = \frac{1}{k u_0}\sum_{j=1}^{k} \big((a+1)j - k\big) u_j w_{k-j},\qquad
+//! (\sqrt u)_k = \frac{1}{2w_0}\Big(u_k - \sum_{j=1}^{k-1} w_j w_{k-j}\Big),
+//! ```
 //!
-//! $$ (\sin u)_k = \frac1k\sum_{j=1}^{k} j\,u_j c_{k-j},\qquad
-//!    (\cos u)_k = -\frac1k\sum_{j=1}^{k} j\,u_j s_{k-j}, $$
+//! ```math
+//! (\sin u)_k = \frac1k\sum_{j=1}^{k} j\,u_j c_{k-j},\qquad
+//! (\cos u)_k = -\frac1k\sum_{j=1}^{k} j\,u_j s_{k-j},
+//! ```
 //!
 //! and for `w = atan2(v, u)` with `r = u² + v²` (from `r w' = u v' − v u'`)
 //!
-//! $$ w_k = \frac{1}{k r_0}\Big(\sum_{j=1}^{k} j\,(u_{k-j} v_j - v_{k-j} u_j)
-//!          - \sum_{j=1}^{k-1} j\,w_j r_{k-j}\Big). $$
+//! ```math
+//! w_k = \frac{1}{k r_0}\Big(\sum_{j=1}^{k} j\,(u_{k-j} v_j - v_{k-j} u_j)
+//!       - \sum_{j=1}^{k-1} j\,w_j r_{k-j}\Big).
+//! ```
 //!
 //! Each coefficient costs `O(k)`, a series to order `K` costs `O(K²)`. The truncated power
 //! series ([`Series`](super::Series)) and the jets of an operation record

@@ -2,7 +2,9 @@
 //!
 //! The Stumpff functions
 //!
-//! $$ c_2(z) = \sum_{k\ge0} \frac{(-z)^k}{(2k+2)!}, \qquad c_3(z) = \sum_{k\ge0} \frac{(-z)^k}{(2k+3)!} $$
+//! ```math
+//! c_2(z) = \sum_{k\ge0} \frac{(-z)^k}{(2k+2)!}, \qquad c_3(z) = \sum_{k\ge0} \frac{(-z)^k}{(2k+3)!}
+//! ```
 //!
 //! are, in closed form,
 //!
@@ -15,8 +17,10 @@
 //! motion in one formula: with the universal anomaly `χ`, `z = αχ²`, `α = 1/a = 2/r₀ − |p₀|²/μ`,
 //! `σ₀ = q₀·p₀/√μ`, Kepler's equation in universal variables reads
 //!
-//! $$ \sqrt\mu\,\Delta t = \sigma_0\chi^2 c_2(z) + (1 - \alpha r_0)\chi^3 c_3(z) + r_0\chi,
-//!    \qquad \frac{d(\sqrt\mu\,\Delta t)}{d\chi} = r = \chi^2 c_2 + \sigma_0\chi(1 - z c_3) + r_0(1 - z c_2), $$
+//! ```math
+//! \sqrt\mu\,\Delta t = \sigma_0\chi^2 c_2(z) + (1 - \alpha r_0)\chi^3 c_3(z) + r_0\chi,
+//! \qquad \frac{d(\sqrt\mu\,\Delta t)}{d\chi} = r = \chi^2 c_2 + \sigma_0\chi(1 - z c_3) + r_0(1 - z c_2),
+//! ```
 //!
 //! whose right-hand side increases with `χ` (its derivative is the radius `r > 0`), so it has one
 //! real root for every `Δt`. The two-body flow built on it is

@@ -2,13 +2,17 @@
 //!
 //! Separating the Hamilton–Jacobi equation reduces every coordinate to integrals of the form
 //!
-//! $$ \int_{x_1}^{x} \frac{g(x)\\,dx}{\sqrt{F(x)}}, \qquad F(x) = (x - x_1)(x_2 - x)\\,P(x), $$
+//! ```math
+//! \int_{x_1}^{x} \frac{g(x)\\,dx}{\sqrt{F(x)}}, \qquad F(x) = (x - x_1)(x_2 - x)\\,P(x),
+//! ```
 //!
 //! where `F = p²` is the radicand of the separated momentum and `x₁ < x₂` are the turning points
 //! (simple roots of `F`, `P > 0` on `[x₁, x₂]`). The integrand has inverse-square-root end points.
 //! The substitution
 //!
-//! $$ x = \tfrac12(x_1 + x_2) - \tfrac12(x_2 - x_1)\cos s, \qquad s \in [0, \pi], $$
+//! ```math
+//! x = \tfrac12(x_1 + x_2) - \tfrac12(x_2 - x_1)\cos s, \qquad s \in [0, \pi],
+//! ```
 //!
 //! gives `x − x₁ = L sin²(s/2)`, `x₂ − x = L cos²(s/2)` (`L = x₂ − x₁`) and
 //! `dx/√F = ds/√P(x)`: a smooth integrand. Both offsets are computed from `s` directly (never as a
@@ -78,7 +82,9 @@ impl<F: Fn(f64, f64, f64) -> f64> ReducedRadicand for F {
 /// rounding error of `F` (absolute, from its own terms) by a small `d`; there `F` is replaced by
 /// the integral of its AD derivative from the root,
 ///
-/// $$ F(x_1 + d_1) = d_1 \int_0^1 F'(x_1 + \tau d_1)\,d\tau, $$
+/// ```math
+/// F(x_1 + d_1) = d_1 \int_0^1 F'(x_1 + \tau d_1)\,d\tau,
+/// ```
 ///
 /// by 8-point Gauss–Legendre (exact to degree 15 in `τ`), which involves no cancellation. The switch
 /// is at `d = 0.1 ℓ`, with `ℓ` the smaller of the interval width and the root's own length scale

@@ -43,6 +43,7 @@ const BRENT_ITERATIONS: u64 = 200;
 
 /// The spectrum at one parameter value.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpectrumAt {
     /// `μ`.
     pub parameter: f64,
@@ -52,6 +53,7 @@ pub struct SpectrumAt {
 
 /// How eigenvalues cross the imaginary axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CrossingKind {
     /// Through zero: `det(Wᵀ A W)` changes sign.
     ThroughZero,
@@ -65,6 +67,7 @@ pub enum CrossingKind {
 
 /// A parameter value where a real part crosses zero.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Crossing {
     /// `μ*`, located to the requested tolerance.
     pub parameter: f64,
@@ -219,6 +222,7 @@ where
 
 /// A parameter study: the spectra on the grid of `μ` and the crossings located between them.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ParameterStudy {
     /// The spectra at the `samples` equally spaced values of `μ` in `[lo, hi]`.
     pub spectra: Vec<SpectrumAt>,

@@ -23,6 +23,7 @@ const SIMPLEX_ITERATIONS: u64 = 4000;
 
 /// An equilibrium `f(z*) = 0` of `ż = f(t, z)`.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Equilibrium<const M: usize> {
     /// `z*`.
     pub z: SVector<f64, M>,
@@ -36,6 +37,7 @@ pub struct Equilibrium<const M: usize> {
 
 /// An equilibrium `∇H(q*, p*) = 0` of Hamilton's equations.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PhaseEquilibrium<const N: usize> {
     /// `q*`.
     pub q: SVector<f64, N>,

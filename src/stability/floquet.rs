@@ -31,6 +31,7 @@ use nalgebra::{DMatrix, DVector, Matrix2, SVector};
 
 /// The monodromy matrix of a periodic orbit and its Floquet multipliers.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Monodromy {
     /// `M = Φ(t₀ + T)`, `2N × 2N` in the order `(q, p)`.
     pub matrix: DMatrix<f64>,

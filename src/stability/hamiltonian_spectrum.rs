@@ -121,6 +121,7 @@ pub fn hamiltonian_linearization<H: Hamiltonian<N> + ?Sized, const N: usize>(
 
 /// The outcome of [`check_spectrum_symmetry`].
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BoxSymmetry {
     /// The eigenvalues of `A`.
     pub eigenvalues: Vec<C64>,
@@ -224,6 +225,7 @@ pub fn check_spectrum_symmetry(a: &DMatrix<f64>, tol: f64) -> Result<BoxSymmetry
 
 /// One set `{λ, −λ, λ̄, −λ̄}` of the spectrum of `A = J∇²H`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SpectralBlock {
     /// `±iω`, `ω > 0`, each of multiplicity `multiplicity`; the Krein form on the eigenspace of
     /// `iω` has `positive` positive and `negative` negative eigenvalues (`positive + negative <
@@ -272,6 +274,7 @@ impl SpectralBlock {
 
 /// The classified spectrum of `A = J∇²H`.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HamiltonianSpectrum {
     /// The eigenvalues of `A`.
     pub eigenvalues: Vec<C64>,

@@ -43,6 +43,7 @@ pub const AXIS_TOLERANCE: f64 = 8.0 * 1.4901161193847656e-8;
 
 /// Stability of an equilibrium (steady motion) decided by its linearisation (SPEC M33–M34).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Stability {
     /// All eigenvalues (no family) have `Re λ < 0`.
     AsymptoticallyStable,
@@ -58,6 +59,7 @@ pub enum Stability {
 
 /// The spectrum of a linearisation `A` with the family of steady motions factored out.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Spectrum {
     /// The eigenvalues of `A`, by decreasing real part.
     pub eigenvalues: Vec<C64>,

@@ -11,8 +11,10 @@ use num_dual::DualNum;
 /// described with the areal quasi-coordinate `q`, `q̇ = xẏ − yẋ = r²θ̇` [Ardema 14.4] (SPEC T33):
 /// quasi-velocities `ω = (ṙ, r²θ̇)`, none constrained. The Gibbs function is exactly
 ///
-/// $$ G = \tfrac12 m\Big[\Big(\ddot r - \frac{\dot q^2}{r^3}\Big)^2 + \frac{\ddot q^2}{r^2}\Big],
-///    \qquad m\Big(\ddot r - \frac{\dot q^2}{r^3}\Big) = R,\quad \frac{m\ddot q}{r^2} = \frac{S}{r} $$
+/// ```math
+/// G = \tfrac12 m\Big[\Big(\ddot r - \frac{\dot q^2}{r^3}\Big)^2 + \frac{\ddot q^2}{r^2}\Big],
+/// \qquad m\Big(\ddot r - \frac{\dot q^2}{r^3}\Big) = R,\quad \frac{m\ddot q}{r^2} = \frac{S}{r}
+/// ```
 ///
 /// with `R = R₀ − μm/r²` ([`ArealVelocity::gibbs_function`]); for `S = 0` the areal velocity `q̇`
 /// is constant (Kepler's second law).

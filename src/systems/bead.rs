@@ -8,7 +8,9 @@ use num_dual::DualNum;
 /// Bead on a hoop of radius `a` spinning at the constant rate `ω` about its vertical diameter;
 /// `θ` measured from the bottom [Ardema 8.2]:
 ///
-/// $$ L = \tfrac12 m a^2 (\dot\theta^2 + \omega^2 \sin^2\theta) + m g a \cos\theta . $$
+/// ```math
+/// L = \tfrac12 m a^2 (\dot\theta^2 + \omega^2 \sin^2\theta) + m g a \cos\theta .
+/// ```
 ///
 /// The Jacobi integral `h = ½ma²θ̇² − ½ma²ω² sin²θ − mga cos θ` is conserved while `T + V` is not
 /// (`T₀ = ½ma²ω² sin²θ ≠ 0`). Relative equilibrium `cos θ* = g/(aω²)` if `aω² > g`, small-oscillation

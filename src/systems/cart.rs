@@ -9,8 +9,10 @@ use num_dual::DualNum;
 /// The two-wheeled cart [Ardema 9.1] = [Hamel art. 231, 234, 239] (SPEC T18): coordinates
 /// `(x, y, θ, φ_l, φ_r)`, `(x, y)` the axle midpoint, wheels of radius `r` at `±b`:
 ///
-/// $$ T = \tfrac12 m(\dot x^2 + \dot y^2) + m_c s\,\dot\theta(\dot y\cos\theta - \dot x\sin\theta)
-///        + \tfrac12 I\dot\theta^2 + \tfrac12 C(\dot\varphi_l^2 + \dot\varphi_r^2), $$
+/// ```math
+/// T = \tfrac12 m(\dot x^2 + \dot y^2) + m_c s\,\dot\theta(\dot y\cos\theta - \dot x\sin\theta)
+///     + \tfrac12 I\dot\theta^2 + \tfrac12 C(\dot\varphi_l^2 + \dot\varphi_r^2),
+/// ```
 ///
 /// constraints `ẋ sin θ − ẏ cos θ = 0`, `−ẋ cos θ − ẏ sin θ ± b θ̇ + r φ̇_{l,r} = 0`
 /// [Ardema eqs. 9.1–9.3]; a push `F(t) = F₀ cos(Ωt)` along the heading and a constant torque `M`.

@@ -2,7 +2,9 @@
 //! freedom in Cartesian coordinates and as the radial problem that Hamilton–Jacobi theory separates
 //! ([`RadialMotion`](crate::hamilton_jacobi::RadialMotion)).
 //!
-//! $$ H = \tfrac12 |p|^2 + V(|q|) $$
+//! ```math
+//! H = \tfrac12 |p|^2 + V(|q|)
+//! ```
 //!
 //! per unit mass [Ardema 10.1, eqs. 10.1–10.4; Goldstein §3.2].
 //! The energy and the angular momentum `q × p` are conserved.

@@ -8,7 +8,9 @@ use num_dual::DualNum;
 /// Appell–Hamel's 45° constraint [Hamel art. 249] (SPEC T21): a unit-mass point,
 /// `T = ½|ẋ|²`, force `(0, 0, K)`, the constraint non-linear in the velocities
 ///
-/// $$ g = \dot x_3^2 - \dot x_1^2 - \dot x_2^2 = 0 . $$
+/// ```math
+/// g = \dot x_3^2 - \dot x_1^2 - \dot x_2^2 = 0 .
+/// ```
 ///
 /// The horizontal direction stays fixed, `ẋ₃ = ẋ₃(0) + Kt/2`, `|ẋ_h| = ẋ₃`; the multiplier in
 /// the crate sign is `λ = K/(4ẋ₃)`. The cone's vertex `ẋ = 0` is reached at
@@ -91,7 +93,9 @@ unit_point_under_vertical_force!(SecondClassConstraint);
 /// Hamel's second-class (acceleration) constraint [Hamel art. 252] (SPEC T22): the unit-mass
 /// point of [`ConeConstraint`] under `(0, 0, K)` with
 ///
-/// $$ \ddot x_3 = \ddot x_1 \ddot x_2 . $$
+/// ```math
+/// \ddot x_3 = \ddot x_1 \ddot x_2 .
+/// ```
 ///
 /// Gauss's function `Σ(ẍ − X)²` has three stationary points for `|K| > 1` (the least
 /// `2|K| − 1`) and one, `ẍ = 0` with `K²`, for `|K| < 1`.

@@ -13,15 +13,19 @@ use std::f64::consts::FRAC_PI_4;
 /// strand moves rigidly with its own end and gravity `g` (along increasing `x`, `y`) is the only
 /// external force [Ardema 9.3]. Coordinates `q = (x, y)`:
 ///
-/// $$ T = \tfrac14\rho\big[(\ell + u)\,\dot x^2 + (\ell - u)\,\dot y^2\big] + \tfrac12 m\dot x^2,\qquad
-///    V = -g\Big[m x + \tfrac12\rho\ell(x + y) - \tfrac14\rho u^2\Big], $$
+/// ```math
+/// T = \tfrac14\rho\big[(\ell + u)\,\dot x^2 + (\ell - u)\,\dot y^2\big] + \tfrac12 m\dot x^2,\qquad
+/// V = -g\Big[m x + \tfrac12\rho\ell(x + y) - \tfrac14\rho u^2\Big],
+/// ```
 ///
 /// the potential of the weights `g(m + ρ(ℓ + u)/2)` and `gρ(ℓ − u)/2` of the two rigidly moving
 /// parts. Gravity drops out of the relative motion (a uniform field is removed by the freely
 /// falling frame): with `μ = u/ℓ` and `M = m/(ρℓ)`,
 ///
-/// $$ (1 - \mu)(1 + 2M + \mu)\,\ddot\mu = (M + \mu)\,\dot\mu^2,\qquad
-///    \dot\mu^2 (1 - \mu)(1 + 2M + \mu) = \text{const}, $$
+/// ```math
+/// (1 - \mu)(1 + 2M + \mu)\,\ddot\mu = (M + \mu)\,\dot\mu^2,\qquad
+/// \dot\mu^2 (1 - \mu)(1 + 2M + \mu) = \text{const},
+/// ```
 ///
 /// and from `μ = 0` the rope straightens (`μ = 1`, `μ̇ → ∞`) at the finite time
 /// [`FoldedRope::straightening_time`]. The mass matrix `diag(m + ρ(ℓ + u)/2, ρ(ℓ − u)/2)` is
@@ -82,9 +86,11 @@ impl FoldedRope {
     /// The time to reach the stretch `μ ∈ [0, 1]` from `μ = 0` at the rate `μ̇(0) > 0`
     /// [Ardema eq. 9.24], with `μ̇₀ = μ̇(0)√(1 + 2M)`:
     ///
-    /// $$ \dot\mu_0 t = \tfrac12\Big[(\mu + M)\sqrt{(1 - \mu)(1 + 2M + \mu)}
-    ///    + (1 + M)^2 \arcsin\frac{\mu + M}{1 + M}\Big]
-    ///    - \tfrac12\Big[M\sqrt{1 + 2M} + (1 + M)^2 \arcsin\frac{M}{1 + M}\Big]. $$
+    /// ```math
+    /// \dot\mu_0 t = \tfrac12\Big[(\mu + M)\sqrt{(1 - \mu)(1 + 2M + \mu)}
+    /// + (1 + M)^2 \arcsin\frac{\mu + M}{1 + M}\Big]
+    /// - \tfrac12\Big[M\sqrt{1 + 2M} + (1 + M)^2 \arcsin\frac{M}{1 + M}\Big].
+    /// ```
     ///
     /// # Errors
     /// [`Error::OutOfDomain`] for `μ` outside `[0, 1]` or a rate that is not positive and finite.
@@ -108,8 +114,10 @@ impl FoldedRope {
 
     /// The straightening time `t₁` from `μ = 0` at the rate `μ̇(0)` [Ardema 9.3]:
     ///
-    /// $$ t_1 = \Big[(1 + M)^2\frac{\pi}{4} - \tfrac12 M\sqrt{1 + 2M}
-    ///    - \tfrac12 (1 + M)^2\arcsin\frac{M}{1 + M}\Big]\Big/\dot\mu_0 . $$
+    /// ```math
+    /// t_1 = \Big[(1 + M)^2\frac{\pi}{4} - \tfrac12 M\sqrt{1 + 2M}
+    /// - \tfrac12 (1 + M)^2\arcsin\frac{M}{1 + M}\Big]\Big/\dot\mu_0 .
+    /// ```
     ///
     /// # Errors
     /// As [`FoldedRope::time_from_start`].

@@ -10,8 +10,10 @@ use num_dual::DualNum;
 /// `(φ₁, φ₂)`, moments `I₁, I₂`, torques `M₁, M₂`, the rheonomic constraint
 /// `φ̇₁ = f(t) φ̇₂`, `f(t) = f₀ + f₁ t`:
 ///
-/// $$ T = \tfrac12 I_1\dot\varphi_1^2 + \tfrac12 I_2\dot\varphi_2^2,\qquad
-///    (I_1 f^2 + I_2)\ddot\varphi_2 + I_1 f\dot f\dot\varphi_2 = M_1 f + M_2 . $$
+/// ```math
+/// T = \tfrac12 I_1\dot\varphi_1^2 + \tfrac12 I_2\dot\varphi_2^2,\qquad
+/// (I_1 f^2 + I_2)\ddot\varphi_2 + I_1 f\dot f\dot\varphi_2 = M_1 f + M_2 .
+/// ```
 ///
 /// Substituting the constraint into `T` first gives the wrong
 /// `d/dt[(I₁f² + I₂)φ̇₂] = M₁f + M₂` (the trap of M62). [`GearingInTime`] is the same system with

@@ -11,7 +11,9 @@ use num_dual::DualNum;
 /// line, no forces) [Ardema 13.3]. A rod whose ends move with `u`, `v` has the kinetic energy
 /// `(M/6)(u² + uv + v²)`, so
 ///
-/// $$ L = T = \frac{M}{6} \sum_{i=1}^{N-1} \left(v_i^2 + v_i v_{i+1} + v_{i+1}^2\right). $$
+/// ```math
+/// L = T = \frac{M}{6} \sum_{i=1}^{N-1} \left(v_i^2 + v_i v_{i+1} + v_{i+1}^2\right).
+/// ```
 ///
 /// With `N = 4` and an impulse `P` normal to the line at the first end, the velocities after the
 /// blow are `(52, −14, 4, −2) P/(15M)` (SPEC T35); with `N = 2`, an impulse at `nℓ` from the

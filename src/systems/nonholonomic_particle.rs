@@ -11,8 +11,10 @@ use num_dual::DualNum;
 /// is not reversible under `(q, q̇) ↦ (q, −q̇)`, in the spirit of the non-reversible test problems
 /// of Modin & Verdier, Numer. Math. 145 (2020) 405–435, §5:
 ///
-/// $$ L = \tfrac12(\dot x^2 + \dot y^2 + \dot z^2) + B\,x\,\dot y - V(y),\qquad
-///    V(y) = \tfrac12\kappa y^2 + k y,\qquad \dot z = y\,\dot x . $$
+/// ```math
+/// L = \tfrac12(\dot x^2 + \dot y^2 + \dot z^2) + B\,x\,\dot y - V(y),\qquad
+/// V(y) = \tfrac12\kappa y^2 + k y,\qquad \dot z = y\,\dot x .
+/// ```
 ///
 /// The field `B` (vector potential `(0, B x, 0)`) does no work: the energy
 /// `E = ½(ẋ² + ẏ² + ż²) + V(y)` is conserved. The `x`-equation `(1 + y²) ẍ = B ẏ − y ẋ ẏ` gives

@@ -14,12 +14,16 @@ use num_dual::DualNum;
 /// [Ardema 14.4] (SPEC T34). Coordinates `(x, y, φ)`: the centre (`y` up) and the rod's angle,
 /// with the holonomic constraints
 ///
-/// $$ x - c\sin\varphi = 0,\qquad y + c\cos\varphi = 0 , $$
+/// ```math
+/// x - c\sin\varphi = 0,\qquad y + c\cos\varphi = 0 ,
+/// ```
 ///
 /// so that `φ = θ` is the angle of the radius from the downward vertical;
 /// `T = ½m(ẋ² + ẏ²) + ½(ma²/3)φ̇²`, `V = mgy`. Reduced equation
 ///
-/// $$ \Big(c^2 + \frac{a^2}{3}\Big)\ddot\theta + g c\sin\theta = 0 , $$
+/// ```math
+/// \Big(c^2 + \frac{a^2}{3}\Big)\ddot\theta + g c\sin\theta = 0 ,
+/// ```
 ///
 /// a pendulum of frequency `n² = gc/(c² + a²/3)` ([`RodOnCircle::pendulum`]). For `c = a` it is a
 /// rod whose ends slide on two perpendicular smooth lines meeting above it:

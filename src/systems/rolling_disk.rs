@@ -10,8 +10,10 @@ use num_dual::DualNum;
 /// ≡ [Ardema 7.5] (SPEC M70, T17): contact point `(x, y)`, heading `ϑ`, lean `ψ`, roll angle
 /// `φ`; radius `r`, mass `m`, diametral moment `A`, polar moment `C`, gravity `g`:
 ///
-/// $$ T = \tfrac12 m|\dot c|^2 + \tfrac12 A(\dot\psi^2 + \cos^2\psi\,\dot\vartheta^2)
-///        + \tfrac12 C(\dot\varphi - \dot\vartheta\sin\psi)^2,\qquad V = m g r\cos\psi, $$
+/// ```math
+/// T = \tfrac12 m|\dot c|^2 + \tfrac12 A(\dot\psi^2 + \cos^2\psi\,\dot\vartheta^2)
+///     + \tfrac12 C(\dot\varphi - \dot\vartheta\sin\psi)^2,\qquad V = m g r\cos\psi,
+/// ```
 ///
 /// `c = (x − r sin ψ sin ϑ, y + r sin ψ cos ϑ, r cos ψ)` the centre; rolling constraints
 /// `ẋ = r cos ϑ φ̇`, `ẏ = r sin ϑ φ̇`. Quasi-velocities `(ẋ − r cos ϑ φ̇, ẏ − r sin ϑ φ̇, ϑ̇, ψ̇, φ̇)`.

@@ -10,8 +10,10 @@ use num_dual::DualNum;
 /// heading `ϑ`, mass centre at the distance `s` ahead of `B` along the heading, moment of inertia
 /// `I_B` about `B`, optional constant push `Z` along the heading and torque `M`:
 ///
-/// $$ T = \tfrac12 m(\dot x^2 + \dot y^2) + m s \dot\vartheta(\dot y\cos\vartheta - \dot x\sin\vartheta)
-///        + \tfrac12 I_B \dot\vartheta^2, \qquad \dot y\cos\vartheta - \dot x\sin\vartheta = 0 . $$
+/// ```math
+/// T = \tfrac12 m(\dot x^2 + \dot y^2) + m s \dot\vartheta(\dot y\cos\vartheta - \dot x\sin\vartheta)
+///     + \tfrac12 I_B \dot\vartheta^2, \qquad \dot y\cos\vartheta - \dot x\sin\vartheta = 0 .
+/// ```
 ///
 /// Quasi-velocities `ω = (ẏ cos ϑ − ẋ sin ϑ, v = ẋ cos ϑ + ẏ sin ϑ, ϑ̇)`, the first constrained;
 /// reduced equations `m v̇ − m s ϑ̇² = Z`, `I_B ϑ̈ + m s v ϑ̇ = M`. Force-free closed forms

@@ -16,8 +16,10 @@ use num_dual::DualNum;
 /// `π̇ = ω` (space axes). The orientation is ignorable and, the inertia being isotropic,
 /// `ω × Iω = 0`, so the `π` enter the kinetic energy like coordinates [Ardema 14.4]:
 ///
-/// $$ T = \tfrac12 M(\dot x^2 + \dot y^2) + \tfrac12 I|\omega|^2,\qquad
-///    \dot x - a\omega_y + \Omega y = 0,\quad \dot y + a\omega_x - \Omega x = 0 $$
+/// ```math
+/// T = \tfrac12 M(\dot x^2 + \dot y^2) + \tfrac12 I|\omega|^2,\qquad
+/// \dot x - a\omega_y + \Omega y = 0,\quad \dot y + a\omega_x - \Omega x = 0
+/// ```
 ///
 /// (the contact point moves with the table). Eliminating `ω_x, ω_y`:
 /// `M ẍ + (I/a²)(ẍ + Ω̇y + Ωẏ) = F_x + M_y/a`, `M ÿ + (I/a²)(ÿ − Ω̇x − Ωẋ) = F_y − M_x/a`,

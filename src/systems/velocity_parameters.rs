@@ -6,9 +6,11 @@ use num_dual::DualNum;
 /// A holonomic system described by non-holonomic velocity parameters [Hamel art. 241]
 /// (SPEC T20):
 ///
-/// $$ T = \tfrac12\big[\dot q_1^2 + 2q_1\dot q_1\dot q_2 + (1 + q_1^2)\dot q_2^2\big]
-///      = \tfrac12(\omega_1^2 + \omega_2^2),\qquad \omega_1 = \dot q_1 + q_1\dot q_2,\quad
-///      \omega_2 = \dot q_2 , $$
+/// ```math
+/// T = \tfrac12\big[\dot q_1^2 + 2q_1\dot q_1\dot q_2 + (1 + q_1^2)\dot q_2^2\big]
+///   = \tfrac12(\omega_1^2 + \omega_2^2),\qquad \omega_1 = \dot q_1 + q_1\dot q_2,\quad
+///   \omega_2 = \dot q_2 ,
+/// ```
 ///
 /// Hamel's equations `ω̇₁ − ω₁ω₂ = K₁`, `ω̇₂ + ω₁² = K₂ − q₁K₁`; force-free from
 /// `ω(0) = (c, 0)`: `ω₁ = c sech(ct)`, `ω₂ = −c tanh(ct)`.

@@ -38,8 +38,10 @@
 //! from the second derivatives `A = F_kk`, `B = F_ku`, `C = F_uu` (known argument `k`, target
 //! `b`, solved argument `u`, output `o`), componentwise so that it does not depend on units:
 //!
-//! $$ \delta u = \varepsilon\, |B^{-1}| (|A||k| + |B||u| + |b|) + |B^{-1}||r|,\qquad
-//!    \delta o = \varepsilon (|B^{\mathsf T}||k| + |C||u| + |o|) + |C|\,\delta u $$
+//! ```math
+//! \delta u = \varepsilon\, |B^{-1}| (|A||k| + |B||u| + |b|) + |B^{-1}||r|,\qquad
+//! \delta o = \varepsilon (|B^{\mathsf T}||k| + |C||u| + |o|) + |C|\,\delta u
+//! ```
 //!
 //! (the inputs and the generator's derivatives each carry a relative rounding `ε`; Newton's
 //! correction propagates them through `B⁻¹`; `r` is the residual left at the root, polished by
@@ -49,8 +51,10 @@
 //! that a block crossing zero (the oscillator's `p` at a turning point) is not mistaken for a loss
 //! of accuracy. The **condition number** of the map at the point is
 //!
-//! $$ \kappa = \max\Big(\frac{\|\delta u\|_\infty}{\varepsilon \|S_u\|_\infty},
-//!    \frac{\|\delta o\|_\infty}{\varepsilon \|S_o\|_\infty}, \kappa_2(\hat B)\Big), $$
+//! ```math
+//! \kappa = \max\Big(\frac{\|\delta u\|_\infty}{\varepsilon \|S_u\|_\infty},
+//! \frac{\|\delta o\|_\infty}{\varepsilon \|S_o\|_\infty}, \kappa_2(\hat B)\Big),
+//! ```
 //!
 //! with `κ₂(B̂) = σ_max/σ_min` of the Newton Jacobian `B` after two-sided equilibration (by SVD), so
 //! that the error of each block is about `κ ε` times its size (error ≈ condition × rounding;

@@ -127,6 +127,7 @@ fn check_output<D: DualNum<f64> + Copy>(r: &SVector<D, 3>, v: &SVector<D, 3>) ->
 ///
 /// Reference: Vallado (2013) §2.5–2.6; Battin (1999) ch. 3.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Classical<T = f64> {
     /// Semi-major axis `a` (`> 0` elliptic, `< 0` hyperbolic).
     pub a: T,
@@ -574,6 +575,7 @@ pub fn state_to_classical(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Result
 /// `λ = M + ω + Ω`. Regular at `e = 0` and `i = 0`; singular at `i = π` (see the
 /// [module docs](self)). `a > 0`, `h² + k² < 1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Equinoctial<T = f64> {
     /// Semi-major axis `a > 0`.
     pub a: T,
@@ -822,6 +824,7 @@ pub fn state_to_equinoctial(mu: f64, r: &Vector3<f64>, v: &Vector3<f64>) -> Resu
 /// with `1 + f cos L + g sin L > 0`, i.e. between the asymptotes for `e ≥ 1`); regular at
 /// `e = 0`, `i = 0`; singular at `i = π`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ModifiedEquinoctial<T = f64> {
     /// Semi-latus rectum `p > 0`.
     pub p: T,
@@ -1025,6 +1028,7 @@ pub fn state_to_modified_equinoctial(
 /// Hamiltonian is `−μ²/(2L²)` (Battin 1999 §10.3; Vallado 2013 §9.3). Singular at `e = 0`
 /// (`G = L`) and `i ∈ {0, π}` (`|H| = G`), with the conventions of the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Delaunay<T = f64> {
     /// `l = M`.
     pub l: T,

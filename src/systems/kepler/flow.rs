@@ -19,8 +19,10 @@ use crate::special::stumpff::{solve_universal, stumpff, universal};
 /// the Stumpff functions `c₂(z)`, `c₃(z)` ([`crate::special::stumpff`]), the universal anomaly
 /// `χ` solves
 ///
-/// $$ F(\chi) = \sigma_0\chi^2 c_2 + (1 - \alpha r_0)\chi^3 c_3 + r_0\chi - \sqrt\mu\,\Delta t = 0,
-///    \qquad F'(\chi) = r = \chi^2 c_2 + \sigma_0\chi(1 - z c_3) + r_0(1 - z c_2), $$
+/// ```math
+/// F(\chi) = \sigma_0\chi^2 c_2 + (1 - \alpha r_0)\chi^3 c_3 + r_0\chi - \sqrt\mu\,\Delta t = 0,
+/// \qquad F'(\chi) = r = \chi^2 c_2 + \sigma_0\chi(1 - z c_3) + r_0(1 - z c_2),
+/// ```
 ///
 /// and then `f − 1 = −χ²c₂/r₀`, `√μ g = σ₀χ²c₂ + r₀χ(1 − zc₃)`, `ḟ = √μ χ(zc₃ − 1)/(r r₀)`,
 /// `ġ − 1 = −χ²c₂/r`, `Δq = (f − 1)q + g p`, `Δp = ḟ q + (ġ − 1)p` — increments written without

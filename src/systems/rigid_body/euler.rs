@@ -4,7 +4,9 @@
 //! quasi-velocities `ω` (transition relation `d′δϑ − δ′dϑ = −dϑ × δϑ`) give Euler's equations
 //! [Hamel art. 242; Ardema 11.4; SPEC M32]
 //!
-//! $$ I\dot\omega + \omega \times I\omega = M . $$
+//! ```math
+//! I\dot\omega + \omega \times I\omega = M .
+//! ```
 //!
 //! The free body (`M = 0`) in principal axes, written with the body angular momentum
 //! `Π = Iω`, is the Lie–Poisson system `Π̇ = Π × ω` with energy
@@ -137,11 +139,15 @@ pub fn gyroscopic_moment(j: f64, spin: f64, precession: f64) -> Result<f64> {
 /// With `ω = B(θ, ψ) q̇` and `T = ½ ωᵀ diag(I₁, I₂, I₃) ω`, the momenta are `p = Bᵀ Π` with the
 /// body angular momentum `Π = Iω`, so that [Goldstein §5.4; Ardema 11.1]
 ///
-/// $$ \Pi_1 = \frac{(p_\phi - p_\psi\cos\theta)\sin\psi}{\sin\theta} + p_\theta\cos\psi,\quad
-///    \Pi_2 = \frac{(p_\phi - p_\psi\cos\theta)\cos\psi}{\sin\theta} - p_\theta\sin\psi,\quad
-///    \Pi_3 = p_\psi, $$
+/// ```math
+/// \Pi_1 = \frac{(p_\phi - p_\psi\cos\theta)\sin\psi}{\sin\theta} + p_\theta\cos\psi,\quad
+/// \Pi_2 = \frac{(p_\phi - p_\psi\cos\theta)\cos\psi}{\sin\theta} - p_\theta\sin\psi,\quad
+/// \Pi_3 = p_\psi,
+/// ```
 ///
-/// $$ H = \frac{\Pi_1^2}{2I_1} + \frac{\Pi_2^2}{2I_2} + \frac{\Pi_3^2}{2I_3}. $$
+/// ```math
+/// H = \frac{\Pi_1^2}{2I_1} + \frac{\Pi_2^2}{2I_2} + \frac{\Pi_3^2}{2I_3}.
+/// ```
 ///
 /// Hamilton's equations in these coordinates reproduce Euler's equations `Π̇ = Π × ω`; `p_φ` is
 /// the spatial vertical component of the angular momentum and `|Π|²` its squared magnitude.

@@ -6,8 +6,10 @@
 //! *Mechanics*, 3rd ed., §37; Whittaker, *Analytical Dynamics*, §69). For `δ > 0` (rotation about
 //! the axis of the largest moment)
 //!
-//! $$ \Pi_1 = A_1\,\mathrm{cn}\,u,\quad \Pi_2 = \sigma A_2\,\mathrm{sn}\,u,\quad
-//!    \Pi_3 = \sigma A_3\,\mathrm{dn}\,u,\qquad u = u_0 + \lambda t, $$
+//! ```math
+//! \Pi_1 = A_1\,\mathrm{cn}\,u,\quad \Pi_2 = \sigma A_2\,\mathrm{sn}\,u,\quad
+//! \Pi_3 = \sigma A_3\,\mathrm{dn}\,u,\qquad u = u_0 + \lambda t,
+//! ```
 //!
 //! `A₁² = I₁P/(I₃−I₁)`, `A₂² = I₂P/(I₃−I₂)`, `A₃² = I₃Q/(I₃−I₁)`,
 //! `λ = √((I₃−I₂)Q/(I₁I₂I₃))`, `k² = (I₂−I₁)P/((I₃−I₂)Q)`, `k'² = (I₃−I₁)δ/((I₃−I₂)Q)`,

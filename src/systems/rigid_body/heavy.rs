@@ -5,13 +5,17 @@
 //! In the 3-1-3 angles `q = (φ, θ, ψ)` of [`super::rotation`], with `Π(q, p)` the body angular
 //! momentum of [`FreeRigidBody::body_momentum_generic`] and
 //!
-//! $$ \gamma(\theta, \psi) = R^{\mathsf T} e_z = (\sin\theta\sin\psi,\ \sin\theta\cos\psi,\
-//!    \cos\theta) $$
+//! ```math
+//! \gamma(\theta, \psi) = R^{\mathsf T} e_z = (\sin\theta\sin\psi,\ \sin\theta\cos\psi,\
+//! \cos\theta)
+//! ```
 //!
 //! the upward vertical in body axes (`R` the body-to-space rotation), the Hamiltonian is the free
 //! body's kinetic energy plus the height of the mass centre times the weight,
 //!
-//! $$ H = \sum_i \frac{\Pi_i^2}{2 I_i} + w\cdot\gamma, \qquad w = m g\, r_G , $$
+//! ```math
+//! H = \sum_i \frac{\Pi_i^2}{2 I_i} + w\cdot\gamma, \qquad w = m g\, r_G ,
+//! ```
 //!
 //! with `r_G` the mass centre in principal axes. Hamilton's equations reproduce the
 //! Euler–Poisson equations `Π̇ = Π × ω + γ × w`, `γ̇ = γ × ω`, `ω_i = Π_i/I_i`. The integrals are
@@ -112,7 +116,9 @@ impl HeavyRigidBody {
     /// Math. 12 (1889) 177–232; Leimanis §5]: with `z = ω₁ + iω₂`, `ξ = γ₁ + iγ₂` and
     /// `c = (w₁ + i w₂)/I₃`,
     ///
-    /// $$ K = \left| z^2 - c\,\xi \right|^2 , $$
+    /// ```math
+    /// K = \left| z^2 - c\,\xi \right|^2 ,
+    /// ```
     ///
     /// constant because `d(z² − cξ)/dt = −iω₃ (z² − cξ)` by the Euler–Poisson equations.
     ///

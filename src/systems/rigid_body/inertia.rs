@@ -2,7 +2,9 @@
 //!
 //! The inertia tensor about a point `A` of a body of mass elements `m_r` at `ρ_r` (from `A`) is
 //!
-//! $$ I_A = \sum_r m_r \left( |\rho_r|^2 E - \rho_r \rho_r^{\mathsf T} \right), $$
+//! ```math
+//! I_A = \sum_r m_r \left( |\rho_r|^2 E - \rho_r \rho_r^{\mathsf T} \right),
+//! ```
 //!
 //! the kinetic energy of a rotation at `ω` about `A` is `T = ½ ωᵀ I_A ω`, and the parallel-axis
 //! theorem moves the tensor from the mass centre `G` to `A = G − d`:

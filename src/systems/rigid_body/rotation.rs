@@ -3,10 +3,12 @@
 //! The 3-1-3 angles `(φ, θ, ψ)` give the body-to-space rotation `R = R_z(φ) R_x(θ) R_z(ψ)`
 //! [Ardema 11.1]; the body components of the angular velocity are [Ardema 11.1, eq. 11.8; SPEC M29]
 //!
-//! $$ \omega = B(\theta, \psi)\,(\dot\phi, \dot\theta, \dot\psi)^{\mathsf T},\qquad
-//!    B = \begin{pmatrix} \sin\theta\sin\psi & \cos\psi & 0 \\
-//!                        \sin\theta\cos\psi & -\sin\psi & 0 \\
-//!                        \cos\theta & 0 & 1 \end{pmatrix}, \qquad \det B = -\sin\theta . $$
+//! ```math
+//! \omega = B(\theta, \psi)\,(\dot\phi, \dot\theta, \dot\psi)^{\mathsf T},\qquad
+//! B = \begin{pmatrix} \sin\theta\sin\psi & \cos\psi & 0 \\
+//!                     \sin\theta\cos\psi & -\sin\psi & 0 \\
+//!                     \cos\theta & 0 & 1 \end{pmatrix}, \qquad \det B = -\sin\theta .
+//! ```
 //!
 //! # The chart and its singularity
 //! `B` is singular where `sin θ = 0`: the precession and spin axes coincide, only `φ ± ψ` is

@@ -20,13 +20,17 @@ use num_dual::DualNum;
 /// `p = (p_φ, p_θ, p_ψ)`. With `I` the transverse and `J` the axial moment of inertia about the
 /// fixed point and `mgℓ` the weight times the distance of the mass centre from it,
 ///
-/// $$ L = \tfrac12 I (\dot\theta^2 + \dot\phi^2 \sin^2\theta)
-///      + \tfrac12 J (\dot\psi + \dot\phi\cos\theta)^2 - mg\ell\cos\theta, $$
+/// ```math
+/// L = \tfrac12 I (\dot\theta^2 + \dot\phi^2 \sin^2\theta)
+///   + \tfrac12 J (\dot\psi + \dot\phi\cos\theta)^2 - mg\ell\cos\theta,
+/// ```
 ///
 /// and its Legendre transform [Ardema eq. 11.17]
 ///
-/// $$ H = \frac{p_\theta^2}{2I} + \frac{(p_\phi - p_\psi\cos\theta)^2}{2I\sin^2\theta}
-///      + \frac{p_\psi^2}{2J} + mg\ell\cos\theta . $$
+/// ```math
+/// H = \frac{p_\theta^2}{2I} + \frac{(p_\phi - p_\psi\cos\theta)^2}{2I\sin^2\theta}
+///   + \frac{p_\psi^2}{2J} + mg\ell\cos\theta .
+/// ```
 ///
 /// `φ` and `ψ` are ignorable: `p_ψ = J ω_z` and `p_φ = I φ̇ sin²θ + p_ψ cos θ` are constant
 /// [Ardema eqs. 11.15–11.16] and, with `H`, are the invariants ([`Invariants`]). The motion is
@@ -175,7 +179,9 @@ impl HeavyTop {
     /// Steady precession at `θ₀` with spin `ω_z` [Ardema eq. 11.20]: the roots of
     /// `cos θ₀ φ̇² − γ φ̇ + β/2 = 0` (`θ̇ ≡ 0` needs `f(u₀) = f′(u₀) = 0` in the cubic),
     ///
-    /// $$ \dot\phi = \frac{\gamma \pm \sqrt{\gamma^2 - 2\beta\cos\theta_0}}{2\cos\theta_0}, $$
+    /// ```math
+    /// \dot\phi = \frac{\gamma \pm \sqrt{\gamma^2 - 2\beta\cos\theta_0}}{2\cos\theta_0},
+    /// ```
     ///
     /// computed without cancellation (the slow root as `β/[γ + √(γ² − 2β cos θ₀)]`). Requires
     /// `γ² ≥ 2β cos θ₀`, i.e. `|ω_z| ≥` [`HeavyTop::min_spin_for_steady_precession`]

@@ -4,8 +4,10 @@
 //! With `u = cos θ` and the constants `h` (energy), `p₁ = p_φ`, `p₂ = p_ψ` of a [`HeavyTop`], the
 //! energy integral becomes `u̇² = f(u)` with the cubic [Ardema eq. 11.19]
 //!
-//! $$ f(u) = (1 - u^2)(\alpha - \beta u) - (\delta - \gamma u)^2
-//!        = \beta u^3 - (\alpha + \gamma^2) u^2 + (2\delta\gamma - \beta) u + (\alpha - \delta^2), $$
+//! ```math
+//! f(u) = (1 - u^2)(\alpha - \beta u) - (\delta - \gamma u)^2
+//!     = \beta u^3 - (\alpha + \gamma^2) u^2 + (2\delta\gamma - \beta) u + (\alpha - \delta^2),
+//! ```
 //!
 //! `α = (2h − p₂²/J)/I`, `β = 2mgℓ/I`, `γ = p₂/I`, `δ = p₁/I`. Since `f(±1) = −(δ ∓ γ)² ≤ 0` and
 //! `f → +∞`, the motion librates between two roots `u₁ ≤ u ≤ u₂` in `[−1, 1]` and the third root
@@ -15,9 +17,11 @@
 //! The Hamilton–Jacobi solution (`K = α₂φ + α₃ψ + ∫√F dθ`, `F = p_θ² = I² f/(1 − u²)`)
 //! gives the motion by quadratures, written in `u` (`I dθ/√F = −du/√f`):
 //!
-//! $$ t = \int \frac{du}{\sqrt f},\qquad
-//!    \phi = \int \frac{\delta - \gamma u}{1 - u^2}\frac{du}{\sqrt f},\qquad
-//!    \psi = \frac{p_2}{J} t - \int \frac{u(\delta - \gamma u)}{1 - u^2}\frac{du}{\sqrt f}, $$
+//! ```math
+//! t = \int \frac{du}{\sqrt f},\qquad
+//! \phi = \int \frac{\delta - \gamma u}{1 - u^2}\frac{du}{\sqrt f},\qquad
+//! \psi = \frac{p_2}{J} t - \int \frac{u(\delta - \gamma u)}{1 - u^2}\frac{du}{\sqrt f},
+//! ```
 //!
 //! i.e. `φ̇ = (δ − γu)/(1 − u²)` and `ψ̇ = p₂/J − u φ̇` [Ardema eq. 11.16]; the nutation period is
 //! `2∫_{u₁}^{u₂} du/√f`, equal to the elliptic form `4K(m)/√(β(u₃ − u₁))`,
@@ -421,7 +425,9 @@ fn refine(g: impl Fn(f64) -> (f64, f64), a: f64, b: f64) -> Result<f64> {
 /// The lower turning point of a top released from rest at `u₂ = cos θ₂` (`θ̇ = φ̇ = 0`) with spin
 /// `ω_z` [Ardema eq. 11.24], in a cancellation-free form:
 ///
-/// $$ u_1 = \frac{2 c u_2 - 1}{c + \sqrt{(c - u_2)^2 + 1 - u_2^2}},\qquad c = \frac{\gamma^2}{2\beta} $$
+/// ```math
+/// u_1 = \frac{2 c u_2 - 1}{c + \sqrt{(c - u_2)^2 + 1 - u_2^2}},\qquad c = \frac{\gamma^2}{2\beta}
+/// ```
 ///
 /// (the textbook form `c − √(1 − 2cu₂ + c²)` loses `log₁₀ c²` digits: at `γ = 10⁴` it is off by
 /// 1e−10 in a nutation width of 1.5e−8).
