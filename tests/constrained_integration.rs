@@ -347,21 +347,36 @@ mod nonholonomic {
         assert!(d.max_residual() < 1e-12);
     }
 
-    #[test]
-    fn lagrange_d_alembert_energy_is_bounded_on_the_vertical_disk_over_1e5_steps() {
+    /// The vertical disk `I = ½, J = ¼, k = 1` and its start: heading θ = 0.3, rolling at
+    /// φ̇ = ½ along the heading, turning at θ̇ = 0.7, from `(x, y) = (1, 0)`.
+    #[allow(clippy::type_complexity)]
+    pub fn vertical_disk_start() -> (
+        Constrained<VerticalDisk, VerticalDisk, 4, 2>,
+        SVector<f64, 4>,
+        SVector<f64, 4>,
+    ) {
         let vd = VerticalDisk {
             i: 0.5,
             j: 0.25,
             k: 1.0,
         };
-        let s = Constrained::new(vd, vd);
         let th = 0.3f64;
+        (
+            Constrained::new(vd, vd),
+            SVector::from([1.0, 0.0, th, 0.0]),
+            SVector::from([0.5 * th.cos(), 0.5 * th.sin(), 0.7, 0.5]),
+        )
+    }
+
+    #[test]
+    fn lagrange_d_alembert_energy_is_bounded_on_the_vertical_disk_over_1e5_steps() {
+        let (s, q0, qd0) = vertical_disk_start();
         let d = drift(
             &s,
             &ConstrainedMethod::LagrangeDAlembert(LagrangeDAlembert::new(100_000).unwrap()),
             0.0,
-            SVector::from([1.0, 0.0, th, 0.0]),
-            SVector::from([0.5 * th.cos(), 0.5 * th.sin(), 0.7, 0.5]),
+            q0,
+            qd0,
             2000.0,
             400,
         )
@@ -458,7 +473,7 @@ mod nonholonomic {
 /// its growth exponent is reported.
 mod non_reversible {
     #[cfg(feature = "slow-tests")]
-    use super::nonholonomic::VerticalDisk;
+    use super::nonholonomic::vertical_disk_start;
     use hamilton_jacobi::constraints::PfaffianConstraints;
     use hamilton_jacobi::integrate::Dop853;
     use hamilton_jacobi::nalgebra::SVector;
@@ -717,13 +732,7 @@ mod non_reversible {
                 )
             })
             .collect();
-        let vd = VerticalDisk {
-            i: 0.5,
-            j: 0.25,
-            k: 1.0,
-        };
-        let d = Constrained::new(vd, vd);
-        let th = 0.3f64;
+        let (d, q0, qd0) = vertical_disk_start();
         let heading = |s: &State<4>| s.p[2];
         let disk_rows: Vec<Row> = methods()
             .iter()
@@ -732,8 +741,8 @@ mod non_reversible {
                     "vertical disk (reversible)",
                     &d,
                     m,
-                    SVector::from([1.0, 0.0, th, 0.0]),
-                    SVector::from([0.5 * th.cos(), 0.5 * th.sin(), 0.7, 0.5]),
+                    q0,
+                    qd0,
                     2000.0,
                     Some(&heading),
                 )
