@@ -1,15 +1,16 @@
 //! One step of each constrained integrator on the rolling disk of SPEC T17 (m = r = 1, v = 3,
 //! ψ = 0.01): the discrete Lagrange–d'Alembert step (Newton with the AD Jacobian), one DOP853
 //! step of the index-reduced (multiplier) equations, and the velocity projection that the
-//! projection method adds; the cost per right-hand-side evaluation of the three formulations
-//! (multipliers, embedding, Boltzmann–Hamel); and one RATTLE step on the spherical pendulum.
+//! projection method adds; the cost per right-hand-side evaluation of the formulations
+//! (multipliers, embedding, Boltzmann–Hamel, Gibbs–Appell); and one RATTLE step on the spherical
+//! pendulum.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use hamilton_jacobi::constraints::HolonomicConstraints;
 use hamilton_jacobi::integrate::{integrate, ConstrainedHamiltonian, Dop853, Problem, Rattle};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::nonholonomic::hamel::quasi_velocities;
-use hamilton_jacobi::nonholonomic::{BoltzmannHamel, Constrained, LagrangeDAlembert};
+use hamilton_jacobi::nonholonomic::{BoltzmannHamel, Constrained, GibbsAppell, LagrangeDAlembert};
 use hamilton_jacobi::systems::RollingDisk;
 use hamilton_jacobi::{DualNum, Hamiltonian, Lagrangian};
 use std::hint::black_box;
@@ -84,6 +85,10 @@ fn constrained(c: &mut Criterion) {
     let w = quasi_velocities(&disk, &q, &qd, 1e-12).unwrap();
     c.bench_function("disk: rhs, Boltzmann–Hamel", |b| {
         b.iter(|| bh.quasi_accelerations(0.0, black_box(&q), &w).unwrap())
+    });
+    let ga = GibbsAppell::new(disk, disk);
+    c.bench_function("disk: rhs, Gibbs–Appell", |b| {
+        b.iter(|| ga.quasi_accelerations(0.0, black_box(&q), &w).unwrap())
     });
     let pend = ConstrainedHamiltonian::new(Heavy, Sphere);
     let (s, co) = 0.8f64.sin_cos();

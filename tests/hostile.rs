@@ -5076,6 +5076,36 @@ mod constrained_methods {
                 })
             },
         );
+        // The sheared particle, x = u + ½σy²: E and I against their closed forms in ẋ = u̇ + σyẏ,
+        // and the shear kept.
+        sweep(
+            c,
+            "systems::NonholonomicParticle::with_shear",
+            &[1.0, 0.3, 1.0, 0.2],
+            &[(0, -3.0), (0, 0.0), (0, 1e300)],
+            |a| {
+                let (sigma, y, ud, yd) = (a[0], a[1], a[2], a[3]);
+                let xd = ud + sigma * y * yd;
+                let q = SVector::from([0.0, y, 0.0]);
+                let v = SVector::from([ud, yd, y * xd]);
+                let p = NonholonomicParticle::new(1.0, 1.0, 0.5).unwrap();
+                judge(p.with_shear(sigma), sigma.is_finite(), |p| {
+                    if p.shear() != sigma {
+                        return Wrong(format!("shear {} ≠ {sigma}", p.shear()));
+                    }
+                    let e = 0.5 * (xd * xd + yd * yd + v[2] * v[2]) + 0.5 * y * y + 0.5 * y;
+                    let i = (1.0 + y * y).sqrt() * xd - y.asinh();
+                    match (p.energy(&q, &v), p.first_integral(&q, &v)) {
+                        (Ok(ge), Ok(gi)) => all([
+                            near("E", ge, e, 1e-14 * (1.0 + e.abs())),
+                            near("I", gi, i, 1e-14 * (1.0 + i.abs())),
+                        ]),
+                        (Err(_), _) | (_, Err(_)) if !(e.is_finite() && i.is_finite()) => Typed,
+                        (e, i) => Wrong(format!("refused finite values: {e:?}, {i:?}")),
+                    }
+                })
+            },
+        );
         for info in &CONSTRAINED_METHODS {
             let key = info.key;
             sweep(

@@ -247,8 +247,15 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
     /// The free block's coefficients and right side of the Boltzmann–Hamel equations at
     /// `(t, q, ω)`, `ω` admissible, in any number type: `(∂²T/∂ω², r)` with
     /// `∂²T/∂ω² ω̇ = r`, `r = K + ∂T/∂ϑ − ∂²T/∂ω∂q q̇ − ∂²T/∂ω∂t − Σ_{μ,τ} β_μ^{τρ} P_μ ω_τ`
-    /// (rows ρ free); `b`'s derivatives, `B = b⁻¹` and the second derivatives of
-    /// `T(q, ω) = L(t, q, B(q) ω)` by AD (NaN where `b` is singular).
+    /// (rows ρ free); `b`'s derivatives, `B = b⁻¹` (NaN where `b` is singular) and the derivatives
+    /// of `L` by AD.
+    ///
+    /// The derivatives of `T(q, ω) = L(t, q, B(q) ω)` follow from those of `L` at `q̇ = Bω` by
+    /// the chain rule, with `∂B/∂q_j = −B (∂b/∂q_j) B`:
+    /// `P = Bᵀ L_q̇`, `∂²T/∂ω² = Bᵀ L_q̇q̇ B`, `∂T/∂q_j = L_q_j + L_q̇ · (∂B/∂q_j) ω`,
+    /// `∂²T/∂ω∂q_j = (∂B/∂q_j)ᵀ L_q̇ + Bᵀ (L_q̇q_j + L_q̇q̇ (∂B/∂q_j) ω)`, `∂²T/∂ω∂t = Bᵀ L_q̇t`,
+    /// so that `L` is differentiated once to second order (as for Lagrange's equations) and `b`
+    /// once to first order, rather than `L ∘ B` through a second-order pass.
     fn terms<D: DualNum<f64> + Copy>(
         &self,
         t: D,
@@ -271,36 +278,47 @@ impl<L: Lagrangian<N>, Q: QuasiVelocities<N>, const N: usize> BoltzmannHamel<L, 
                 big_b.transpose() * c.transpose() * big_b
             })
             .collect();
-        // T(q, ω) = L(t, q, B(q) ω): gradient and Hessian over (q, ω) in one nested pass.
+        // ∂B/∂q_j = −B (∂b/∂q_j) B.
+        let dbig_b: Vec<SMatrix<D, N, N>> = (0..N)
+            .map(|j| -(big_b * bd.map(|x| x.eps()[j]) * big_b))
+            .collect();
+        let qdot = big_b * w;
+        // L's gradient and Hessian over (q, q̇) at q̇ = Bω in one nested pass.
         let qi: SVector<PhaseDual<D, f64, Const<N>>, N> =
             SVector::from_fn(|i, _| PhaseDual::coordinate(q[i], i));
-        let wi: SVector<PhaseDual<D, f64, Const<N>>, N> =
-            SVector::from_fn(|i, _| PhaseDual::momentum(w[i], i));
-        let (_, gq, gw) = phase_gradient(
+        let vi: SVector<PhaseDual<D, f64, Const<N>>, N> =
+            SVector::from_fn(|i, _| PhaseDual::momentum(qdot[i], i));
+        let (_, gq, gv) = phase_gradient(
             |a, b| {
-                let bb = inverse_matrix(&self.quasi, a);
                 self.lagrangian
-                    .lagrangian(PhaseDual::from_re(PhaseDual::from_re(t)), a, &(bb * b))
+                    .lagrangian(PhaseDual::from_re(PhaseDual::from_re(t)), a, b)
             },
             &qi,
-            &wi,
+            &vi,
         );
-        let lq = gq.map(|x| *x.value());
-        let p = gw.map(|x| *x.value());
-        let pp = SMatrix::<D, N, N>::from_fn(|i, j| gw[i].dp()[j]);
-        let pq = SMatrix::<D, N, N>::from_fn(|i, j| gw[i].dq()[j]);
+        let l_q = gq.map(|x| *x.value());
+        let l_v = gv.map(|x| *x.value());
+        let l_vv = SMatrix::<D, N, N>::from_fn(|i, j| gv[i].dp()[j]);
+        let l_vq = SMatrix::<D, N, N>::from_fn(|i, j| gv[i].dq()[j]);
         let td = Dual::new(t, D::one());
-        let (_, _, pt) = phase_gradient(
-            |a, b| {
-                let bb = inverse_matrix(&self.quasi, a);
-                self.lagrangian
-                    .lagrangian(PhaseDual::from_re(td), a, &(bb * b))
-            },
+        let (_, _, lvt) = phase_gradient(
+            |a, b| self.lagrangian.lagrangian(PhaseDual::from_re(td), a, b),
             &q.map(Dual::from_re),
-            &w.map(Dual::from_re),
+            &qdot.map(Dual::from_re),
         );
-        let pt = pt.map(|x| x.eps);
-        let qdot = big_b * w;
+        let l_vt = lvt.map(|x| x.eps);
+        // The derivatives of T(q, ω) by the chain rule.
+        let p = big_b.transpose() * l_v;
+        let pp = big_b.transpose() * l_vv * big_b;
+        let mut lq = l_q;
+        let mut pq = SMatrix::<D, N, N>::zeros();
+        for (j, db) in dbig_b.iter().enumerate() {
+            let dv = db * w;
+            lq[j] += l_v.dot(&dv);
+            let col = db.transpose() * l_v + big_b.transpose() * (l_vq.column(j) + l_vv * dv);
+            pq.set_column(j, &col);
+        }
+        let pt = big_b.transpose() * l_vt;
         let force = big_b.transpose() * self.lagrangian.total_force(t, q, &qdot);
         let mut rhs = force + big_b.transpose() * lq - pq * qdot - pt;
         for rho in 0..N {

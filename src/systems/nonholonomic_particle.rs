@@ -8,8 +8,9 @@ use num_dual::DualNum;
 
 /// The non-holonomic particle [Bloch, *Nonholonomic Mechanics and Control*, 2nd ed., §1.4;
 /// McLachlan & Perlmutter 2006, §6] in a magnetic field, an integrable non-holonomic system that
-/// is not reversible under `(q, q̇) ↦ (q, −q̇)`, in the spirit of the non-reversible test problems
-/// of Modin & Verdier, Numer. Math. 145 (2020) 405–435, §5:
+/// is not reversible under `(q, q̇) ↦ (q, −q̇)`, after the non-reversible integrable test problems
+/// of Modin & Verdier, "What makes nonholonomic integrators work?", Numer. Math. 145 (2020)
+/// 405–435. In the Cartesian coordinates `(x, y, z)`
 ///
 /// ```math
 /// L = \tfrac12(\dot x^2 + \dot y^2 + \dot z^2) + B\,x\,\dot y - V(y),\qquad
@@ -23,13 +24,30 @@ use num_dual::DualNum;
 /// (`y` moves in the effective potential `½(I + B arsinh y)² + V(y)`). For `B ≠ 0` the magnetic
 /// term is odd in the velocities, so the motion is not reversible under the velocity flip
 /// (nor, for `k ≠ 0`, under `(y, ẋ, ż) ↦ (−y, −ẋ, ż)`), the reversibility behind the bounded
-/// energy errors of non-holonomic integrators on the classical test problems; a reversing
-/// symmetry `(x, y, z; ẋ, ẏ, ż) ↦ (−x, y, −z; ẋ, −ẏ, ż)` remains.
+/// energy errors of non-holonomic integrators on the classical test problems; the linear
+/// reversing symmetry `(x, y, z; ẋ, ẏ, ż) ↦ (−x, y, −z; ẋ, −ẏ, ż)` remains, and an integrator
+/// that commutes with linear changes of coordinates (the midpoint discrete Lagrange–d'Alembert
+/// scheme) inherits it.
+///
+/// **Sheared coordinates** ([`NonholonomicParticle::with_shear`]): the same motion in the
+/// coordinates `q = (u, y, z)`, `x = u + ½σy²`, so that `ẋ = u̇ + σ y ẏ`, the constraint reads
+/// `ż = y u̇ + σ y² ẏ` and
+///
+/// $$ L = \tfrac12\big((\dot u + \sigma y \dot y)^2 + \dot y^2 + \dot z^2\big)
+///      + B\,(u + \tfrac12\sigma y^2)\,\dot y - V(y). $$
+///
+/// `E` and `I` are unchanged as functions of the motion. For `σ ≠ 0, B ≠ 0, k ≠ 0` no linear map
+/// of `(u, y, z)` is a reversing symmetry (the coupling `σ y u̇ ẏ` is odd under `ẏ ↦ −ẏ` with
+/// `u̇` fixed, the magnetic term under `u̇ ↦ −u̇` with `u` fixed); the reversing symmetry of the
+/// motion is the non-linear map `(u, y, z) ↦ (−u − σy², y, −z)`, which a coordinate-based
+/// integrator does not inherit: the problem is integrable and, for such integrators, not
+/// reversible.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NonholonomicParticle {
     b: f64,
     kappa: f64,
     k: f64,
+    sigma: f64,
 }
 
 impl NonholonomicParticle {
@@ -43,22 +61,49 @@ impl NonholonomicParticle {
             b: finite("field B", b)?,
             kappa: positive("stiffness κ", kappa)?,
             k: finite("load k", k)?,
+            sigma: 0.0,
         })
     }
 
-    /// The energy `E = ½(ẋ² + ẏ² + ż²) + ½κy² + k y`.
+    /// The same particle in the sheared coordinates `(u, y, z)`, `x = u + ½σy²` (see the type's
+    /// docs); `σ = 0` gives the Cartesian coordinates.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ `σ`.
+    pub fn with_shear(self, sigma: f64) -> Result<Self> {
+        Ok(Self {
+            sigma: finite("shear σ", sigma)?,
+            ..self
+        })
+    }
+
+    /// The shear `σ` of the coordinates (`x = u + ½σy²`).
+    pub fn shear(&self) -> f64 {
+        self.sigma
+    }
+
+    /// `ẋ = u̇ + σ y ẏ` at `(q, q̇)`.
+    fn x_velocity(&self, q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> f64 {
+        qdot[0] + self.sigma * q[1] * qdot[1]
+    }
+
+    /// The energy `E = ½(ẋ² + ẏ² + ż²) + ½κy² + k y` (`ẋ = u̇ + σ y ẏ` in sheared coordinates).
     ///
     /// # Errors
     /// [`Error::NonFinite`] for NaN/∞ input or value.
     pub fn energy(&self, q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> Result<f64> {
         let y = checked_y(q, qdot)?;
+        let xd = self.x_velocity(q, qdot);
         finite(
             "energy",
-            0.5 * qdot.norm_squared() + 0.5 * self.kappa * y * y + self.k * y,
+            0.5 * (xd * xd + qdot[1] * qdot[1] + qdot[2] * qdot[2])
+                + 0.5 * self.kappa * y * y
+                + self.k * y,
         )
     }
 
-    /// The first integral `I = √(1 + y²) ẋ − B arsinh y`.
+    /// The first integral `I = √(1 + y²) ẋ − B arsinh y` (`ẋ = u̇ + σ y ẏ` in sheared
+    /// coordinates).
     ///
     /// # Errors
     /// [`Error::NonFinite`] for NaN/∞ input or value.
@@ -66,7 +111,7 @@ impl NonholonomicParticle {
         let y = checked_y(q, qdot)?;
         finite(
             "first integral √(1 + y²) ẋ − B arsinh y",
-            (1.0 + y * y).sqrt() * qdot[0] - self.b * y.asinh(),
+            (1.0 + y * y).sqrt() * self.x_velocity(q, qdot) - self.b * y.asinh(),
         )
     }
 }
@@ -81,7 +126,9 @@ fn checked_y(q: &SVector<f64, 3>, qdot: &SVector<f64, 3>) -> Result<f64> {
 impl Lagrangian<3> for NonholonomicParticle {
     fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 3>, v: &SVector<D, 3>) -> D {
         let y = q[1];
-        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5 + q[0] * v[1] * self.b
+        let x = q[0] + y * y * (0.5 * self.sigma);
+        let xd = v[0] + y * v[1] * self.sigma;
+        (xd * xd + v[1] * v[1] + v[2] * v[2]) * 0.5 + x * v[1] * self.b
             - y * y * (0.5 * self.kappa)
             - y * self.k
     }
@@ -94,7 +141,7 @@ impl PfaffianConstraints<3, 1> for NonholonomicParticle {
         q: &SVector<D, 3>,
     ) -> (SMatrix<D, 1, 3>, SVector<D, 1>) {
         (
-            SMatrix::from_row_slice(&[-q[1], D::zero(), D::one()]),
+            SMatrix::from_row_slice(&[-q[1], -q[1] * q[1] * self.sigma, D::one()]),
             SVector::zeros(),
         )
     }
