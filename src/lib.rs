@@ -7,6 +7,7 @@ pub mod brackets;
 pub mod chaos;
 pub mod constraints;
 pub mod error;
+pub mod expression;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;
