@@ -7,6 +7,9 @@
 //! of the same tree.
 #![cfg(feature = "cli")]
 
+mod common;
+use common::quick;
+
 use hamilton_jacobi::expression::parse::{self, MAX_DEPTH, MAX_LENGTH};
 use hamilton_jacobi::expression::{
     Expression, ExpressionHamiltonian, ExpressionLagrangian, ExpressionSeparable,
@@ -14,12 +17,10 @@ use hamilton_jacobi::expression::{
 use hamilton_jacobi::integrate::{integrate, Crossing, Dop853, Fixed, Problem, Section, Splitting};
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
-use hamilton_jacobi::scene::{self, Catalogue, RunOptions};
+use hamilton_jacobi::scene::{self, Catalogue};
 use hamilton_jacobi::systems::HenonHeiles;
-use hamilton_jacobi::workprecision::Timing;
 use hamilton_jacobi::{Error, Hamiltonian, Lagrangian, State};
 use proptest::prelude::*;
-use std::time::Duration;
 
 const HH: &str = "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3";
 
@@ -138,18 +139,6 @@ fn henon_heiles_poincare_sections_agree() {
         assert!((x.q - y.q).norm() <= bound && (x.p - y.p).norm() <= bound);
         let e = general.value(y.t, &y.q, &y.p).unwrap();
         assert!((e - 1.0 / 12.0).abs() < 1e-9, "{e}");
-    }
-}
-
-fn quick(out: &std::path::Path) -> RunOptions {
-    RunOptions {
-        out: out.to_path_buf(),
-        timing: Timing {
-            min_time: Duration::ZERO,
-            max_runs: 1,
-        },
-        progress: false,
-        figures: Default::default(),
     }
 }
 

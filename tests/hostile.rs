@@ -5597,6 +5597,17 @@ mod expression_calls {
         t
     }
 
+    /// Hénon–Heiles by expression.
+    fn hh() -> ExpressionHamiltonian<2> {
+        ExpressionHamiltonian::<2>::new(
+            "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3",
+            &["x", "y"],
+            None,
+            &[],
+        )
+        .unwrap()
+    }
+
     pub fn add(c: &mut Vec<Call>) {
         for (label, text) in hostile_texts() {
             let text2 = text.clone();
@@ -5676,13 +5687,7 @@ mod expression_calls {
             &[0.1, -0.2, 0.3, 0.25, 0.0],
             &[(0, 1e200)],
             |a| {
-                let h = ExpressionHamiltonian::<2>::new(
-                    "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3",
-                    &["x", "y"],
-                    None,
-                    &[],
-                )
-                .unwrap();
+                let h = hh();
                 let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
                 let want = HenonHeiles.value(a[4], &q, &p);
                 let valid = want.is_ok() && fin(a) && a[0].abs() < 1e100;
@@ -5702,13 +5707,7 @@ mod expression_calls {
             &[0.1, -0.2, 0.3, 0.25],
             &[],
             |a| {
-                let h = ExpressionHamiltonian::<2>::new(
-                    "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3",
-                    &["x", "y"],
-                    None,
-                    &[],
-                )
-                .unwrap();
+                let h = hh();
                 let Some(s) = h.separable() else {
                     return Wrong("not split".into());
                 };

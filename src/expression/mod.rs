@@ -231,47 +231,39 @@ fn substitute(expr: Expr, first: usize, values: &[f64]) -> Expr {
     }
 }
 
-/// The names of the phase variables: `coordinates`, and `momenta` or `p_<coordinate>`.
-fn phase_names<const N: usize>(
+/// The expression `text` in the variables `t`, `coordinates` (`N` names), and `second`
+/// (momenta or velocities: `N` names, default the coordinate's name under `default`), with the
+/// `parameters`.
+fn phase_expression<const N: usize>(
+    text: &str,
     coordinates: &[&str],
-    momenta: Option<&[&str]>,
-    what: &str,
-) -> Result<Vec<String>> {
+    second: Option<&[&str]>,
+    (what, default): (&str, fn(&str) -> String),
+    parameters: &[(&str, f64)],
+) -> Result<Expression> {
     if N == 0 || N > MAX_DOF {
         return Err(Error::invalid(
             "degrees of freedom",
             format!("{N}; expression systems have 1 … {MAX_DOF}"),
         ));
     }
-    if coordinates.len() != N {
-        return Err(Error::invalid(
-            "coordinates",
-            format!("{} names for {N} degrees of freedom", coordinates.len()),
-        ));
-    }
-    let momenta: Vec<String> = match momenta {
-        Some(m) if m.len() != N => {
+    for (names, what) in [(Some(coordinates), "coordinates"), (second, what)] {
+        if let Some(names) = names.filter(|n| n.len() != N) {
             return Err(Error::invalid(
                 what,
-                format!("{} names for {N} degrees of freedom", m.len()),
-            ))
+                format!("{} names for {N} degrees of freedom", names.len()),
+            ));
         }
+    }
+    let second: Vec<String> = match second {
         Some(m) => m.iter().map(|s| s.to_string()).collect(),
-        None => coordinates
-            .iter()
-            .map(|q| {
-                if what == "momenta" {
-                    format!("p_{q}")
-                } else {
-                    format!("{q}_dot")
-                }
-            })
-            .collect(),
+        None => coordinates.iter().map(|q| default(q)).collect(),
     };
-    let mut names = vec!["t".to_string()];
-    names.extend(coordinates.iter().map(|s| s.to_string()));
-    names.extend(momenta);
-    Ok(names)
+    let names: Vec<&str> = std::iter::once("t")
+        .chain(coordinates.iter().copied())
+        .chain(second.iter().map(String::as_str))
+        .collect();
+    Expression::new(text, &names, parameters)
 }
 
 /// The inputs `(t, q, p)` of a record, on the stack.
@@ -313,9 +305,13 @@ impl<const N: usize> ExpressionHamiltonian<N> {
         momenta: Option<&[&str]>,
         parameters: &[(&str, f64)],
     ) -> Result<Self> {
-        let names = phase_names::<N>(coordinates, momenta, "momenta")?;
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let h = Expression::new(text, &names, parameters)?;
+        let h = phase_expression::<N>(
+            text,
+            coordinates,
+            momenta,
+            ("momenta", |q| format!("p_{q}")),
+            parameters,
+        )?;
         let gradient = record::record(&vec![0.5; 1 + 2 * N], |x| {
             let y = h.tree().eval(x);
             let mut out = vec![y];
@@ -549,10 +545,14 @@ impl<const N: usize> ExpressionLagrangian<N> {
         velocities: Option<&[&str]>,
         parameters: &[(&str, f64)],
     ) -> Result<Self> {
-        let names = phase_names::<N>(coordinates, velocities, "velocities")?;
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Self {
-            l: Expression::new(text, &names, parameters)?,
+            l: phase_expression::<N>(
+                text,
+                coordinates,
+                velocities,
+                ("velocities", |q| format!("{q}_dot")),
+                parameters,
+            )?,
         })
     }
 

@@ -165,20 +165,30 @@ impl<'a> Params<'a> {
         }
     }
 
+    /// The entries of the array at `key`, if given.
+    fn array(
+        &self,
+        key: &str,
+        of: &str,
+    ) -> std::result::Result<Option<&'a [toml::Value]>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        match self.table.get(key) {
+            None => Ok(None),
+            Some(toml::Value::Array(a)) => Ok(Some(a.as_slice())),
+            Some(v) => Err(self.error(
+                key,
+                format!("expected an array of {of}, found {}", v.type_str()),
+            )),
+        }
+    }
+
     /// An optional array of strings (names).
     ///
     /// # Errors
     /// Wrong type of the array or of an entry.
     pub fn texts(&self, key: &str) -> std::result::Result<Option<Vec<String>>, SceneError> {
-        self.used.borrow_mut().insert(key.to_string());
-        let Some(v) = self.table.get(key) else {
+        let Some(a) = self.array(key, "strings")? else {
             return Ok(None);
-        };
-        let toml::Value::Array(a) = v else {
-            return Err(self.error(
-                key,
-                format!("expected an array of strings, found {}", v.type_str()),
-            ));
         };
         a.iter()
             .enumerate()
@@ -198,15 +208,8 @@ impl<'a> Params<'a> {
     /// # Errors
     /// Wrong type or non-finite entries.
     pub fn numbers(&self, key: &str) -> std::result::Result<Option<Vec<f64>>, SceneError> {
-        self.used.borrow_mut().insert(key.to_string());
-        let Some(v) = self.table.get(key) else {
+        let Some(a) = self.array(key, "numbers")? else {
             return Ok(None);
-        };
-        let toml::Value::Array(a) = v else {
-            return Err(self.error(
-                key,
-                format!("expected an array of numbers, found {}", v.type_str()),
-            ));
         };
         a.iter()
             .enumerate()
