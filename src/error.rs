@@ -59,6 +59,17 @@ pub enum Error {
         /// Reciprocal condition estimate (0 for exactly singular).
         rcond: f64,
     },
+    /// An expression that does not parse: what is wrong and where, with the expression and a
+    /// caret under the 1-based character column.
+    #[error("{reason} (column {column})\n{}", caret_lines(expression, *column))]
+    Parse {
+        /// The expression (empty when it was refused whole, e.g. for its length).
+        expression: String,
+        /// The 1-based character column of the fault.
+        column: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A call would start more work than its limit allows (steps of a run, repetitions of a
     /// timing loop); the limit is a knob the caller can raise.
     #[error("{what}: limit of {limit} exceeded ({detail}); {hint}")]
@@ -184,6 +195,20 @@ pub enum Error {
 }
 
 /// The candidate roots of [`Error::NoRootOnSheet`] in exponent notation.
+/// The expression (a window of at most 72 characters around `column`) and a line with a caret
+/// under the character at the 1-based `column`.
+fn caret_lines(expression: &str, column: usize) -> String {
+    let chars: Vec<char> = expression.chars().collect();
+    let at = column.saturating_sub(1);
+    let start = at.saturating_sub(36).min(chars.len());
+    let end = (start + 72).min(chars.len());
+    let shown: String = chars[start..end]
+        .iter()
+        .map(|&c| if c.is_control() { ' ' } else { c })
+        .collect();
+    format!("  {shown}\n  {}^", " ".repeat(at - start))
+}
+
 fn format_candidates(candidates: &[Vec<f64>]) -> String {
     if candidates.is_empty() {
         return "none".into();

@@ -10,6 +10,7 @@ pub mod chaos;
 pub mod cli;
 pub mod constraints;
 pub mod error;
+pub mod expression;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;

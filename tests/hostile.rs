@@ -3136,6 +3136,7 @@ fn every_entry_point_survives_hostile_input() {
     hamiltonian_stability_calls::add(&mut calls);
     constrained_methods::add(&mut calls);
     tangent_calls::add(&mut calls);
+    expression_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -5528,5 +5529,304 @@ mod tangent_calls {
                 }))
             })
         });
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Systems defined by expressions.
+
+mod expression_calls {
+    use super::*;
+    use hamilton_jacobi::expression::parse::{self, MAX_LENGTH};
+    use hamilton_jacobi::expression::{Expression, ExpressionHamiltonian, ExpressionLagrangian};
+    use hamilton_jacobi::scene::Catalogue;
+    use hamilton_jacobi::systems::HenonHeiles;
+    use hamilton_jacobi::Lagrangian;
+
+    /// Deterministic hostile expressions: empty, unbalanced, deep, long, Unicode, control
+    /// characters, overflowing numbers, names of functions without arguments, and pseudo-random
+    /// strings over the expression alphabet.
+    fn hostile_texts() -> Vec<(String, String)> {
+        let mut t: Vec<(String, String)> = [
+            "",
+            " ",
+            "(",
+            ")",
+            "()",
+            "x(",
+            "x)",
+            "((x)",
+            "x^",
+            "^x",
+            "x^^x",
+            "x**2",
+            "--x",
+            "+-x",
+            "1e",
+            "1e+",
+            "1.2.3",
+            "1e400",
+            "nan",
+            "inf",
+            "-inf",
+            "NaN*x",
+            ".",
+            "..5",
+            "5.",
+            "sin",
+            "sin()",
+            "sin(x,)",
+            "atan2(x)",
+            "pow(x)",
+            "x,x",
+            "x y",
+            "\0",
+            "x\u{7f}",
+            "θ",
+            "x + ∞",
+            "x − 1",
+            "x / 0",
+            "ln(0*x)",
+            "sqrt(-1 - x^2)",
+            "x^1e308",
+            "exp(x^9)",
+            "pi(x)",
+            "t",
+            "x_dot",
+            "_",
+        ]
+        .iter()
+        .map(|s| (format!("{s:?}"), s.to_string()))
+        .collect();
+        t.push((
+            "deep parentheses".into(),
+            "(".repeat(5000) + "x" + &")".repeat(5000),
+        ));
+        t.push(("deep signs".into(), "-".repeat(5000) + "x"));
+        t.push(("power tower".into(), vec!["x"; 3000].join("^")));
+        t.push(("long sum".into(), vec!["x"; 4000].join("+")));
+        t.push(("too long".into(), "x+".repeat(MAX_LENGTH) + "x"));
+        t.push((
+            "deep calls".into(),
+            "sin(".repeat(2000) + "x" + &")".repeat(2000),
+        ));
+        let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
+        let alphabet: Vec<char> = "x()+-*/^,.0123456789e sincoqp_θ".chars().collect();
+        for k in 0..200 {
+            let len = 1 + (k * 7) % 60;
+            let text: String = (0..len)
+                .map(|_| {
+                    s = s
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    alphabet[(s >> 33) as usize % alphabet.len()]
+                })
+                .collect();
+            t.push((format!("random {k}"), text));
+        }
+        t
+    }
+
+    /// Hénon–Heiles by expression.
+    fn hh() -> ExpressionHamiltonian<2> {
+        ExpressionHamiltonian::<2>::new(
+            "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3",
+            &["x", "y"],
+            None,
+            &[],
+        )
+        .unwrap()
+    }
+
+    pub fn add(c: &mut Vec<Call>) {
+        for (label, text) in hostile_texts() {
+            let text2 = text.clone();
+            c.push(Call {
+                label: format!("parse::parse({label})"),
+                body: Box::new(move || match parse::parse(&text, &["x", "t"]) {
+                    Err(e) => {
+                        let _ = e.to_string();
+                        Typed
+                    }
+                    Ok(_) => Good,
+                }),
+            });
+            c.push(Call {
+                label: format!("Expression::value({label})"),
+                body: Box::new(move || {
+                    judge(Expression::new(&text2, &["x"], &[]), true, |e| {
+                        match e.value(&[0.7]) {
+                            Err(_) => Typed,
+                            Ok(v) => finite_ok("value", v),
+                        }
+                    })
+                }),
+            });
+        }
+        sweep(c, "Expression::new", &[2.0, 0.3], &[], |a| {
+            judge(
+                Expression::new("a*x + sin(x)", &["x"], &[("a", a[0])]),
+                a[0].is_finite(),
+                |e| match e.value(&[a[1]]) {
+                    Err(_) if !(a[0] * a[1] + a[1].sin()).is_finite() => Typed,
+                    Err(e) => Wrong(format!("refused a finite point: {e}")),
+                    Ok(v) => near(
+                        "a x + sin x",
+                        v,
+                        a[0] * a[1] + a[1].sin(),
+                        4.0 * EPS * (1.0 + (a[0] * a[1]).abs()),
+                    ),
+                },
+            )
+        });
+        sweep(c, "Record::eval_into", &[0.3, 2.0], &[], |a| {
+            let e = Expression::new("x*y + exp(-x^2)", &["x", "y"], &[]).unwrap();
+            let mut v = Vec::new();
+            e.record().eval_into(a, &mut v);
+            let y = v[e.record().outputs()[0]];
+            if fin(a) && (a[0] * a[1]).is_finite() {
+                near(
+                    "x y + exp(−x²)",
+                    y,
+                    a[0] * a[1] + (-a[0] * a[0]).exp(),
+                    4.0 * EPS * (1.0 + (a[0] * a[1]).abs()),
+                )
+            } else {
+                Typed
+            }
+        });
+        sweep(c, "ExpressionHamiltonian::new", &[1.5], &[(0, -1.0)], |a| {
+            judge(
+                ExpressionHamiltonian::<1>::new("p_q^2/2 - g*cos(q)", &["q"], None, &[("g", a[0])]),
+                a[0].is_finite(),
+                |h| {
+                    let r = h.vector_field(0.0, &SVector::from([0.4]), &SVector::from([0.2]));
+                    match r {
+                        Ok((qd, pd)) => all([
+                            near("q̇", qd[0], 0.2, 0.0),
+                            near("ṗ", pd[0], -a[0] * 0.4f64.sin(), 4.0 * EPS * a[0].abs()),
+                        ]),
+                        Err(e) => Wrong(e.to_string()),
+                    }
+                },
+            )
+        });
+        sweep(
+            c,
+            "ExpressionHamiltonian::check_state",
+            &[0.1, -0.2, 0.3, 0.25, 0.0],
+            &[(0, 1e200)],
+            |a| {
+                let h = hh();
+                let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
+                let want = HenonHeiles.value(a[4], &q, &p);
+                let valid = want.is_ok() && fin(a) && a[0].abs() < 1e100;
+                judge(h.check_state(a[4], &q, &p), valid, |e| {
+                    near(
+                        "H",
+                        e,
+                        want.unwrap_or(f64::NAN),
+                        8.0 * EPS * (1.0 + e.abs()),
+                    )
+                })
+            },
+        );
+        sweep(
+            c,
+            "ExpressionHamiltonian::separable",
+            &[0.1, -0.2, 0.3, 0.25],
+            &[],
+            |a| {
+                let h = hh();
+                let Some(s) = h.separable() else {
+                    return Wrong("not split".into());
+                };
+                let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
+                let want = HenonHeiles.vector_field(0.0, &q, &p);
+                judge(s.vector_field(0.0, &q, &p), want.is_ok(), |(qd, pd)| {
+                    let (wq, wp) = want.unwrap();
+                    all([
+                        near("q̇", (qd - wq).amax(), 0.0, 8.0 * EPS * (1.0 + wq.amax())),
+                        near("ṗ", (pd - wp).amax(), 0.0, 8.0 * EPS * (1.0 + wp.amax())),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "ExpressionLagrangian::new",
+            &[9.81, 0.4, 0.1],
+            &[],
+            |a| {
+                judge(
+                    ExpressionLagrangian::<1>::new(
+                        "q_dot^2/2 + g*cos(q)",
+                        &["q"],
+                        None,
+                        &[("g", a[0])],
+                    ),
+                    a[0].is_finite(),
+                    |l| {
+                        let r =
+                            l.accelerations(0.0, &SVector::from([a[1]]), &SVector::from([a[2]]));
+                        judge(r, fin(a), |acc| {
+                            near(
+                                "q̈",
+                                acc[0],
+                                -a[0] * a[1].sin(),
+                                4.0 * EPS * (1.0 + a[0].abs()),
+                            )
+                        })
+                    },
+                )
+            },
+        );
+        // A scene's `[system]` given by expression, with hostile numbers in the initial state
+        // and the parameters (TOML has nan and inf).
+        sweep(
+            c,
+            "Catalogue::build(expression)",
+            &[0.1, 0.3, 1.0],
+            &[],
+            |a| {
+                let toml_num = |x: f64| {
+                    if x.is_nan() {
+                        "nan".to_string()
+                    } else if x.is_infinite() {
+                        if x > 0.0 {
+                            "inf".into()
+                        } else {
+                            "-inf".into()
+                        }
+                    } else {
+                        format!("{x:?}")
+                    }
+                };
+                let text = format!(
+                "hamiltonian = \"p^2/2 - k*cos(q)\"\ncoordinates = [\"q\"]\nmomenta = [\"p\"]\n\
+                 parameters = {{ k = {} }}\nq = [{}]\np = [{}]\n",
+                toml_num(a[2]),
+                toml_num(a[0]),
+                toml_num(a[1])
+            );
+                let table: toml::Table = match toml::from_str(&text) {
+                    Ok(t) => t,
+                    Err(_) => return Typed,
+                };
+                let want = a[1] * a[1] / 2.0 - a[2] * a[0].cos();
+                let valid = fin(a) && want.is_finite();
+                match Catalogue::builtin().build("h.toml", &table) {
+                    Err(_) if !valid => Typed,
+                    Err(e) => Wrong(format!("refused: {e}")),
+                    Ok(_) if !valid => Wrong("accepted a non-finite number".into()),
+                    Ok(case) => near(
+                        "energy",
+                        case.energy(0.0, &[a[0]], &[a[1]]).unwrap_or(f64::NAN),
+                        want,
+                        8.0 * EPS * (1.0 + a[2].abs() + a[1] * a[1]),
+                    ),
+                }
+            },
+        );
     }
 }

@@ -4,7 +4,7 @@
 //! ```text
 //! core        error, phase, ad, vector_space, implicit, special, series, record
 //! mechanics   hamiltonian, lagrangian, brackets, constraints, particles, action
-//! models      systems
+//! models      systems, expression
 //! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability,
 //!             impulse, inverse_problem, chaos
 //! harness     workprecision
@@ -44,7 +44,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "action",
         ],
     ),
-    ("models", &["systems"]),
+    ("models", &["systems", "expression"]),
     (
         "methods",
         &[

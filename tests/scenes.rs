@@ -4,16 +4,17 @@
 //! the paper references only files `hj reproduce` writes, and its code comes from `examples/`.
 #![cfg(feature = "cli")]
 
+mod common;
+use common::quick;
+
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::scene::case::separable_stepper;
 use hamilton_jacobi::scene::{
-    self, Case, Catalogue, HamiltonianCase, MethodKind, RunOptions, SceneError, TheoryKind,
+    self, Case, Catalogue, HamiltonianCase, MethodKind, SceneError, TheoryKind,
 };
 use hamilton_jacobi::systems::HarmonicOscillator;
-use hamilton_jacobi::workprecision::Timing;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 const KEPLER: &str = r#"
 name = "k"
@@ -209,18 +210,6 @@ fn temp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("hj-scene-test-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
-}
-
-fn quick(out: &Path) -> RunOptions {
-    RunOptions {
-        out: out.to_path_buf(),
-        timing: Timing {
-            min_time: Duration::ZERO,
-            max_runs: 1,
-        },
-        progress: false,
-        figures: Default::default(),
-    }
 }
 
 /// A run writes exactly its planned files; the exact flow and the Hamilton–Jacobi solution reach

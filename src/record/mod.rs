@@ -330,6 +330,20 @@ impl Record {
     /// If `x` is shorter than the number of inputs.
     pub fn eval_unchecked<D: DualNum<f64> + Copy>(&self, x: &[D]) -> Vec<D> {
         let mut v: Vec<D> = Vec::with_capacity(self.ops.len());
+        self.eval_into(x, &mut v);
+        self.outputs.iter().map(|&o| v[o]).collect()
+    }
+
+    /// The value of every operation at `x`, without validation, into `values` (cleared first;
+    /// a buffer reused across calls allocates nothing): the outputs are
+    /// `values[o]` for `o` in [`outputs`](Self::outputs).
+    ///
+    /// # Panics
+    /// If `x` is shorter than the number of inputs.
+    pub fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], values: &mut Vec<D>) {
+        let v = values;
+        v.clear();
+        v.reserve(self.ops.len());
         for op in &self.ops {
             let r = match *op {
                 Op::Input(i) => x[i],
@@ -352,7 +366,6 @@ impl Record {
             };
             v.push(r);
         }
-        self.outputs.iter().map(|&o| v[o]).collect()
     }
 }
 

@@ -6,6 +6,7 @@
 //! | `pendulum` | `n` (1), `amplitude` or `gap` (π − amplitude) from rest, or `q`, `p` | splitting, exact flow, Hamilton–Jacobi, normal form, Lindstedt |
 //! | `j2-orbit` | `mu` (1), `j2` (1.08e−3), `radius` (0.9), `a`, `e`, `i`, `raan`, `argp`, `mean_anomaly` | splitting, Wisdom–Holman/SABA, osculating and mean elements |
 //! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
+//! | `expression` (default when `hamiltonian` is given) | `hamiltonian`, `coordinates`, `momenta` (`p_<coordinate>`), `parameters` ({}), `q`, `p`, `period` | splitting when `H = T(p) + V(q)` ([`super::expression`]) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
 //! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
 //! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form, with projection, discrete Lagrange–d'Alembert (no other) |
@@ -151,6 +152,92 @@ impl<'a> Params<'a> {
         Ok(Some(out))
     }
 
+    /// An optional string.
+    ///
+    /// # Errors
+    /// Wrong type.
+    pub fn text(&self, key: &str) -> std::result::Result<Option<String>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        match self.table.get(key) {
+            None => Ok(None),
+            Some(toml::Value::String(s)) => Ok(Some(s.clone())),
+            Some(v) => Err(self.error(key, format!("expected a string, found {}", v.type_str()))),
+        }
+    }
+
+    /// The entries of the array at `key`, if given.
+    fn array(
+        &self,
+        key: &str,
+        of: &str,
+    ) -> std::result::Result<Option<&'a [toml::Value]>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        match self.table.get(key) {
+            None => Ok(None),
+            Some(toml::Value::Array(a)) => Ok(Some(a.as_slice())),
+            Some(v) => Err(self.error(
+                key,
+                format!("expected an array of {of}, found {}", v.type_str()),
+            )),
+        }
+    }
+
+    /// An optional array of strings (names).
+    ///
+    /// # Errors
+    /// Wrong type of the array or of an entry.
+    pub fn texts(&self, key: &str) -> std::result::Result<Option<Vec<String>>, SceneError> {
+        let Some(a) = self.array(key, "strings")? else {
+            return Ok(None);
+        };
+        a.iter()
+            .enumerate()
+            .map(|(i, x)| match x {
+                toml::Value::String(s) => Ok(s.clone()),
+                other => Err(self.error(
+                    &format!("{key}[{i}]"),
+                    format!("expected a string, found {}", other.type_str()),
+                )),
+            })
+            .collect::<std::result::Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
+    /// An optional array of finite numbers of any length.
+    ///
+    /// # Errors
+    /// Wrong type or non-finite entries.
+    pub fn numbers(&self, key: &str) -> std::result::Result<Option<Vec<f64>>, SceneError> {
+        let Some(a) = self.array(key, "numbers")? else {
+            return Ok(None);
+        };
+        a.iter()
+            .enumerate()
+            .map(|(i, x)| self.number(&format!("{key}[{i}]"), x))
+            .collect::<std::result::Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
+    /// A table of named finite numbers, `{ a = 1.0, b = 2 }` (empty when absent), in the
+    /// table's order.
+    ///
+    /// # Errors
+    /// Wrong type or non-finite values.
+    pub fn named_numbers(&self, key: &str) -> std::result::Result<Vec<(String, f64)>, SceneError> {
+        self.used.borrow_mut().insert(key.to_string());
+        match self.table.get(key) {
+            None => Ok(Vec::new()),
+            Some(toml::Value::Table(t)) => t
+                .iter()
+                .map(|(k, v)| Ok((k.clone(), self.number(&format!("{key}.{k}"), v)?)))
+                .collect(),
+            Some(v) => Err(self.error(
+                key,
+                format!("expected a table of numbers, found {}", v.type_str()),
+            )),
+        }
+    }
+
     /// Both `q` and `p`, or neither.
     ///
     /// # Errors
@@ -239,6 +326,12 @@ impl Catalogue {
             Box::new(rolling_disk),
         );
         c.register(
+            "expression",
+            "a Hamiltonian given by an expression (`hamiltonian = \"…\"`, the default when the \
+             table has one)",
+            Box::new(super::expression::expression_system),
+        );
+        c.register(
             "transformation-gallery",
             "canonical transformations certified by AD (table only)",
             Box::new(gallery),
@@ -275,6 +368,7 @@ impl Catalogue {
         table: &toml::Table,
     ) -> std::result::Result<Box<dyn Case>, SceneError> {
         let name = match table.get("name") {
+            None if table.contains_key("hamiltonian") => "expression",
             Some(toml::Value::String(s)) => s.as_str(),
             Some(v) => {
                 return Err(SceneError::new(

@@ -1,7 +1,7 @@
 //! Scenes: comparisons set up in a TOML file instead of Rust, run by the `hj` binary.
 //!
 //! A scene names a system from the [catalogue] with its parameters and initial
-//! state, the time span, the methods and theories to compare with the values of their knob, and
+//! state (or defines its own by an expression, [`expression`]), the time span, the methods and theories to compare with the values of their knob, and
 //! the outputs wanted. Nothing is computed that the scene does not ask for.
 //!
 //! ```toml
@@ -75,6 +75,7 @@
 pub mod case;
 pub mod catalogue;
 pub mod constrained;
+pub mod expression;
 pub mod gallery;
 pub mod runner;
 pub mod spec;
@@ -86,7 +87,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 16] = [
+pub const BUILTIN: [(&str, &str); 17] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -114,6 +115,10 @@ pub const BUILTIN: [(&str, &str); 16] = [
     ("j2-orbit", include_str!("builtin/j2-orbit.toml")),
     ("j2-theory", include_str!("builtin/j2-theory.toml")),
     ("heavy-top", include_str!("builtin/heavy-top.toml")),
+    (
+        "henon-heiles-expression",
+        include_str!("builtin/henon-heiles-expression.toml"),
+    ),
     (
         "chaplygin-sleigh",
         include_str!("builtin/chaplygin-sleigh.toml"),

@@ -217,3 +217,17 @@ impl hamilton_jacobi::hamilton_jacobi::VectorField<2> for DampedOscillator {
         SVector::from([z[1], -z[0] - z[1] * self.c])
     }
 }
+
+/// Scene run options for tests: one timed repetition, no progress bar, output to `out`.
+#[cfg(feature = "cli")]
+pub fn quick(out: &std::path::Path) -> hamilton_jacobi::scene::RunOptions {
+    hamilton_jacobi::scene::RunOptions {
+        out: out.to_path_buf(),
+        timing: hamilton_jacobi::workprecision::Timing {
+            min_time: std::time::Duration::ZERO,
+            max_runs: 1,
+        },
+        progress: false,
+        figures: Default::default(),
+    }
+}

@@ -1,0 +1,80 @@
+//! The vector field of a system defined by an expression against the Rust-written one, in one
+//! run: Hénon–Heiles (`systems::HenonHeiles`, a `Separable`) and Kepler + J₂ in Cartesian form
+//! (`PerturbedTwoBody<J2>`, N = 3).
+//!
+//! Variants per group:
+//! * `rust` — the catalogue system's `vector_field_unchecked` (forward-mode AD);
+//! * `expression` — [`ExpressionHamiltonian`]: one pass over the record of `H` and its gradient;
+//! * `expression_split` — the split form [`ExpressionSeparable`] (forward-mode AD of the records
+//!   of `T` and `V`), which the splitting methods use.
+//!
+//! The figure of merit is `expression / rust` (goal ≤ 3).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use hamilton_jacobi::expression::ExpressionHamiltonian;
+use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
+use hamilton_jacobi::systems::HenonHeiles;
+use hamilton_jacobi::Hamiltonian;
+use std::hint::black_box;
+
+fn group<const N: usize>(
+    c: &mut Criterion,
+    name: &str,
+    rust: &impl Hamiltonian<N>,
+    expression: &ExpressionHamiltonian<N>,
+    q: SVector<f64, N>,
+    p: SVector<f64, N>,
+) {
+    let split = expression.separable().expect("separable");
+    let mut g = c.benchmark_group(name);
+    g.bench_function("rust", |b| {
+        b.iter(|| rust.vector_field_unchecked(0.0, black_box(&q), black_box(&p)))
+    });
+    g.bench_function("expression", |b| {
+        b.iter(|| expression.vector_field_unchecked(0.0, black_box(&q), black_box(&p)))
+    });
+    g.bench_function("expression_split", |b| {
+        b.iter(|| split.vector_field_unchecked(0.0, black_box(&q), black_box(&p)))
+    });
+    g.finish();
+}
+
+fn bench(c: &mut Criterion) {
+    let hh = ExpressionHamiltonian::<2>::new(
+        "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3",
+        &["x", "y"],
+        None,
+        &[],
+    )
+    .expect("Hénon–Heiles");
+    group(
+        c,
+        "henon_heiles",
+        &HenonHeiles,
+        &hh,
+        SVector::from([0.1, -0.2]),
+        SVector::from([0.3, 0.25]),
+    );
+    let rust = PerturbedTwoBody::conservative(1.0, J2::new(1.0, 1.08e-3, 0.9).expect("J2"))
+        .expect("μ > 0");
+    let j2 = ExpressionHamiltonian::<3>::new(
+        "(p_x^2 + p_y^2 + p_z^2)/2 - mu/sqrt(x^2 + y^2 + z^2) \
+         + mu*J2*R^2/2 * (3*z^2/(x^2 + y^2 + z^2) - 1)/sqrt(x^2 + y^2 + z^2)^3",
+        &["x", "y", "z"],
+        None,
+        &[("mu", 1.0), ("J2", 1.08e-3), ("R", 0.9)],
+    )
+    .expect("Kepler + J2");
+    group(
+        c,
+        "kepler_j2_3",
+        &rust,
+        &j2,
+        SVector::from([0.7, 0.3, -0.2]),
+        SVector::from([-0.2, 1.1, 0.1]),
+    );
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
