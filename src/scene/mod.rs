@@ -76,6 +76,7 @@ pub mod case;
 pub mod catalogue;
 pub mod constrained;
 pub mod gallery;
+pub mod parameter_sweep;
 pub mod runner;
 pub mod spec;
 pub mod stability;
