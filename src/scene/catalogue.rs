@@ -275,13 +275,21 @@ impl<'a> Params<'a> {
     }
 }
 
-/// Builds a case from the `[system]` table.
-pub type Builder = Box<dyn Fn(&Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError>>;
+/// Builds a case from the `[system]` table. `Send + Sync`, so that sweeps build cases on every
+/// core.
+pub type Builder =
+    Box<dyn Fn(&Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> + Send + Sync>;
 
-/// The named systems scenes can use: the built-in ones and any registered from Rust.
+/// The named systems scenes can use: the built-in ones and any registered from Rust. Cloning
+/// shares the builders.
+#[derive(Clone)]
 pub struct Catalogue {
-    entries: Vec<(String, String, Builder)>,
+    entries: Vec<(String, String, SharedBuilder)>,
 }
+
+type SharedBuilder = std::sync::Arc<
+    dyn Fn(&Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> + Send + Sync,
+>;
 
 impl Default for Catalogue {
     fn default() -> Self {
@@ -348,7 +356,7 @@ impl Catalogue {
     pub fn register(&mut self, name: &str, description: &str, builder: Builder) {
         self.entries.retain(|(n, _, _)| n != name);
         self.entries
-            .push((name.to_string(), description.to_string(), builder));
+            .push((name.to_string(), description.to_string(), builder.into()));
     }
 
     /// Names and descriptions, in registration order.

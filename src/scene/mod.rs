@@ -77,6 +77,7 @@ pub mod catalogue;
 pub mod constrained;
 pub mod expression;
 pub mod gallery;
+pub mod parameter_sweep;
 pub mod runner;
 pub mod spec;
 pub mod stability;

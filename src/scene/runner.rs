@@ -3,6 +3,7 @@
 
 use super::case::{Case, History, ADAPTIVE_MAX_STEPS};
 use super::catalogue::Catalogue;
+use super::parameter_sweep::{check_sweep, run_sweep, sweep_values, SweepPoint, SweepSpec};
 use super::spec::{
     Knob, Length, MethodKind, MethodSpec, OutputSpec, PortraitAxes, RunSpec, SceneError, SceneFile,
     SpectrumSpec, TheoryKind,
@@ -23,6 +24,8 @@ pub struct Scene {
     spec: SceneFile,
     case: Box<dyn Case>,
     t1: Option<f64>,
+    /// `[sweep]`: the values, with the catalogue that builds the system at each.
+    sweep: Option<(SweepSpec, Vec<f64>, Catalogue)>,
 }
 
 /// How a scene is run.
@@ -368,7 +371,7 @@ fn check_name(file: &str, name: &str) -> Result<(), SceneError> {
 }
 
 /// The end time of a scene with a span, and the key that gave it.
-fn end_time(
+pub(super) fn end_time(
     file: &str,
     spec: &SceneFile,
     case: &dyn Case,
@@ -678,6 +681,21 @@ impl Scene {
                 }
             }
         }
+        let sweep = match &spec.sweep {
+            None => None,
+            Some(sw) => {
+                if t1.is_none() {
+                    return Err(SceneError::new(
+                        file,
+                        "sweep",
+                        "this system is a table of its own and takes no sweep",
+                    ));
+                }
+                let values = sweep_values(file, &spec, sw)?;
+                check_sweep(file, &spec, sw, &values, catalogue)?;
+                Some((sw.clone(), values, catalogue.clone()))
+            }
+        };
         Ok(Self {
             file: file.to_string(),
             name,
@@ -685,6 +703,7 @@ impl Scene {
             spec,
             case,
             t1: t1.map(|t| t.0),
+            sweep,
         })
     }
 
@@ -725,6 +744,9 @@ impl Scene {
         }
         if o.spectrum.is_some() {
             figure(&mut v, self.figure_path("spectrum"));
+        }
+        if self.sweep.is_some() {
+            figure(&mut v, self.figure_path("sweep"));
         }
         v
     }
@@ -810,6 +832,11 @@ impl Scene {
             artifacts.push(figure);
             md += &notes;
         }
+        if let Some(sw) = &self.sweep {
+            let (figure, notes) = self.parameter_sweep(sw, opts)?;
+            artifacts.push(figure);
+            md += &notes;
+        }
         // The tables last, so that they carry every note of the histories too.
         if o.table {
             artifacts.extend(self.tables(&md, csv));
@@ -881,6 +908,88 @@ impl Scene {
             comparison,
             failures,
         }))
+    }
+
+    /// `[sweep]`: every method at every knob at each parameter value (on every core), the
+    /// final errors against the parameter as a figure and a table.
+    fn parameter_sweep(
+        &self,
+        (sw, values, catalogue): &(SweepSpec, Vec<f64>, Catalogue),
+        opts: &RunOptions,
+    ) -> Result<(Artifact, String), SceneError> {
+        let knobs = self
+            .spec
+            .methods
+            .iter()
+            .enumerate()
+            .map(|(i, m)| knob_values(&self.file, i, m))
+            .collect::<Result<Vec<_>, _>>()?;
+        let bar = progress_bar(opts.progress, values.len() as u64, &self.name);
+        bar.set_message(format!("sweep of {}", sw.key));
+        let tick = || bar.inc(1);
+        let points: Vec<SweepPoint> =
+            run_sweep(&self.file, &self.spec, sw, values, &knobs, catalogue, &tick)?;
+        bar.finish_and_clear();
+        let labels: Vec<String> = points[0]
+            .runs
+            .iter()
+            .map(|r| legend_label(self.spec.methods[r.method].kind, r.knob))
+            .collect();
+        let mut fig = Figure::new(
+            format!("{} — error against {}", self.title, sw.key),
+            sw.key.clone(),
+            self.case.error_label(),
+        )
+        .log_y()
+        .caption(format!(
+            "Final error of each run against system.{} ({} values); failed runs are left out.",
+            sw.key,
+            values.len()
+        ));
+        if sw.log {
+            fig = fig.log_x();
+        }
+        let mut md = format!(
+            "\n### Sweep of system.{}\n\n| {} | {} |\n|---|{}\n",
+            sw.key,
+            sw.key,
+            labels.join(" | "),
+            "---|".repeat(labels.len())
+        );
+        let mut failures = Vec::new();
+        for p in &points {
+            let cells: Vec<String> = p
+                .runs
+                .iter()
+                .map(|r| match &r.error {
+                    Ok(e) => format!("{e:.2e}"),
+                    Err(_) => "failed".to_string(),
+                })
+                .collect();
+            md += &format!("| {} | {} |\n", fmt_num(p.value), cells.join(" | "));
+            for (r, label) in p.runs.iter().zip(&labels) {
+                if let Err(e) = &r.error {
+                    failures.push(format!("{} = {}: {label}: {e}", sw.key, fmt_num(p.value)));
+                }
+            }
+        }
+        for (j, label) in labels.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = points
+                .iter()
+                .filter_map(|p| match p.runs[j].error {
+                    Ok(e) if e > 0.0 && e.is_finite() => Some((p.value, e)),
+                    _ => None,
+                })
+                .collect();
+            fig = fig.curve(label.clone(), pts, Style::Line);
+        }
+        if !failures.is_empty() {
+            md += "\nFailed runs of the sweep:\n\n";
+            for f in failures {
+                md += &format!("- {f}\n");
+            }
+        }
+        Ok((self.figure_artifact("sweep", "sweep", fig), md))
     }
 
     /// The runs of one history output (`key` names it), each with its legend label.

@@ -480,6 +480,9 @@ pub struct SceneFile {
     /// `[output]`.
     #[serde(default)]
     pub output: OutputSpec,
+    /// `[sweep]`: one number of `[system]` varied, every method's error against it
+    /// ([`super::parameter_sweep`]).
+    pub sweep: Option<super::parameter_sweep::SweepSpec>,
 }
 
 /// Parse a scene from TOML text; `file` names it in errors.
