@@ -657,7 +657,9 @@ fn heavy_top_steady_precession_as_a_relative_periodic_orbit() {
         let sp = top.steady_precession(theta0, omega_z).unwrap();
         let phi_dot = if fast { sp.fast.unwrap() } else { sp.slow };
         let q0 = Vector3::new(0.0, theta0, 0.0);
-        let p0 = top.momenta_from_spin(theta0, 0.0, phi_dot, omega_z).unwrap();
+        let p0 = top
+            .momenta_from_spin(theta0, 0.0, phi_dot, omega_z)
+            .unwrap();
         let sigma2 = lamb_nutation_squared(p0[0], p0[2], i, theta0);
         let (s, c) = theta0.sin_cos();
         let a = j * omega_z / i;

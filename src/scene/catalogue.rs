@@ -934,8 +934,14 @@ fn free_rigid_body(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneEr
     let time = s.positive_or("time", 100.0)?;
     let steps = count_or(s, "steps", 10_000, (1, 10_000_000))?;
     s.finish()?;
-    crate::systems::rigid_body::intermediate_axis_growth_rate(&moments, spin)
+    let rate = crate::systems::rigid_body::intermediate_axis_growth_rate(&moments, spin)
         .map_err(|x| s.library(x))?;
+    if rate == 0.0 {
+        return Err(s.error(
+            "moments",
+            "expected I₂ strictly between I₁ and I₃ (the spin about axis 2 is otherwise stable)",
+        ));
+    }
     let description = format!(
         "free rigid body, I = ({}, {}, {}), spin Ω = {} about axis 2 perturbed by {}Ω about \
          axis 1, t ∈ [0, {}]",

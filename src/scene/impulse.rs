@@ -119,12 +119,7 @@ pub fn struck_rods(
     let mut worst: f64 = 0.0;
     for k in 0..samples {
         let n = k as f64 / (samples - 1) as f64;
-        let p_hat = generalized_impulse(
-            &AlongRod(n),
-            0.0,
-            &SVector::zeros(),
-            &SVector::from([p]),
-        )?;
+        let p_hat = generalized_impulse(&AlongRod(n), 0.0, &SVector::zeros(), &SVector::from([p]))?;
         let jump = apply_impulse(&rod, 0.0, &SVector::zeros(), &SVector::zeros(), &p_hat)?;
         let expected = [(4.0 - 6.0 * n) * unit, (6.0 * n - 2.0) * unit];
         worst = worst
@@ -134,12 +129,7 @@ pub fn struck_rods(
         computed.1.push((n, jump.velocity_after[1] / unit));
     }
     for n in [0.0, 0.25, 1.0 / 3.0, 0.5, 1.0] {
-        let p_hat = generalized_impulse(
-            &AlongRod(n),
-            0.0,
-            &SVector::zeros(),
-            &SVector::from([p]),
-        )?;
+        let p_hat = generalized_impulse(&AlongRod(n), 0.0, &SVector::zeros(), &SVector::from([p]))?;
         let jump = apply_impulse(&rod, 0.0, &SVector::zeros(), &SVector::zeros(), &p_hat)?;
         for (e, (name, c)) in [("v_A", 4.0 - 6.0 * n), ("v_B", 6.0 * n - 2.0)]
             .iter()
@@ -162,8 +152,16 @@ pub fn struck_rods(
     )
     .curve("v_A = (4 − 6n) P/M", line(|n| 4.0 - 6.0 * n), Style::Line)
     .curve("v_B = (6n − 2) P/M", line(|n| 6.0 * n - 2.0), Style::Line)
-    .curve("v_A, impulsive Lagrange equations", computed.0, Style::Markers)
-    .curve("v_B, impulsive Lagrange equations", computed.1, Style::Markers)
+    .curve(
+        "v_A, impulsive Lagrange equations",
+        computed.0,
+        Style::Markers,
+    )
+    .curve(
+        "v_B, impulsive Lagrange equations",
+        computed.1,
+        Style::Markers,
+    )
     .caption(format!(
         "A uniform rod of mass M = {} at rest struck normally at nℓ from its end A by an impulse \
          P = {}: the end velocities from the impulsive Lagrange equations with the generalized \

@@ -44,8 +44,8 @@ pub struct MegnoMap {
     pub chaotic: usize,
     /// Orbits that failed (none expected: the motion at `E < 1/6` is bounded).
     pub failed: usize,
-    /// The median `⟨Y⟩` of the regular cells (`2` on tori).
-    pub regular_median: f64,
+    /// The median `⟨Y⟩` of the regular cells (`2` on tori); `None` without regular cells.
+    pub regular_median: Option<f64>,
     /// Verlet steps per orbit.
     pub steps: usize,
 }
@@ -124,10 +124,7 @@ pub fn henon_heiles_megno_map(
         .collect();
     let mut regular_values: Vec<f64> = raw.iter().copied().filter(|v| *v <= REGULAR).collect();
     regular_values.sort_by(f64::total_cmp);
-    let regular_median = regular_values
-        .get(regular_values.len() / 2)
-        .copied()
-        .unwrap_or(f64::NAN);
+    let regular_median = regular_values.get(regular_values.len() / 2).copied();
     let values: Vec<f64> = cells
         .iter()
         .map(|c| match c.and_then(|k| map[k]) {
@@ -199,7 +196,7 @@ impl MegnoMap {
                 ],
                 vec![
                     "median ⟨Y⟩ of the regular cells (tori: 2)".into(),
-                    fmt_num(self.regular_median),
+                    self.regular_median.map_or_else(|| "—".to_string(), fmt_num),
                 ],
                 vec!["failed orbits".into(), self.failed.to_string()],
             ],

@@ -107,11 +107,7 @@ pub fn intermediate_axis(
 
     // λ from the AD linearisation of Euler's equations at the steady spin.
     let inertia = InertiaTensor::principal(moments)?;
-    let jac = euler_jacobian(
-        &inertia,
-        &Vector3::zeros(),
-        &Vector3::new(0.0, spin, 0.0),
-    )?;
+    let jac = euler_jacobian(&inertia, &Vector3::zeros(), &Vector3::new(0.0, spin, 0.0))?;
     let lambda_ad = jac
         .complex_eigenvalues()
         .iter()
@@ -148,7 +144,10 @@ pub fn intermediate_axis(
             Ok((t, linear.momentum_at(t)?[0] / pi_lin[0]))
         })
         .collect::<Result<_>>()?;
-    let cosh: Vec<(f64, f64)> = growth.iter().map(|&(t, _)| (t, (lambda * t).cosh())).collect();
+    let cosh: Vec<(f64, f64)> = growth
+        .iter()
+        .map(|&(t, _)| (t, (lambda * t).cosh()))
+        .collect();
 
     // The flips, and the splitting's error against the exact flow along them.
     let pi0 = perturbed_spin(&moments, spin, eps * spin);
@@ -249,7 +248,11 @@ pub fn intermediate_axis(
     )
     .log_y();
     for (name, curve, _) in &errors {
-        error_fig = error_fig.curve(format!("{name}, h = {}", fmt_num(h)), curve.clone(), Style::Line);
+        error_fig = error_fig.curve(
+            format!("{name}, h = {}", fmt_num(h)),
+            curve.clone(),
+            Style::Line,
+        );
     }
     error_fig = error_fig.caption(format!(
         "The error of the Lie–Poisson splitting of H = Σ Π_i²/(2I_i) into exactly solvable \
@@ -281,7 +284,10 @@ pub fn intermediate_axis(
             rel(lambda_exact),
         ],
         vec![
-            format!("λ, slope of ln|Π₁|, Lie–Poisson order 4 (h = {})", fmt_num(h_lin)),
+            format!(
+                "λ, slope of ln|Π₁|, Lie–Poisson order 4 (h = {})",
+                fmt_num(h_lin)
+            ),
             fmt_num(lambda_lp),
             rel(lambda_lp),
         ],
