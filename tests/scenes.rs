@@ -938,8 +938,8 @@ fn cell(t: &scene::Table, row: usize, col: usize) -> f64 {
 }
 
 /// The free rigid body's intermediate axis (SPEC T30): λ = 0.577350269189626 for I = (1, 2, 3),
-/// Ω = 1 from the AD linearisation (to rounding) and from the slope of ln|Π₁| along the exact
-/// flow and the Lie–Poisson run (to the 1e−6 of the fit window, where tanh λt = 1 − 1.2·10⁻⁵);
+/// Ω = 1 from the AD linearisation (to rounding) and from the growth of |Π₁| along the exact
+/// flow and the Lie–Poisson run (to 1e−6: cosh λt is e^{λt}/2 to 10⁻⁷ on [8/λ, 14/λ]);
 /// the Casimir |Π|² kept to rounding. Bad moments (axis 2 not intermediate) and keys are refused.
 #[test]
 fn free_rigid_body_scene_measures_the_intermediate_axis_growth_rate() {
