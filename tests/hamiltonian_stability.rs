@@ -688,16 +688,17 @@ fn heavy_top_steady_precession_as_a_relative_periodic_orbit() {
         let m = monodromy::<_, 3, 21>(&top, 0.0, &q0, &p0, period, &method).unwrap();
         assert!(m.flow_defect < 1e-10, "{}", m.flow_defect);
         let expected = hamilton_jacobi::nalgebra::Complex::new(0.0, sigma * period).exp();
-        // Four multipliers at 1 (within the √ε splitting of their Jordan blocks), the pair
-        // e^{±iσT}, which must lie away from 1 for the comparison to be sharp.
+        // Four multipliers at 1 (two Jordan blocks: the shears of the period and of the
+        // precession rate with the momenta, split by √‖δM‖ ≈ √(10⁻¹³ · 10²)), the pair
+        // e^{±iσT}, simple, which must lie away from 1 for the comparison to be sharp.
         assert!((expected - 1.0).norm() > 0.1, "σT = {}", sigma * period);
         let mut by_distance = m.multipliers.clone();
         by_distance.sort_by(|x, y| (x - 1.0).norm().total_cmp(&(y - 1.0).norm()));
         for mu in &by_distance[..4] {
-            assert!((mu - 1.0).norm() < 1e-5, "{mu}");
+            assert!((mu - 1.0).norm() < 1e-4, "{mu}");
         }
         for mu in &by_distance[4..] {
-            let target = if mu.im >= 0.0 {
+            let target = if mu.im * expected.im >= 0.0 {
                 expected
             } else {
                 expected.conj()
