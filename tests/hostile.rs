@@ -5613,7 +5613,7 @@ mod scene_kind_calls {
                     let v_a = table.rows[0][2].parse::<f64>().unwrap_or(f64::NAN);
                     all([
                         finite_table(&table, 2, figures.len()),
-                        near_rel("v_A", v_a, 52.0 * a[1] / (15.0 * a[0]), 1e-13),
+                        near_rel("v_A", v_a, 52.0 / 15.0 * (a[1] / a[0]), 1e-13),
                     ])
                 })
             },

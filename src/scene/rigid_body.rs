@@ -56,7 +56,7 @@ fn perturbed_spin(moments: &Vector3<f64>, spin: f64, eps: f64) -> Vector3<f64> {
 /// [`Error::InvalidInput`] when axis 2 is not the intermediate one (no growth); the domain
 /// errors of [`FreeRigidBody::new`], [`EulerPoinsot`] and [`LiePoisson::run`] (non-finite,
 /// non-positive moments, spin, time, perturbation outside `(0, 0.5]`, `steps` outside
-/// `[1, 10⁷]`).
+/// `[1, 10⁷]`, a spin so small or large that `|Π|²` or the energy underflows or overflows).
 pub fn intermediate_axis(
     moments: Vector3<f64>,
     spin: f64,
@@ -141,6 +141,13 @@ pub fn intermediate_axis(
     let every = steps.div_ceil(SAMPLES).max(1);
     let h = time / steps as f64;
     let (c0, e0) = (pi0.norm_squared(), body.energy_generic(&pi0));
+    if !(c0.is_normal() && e0.is_normal() && pi_lin[0].is_normal()) {
+        return Err(Error::out_of_domain(
+            "spin Ω",
+            spin,
+            "a spin whose |Π|², energy and perturbation are normal floating-point numbers",
+        ));
+    }
     let mut errors = Vec::new();
     for (name, method) in [("Strang, order 2", &strang), ("Yoshida, order 4", &yoshida)] {
         let mut times = Vec::new();
