@@ -5573,7 +5573,7 @@ mod scene_kind_calls {
                         .grid
                         .values
                         .iter()
-                        .any(|v| v.is_infinite() || (v.is_finite() && !(*v <= a[3])));
+                        .any(|v| v.is_infinite() || (v.is_finite() && *v > a[3]));
                     if bad {
                         Wrong("a cell outside [−∞, clip] or infinite".into())
                     } else if map.regular + map.chaotic + map.failed != map.orbits {
