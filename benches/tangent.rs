@@ -8,7 +8,10 @@
 //!   rtol = 1e-14; the printout gives them, the tolerance chosen, and the ratio of the mean wall
 //!   times.
 //! * `megno/map-16x16`: a 16 × 16 MEGNO map of the section at `E = 1/8` to `t = 100` (Verlet,
-//!   `h = 0.1`) on every core (`examples/megno_map.rs` times the 512 × 512 map to `t = 10³`).
+//!   `h = 0.1`) on every core.
+//! * With the environment variable `HJ_BENCH_MEGNO_512` set: the 512 × 512 MEGNO map to
+//!   `t = 10³` (Verlet, `h = 0.1`, the scene `megno-map` at full size), run once and timed, with
+//!   the number of threads (`cargo bench --bench tangent -- megno/map-512`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use hamilton_jacobi::chaos::chaos_map;
@@ -16,6 +19,7 @@ use hamilton_jacobi::integrate::{
     variational_tangent_map, Dop853, Fixed, Problem, Splitting, TangentMethod,
 };
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::scene::megno::henon_heiles_megno_map;
 use hamilton_jacobi::systems::HenonHeiles;
 use std::hint::black_box;
 
@@ -84,6 +88,23 @@ fn bench(c: &mut Criterion) {
         b.iter(|| chaos_map(&HenonHeiles, black_box(&starts), 100.0, &method, &d).unwrap())
     });
     g.finish();
+
+    if std::env::var_os("HJ_BENCH_MEGNO_512").is_some() {
+        let threads = rayon::current_num_threads();
+        let clock = std::time::Instant::now();
+        let map = henon_heiles_megno_map(0.125, 512, 1000.0, 0.1, 8.0).unwrap();
+        let elapsed = clock.elapsed().as_secs_f64();
+        println!(
+            "megno/map-512x512: {} orbits × {} Verlet steps to t = 10³ in {elapsed:.1} s on \
+             {threads} threads ({:.0} ns per orbit step per thread); ⟨Y⟩ ≤ 2.5 in {} cells, \
+             > 2.5 in {}",
+            map.orbits,
+            map.steps,
+            elapsed * threads as f64 / (map.orbits as f64 * map.steps as f64) * 1e9,
+            map.regular,
+            map.chaotic
+        );
+    }
 }
 
 criterion_group!(benches, bench);

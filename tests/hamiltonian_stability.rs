@@ -619,3 +619,100 @@ fn t40_dumbbell_relative_equilibria_radial_stable_tangential_unstable() {
     let wt = d.tangential_rate(1.0).unwrap();
     assert!((wt - (1.0f64 / 1.01f64.powf(1.5)).sqrt()).abs() < 1e-15);
 }
+
+/// The square of the frequency of small nutation about steady precession of the heavy symmetric
+/// top at `θ₀`, from the conserved momenta `μ = p_φ`, `ν = p_ψ` and the transverse moment
+/// `A = I` (Lamb, *Encyclopaedia Britannica*, 11th ed. (1911), "Mechanics" §20, eqs. 8–9):
+///
+/// `σ² = [(μ − ν cos θ₀)² + 2(μ − ν cos θ₀)(μ cos θ₀ − ν) cos θ₀ + (μ cos θ₀ − ν)²] / (A² sin⁴θ₀)`.
+fn lamb_nutation_squared(mu: f64, nu: f64, a: f64, theta0: f64) -> f64 {
+    let (s, c) = theta0.sin_cos();
+    let (x, y) = (mu - nu * c, mu * c - nu);
+    (x * x + 2.0 * x * y * c + y * y) / (a * a * s.powi(4))
+}
+
+/// The heavy symmetric top's steady precession is a relative periodic orbit (issue 17 §2): `φ`
+/// and `ψ` are cyclic, so the motion with `θ ≡ θ₀`, `φ̇ ≡ φ̇₀` returns after `T = 2π/|φ̇₀|` up to a
+/// rotation about the figure axis, and it is an equilibrium of the Routh-reduced system
+/// `(θ, p_θ)` with `p_φ`, `p_ψ` held. The monodromy over `T` has the multipliers `1` (four: the
+/// flow, the energy and the two symmetries with their momenta) and `e^{±iσT}`, with `σ` the
+/// frequency of small nutation — Lamb's closed form from the momenta, equal to the effective
+/// potential's `√(U″(θ₀)/I)`, `σ² = (a − 2φ̇₀ cos θ₀)² + φ̇₀² sin²θ₀` with `a = Jω_z/I`; the
+/// reduced linearisation has the eigenvalues `±iσ`. Cases: the slow and the fast precession of a
+/// spinning top, and the conical pendulum (`ω_z = 0`, `σ = φ̇₀√(1 + 3 cos²θ₀)`).
+#[test]
+fn heavy_top_steady_precession_as_a_relative_periodic_orbit() {
+    use hamilton_jacobi::stability::{steady_motion_spectrum, Reduced, Slot};
+    use hamilton_jacobi::systems::HeavyTop;
+    use std::f64::consts::{PI, TAU};
+    let (i, j, mgl) = (1.0, 0.5, 1.0);
+    let top = HeavyTop::new(i, j, mgl).unwrap();
+    let method = Dop853::new(1e-13, 1e-13).unwrap();
+    for (theta0, omega_z, fast) in [
+        (PI / 3.0, 5.0, false),
+        (PI / 3.0, 5.0, true),
+        (1.2, 3.0, false),
+        (2.0, 0.0, false),
+    ] {
+        let sp = top.steady_precession(theta0, omega_z).unwrap();
+        let phi_dot = if fast { sp.fast.unwrap() } else { sp.slow };
+        let q0 = Vector3::new(0.0, theta0, 0.0);
+        let p0 = top
+            .momenta_from_spin(theta0, 0.0, phi_dot, omega_z)
+            .unwrap();
+        let sigma2 = lamb_nutation_squared(p0[0], p0[2], i, theta0);
+        let (s, c) = theta0.sin_cos();
+        let a = j * omega_z / i;
+        let sigma2_u = (a - 2.0 * phi_dot * c).powi(2) + (phi_dot * s).powi(2);
+        assert!(
+            (sigma2 - sigma2_u).abs() < 1e-13 * sigma2,
+            "{sigma2} {sigma2_u}"
+        );
+        if omega_z == 0.0 {
+            let conical = phi_dot * phi_dot * (1.0 + 3.0 * c * c);
+            assert!((sigma2 - conical).abs() < 1e-13 * sigma2);
+        }
+        let sigma = sigma2.sqrt();
+        // The Routh-reduced system (θ, p_θ): an equilibrium with the eigenvalues ±iσ.
+        let reduced = Reduced::new(&top, &q0, &p0, [Slot::Q(1), Slot::P(1)]).unwrap();
+        let spec = steady_motion_spectrum(&reduced, 0.0, &reduced.state()).unwrap();
+        assert_eq!(spec.eigenvalues.len(), 2);
+        for l in &spec.eigenvalues {
+            assert!(
+                l.re.abs() < 1e-12 * sigma && (l.im.abs() - sigma).abs() < 1e-12 * sigma,
+                "θ₀ = {theta0}, φ̇₀ = {phi_dot}: {l} against ±i{sigma}"
+            );
+        }
+        // The monodromy over one precession period.
+        let period = TAU / phi_dot.abs();
+        let m = monodromy::<_, 3, 21>(&top, 0.0, &q0, &p0, period, &method).unwrap();
+        assert!(m.flow_defect < 1e-10, "{}", m.flow_defect);
+        let expected = hamilton_jacobi::nalgebra::Complex::new(0.0, sigma * period).exp();
+        // Four multipliers at 1 (two Jordan blocks: the shears of the period and of the
+        // precession rate with the momenta, split by √‖δM‖ ≈ √(10⁻¹³ · 10²)), the pair
+        // e^{±iσT}, simple, which must lie away from 1 for the comparison to be sharp.
+        assert!((expected - 1.0).norm() > 0.1, "σT = {}", sigma * period);
+        let mut by_distance = m.multipliers.clone();
+        by_distance.sort_by(|x, y| (x - 1.0).norm().total_cmp(&(y - 1.0).norm()));
+        for mu in &by_distance[..4] {
+            assert!((mu - 1.0).norm() < 1e-4, "{mu}");
+        }
+        for mu in &by_distance[4..] {
+            let target = if mu.im * expected.im >= 0.0 {
+                expected
+            } else {
+                expected.conj()
+            };
+            assert!(
+                (mu - target).norm() < 1e-9,
+                "θ₀ = {theta0}, φ̇₀ = {phi_dot}: multiplier {mu} against e^(±iσT) = {target} \
+                 (σ = {sigma}, T = {period})"
+            );
+            eprintln!(
+                "θ₀ = {theta0:.4}, ω_z = {omega_z}, φ̇₀ = {phi_dot:.6}: σ = {sigma:.12}, T = \
+                 {period:.6}, multiplier {mu:.12} vs {target:.12}: |Δ| = {:.2e}",
+                (mu - target).norm()
+            );
+        }
+    }
+}

@@ -3137,6 +3137,7 @@ fn every_entry_point_survives_hostile_input() {
     constrained_methods::add(&mut calls);
     tangent_calls::add(&mut calls);
     expression_calls::add(&mut calls);
+    scene_kind_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
         .iter()
         .map(|c| c.label.split('(').next().unwrap().to_string())
@@ -5826,6 +5827,137 @@ mod expression_calls {
                         8.0 * EPS * (1.0 + a[2].abs() + a[1] * a[1]),
                     ),
                 }
+            },
+        );
+    }
+}
+
+
+mod scene_kind_calls {
+    use super::*;
+    use hamilton_jacobi::scene::impulse::struck_rods;
+    use hamilton_jacobi::scene::megno::henon_heiles_megno_map;
+    use hamilton_jacobi::scene::rigid_body::intermediate_axis;
+    use hamilton_jacobi::scene::Table;
+
+    /// Every numeric cell of a scene's table is finite (empty and text cells are skipped), and
+    /// the scene returns `figures` figures.
+    fn finite_table(table: &Table, figures: usize, got: usize) -> Verdict {
+        if got != figures {
+            return Wrong(format!("{got} figures, expected {figures}"));
+        }
+        for row in &table.rows {
+            for cell in row {
+                for part in cell.split(", ") {
+                    if let Ok(x) = part.parse::<f64>() {
+                        if !x.is_finite() {
+                            return NonFinite(format!("table cell {cell:?}"));
+                        }
+                    }
+                }
+            }
+        }
+        Good
+    }
+
+    pub fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "scene::rigid_body::intermediate_axis",
+            &[1.0, 2.0, 3.0, 1.0, 1e-3, 20.0],
+            &[(1, 1.0), (1, 4.0), (4, 0.6), (0, 3.0), (3, 1e-300)],
+            |a| {
+                let r = intermediate_axis(Vector3::new(a[0], a[1], a[2]), a[3], a[4], a[5], 200);
+                let valid = fin(a) && a.iter().all(|x| *x > 0.0);
+                judge(r, valid, |(table, figures)| {
+                    // The closed-form rate, then the AD eigenvalue, against each other.
+                    let rate = |k: usize| table.rows[k][1].parse::<f64>().unwrap_or(f64::NAN);
+                    all([
+                        finite_table(&table, 3, figures.len()),
+                        near_rel("λ (AD) against λ (closed form)", rate(1), rate(0), 1e-12),
+                    ])
+                })
+            },
+        );
+        sized(
+            c,
+            "scene::rigid_body::intermediate_axis(steps)",
+            &[0, 1, 10_000_001],
+            |n| {
+                let r = intermediate_axis(Vector3::new(1.0, 2.0, 3.0), 1.0, 1e-3, 5.0, n);
+                judge(r, n == 1, |(table, figures)| {
+                    finite_table(&table, 3, figures.len())
+                })
+            },
+        );
+        sweep(
+            c,
+            "scene::megno::henon_heiles_megno_map",
+            &[0.125, 2.0, 0.5, 8.0],
+            &[(0, 1.0 / 6.0), (0, 1e-300), (1, 1e300), (2, 1e-9)],
+            |a| {
+                let r = henon_heiles_megno_map(a[0], 6, a[1], a[2], a[3]);
+                let valid = fin(a) && a.iter().all(|x| *x > 0.0) && a[0] < 1.0 / 6.0;
+                judge(r, valid, |map| {
+                    let fig = map.figure(a[0], a[1], a[2]);
+                    let bad = map
+                        .grid
+                        .values
+                        .iter()
+                        .any(|v| v.is_infinite() || (v.is_finite() && *v > a[3]));
+                    if bad {
+                        Wrong("a cell outside [−∞, clip] or infinite".into())
+                    } else if map.regular + map.chaotic + map.failed != map.orbits {
+                        Wrong("cells do not add up".into())
+                    } else {
+                        let picture = match fig.render() {
+                            Ok(r) => drawn(r),
+                            Err(_) if map.orbits == 0 => Good,
+                            Err(e) => Wrong(format!("the map is not drawn: {e}")),
+                        };
+                        all([finite_table(&map.table(), 0, 0), picture])
+                    }
+                })
+            },
+        );
+        sized(
+            c,
+            "scene::megno::henon_heiles_megno_map(n)",
+            &[0, 1, 2, 4097],
+            |n| {
+                let r = henon_heiles_megno_map(0.125, n, 1.0, 0.5, 8.0);
+                judge(r, (2..=4096).contains(&n), |map| {
+                    finite_table(&map.table(), 0, 0)
+                })
+            },
+        );
+        sweep(
+            c,
+            "scene::impulse::struck_rods",
+            &[1.0, 1.0],
+            &[(1, -2.0)],
+            |a| {
+                let r = struck_rods(a[0], a[1], 5);
+                let valid = fin(a) && a[0] > 0.0 && a[1] != 0.0;
+                judge(r, valid, |(table, figures)| {
+                    // v_A of the three rods: 52P/(15M).
+                    let v_a = table.rows[0][2].parse::<f64>().unwrap_or(f64::NAN);
+                    all([
+                        finite_table(&table, 2, figures.len()),
+                        near_rel("v_A", v_a, 52.0 / 15.0 * (a[1] / a[0]), 1e-13),
+                    ])
+                })
+            },
+        );
+        sized(
+            c,
+            "scene::impulse::struck_rods(samples)",
+            &[0, 1, 2, 100_001],
+            |n| {
+                let r = struck_rods(1.0, 1.0, n);
+                judge(r, (2..=100_000).contains(&n), |(table, figures)| {
+                    finite_table(&table, 2, figures.len())
+                })
             },
         );
     }

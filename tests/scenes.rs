@@ -909,3 +909,107 @@ fn constrained_scenes_sleigh_and_disk() {
         Ok(_) => panic!("r = 0 accepted"),
     }
 }
+
+/// The table of a scene without motion built from the `[system]` table `text`.
+fn scene_table(text: &str) -> (scene::Table, Vec<String>) {
+    let table: toml::Table = toml::from_str(text).unwrap();
+    let case = Catalogue::builtin().build("s.toml", &table).unwrap();
+    let (t, figures) = case.table().expect("a table scene").unwrap();
+    assert_eq!(
+        figures.iter().map(|(w, _)| w.as_str()).collect::<Vec<_>>(),
+        case.table_figures()
+    );
+    (t, figures.into_iter().map(|(w, _)| w).collect())
+}
+
+fn cell(t: &scene::Table, row: usize, col: usize) -> f64 {
+    t.rows[row][col].parse().unwrap()
+}
+
+/// The free rigid body's intermediate axis (SPEC T30): λ = 0.577350269189626 for I = (1, 2, 3),
+/// Ω = 1 from the AD linearisation (to rounding) and from the growth of |Π₁| along the exact
+/// flow and the Lie–Poisson run (to 1e−6: cosh λt is e^{λt}/2 to 10⁻⁷ on [8/λ, 14/λ]);
+/// the Casimir |Π|² kept to rounding. Bad moments (axis 2 not intermediate) and keys are refused.
+#[test]
+fn free_rigid_body_scene_measures_the_intermediate_axis_growth_rate() {
+    let (t, figures) = scene_table("name = \"free-rigid-body\"\ntime = 60\nsteps = 6000");
+    assert_eq!(figures, ["momentum", "growth", "lie-poisson-error"]);
+    let lambda = 0.577350269189626;
+    assert!((cell(&t, 0, 1) - lambda).abs() < 1e-15);
+    assert!((cell(&t, 1, 1) - lambda).abs() < 1e-14);
+    for row in [2, 3] {
+        assert!(
+            (cell(&t, row, 1) - lambda).abs() < 1e-6 * lambda,
+            "{:?}",
+            t.rows[row]
+        );
+    }
+    for row in [6, 8] {
+        let casimir: f64 = t.rows[row][1].split(", ").next().unwrap().parse().unwrap();
+        assert!(casimir <= 4.0 * f64::EPSILON, "{:?}", t.rows[row]);
+    }
+    // Order 4 beats order 2 at the same step.
+    assert!(cell(&t, 7, 1) < 1e-2 * cell(&t, 5, 1), "{:?}", t.rows);
+    for bad in ["moments = [1.0, 3.0, 2.0]", "moments = [2.0, 2.0, 3.0]"] {
+        let table: toml::Table =
+            toml::from_str(&format!("name = \"free-rigid-body\"\n{bad}")).unwrap();
+        match Catalogue::builtin().build("b.toml", &table) {
+            Err(e) => assert!(e.to_string().contains("system"), "{e}"),
+            Ok(_) => panic!("{bad} accepted"),
+        }
+    }
+    let table: toml::Table = toml::from_str("name = \"free-rigid-body\"\nsteps = 2.5").unwrap();
+    assert!(Catalogue::builtin().build("b.toml", &table).is_err());
+}
+
+/// The MEGNO map of Hénon–Heiles at E = 1/8 on 16 × 16 cells to t = 10³: the big island about
+/// the periodic orbit near (y, p_y) = (0.3, 0) is regular (⟨Y⟩ near 2), the sea at (−0.15, 0)
+/// chaotic (⟨Y⟩ ≫ 2); the cells outside the allowed region have no value; the values are written
+/// as a NumPy file when the scene asks for `data = "npy"`.
+#[test]
+fn megno_map_scene_separates_islands_from_the_chaotic_sea() {
+    let map = scene::megno::henon_heiles_megno_map(0.125, 16, 1000.0, 0.1, 8.0).unwrap();
+    let g = &map.grid;
+    let at = |y: f64, py: f64| {
+        let i = ((y - g.x.0) / (g.x.1 - g.x.0) * g.nx as f64) as usize;
+        let k = ((py - g.y.0) / (g.y.1 - g.y.0) * g.ny as f64) as usize;
+        g.values[k * g.nx + i]
+    };
+    let island = at(0.3, 0.0);
+    assert!((1.0..=2.5).contains(&island), "island ⟨Y⟩ = {island}");
+    let sea = at(-0.15, 0.0);
+    assert!(sea >= 4.0, "sea ⟨Y⟩ = {sea}");
+    assert!(at(0.69, 0.5).is_nan());
+    assert_eq!(map.failed, 0);
+    assert_eq!(
+        map.regular + map.chaotic,
+        g.values.iter().filter(|v| v.is_finite()).count()
+    );
+    let median = map.regular_median.unwrap();
+    assert!((1.5..=2.1).contains(&median), "{median}");
+    // The built-in scene plans the NumPy file of its grid.
+    let s = scene::load("megno-map", &Catalogue::builtin()).unwrap();
+    assert!(s
+        .planned_outputs()
+        .iter()
+        .any(|p| p.to_string_lossy() == "figures/megno-map-megno.npy"));
+}
+
+/// The struck rods (SPEC T35, T36): every velocity of the table agrees with its closed form to
+/// rounding.
+#[test]
+fn struck_rods_scene_matches_the_closed_forms() {
+    let (t, figures) = scene_table("name = \"struck-rods\"\nmass = 2.5\nimpulse = -0.7");
+    assert_eq!(figures, ["three-rods", "one-rod"]);
+    assert_eq!(t.rows.len(), 5 + 10);
+    assert!((cell(&t, 0, 3) - 52.0 * -0.7 / (15.0 * 2.5)).abs() < 1e-15);
+    for row in &t.rows {
+        let (got, want): (f64, f64) = (row[2].parse().unwrap(), row[3].parse().unwrap());
+        assert!(
+            (got - want).abs() <= 8.0 * f64::EPSILON * want.abs().max(1.0),
+            "{row:?}"
+        );
+    }
+    let table: toml::Table = toml::from_str("name = \"struck-rods\"\nimpulse = 0").unwrap();
+    assert!(Catalogue::builtin().build("b.toml", &table).is_err());
+}

@@ -9,6 +9,9 @@
 //! | `expression` (default when `hamiltonian` is given) | `hamiltonian`, `coordinates`, `momenta` (`p_<coordinate>`), `parameters` ({}), `q`, `p`, `period` | splitting when `H = T(p) + V(q)` ([`super::expression`]) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
 //! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
+//! | `free-rigid-body` | `moments` ([1, 2, 3]), `spin` (1), `perturbation` (1e−3, of `spin`), `time` (100), `steps` (10000) | none: the intermediate-axis instability (growth rate, flips) and the Lie–Poisson splitting against the Euler–Poinsot flow, a table and figures |
+//! | `megno-map` | `energy` (1/8), `n` (128), `time` (1000), `step` (0.1), `clip` (8) | none: the MEGNO map of the Hénon–Heiles section x = 0 on `n × n` cells, a table and a heat map |
+//! | `struck-rods` | `mass` (1), `impulse` (1), `samples` (21) | none: velocity jumps of three hinged rods and of a rod struck at nℓ against their closed forms, a table and figures |
 //! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form, with projection, discrete Lagrange–d'Alembert (no other) |
 //! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | as the sleigh; the spectrum of upright rolling against the speed `v` |
 //!
@@ -348,6 +351,21 @@ impl Catalogue {
             "double-pendulum-spectrum",
             "eigenvalues of the double pendulum's equilibria against the mass ratio (table and figure)",
             Box::new(double_pendulum_spectrum),
+        );
+        c.register(
+            "free-rigid-body",
+            "free rigid body spun about its intermediate axis, Lie–Poisson against Euler–Poinsot (table and figures)",
+            Box::new(free_rigid_body),
+        );
+        c.register(
+            "megno-map",
+            "MEGNO map of the Hénon–Heiles surface of section (table and heat map)",
+            Box::new(megno_map),
+        );
+        c.register(
+            "struck-rods",
+            "velocity jumps of struck hinged rods against their closed forms (table and figures)",
+            Box::new(struck_rods),
         );
         c
     }
@@ -989,6 +1007,123 @@ fn double_pendulum_spectrum(s: &Params<'_>) -> std::result::Result<Box<dyn Case>
         compute: Box::new(move || {
             super::stability::double_pendulum_spectrum(lo, hi, samples as usize, l1, l2, g)
         }),
+    }))
+}
+
+/// A whole number in `[lo, hi]` under `key`, `default` if absent.
+fn count_or(
+    s: &Params<'_>,
+    key: &str,
+    default: usize,
+    (lo, hi): (usize, usize),
+) -> std::result::Result<usize, SceneError> {
+    let x = s.positive_or(key, default as f64)?;
+    if x.fract() != 0.0 || !(lo as f64..=hi as f64).contains(&x) {
+        return Err(s.error(key, format!("expected a whole number in [{lo}, {hi}]")));
+    }
+    Ok(x as usize)
+}
+
+/// The free rigid body (SPEC T30) of principal `moments` spun at `spin` about axis 2 with the
+/// perturbation `perturbation · spin` about axis 1, over `[0, time]`, Lie–Poisson with `steps`
+/// steps.
+fn free_rigid_body(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let moments = s
+        .vector::<3>("moments")?
+        .unwrap_or_else(|| Vector3::new(1.0, 2.0, 3.0));
+    let spin = s.positive_or("spin", 1.0)?;
+    let eps = s.positive_or("perturbation", 1e-3)?;
+    let time = s.positive_or("time", 100.0)?;
+    let steps = count_or(s, "steps", 10_000, (1, 10_000_000))?;
+    s.finish()?;
+    let rate = crate::systems::rigid_body::intermediate_axis_growth_rate(&moments, spin)
+        .map_err(|x| s.library(x))?;
+    if rate == 0.0 {
+        return Err(s.error(
+            "moments",
+            "expected I₂ strictly between I₁ and I₃ (the spin about axis 2 is otherwise stable)",
+        ));
+    }
+    let description = format!(
+        "free rigid body, I = ({}, {}, {}), spin Ω = {} about axis 2 perturbed by {}Ω about \
+         axis 1, t ∈ [0, {}]",
+        fmt_num(moments[0]),
+        fmt_num(moments[1]),
+        fmt_num(moments[2]),
+        fmt_num(spin),
+        fmt_num(eps),
+        fmt_num(time)
+    );
+    Ok(Box::new(TableCase {
+        description,
+        what: "the free rigid body scene",
+        figures: vec![
+            super::rigid_body::MOMENTUM_FIGURE,
+            super::rigid_body::GROWTH_FIGURE,
+            super::rigid_body::ERROR_FIGURE,
+        ],
+        compute: Box::new(move || {
+            super::rigid_body::intermediate_axis(moments, spin, eps, time, steps)
+        }),
+    }))
+}
+
+/// The MEGNO map (issue §2) of Hénon–Heiles at `energy` on `n × n` cells of the section
+/// `x = 0`, Verlet with step `step` to `time`, `⟨Y⟩` clipped at `clip`.
+fn megno_map(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let energy = s.positive_or("energy", 0.125)?;
+    let n = count_or(s, "n", 128, (2, 4096))?;
+    let time = s.positive_or("time", 1000.0)?;
+    let step = s.positive_or("step", 0.1)?;
+    let clip = s.positive_or("clip", 8.0)?;
+    s.finish()?;
+    let description = format!(
+        "Hénon–Heiles at E = {}: mean MEGNO ⟨Y⟩ at t = {} on {n} × {n} cells of the section x = 0 \
+         (Störmer–Verlet, h = {})",
+        fmt_num(energy),
+        fmt_num(time),
+        fmt_num(step)
+    );
+    Ok(Box::new(TableCase {
+        description,
+        what: "the MEGNO map",
+        figures: vec![super::megno::MAP_FIGURE],
+        compute: Box::new(move || {
+            let map = super::megno::henon_heiles_megno_map(energy, n, time, step, clip)?;
+            Ok((
+                map.table(),
+                vec![(
+                    super::megno::MAP_FIGURE.to_string(),
+                    map.figure(energy, time, step),
+                )],
+            ))
+        }),
+    }))
+}
+
+/// The struck rods (SPEC T35, T36): rods of mass `mass`, impulse `impulse`, `samples` points of
+/// impact along the single rod.
+fn struck_rods(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let mass = s.positive_or("mass", 1.0)?;
+    let impulse = s.or("impulse", 1.0)?;
+    let samples = count_or(s, "samples", 21, (2, 100_000))?;
+    s.finish()?;
+    if impulse == 0.0 {
+        return Err(s.error("impulse", "expected a non-zero impulse"));
+    }
+    let description = format!(
+        "hinged rods of mass M = {} struck by the impulse P = {}",
+        fmt_num(mass),
+        fmt_num(impulse)
+    );
+    Ok(Box::new(TableCase {
+        description,
+        what: "the struck rods",
+        figures: vec![
+            super::impulse::THREE_RODS_FIGURE,
+            super::impulse::ONE_ROD_FIGURE,
+        ],
+        compute: Box::new(move || super::impulse::struck_rods(mass, impulse, samples)),
     }))
 }
 

@@ -77,7 +77,10 @@ pub mod catalogue;
 pub mod constrained;
 pub mod expression;
 pub mod gallery;
+pub mod impulse;
+pub mod megno;
 pub mod parameter_sweep;
+pub mod rigid_body;
 pub mod runner;
 pub mod spec;
 pub mod stability;
@@ -88,7 +91,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 17] = [
+pub const BUILTIN: [(&str, &str); 20] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -133,6 +136,12 @@ pub const BUILTIN: [(&str, &str); 17] = [
         "double-pendulum-spectrum",
         include_str!("builtin/double-pendulum-spectrum.toml"),
     ),
+    (
+        "free-rigid-body",
+        include_str!("builtin/free-rigid-body.toml"),
+    ),
+    ("megno-map", include_str!("builtin/megno-map.toml")),
+    ("struck-rods", include_str!("builtin/struck-rods.toml")),
 ];
 
 /// The scenes `hj` runs with no arguments (the showcase): one of each kind, quick.
