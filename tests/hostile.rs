@@ -5832,7 +5832,6 @@ mod expression_calls {
     }
 }
 
-
 mod scene_kind_calls {
     use super::*;
     use hamilton_jacobi::scene::impulse::struck_rods;

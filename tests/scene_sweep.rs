@@ -190,3 +190,63 @@ fn bad_sweeps_name_the_key() {
         }
     }
 }
+
+/// A dotted key reaches a number inside a table of `[system]`: here a parameter of a system
+/// defined by expression, each value's runs equal to those of the system written with it.
+#[test]
+fn a_dotted_key_sweeps_a_parameter_of_an_expression() {
+    let text = r#"
+[system]
+hamiltonian = "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + lambda*(x^2*y - y^3/3)"
+coordinates = ["x", "y"]
+parameters = { lambda = 1.0 }
+q = [0.0, 0.1]
+p = [0.39665266081716044, 0.0]
+[span]
+time = 20.0
+[[method]]
+kind = "verlet-kdk"
+steps = [400]
+[sweep]
+key = "parameters.lambda"
+values = [0.0, 0.5, 1.0]
+"#;
+    let spec = parse_scene_file("e.toml", text).unwrap();
+    let sw = spec.sweep.clone().unwrap();
+    let values = sweep_values("e.toml", &spec, &sw).unwrap();
+    let catalogue = Catalogue::builtin();
+    let points = run_sweep(
+        "e.toml",
+        &spec,
+        &sw,
+        &values,
+        &[vec![400.0]],
+        &catalogue,
+        &|| {},
+    )
+    .unwrap();
+    let verlet = MethodKind::from_key("verlet-kdk").unwrap();
+    for (p, &v) in points.iter().zip(&values) {
+        let mut table = spec.system.clone();
+        let mut parameters = toml::Table::new();
+        parameters.insert("lambda".into(), v.into());
+        table.insert("parameters".into(), parameters.into());
+        let mut case = catalogue.build("direct", &table).unwrap();
+        case.prepare(20.0).unwrap();
+        assert_eq!(
+            p.runs[0].error,
+            Ok(case.run(verlet, 400.0).unwrap().error),
+            "λ = {v}"
+        );
+    }
+    assert_ne!(points[0].runs[0].error, points[2].runs[0].error);
+    // `parameters` itself is a table, not a number.
+    let e = scene::parse(
+        "e.toml",
+        &text.replace("parameters.lambda", "parameters"),
+        &catalogue,
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("not a number"), "{e}");
+}
