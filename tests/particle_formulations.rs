@@ -155,9 +155,9 @@ impl<F: CartesianForce> ParticleSystem<2, 1> for Free<F> {
 }
 
 /// `y − f(x, t) = 0`.
-struct OnCurve<C>(C);
+struct CurveConstraint<C>(C);
 
-impl<C: PlaneCurve> HolonomicConstraints<2, 1> for OnCurve<C> {
+impl<C: PlaneCurve> HolonomicConstraints<2, 1> for CurveConstraint<C> {
     fn position_constraint<D: DualNum<f64> + Copy>(
         &self,
         t: D,
@@ -207,7 +207,7 @@ fn moving_curve_motion_matches_the_multiplier_formulation() {
         let yd0 = (x0 + a * ph.cos()) * xd0 - a * curve.c * ph.cos();
         let sys = Constrained::new(
             Particles(Free(m, PlaneDrag)),
-            Differentiated(OnCurve(curve)),
+            Differentiated(CurveConstraint(curve)),
         );
         let two = sys
             .integrate(
