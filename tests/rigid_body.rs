@@ -793,14 +793,17 @@ mod hamel_euler {
         /// coefficients `β_μ^{τρ} = −ε_{μτρ}` (the transition relation `d′δϑ − δ′dϑ = −dϑ × δϑ`),
         /// and the Boltzmann–Hamel equations of the heavy body, `T = ½ωᵀIω`, `V = w·γ`, give
         /// `ω̇` equal to Euler's equations in Newton–Euler form with the gravity moment
-        /// `M = γ × w` ([`euler_rhs`]), at random states, moments and mass-centre positions.
+        /// `M = γ × w` ([`euler_rhs`]), at random states, moments (of mass distributions) and
+        /// mass-centre positions.
         #[test]
         fn m32_euler_equations_from_hamel(
-            i1 in 0.2f64..5.0, i2 in 0.2f64..5.0, i3 in 0.2f64..5.0,
+            i1 in 0.2f64..5.0, i2 in 0.2f64..5.0, s3 in 0.05f64..0.95,
             w1 in -3.0f64..3.0, w2 in -3.0f64..3.0, w3 in -3.0f64..3.0,
             phi in -3.0f64..3.0, theta in 0.1f64..3.0, psi in -3.0f64..3.0,
             o1 in -4.0f64..4.0, o2 in -4.0f64..4.0, o3 in -4.0f64..4.0,
         ) {
+            // Principal moments of a mass distribution: |I₁ − I₂| ≤ I₃ ≤ I₁ + I₂.
+            let i3 = (i1 - i2).abs() + s3 * (i1 + i2 - (i1 - i2).abs());
             let q = SVector::from([phi, theta, psi]);
             let beta = hamel_coefficients(&BodyAngularVelocity, &q).unwrap();
             for mu in 0..3 {
