@@ -7,11 +7,22 @@
 //! first variation `dS/dε` of `S[q + εη]`, `η(t₀) = η(t₁) = 0`, vanishes on the motion; for the
 //! harmonic oscillator the second variation `∫(m η̇² − k η²) dt` is positive on spans shorter than
 //! half a period (no conjugate point) [Gelfand & Fomin, *Calculus of Variations*, §§25–27].
+//!
+//! Jacobi's form of the principle of least action (SPEC M12) [Ardema 4.5, eqs. 4.38–4.44]: for a
+//! natural system with `T = ½ q̇ᵀ a(q) q̇` and `V(q)`, the motions of energy `h` are, as paths, the
+//! geodesics of the Jacobi metric
+//!
+//! $$ G(q) = 2\,(h - V(q))\,a(q),\qquad
+//!    \delta\!\int \sqrt{2(h - V)}\,ds = 0,\quad ds^2 = \dot q^{\mathsf T} a\,\dot q\,dt^2 , $$
+//!
+//! in the region `V < h`. Along a motion `√(G(q̇, q̇)) dt = 2T dt`, so the Jacobi length of its
+//! path is the Maupertuis action `∫ 2T dt`. [`jacobi_metric`] returns the metric; as a
+//! [`Lagrangian`] it is `√(G(q)(q′, q′))`, whose [`action`] is the Jacobi length of a path.
 
-use crate::error::{finite, Error, Result};
-use crate::lagrangian::Lagrangian;
-use nalgebra::SVector;
-use num_dual::Dual64;
+use crate::error::{all_finite, finite, Error, Result};
+use crate::lagrangian::{Lagrangian, NaturalSystem};
+use nalgebra::{SMatrix, SVector};
+use num_dual::{Dual64, DualNum};
 use std::cell::Cell;
 
 /// The value of an action integral and what the quadrature reports about it.
@@ -115,5 +126,88 @@ fn non_finite(t: f64, value: f64) -> Error {
     Error::NonFinite {
         what: format!("L(t, q(t), q̇(t)) on the path at t = {t}"),
         value,
+    }
+}
+
+/// The Jacobi metric `G(q) = 2(h − V(q)) a(q)` of a natural system at the energy `h` (see the
+/// [module docs](self)).
+///
+/// The system must be scleronomic with `T` quadratic in `q̇` (`b = 0`, `c = 0` in
+/// [`NaturalSystem`]); `a` and `V` are evaluated at `t = 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metric<S, const N: usize> {
+    system: S,
+    energy: f64,
+}
+
+/// The Jacobi metric of `system` at the energy `h` (SPEC M12: `jacobi_metric(mass_matrix, v, h)`,
+/// the mass matrix and `V` being those of the [`NaturalSystem`]) [Ardema eq. 4.43].
+///
+/// # Errors
+/// [`Error::NonFinite`] for a non-finite `h`.
+pub fn jacobi_metric<S: NaturalSystem<N>, const N: usize>(
+    system: S,
+    h: f64,
+) -> Result<Metric<S, N>> {
+    Ok(Metric {
+        system,
+        energy: finite("energy h", h)?,
+    })
+}
+
+impl<S: NaturalSystem<N>, const N: usize> Metric<S, N> {
+    /// The energy `h`.
+    pub fn energy(&self) -> f64 {
+        self.energy
+    }
+
+    /// The system.
+    pub fn system(&self) -> &S {
+        &self.system
+    }
+
+    /// The conformal factor `2(h − V(q))`, positive where motion at energy `h` is possible.
+    pub fn conformal_factor<D: DualNum<f64> + Copy>(&self, q: &SVector<D, N>) -> D {
+        (-self.system.potential(D::from(0.0), q) + self.energy) * 2.0
+    }
+
+    /// The metric tensor `G(q) = 2(h − V(q)) a(q)`.
+    pub fn tensor<D: DualNum<f64> + Copy>(&self, q: &SVector<D, N>) -> SMatrix<D, N, N> {
+        self.system.mass(D::from(0.0), q) * self.conformal_factor(q)
+    }
+
+    /// The squared length `G(q)(dq, dq)` of the displacement `dq` at `q`.
+    pub fn squared_norm<D: DualNum<f64> + Copy>(&self, q: &SVector<D, N>, dq: &SVector<D, N>) -> D {
+        (self.system.mass(D::from(0.0), q) * dq).dot(dq) * self.conformal_factor(q)
+    }
+
+    /// `2(h − V(q))` on reals, checked: positive and finite inside the region of motion.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ in `q` or the value; [`Error::OutOfDomain`] where
+    /// `V(q) ≥ h` (outside the region of motion, where the metric degenerates).
+    pub fn checked_conformal_factor(&self, q: &SVector<f64, N>) -> Result<f64> {
+        all_finite("configuration q", q.as_slice())?;
+        let f = finite(
+            format_args!("2(h − V) at q = {q:?}"),
+            self.conformal_factor(q),
+        )?;
+        if f > 0.0 {
+            Ok(f)
+        } else {
+            Err(Error::out_of_domain(
+                format!("2(h − V(q)) at q = {q:?} (h = {})", self.energy),
+                f,
+                "(0, ∞): the region of motion V < h",
+            ))
+        }
+    }
+}
+
+impl<S: NaturalSystem<N>, const N: usize> Lagrangian<N> for Metric<S, N> {
+    /// `√(G(q)(q′, q′))`: its [`action`] along a path is the path's Jacobi length
+    /// `∫ √(2(h − V)) ds` (NaN outside the region of motion).
+    fn lagrangian<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        self.squared_norm(q, v).sqrt()
     }
 }

@@ -18,6 +18,7 @@ pub mod impulse;
 pub mod integrate;
 pub mod inverse_problem;
 pub mod lagrangian;
+pub mod least_action;
 pub mod nonholonomic;
 pub mod particles;
 pub mod perturbation;

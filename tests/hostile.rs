@@ -3136,6 +3136,7 @@ fn every_entry_point_survives_hostile_input() {
     hamiltonian_stability_calls::add(&mut calls);
     constrained_methods::add(&mut calls);
     tangent_calls::add(&mut calls);
+    formulations_calls::add(&mut calls);
     expression_calls::add(&mut calls);
     scene_kind_calls::add(&mut calls);
     let entry_points: std::collections::BTreeSet<String> = calls
@@ -4630,7 +4631,7 @@ mod hamiltonian_stability_calls {
     };
     use hamilton_jacobi::systems::{
         ClohessyWiltshire, DoublePendulum, DumbbellOrientation, DumbbellSatellite,
-        RestrictedThreeBody,
+        RestrictedThreeBody, Rod,
     };
 
     /// `V = 1 − cos q`.
@@ -4941,6 +4942,45 @@ mod hamiltonian_stability_calls {
                     } else {
                         finite_ok("V_q₁q₁", m.qq[(0, 0)])
                     }
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::Rod::new + Rod::uniform + DoublePendulum::rods",
+            &[1.0, 1.0, 0.5, 0.1, 2.0, 1.5, 0.7, 0.2, 1.0],
+            &[(2, 0.0), (3, 0.0), (6, -0.5), (7, -1.0)],
+            |a| {
+                let r = Rod::new(a[0], a[1], a[2], a[3]).and_then(|r1| {
+                    let r2 = Rod::new(a[4], a[5], a[6], a[7])?;
+                    let u = Rod::uniform(a[4], a[5])?;
+                    let h = DoublePendulum::rods(r1, r2, a[8])?;
+                    let hu = DoublePendulum::rods(r1, u, a[8])?;
+                    let z = SVector::zeros();
+                    let q = DoublePendulum::equilibria()[0];
+                    Ok((
+                        Hamiltonian::<2>::hessian(&h, 0.0, &q, &z)?,
+                        Hamiltonian::<2>::hessian(&hu, 0.0, &q, &z)?,
+                    ))
+                });
+                let valid = fin(a)
+                    && [0, 1, 4, 5, 8].iter().all(|&i| a[i] > 0.0)
+                    && [2, 3, 6, 7].iter().all(|&i| a[i] >= 0.0);
+                judge(r, valid, |(m, mu)| {
+                    // V_qq at the hanging equilibrium: diag((m₁ℓ̄₁ + m₂ℓ₁) g, m₂ g ℓ̄₂).
+                    let b = (a[0] * a[2] + a[4] * a[1]) * a[8];
+                    let c = a[4] * a[8] * a[6];
+                    let cu = a[4] * a[8] * a[5] * 0.5;
+                    all([
+                        near("B", m.qq[(0, 0)], b, 1e-14 * b.abs() + 2e-323),
+                        near("C", m.qq[(1, 1)], c, 1e-14 * c.abs() + 2e-323),
+                        near(
+                            "C (uniform rod)",
+                            mu.qq[(1, 1)],
+                            cu,
+                            1e-14 * cu.abs() + 2e-323,
+                        ),
+                    ])
                 })
             },
         );
@@ -5956,6 +5996,172 @@ mod scene_kind_calls {
                 let r = struck_rods(1.0, 1.0, n);
                 judge(r, (2..=100_000).contains(&n), |(table, figures)| {
                     finite_table(&table, 2, figures.len())
+                })
+            },
+        );
+    }
+}
+
+/// Particle formulations (M20), the double pendulum of rods (M21), the Jacobi metric and its
+/// geodesics (M12), Euler's equations from Hamel's (M32).
+mod formulations_calls {
+    use super::*;
+    use hamilton_jacobi::action::jacobi_metric;
+    use hamilton_jacobi::least_action::jacobi_geodesic;
+    use hamilton_jacobi::nalgebra::{Vector1, Vector2};
+    use hamilton_jacobi::nonholonomic::BoltzmannHamel;
+    use hamilton_jacobi::particles::Particles;
+    use hamilton_jacobi::systems::particle_formulations::{
+        cylindrical_components, spherical_components,
+    };
+    use hamilton_jacobi::systems::rigid_body::{
+        euler_rhs, vertical_in_body, BodyAngularVelocity, HeavyRigidBody, InertiaTensor,
+    };
+    use hamilton_jacobi::systems::{
+        ConstantForce, Cylindrical, DoublePendulum, OnCurve, Particle, PlaneCurve, Spherical,
+    };
+    use hamilton_jacobi::{Lagrangian, Natural};
+
+    /// The level line `y = 0`.
+    #[derive(Clone, Copy)]
+    struct Level;
+
+    impl PlaneCurve for Level {
+        fn height<D: DualNum<f64> + Copy>(&self, _t: D, _x: D) -> D {
+            D::from(0.0)
+        }
+    }
+
+    pub fn add(c: &mut Vec<Call>) {
+        sweep(
+            c,
+            "particle_formulations::cylindrical_components + spherical_components",
+            &[0.3, 0.5, 1.0, 2.0, 3.0],
+            &[],
+            |a| {
+                let f = Vector3::new(a[2], a[3], a[4]);
+                let r = cylindrical_components(a[0], &f)
+                    .and_then(|cy| Ok((cy, spherical_components(a[0], a[1], &f)?)));
+                judge(r, fin(a), |(cy, sp)| {
+                    let n = f.norm();
+                    if !n.is_finite() {
+                        // |F| overflows; the components must stay finite.
+                        return all([
+                            finite_ok("|F_cyl|", cy.amax()),
+                            finite_ok("|F_sph|", sp.amax()),
+                        ]);
+                    }
+                    all([
+                        near("|F_cyl|", cy.norm(), n, 1e-14 * n),
+                        near("|F_sph|", sp.norm(), n, 1e-14 * n),
+                        near("F_z", cy.z, a[4], 0.0),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "systems::Particle::new in Cylindrical, Spherical, OnCurve + accelerations",
+            &[1.5, 0.8, 0.3, 0.6, -0.4],
+            &[(0, -1.0), (1, 0.0)],
+            |a| {
+                let force = ConstantForce(Vector3::new(1.0, 2.0, 3.0));
+                let q = Vector3::new(a[1], a[2], a[3]);
+                let v = Vector3::new(a[4], 0.2, -0.1);
+                let r = Particle::new(a[0], Cylindrical, force).and_then(|cy| {
+                    let sp = Particle::new(a[0], Spherical, force)?;
+                    let on = Particle::new(a[0], OnCurve(Level), force)?;
+                    Ok((
+                        Particles(cy).accelerations(0.0, &q, &v)?,
+                        Particles(sp).accelerations(0.0, &q, &v)?,
+                        Particles(on).accelerations(
+                            0.0,
+                            &Vector1::new(a[1]),
+                            &Vector1::new(a[4]),
+                        )?,
+                    ))
+                });
+                judge(r, fin(a) && a[0] > 0.0, |(cy, sp, on)| {
+                    all([
+                        near_rel("z̈ = F_z/m", cy[2], 3.0 / a[0], 1e-14),
+                        finite_ok("spherical q̈", sp.amax()),
+                        near_rel("ẍ = F_x/m on y = 0", on[0], 1.0 / a[0], 1e-14),
+                    ])
+                })
+            },
+        );
+        sweep(
+            c,
+            "action::jacobi_metric + Metric::checked_conformal_factor",
+            &[1.0, 0.2, -0.3],
+            &[(0, -5.0)],
+            |a| {
+                let dp = DoublePendulum::new(1.0, 1.0, 1.0, 1.0, 1.0).unwrap();
+                let q = Vector2::new(a[1], a[2]);
+                let r = jacobi_metric(dp, a[0]).and_then(|m| m.checked_conformal_factor(&q));
+                let want = 2.0 * (a[0] + 2.0 * a[1].cos() + a[2].cos());
+                judge(r, fin(a) && want > 0.0 && want.is_finite(), |f| {
+                    near_rel("2(h − V)", f, want, 1e-14)
+                })
+            },
+        );
+        sweep(
+            c,
+            "least_action::jacobi_geodesic",
+            &[1.0, 0.1, 0.2, 0.3, -0.1],
+            &[(0, -3.5)],
+            |a| {
+                let dp = DoublePendulum::new(1.0, 1.0, 1.0, 1.0, 1.0).unwrap();
+                let (qa, qb) = (Vector2::new(a[1], a[2]), Vector2::new(a[3], a[4]));
+                let r = jacobi_metric(dp, a[0]).and_then(|m| jacobi_geodesic(&m, &qa, &qb, 4));
+                judge(r, fin(a), |g| {
+                    if g.nodes[0] == qa
+                        && g.nodes[4] == qb
+                        && g.length.is_finite()
+                        && g.length >= 0.0
+                    {
+                        Good
+                    } else {
+                        Wrong(format!(
+                            "ends {:?} … {:?}, length {}",
+                            g.nodes[0], g.nodes[4], g.length
+                        ))
+                    }
+                })
+            },
+        );
+        sweep(
+            c,
+            "BoltzmannHamel(HeavyRigidBody, BodyAngularVelocity)::quasi_accelerations",
+            &[0.7, 1.0, -0.5, 2.0],
+            &[(0, 0.0), (0, PI)],
+            |a| {
+                let (moments, weight) = (Vector3::new(1.0, 2.0, 3.0), Vector3::new(0.3, -0.2, 0.5));
+                let body = HeavyRigidBody::new(moments, weight).unwrap();
+                let q = SVector::from([0.2, a[0], -0.4]);
+                let w = SVector::from([a[1], a[2], a[3]]);
+                let r = BoltzmannHamel::new(Natural(body), BodyAngularVelocity)
+                    .quasi_accelerations(0.0, &q, &w);
+                judge(r, fin(a), |wd| {
+                    if a[0].sin().abs() < 1e-6 {
+                        // Near the chart singularity only finiteness is asked.
+                        return finite_ok("ω̇", wd.amax());
+                    }
+                    let inertia = InertiaTensor::principal(moments).unwrap();
+                    match euler_rhs(
+                        &inertia,
+                        &vertical_in_body(&q).cross(&weight),
+                        &Vector3::new(a[1], a[2], a[3]),
+                    ) {
+                        Ok(want) => {
+                            // The 3-1-3 chart's mass matrix has condition number ∝ 1/sin²θ
+                            // (X9), which scales the rounding of the Hamel route.
+                            let tol = 1e-12 * (1.0 + want.amax() + w.amax() * w.amax())
+                                / a[0].sin().powi(2).min(1.0);
+                            all((0..3).map(|k| near("ω̇", wd[k], want[k], tol)))
+                        }
+                        Err(_) => finite_ok("ω̇", wd.amax()),
+                    }
                 })
             },
         );

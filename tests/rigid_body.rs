@@ -764,3 +764,172 @@ fn lie_poisson_rejects_a_splitting_sequence() {
     use hamilton_jacobi::integrate::coefficients::VERLET_KDK;
     assert!(LiePoisson::composition(&body(), &VERLET_KDK).is_err());
 }
+
+// ------------------------------------------------------------------------------------------
+// Euler's equations from Hamel's equations (M32)
+// ------------------------------------------------------------------------------------------
+
+mod hamel_euler {
+    use super::*;
+    use hamilton_jacobi::constraints::hamel_coefficients;
+    use hamilton_jacobi::nonholonomic::BoltzmannHamel;
+    use hamilton_jacobi::systems::rigid_body::BodyAngularVelocity;
+    use hamilton_jacobi::Natural;
+    use proptest::prelude::*;
+
+    /// `ε_{ijk}`.
+    fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
+        match (i, j, k) {
+            (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
+            (0, 2, 1) | (2, 1, 0) | (1, 0, 2) => -1.0,
+            _ => 0.0,
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The body angular velocity as quasi-velocities of the 3-1-3 chart has Hamel's
+        /// coefficients `β_μ^{τρ} = −ε_{μτρ}` (the transition relation `d′δϑ − δ′dϑ = −dϑ × δϑ`),
+        /// and the Boltzmann–Hamel equations of the heavy body, `T = ½ωᵀIω`, `V = w·γ`, give
+        /// `ω̇` equal to Euler's equations in Newton–Euler form with the gravity moment
+        /// `M = γ × w` ([`euler_rhs`]), at random states, moments (of mass distributions) and
+        /// mass-centre positions.
+        #[test]
+        fn m32_euler_equations_from_hamel(
+            i1 in 0.2f64..5.0, i2 in 0.2f64..5.0, s3 in 0.05f64..0.95,
+            w1 in -3.0f64..3.0, w2 in -3.0f64..3.0, w3 in -3.0f64..3.0,
+            phi in -3.0f64..3.0, theta in 0.1f64..3.0, psi in -3.0f64..3.0,
+            o1 in -4.0f64..4.0, o2 in -4.0f64..4.0, o3 in -4.0f64..4.0,
+        ) {
+            // Principal moments of a mass distribution: |I₁ − I₂| ≤ I₃ ≤ I₁ + I₂.
+            let i3 = (i1 - i2).abs() + s3 * (i1 + i2 - (i1 - i2).abs());
+            let q = SVector::from([phi, theta, psi]);
+            let beta = hamel_coefficients(&BodyAngularVelocity, &q).unwrap();
+            for mu in 0..3 {
+                for tau in 0..3 {
+                    for rho in 0..3 {
+                        let b = beta.beta[mu][(tau, rho)];
+                        prop_assert!((b + levi_civita(mu, tau, rho)).abs() < 1e-12,
+                            "β_{mu}^{tau}{rho} = {b}");
+                    }
+                }
+            }
+            let moments = Vector3::new(i1, i2, i3);
+            let weight = Vector3::new(w1, w2, w3);
+            let body = HeavyRigidBody::new(moments, weight).unwrap();
+            let omega = SVector::from([o1, o2, o3]);
+            let hamel = BoltzmannHamel::new(Natural(body), BodyAngularVelocity)
+                .quasi_accelerations(0.0, &q, &omega)
+                .unwrap();
+            let gamma = vertical_in_body(&q);
+            let newton_euler = euler_rhs(
+                &InertiaTensor::principal(moments).unwrap(),
+                &gamma.cross(&weight),
+                &Vector3::new(o1, o2, o3),
+            )
+            .unwrap();
+            let scale = 1.0 + newton_euler.amax() + omega.amax().powi(2);
+            for k in 0..3 {
+                prop_assert!((hamel[k] - newton_euler[k]).abs() <= 1e-12 * scale,
+                    "Hamel {hamel:?} vs Newton–Euler {newton_euler:?}");
+            }
+        }
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// The chart singularity θ → 0 of the 3-1-3 angles (X9)
+// ------------------------------------------------------------------------------------------
+
+mod chart_singularity {
+    use super::*;
+    use hamilton_jacobi::lagrangian::Routhian;
+    use hamilton_jacobi::nalgebra::{Matrix2, Matrix4, Quaternion};
+    use hamilton_jacobi::{Lagrangian, Natural};
+
+    fn condition(eigenvalues: &[f64]) -> f64 {
+        let max = eigenvalues.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let min = eigenvalues
+            .iter()
+            .fold(f64::INFINITY, |m, x| m.min(x.abs()));
+        max / min
+    }
+
+    /// The Routhian of the heavy top by its ignorable `φ`, `ψ` solves `∂L/∂(φ̇, ψ̇) = (p_φ, p_ψ)`
+    /// with the block `a_ββ = [[I sin²θ + J cos²θ, J cos θ], [J cos θ, J]]`, `det = IJ sin²θ`: its
+    /// condition number, from the AD mass matrix, equals the closed form
+    /// `λ₊/λ₋` (`λ± = τ/2 ± √(τ²/4 − IJ sin²θ)`, `τ = I sin²θ + J cos²θ + J`) and grows as
+    /// `4J/(Iθ²)` (log-log slope −2 measured on θ = 10⁻¹ … 10⁻⁴), and the ignorable velocities
+    /// the Routhian recovers lose accuracy in proportion. In the quaternion chart the mass matrix
+    /// on the tangent space of S³ has the eigenvalues `4(I, I, J)` at every attitude, θ = 0
+    /// included: its condition number stays `max(I, J)/min(I, J)`.
+    #[test]
+    fn x9_routhian_conditioning_near_the_pole_and_the_quaternion_chart() {
+        let (i, j, mgl) = (2.0, 0.7, 1.3);
+        let top = HeavyTop::new(i, j, mgl).unwrap();
+        let rates = Vector3::new(0.9, 0.3, 2.1);
+        let thetas = [1e-1, 1e-2, 1e-3, 1e-4];
+        let mut conds = Vec::new();
+        for &th in &thetas {
+            let q = SVector::from([0.4, th, -0.2]);
+            let a = Natural(top).mass_matrix(0.0, &q, &rates).unwrap();
+            let block = Matrix2::new(a[(0, 0)], a[(0, 2)], a[(2, 0)], a[(2, 2)]);
+            let measured = condition(block.symmetric_eigenvalues().as_slice());
+            let (s, c) = th.sin_cos();
+            let tau = i * s * s + j * c * c + j;
+            let root = (tau * tau / 4.0 - i * j * s * s).sqrt();
+            let closed = (tau / 2.0 + root) / (i * j * s * s / (tau / 2.0 + root));
+            // The Routhian's ignorable velocities against the rates that gave the momenta.
+            let p_phi = (i * s * s + j * c * c) * rates[0] + j * c * rates[2];
+            let p_psi = j * (rates[2] + rates[0] * c);
+            let routhian: Routhian<_, 3, 1> =
+                Routhian::new(Natural(top), &[0, 2], &[p_phi, p_psi]).unwrap();
+            let v = routhian
+                .ignorable_velocities(0.0, &SVector::from([th]), &SVector::from([rates[1]]))
+                .unwrap();
+            let err = (v[0] - rates[0]).abs().max((v[1] - rates[2]).abs()) / rates.amax();
+            println!(
+                "θ = {th:e}: cond(a_ββ) = {measured:e} (closed form {closed:e}, 4J/(Iθ²) = {:e}), \
+                 Routhian velocity error {err:e}",
+                4.0 * j / (i * th * th)
+            );
+            assert!(
+                (measured - closed).abs() <= 1e-6 * closed,
+                "{measured} vs {closed}"
+            );
+            assert!(
+                err <= 64.0 * f64::EPSILON * closed,
+                "{err:e} vs cond {closed:e}"
+            );
+            conds.push(measured);
+        }
+        for k in 1..thetas.len() {
+            let slope = (conds[k] / conds[k - 1]).ln() / (thetas[k] / thetas[k - 1]).ln();
+            assert!((slope + 2.0).abs() < 0.01, "slope {slope}");
+        }
+        // The quaternion chart: ω = 2 Im(q̄ q̇), T = ½ωᵀIω = ½ q̇ᵀ (4GᵀIG) q̇ on T_qS³.
+        for th in [1e-1, 1e-4, 1e-8, 0.0] {
+            let quat = quaternion_from_euler313(&Vector3::new(0.4, th, -0.2)).unwrap();
+            let qq = quat.into_inner();
+            let g = hamilton_jacobi::nalgebra::Matrix3x4::from_fn(|r, col| {
+                let mut e = [0.0; 4];
+                e[col] = 1.0;
+                let d = Quaternion::new(e[0], e[1], e[2], e[3]);
+                let w = (qq.conjugate() * d).imag() * 2.0;
+                w[r]
+            });
+            let m: Matrix4<f64> =
+                g.transpose() * Matrix3::from_diagonal(&Vector3::new(i, i, j)) * g;
+            let mut ev: Vec<f64> = m.symmetric_eigenvalues().iter().copied().collect();
+            ev.sort_by(f64::total_cmp);
+            assert!(ev[0].abs() < 1e-12, "normal direction {ev:?}");
+            let cond = condition(&ev[1..]);
+            assert!(
+                (cond - i.max(j) / i.min(j)).abs() < 1e-12,
+                "θ = {th}: {ev:?}"
+            );
+            assert!((ev[3] - 4.0 * i.max(j)).abs() < 1e-12, "{ev:?}");
+        }
+    }
+}

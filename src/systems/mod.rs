@@ -22,7 +22,9 @@
 //! | [`RodOnCircle`] | 3, two holonomic constraints | a pendulum, `(c² + a²/3)θ̈ + gc sin θ = 0` [Ardema 14.4] |
 //! | [`FoldedRope`] | 2 (Lagrangian) | straightening time and `t(μ)` in closed form; finite-time blow-up of `μ̇` [Ardema 9.3] |
 //! | [`HeavyTop`] | 3 | Hamilton–Jacobi quadratures of the cubic ([`top::motion`]) [Ardema 17.5] |
-//! | [`DoublePendulum`] | 2 (point masses) | — (equilibria and their spectra) [Ardema 12.3] |
+//! | [`Particle`] in [`Cylindrical`], [`Spherical`] coordinates | 3 (applied force in Cartesian components) | Ardema's component equations [Ardema 7.2–7.3] |
+//! | [`Particle`] [`OnCurve`] | 1, on a fixed or moving plane curve `y = f(x, t)` | Ardema eq. 7.14 [Ardema 7.3] |
+//! | [`DoublePendulum`] | 2 (two rods; point masses the special case) | — (equilibria and their spectra in closed form) [Ardema 7.4, 12.3] |
 //! | [`RestrictedThreeBody`] | 2 (planar), 3 | — (Jacobi integral; L4 stable below Routh's ratio) [Szebehely §4.4] |
 //! | [`ClohessyWiltshire`] | 3, quadratic | closed form (Hill's equations) [Ardema 12.4] |
 //! | [`DumbbellSatellite`] | 3, `ρ` cyclic | relative equilibria, radial and tangential [Ardema 15.3] |
@@ -45,6 +47,7 @@ pub mod henon_heiles;
 pub mod hinged_rods;
 pub mod kepler;
 mod nonholonomic_particle;
+pub mod particle_formulations;
 mod pendulum;
 pub mod pendulum_exact;
 mod projectile;
@@ -63,7 +66,7 @@ pub use cart::TwoWheeledCart;
 pub use central::{Central, CentralPotential, InverseDistance};
 pub use clohessy_wiltshire::ClohessyWiltshire;
 pub use cone_constraint::{ConeConstraint, SecondClassConstraint};
-pub use double_pendulum::DoublePendulum;
+pub use double_pendulum::{DoublePendulum, Rod};
 pub use dumbbell::{DumbbellOrientation, DumbbellSatellite};
 pub use folded_rope::FoldedRope;
 pub use gearing::{Gearing, GearingInTime};
@@ -72,6 +75,10 @@ pub use henon_heiles::HenonHeiles;
 pub use hinged_rods::HingedRods;
 pub use kepler::{AngularMomentum, Kepler, Kepler2, Kepler3};
 pub use nonholonomic_particle::NonholonomicParticle;
+pub use particle_formulations::{
+    CartesianForce, ConstantForce, Coordinates, Cylindrical, OnCurve, Particle, PlaneCurve,
+    Spherical,
+};
 pub use pendulum::Pendulum;
 pub use projectile::Projectile;
 pub use restricted_three_body::RestrictedThreeBody;

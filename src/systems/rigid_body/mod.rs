@@ -23,5 +23,5 @@ pub use heavy::{vertical_in_body, HeavyRigidBody};
 pub use inertia::{koenig_t, rod_kinetic_energy, InertiaTensor, PrincipalAxes};
 pub use rotation::{
     check_chart, euler313_body_rates, euler313_from_quaternion, euler313_matrix, euler313_rates,
-    euler313_rotation_matrix, quaternion_from_euler313,
+    euler313_rotation_matrix, quaternion_from_euler313, BodyAngularVelocity,
 };

@@ -19,7 +19,12 @@
 //! quaternion, the canonical Hamiltonians' checked entry points) refuses `|sin θ| ≤ 2⁻⁵²` with
 //! [`Error::Singular`] naming the 3-1-3 chart; near it the inverse has the condition number
 //! `≈ 1/|sin θ|`.
+//! Routh's reduction of the axisymmetric top by its ignorable `φ`, `ψ` solves with the block
+//! `[[I sin²θ + J cos²θ, J cos θ], [J cos θ, J]]` of condition number `≈ 4J/(Iθ²)` as `θ → 0`
+//! (SPEC X9, measured in the tests), while in quaternions the mass matrix on the tangent space of
+//! S³ is `4 diag(I₁, I₂, I₃)` at every attitude: hence the quaternion state near the pole.
 
+use crate::constraints::QuasiVelocities;
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::{checked_vector_field, Hamiltonian};
 use crate::phase::check_phase;
@@ -107,6 +112,25 @@ pub fn euler313_matrix<D: DualNum<f64> + Copy>(theta: D, psi: D) -> SMatrix<D, 3
     let (sp, cp) = psi.sin_cos();
     let (z, one) = (D::from(0.0), D::from(1.0));
     SMatrix::<D, 3, 3>::new(st * sp, cp, z, st * cp, -sp, z, ct, z, one)
+}
+
+/// The body angular velocity `ω = B(θ, ψ)(φ̇, θ̇, ψ̇)` as quasi-velocities of the 3-1-3 chart (none
+/// constrained) [Hamel art. 242; SPEC M32]. Their transition relation is
+/// `d′δϑ − δ′dϑ = −dϑ × δϑ`: Hamel's coefficients are `β_μ^{τρ} = −ε_{μτρ}`, the structure
+/// constants of so(3), and the Boltzmann–Hamel equations with `T = ½ ωᵀ I ω`,
+/// `P = ∂T/∂ω = Iω`, are Euler's equations `I ω̇ + ω × Iω = M` (the moment `M` from
+/// `K_ρ = Σ_ν Q_ν B_νρ`, [`super::euler_rhs`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BodyAngularVelocity;
+
+impl QuasiVelocities<3> for BodyAngularVelocity {
+    fn constrained(&self) -> usize {
+        0
+    }
+    /// `b(q) = B(θ, ψ)` ([`euler313_matrix`]).
+    fn matrix<D: DualNum<f64> + Copy>(&self, q: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
+        euler313_matrix(q[1], q[2])
+    }
 }
 
 /// Body angular velocity from the 3-1-3 angles `(φ, θ, ψ)` and their rates [SPEC M29]:
