@@ -12,8 +12,10 @@
 //! natural system with `T = ½ q̇ᵀ a(q) q̇` and `V(q)`, the motions of energy `h` are, as paths, the
 //! geodesics of the Jacobi metric
 //!
-//! $$ G(q) = 2\,(h - V(q))\,a(q),\qquad
-//!    \delta\!\int \sqrt{2(h - V)}\,ds = 0,\quad ds^2 = \dot q^{\mathsf T} a\,\dot q\,dt^2 , $$
+//! ```math
+//! G(q) = 2\,(h - V(q))\,a(q),\qquad
+//! \delta\!\int \sqrt{2(h - V)}\,ds = 0,\quad ds^2 = \dot q^{\mathsf T} a\,\dot q\,dt^2 ,
+//! ```
 //!
 //! in the region `V < h`. Along a motion `√(G(q̇, q̇)) dt = 2T dt`, so the Jacobi length of its
 //! path is the Maupertuis action `∫ 2T dt`. [`jacobi_metric`] returns the metric; as a

@@ -5,8 +5,10 @@
 //! With nodes `q_0 = q_A, q_1, …, q_n = q_B` at equal steps `1/n` of a parameter `λ ∈ [0, 1]` and
 //! midpoints `q̄_k = ½(q_k + q_{k+1})`, the discrete energy and length are
 //!
-//! $$ E_n = n \sum_{k=0}^{n-1} G(\bar q_k)(\Delta q_k, \Delta q_k),\qquad
-//!    \ell_n = \sum_{k=0}^{n-1} \sqrt{G(\bar q_k)(\Delta q_k, \Delta q_k)} ,$$
+//! ```math
+//! E_n = n \sum_{k=0}^{n-1} G(\bar q_k)(\Delta q_k, \Delta q_k),\qquad
+//! \ell_n = \sum_{k=0}^{n-1} \sqrt{G(\bar q_k)(\Delta q_k, \Delta q_k)} ,
+//! ```
 //!
 //! `G = 2(h − V) a` the Jacobi metric ([`jacobi_metric`](crate::action::jacobi_metric)). The
 //! continuous energy `∫ G(q′, q′) dλ ≥ (∫ √G(q′, q′) dλ)²` is least, with equality, on the

@@ -7,7 +7,9 @@
 //! An [`Expression`] is a scalar function `f(x₁, …, x_n)` of named variables, its parameters
 //! replaced by their values. [`ExpressionHamiltonian`] is `H(t, q, p)` with Hamilton's equations
 //!
-//! $$ \dot q = \frac{\partial H}{\partial p},\qquad \dot p = -\frac{\partial H}{\partial q} $$
+//! ```math
+//! \dot q = \frac{\partial H}{\partial p},\qquad \dot p = -\frac{\partial H}{\partial q}
+//! ```
 //!
 //! taken from a second record holding `H` and its gradient, made by the adjoint sweep of
 //! [`crate::record::gradient`] (Griewank & Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008,

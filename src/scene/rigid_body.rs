@@ -4,7 +4,9 @@
 //! A steady spin `Ω` about principal axis 2 of a body with `I₁ < I₂ < I₃` is unstable: a small
 //! perturbation grows as `e^{λt}` with
 //!
-//! $$ \lambda = \Omega\,\sqrt{\frac{(I_2 - I_1)(I_3 - I_2)}{I_1 I_3}} $$
+//! ```math
+//! \lambda = \Omega\,\sqrt{\frac{(I_2 - I_1)(I_3 - I_2)}{I_1 I_3}}
+//! ```
 //!
 //! ([`intermediate_axis_growth_rate`]; `0.577350269…` for `I = (1, 2, 3)`, `Ω = 1`), and the
 //! body angular momentum `Π` then runs along the separatrix of the momentum sphere and back: the

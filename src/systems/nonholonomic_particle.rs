@@ -33,8 +33,10 @@ use num_dual::DualNum;
 /// coordinates `q = (u, y, z)`, `x = u + ½σy²`, so that `ẋ = u̇ + σ y ẏ`, the constraint reads
 /// `ż = y u̇ + σ y² ẏ` and
 ///
-/// $$ L = \tfrac12\big((\dot u + \sigma y \dot y)^2 + \dot y^2 + \dot z^2\big)
-///      + B\,(u + \tfrac12\sigma y^2)\,\dot y - V(y). $$
+/// ```math
+/// L = \tfrac12\big((\dot u + \sigma y \dot y)^2 + \dot y^2 + \dot z^2\big)
+/// + B\,(u + \tfrac12\sigma y^2)\,\dot y - V(y).
+/// ```
 ///
 /// `E` and `I` are unchanged as functions of the motion. For `σ ≠ 0, B ≠ 0, k ≠ 0` no linear map
 /// of `(u, y, z)` is a reversing symmetry (the coupling `σ y u̇ ẏ` is odd under `ẏ ↦ −ẏ` with

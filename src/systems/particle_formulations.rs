@@ -17,8 +17,10 @@
 //! * On the plane curve `y = f(x, t)` ([`OnCurve`], coordinate `x`):
 //!   `ẏ = f_x ẋ + f_t`, `T = ½ m (ẋ² + (f_x ẋ + f_t)²)`, `Q = F_x + F_y f_x`, and Lagrange's
 //!   equation is [Ardema eq. 7.14]
-//!   $$ m(1 + f_x^2)\,\ddot x + m f_x\big(f_{xx}\dot x^2 + 2 f_{xt}\dot x + f_{tt}\big)
-//!   = F_x + F_y f_x , $$
+//!   ```math
+//!   m(1 + f_x^2)\,\ddot x + m f_x\big(f_{xx}\dot x^2 + 2 f_{xt}\dot x + f_{tt}\big)
+//!   = F_x + F_y f_x ,
+//!   ```
 //!   i.e. `m(ẍ + f_x ÿ) = F_x + F_y f_x`, the tangential component of Newton's law. For a fixed
 //!   curve (`f_t = 0`) it is `m(1 + f′²) ẍ + m f′ f″ ẋ² = F_x + F_y f′` [Ardema eq. 7.15].
 
