@@ -2,10 +2,10 @@
 //! against it, run on every core with results independent of the thread count.
 #![cfg(feature = "cli")]
 
+mod common;
+
 use hamilton_jacobi::scene::parameter_sweep::{run_sweep, sweep_values, SweepPoint};
-use hamilton_jacobi::scene::{self, parse_scene_file, Catalogue, MethodKind, RunOptions};
-use hamilton_jacobi::workprecision::Timing;
-use std::time::Duration;
+use hamilton_jacobi::scene::{self, parse_scene_file, Catalogue, MethodKind};
 
 const PENDULUM_SWEEP: &str = r#"
 name = "pendulum-sweep"
@@ -106,16 +106,7 @@ fn a_scene_with_a_sweep_writes_its_figure_and_table() {
     assert!(planned
         .iter()
         .any(|p| p.to_string_lossy().contains("pendulum-sweep-sweep")));
-    let opts = RunOptions {
-        out: dir.clone(),
-        timing: Timing {
-            min_time: Duration::from_millis(1),
-            max_runs: 1,
-        },
-        progress: false,
-        figures: Default::default(),
-    };
-    let summary = s.run(&opts).unwrap();
+    let summary = s.run(&common::quick(&dir)).unwrap();
     assert!(
         summary.markdown.contains("### Sweep of system.amplitude"),
         "{}",
