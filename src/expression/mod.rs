@@ -33,7 +33,6 @@ use crate::record::{self, Record};
 use nalgebra::SVector;
 use num_dual::DualNum;
 use parse::{BinOp, Expr, FUNCTIONS};
-use std::cell::RefCell;
 
 /// The largest number of degrees of freedom [`with_dof!`](crate::with_dof) dispatches to.
 pub const MAX_DOF: usize = 6;
@@ -184,7 +183,9 @@ impl Expression {
     /// # Panics
     /// If `x` holds fewer values than there are variables.
     pub fn eval<D: DualNum<f64> + Copy>(&self, x: &[D]) -> D {
-        self.record.eval_unchecked(x)[0]
+        let mut y = [D::zero()];
+        self.record.eval_into(x, &mut y);
+        y[0]
     }
 
     /// The value at `x` on reals.
@@ -281,17 +282,14 @@ fn inputs<D: DualNum<f64> + Copy, const N: usize>(
     x
 }
 
-thread_local! {
-    /// The values of the operations of the last real evaluation, reused.
-    static WORK: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
-}
-
 /// A Hamiltonian `H(t, q, p)` given by an expression in named coordinates, momenta and
 /// parameters; Hamilton's equations by the recorded gradient (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct ExpressionHamiltonian<const N: usize> {
     h: Expression,
     gradient: Record,
+    /// Hamilton's equations `(∂H/∂p, −∂H/∂q)`.
+    field: Record,
 }
 
 impl<const N: usize> ExpressionHamiltonian<N> {
@@ -320,7 +318,15 @@ impl<const N: usize> ExpressionHamiltonian<N> {
             out.extend(record::gradient(y, &x[1..]));
             Ok(out)
         })?;
-        Ok(Self { h, gradient })
+        let field = record::record(&vec![0.5; 1 + 2 * N], |x| {
+            let g = record::gradient(h.tree().eval(x), &x[1..]);
+            Ok(g[N..]
+                .iter()
+                .copied()
+                .chain(g[..N].iter().map(|d| -*d))
+                .collect())
+        })?;
+        Ok(Self { h, gradient, field })
     }
 
     /// The expression of `H`; its variables are `t`, the coordinates, the momenta.
@@ -342,7 +348,9 @@ impl<const N: usize> ExpressionHamiltonian<N> {
     pub fn check_state(&self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Result<f64> {
         crate::phase::check_phase(t, q, p)?;
         let x = inputs(t, q, p);
-        let y = self.gradient.eval_unchecked(&x[..1 + 2 * N]);
+        let mut y = [0.0; 1 + 2 * MAX_DOF];
+        let y = &mut y[..1 + 2 * N];
+        self.gradient.eval_into(&x[..1 + 2 * N], y);
         let names = self.h.variables();
         for (k, v) in y.iter().enumerate() {
             if !v.is_finite() {
@@ -465,13 +473,12 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
         p: &SVector<D, N>,
     ) -> (D, SVector<D, N>, SVector<D, N>) {
         let x = inputs(t, q, p);
-        let mut v = Vec::new();
-        self.gradient.eval_into(&x[..1 + 2 * N], &mut v);
-        let out = self.gradient.outputs();
+        let mut y = [D::zero(); 1 + 2 * MAX_DOF];
+        self.gradient.eval_into(&x[..1 + 2 * N], &mut y);
         (
-            v[out[0]],
-            SVector::from_fn(|i, _| v[out[1 + i]]),
-            SVector::from_fn(|i, _| v[out[1 + N + i]]),
+            y[0],
+            SVector::from_fn(|i, _| y[1 + i]),
+            SVector::from_fn(|i, _| y[1 + N + i]),
         )
     }
 
@@ -483,15 +490,12 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
         p: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, N>) {
         let x = inputs(t, q, p);
-        WORK.with(|w| {
-            let mut v = w.borrow_mut();
-            self.gradient.eval_into(&x[..1 + 2 * N], &mut v);
-            let out = self.gradient.outputs();
-            (
-                SVector::from_fn(|i, _| v[out[1 + N + i]]),
-                SVector::from_fn(|i, _| -v[out[1 + i]]),
-            )
-        })
+        let mut y = [0.0; 2 * MAX_DOF];
+        self.field.eval_into(&x[..1 + 2 * N], &mut y);
+        (
+            SVector::from_fn(|i, _| y[i]),
+            SVector::from_fn(|i, _| y[N + i]),
+        )
     }
 }
 

@@ -48,8 +48,9 @@
 //!
 //! # Uses
 //! [`Record::eval`] evaluates a record on any `DualNum<f64>` type (so a record — for instance one
-//! compiled from an expression — is again a function written once for every number type), and
-//! [`Jets`] propagates normalised Taylor coefficients through it, which is the Taylor method
+//! compiled from an expression — is again a function written once for every number type) by a
+//! register program made once from it ([`Record::eval_into`]), and [`Jets`] propagates
+//! normalised Taylor coefficients through the same program, which is the Taylor method
 //! ([`crate::integrate::taylor`]).
 //!
 //! References: A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, chs. 2–3
@@ -59,6 +60,7 @@
 
 mod jets;
 mod number;
+mod program;
 
 pub use jets::{Jets, MAX_ORDER};
 pub use number::Recorded;
@@ -66,6 +68,7 @@ pub use number::Recorded;
 use crate::error::{Error, Result};
 use num_dual::DualNum;
 use number::{with_tape, Tape, CONST};
+use program::Program;
 
 /// One elementary operation of a [`Record`]; operands are indices of earlier operations.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,12 +184,22 @@ impl Op {
     }
 }
 
-/// A recorded function `ℝⁿ → ℝᵐ`: operations in evaluation order, the first `n` the inputs.
-#[derive(Clone, Debug, PartialEq)]
+/// A recorded function `ℝⁿ → ℝᵐ`: operations in evaluation order, the first `n` the inputs,
+/// and the register program they are evaluated by (see [`Record::eval_into`]).
+#[derive(Clone, Debug)]
 pub struct Record {
     ops: Vec<Op>,
     inputs: usize,
     outputs: Vec<usize>,
+    program: Program,
+}
+
+/// Records are equal when their operations, inputs and outputs are (the program is made from
+/// them).
+impl PartialEq for Record {
+    fn eq(&self, other: &Self) -> bool {
+        self.ops == other.ops && self.inputs == other.inputs && self.outputs == other.outputs
+    }
 }
 
 /// The largest number of operations one record may hold, `2²⁴`: a function that records more
@@ -264,12 +277,14 @@ impl Record {
             }
         }
         // Operands of `sin`/`cos` may point forward to their partner: map after numbering.
-        let kept = kept.into_iter().map(|op| op.map(|j| index[j])).collect();
-        Record {
-            ops: kept,
+        let mut record = Record {
+            ops: kept.into_iter().map(|op| op.map(|j| index[j])).collect(),
             inputs,
             outputs: outputs.into_iter().map(|o| index[o]).collect(),
-        }
+            program: Program::default(),
+        };
+        record.program = Program::new(&record);
+        record
     }
 
     /// The operations, the first [`inputs`](Self::inputs) of them the inputs.
@@ -297,8 +312,13 @@ impl Record {
         self.ops.is_empty()
     }
 
-    /// The outputs at `x`, evaluated on any number type (each operation by its `DualNum`
-    /// function).
+    /// The number of instructions of the register program the record is evaluated by (see
+    /// [`eval_into`](Self::eval_into)).
+    pub fn instructions(&self) -> usize {
+        self.program.len()
+    }
+
+    /// The outputs at `x`, evaluated on any number type (see [`eval_into`](Self::eval_into)).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when `x.len()` is not the number of inputs; [`Error::NonFinite`]
@@ -313,7 +333,8 @@ impl Record {
         for (i, v) in x.iter().enumerate() {
             crate::error::finite(format_args!("record input {i}"), v.re())?;
         }
-        let y = self.eval_unchecked(x);
+        let mut y = vec![D::zero(); self.outputs.len()];
+        self.eval_into(x, &mut y);
         for (i, v) in y.iter().enumerate() {
             crate::error::finite(
                 format_args!("record output {i} (outside the function's domain?)"),
@@ -323,49 +344,24 @@ impl Record {
         Ok(y)
     }
 
-    /// The outputs at `x` without validation (NaN in gives NaN out); `x` must hold
-    /// [`inputs`](Self::inputs) values.
+    /// The outputs at `x` into `y` (`y[k]` the `k`-th output) on any number type, without
+    /// validation (NaN in gives NaN out).
+    ///
+    /// The record is evaluated by a register program made once when it is recorded: the linear
+    /// operations folded into scale factors of the slots (`c·u`, `−u` and `u + u` make no
+    /// instruction, `αu + βv` and `αu + γ` one; the factors pass through products, quotients,
+    /// reciprocals and, for `α > 0`, roots and powers), `sin` and `cos` of one argument one
+    /// instruction, a product used only by a linear combination `α·ab + βc` fused with it,
+    /// operands resolved to slots in advance, one dispatch per instruction. The slots live in a
+    /// buffer on the stack when it holds at most 512 values of `D` in at most 16 KiB (the
+    /// indices masked by its power-of-two length, so that no bounds check remains), on the heap
+    /// otherwise (Griewank & Walther, §2.2, the evaluation procedure as a register program).
     ///
     /// # Panics
-    /// If `x` is shorter than the number of inputs.
-    pub fn eval_unchecked<D: DualNum<f64> + Copy>(&self, x: &[D]) -> Vec<D> {
-        let mut v: Vec<D> = Vec::with_capacity(self.ops.len());
-        self.eval_into(x, &mut v);
-        self.outputs.iter().map(|&o| v[o]).collect()
-    }
-
-    /// The value of every operation at `x`, without validation, into `values` (cleared first;
-    /// a buffer reused across calls allocates nothing): the outputs are
-    /// `values[o]` for `o` in [`outputs`](Self::outputs).
-    ///
-    /// # Panics
-    /// If `x` is shorter than the number of inputs.
-    pub fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], values: &mut Vec<D>) {
-        let v = values;
-        v.clear();
-        v.reserve(self.ops.len());
-        for op in &self.ops {
-            let r = match *op {
-                Op::Input(i) => x[i],
-                Op::Const(c) => D::from(c),
-                Op::Add(a, b) => v[a] + v[b],
-                Op::Sub(a, b) => v[a] - v[b],
-                Op::Mul(a, b) => v[a] * v[b],
-                Op::Div(a, b) => v[a] / v[b],
-                Op::Neg(a) => -v[a],
-                Op::Shift(a, c) => v[a] + c,
-                Op::Scale(a, c) => v[a] * c,
-                Op::Recip(a) => v[a].recip(),
-                Op::Sqrt(a) => v[a].sqrt(),
-                Op::Exp(a) => v[a].exp(),
-                Op::Ln(a) => v[a].ln(),
-                Op::Powf(a, c) => v[a].powf(c),
-                Op::Sin { arg, .. } => v[arg].sin(),
-                Op::Cos { arg, .. } => v[arg].cos(),
-                Op::Atan2 { y, x, .. } => v[y].atan2(v[x]),
-            };
-            v.push(r);
-        }
+    /// If `x` holds fewer values than the record has inputs, or `y` fewer than it has outputs.
+    #[inline]
+    pub fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
+        self.program.eval(x, y)
     }
 }
 

@@ -1,0 +1,464 @@
+//! The flat register program of a record: the form in which a record is evaluated, on any
+//! number type and as Taylor jets.
+
+use super::{Op, Record};
+use num_dual::DualNum;
+use std::collections::HashMap;
+
+/// One instruction of a [`Program`]; `w`, `a`, … are offsets in the buffer of values (slot ×
+/// stride: for [`Jets`](super::Jets) the coefficient `k` of a jet is `c[offset + k]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Instr {
+    /// `w = α a + β b`.
+    Lin {
+        w: usize,
+        a: usize,
+        alpha: f64,
+        b: usize,
+        beta: f64,
+    },
+    /// `w = α a + γ` (`γ` enters the coefficient of order 0 only).
+    Affine {
+        w: usize,
+        a: usize,
+        alpha: f64,
+        gamma: f64,
+    },
+    /// `w = a b`.
+    Mul { w: usize, a: usize, b: usize },
+    /// `w = α a b + β c`, a product whose only use is a linear combination, fused with it.
+    MulAdd {
+        w: usize,
+        a: usize,
+        b: usize,
+        alpha: f64,
+        c: usize,
+        beta: f64,
+    },
+    /// `w = a / b`.
+    Div { w: usize, a: usize, b: usize },
+    /// `w = 1 / a`.
+    Recip { w: usize, a: usize },
+    /// `w = √a`.
+    Sqrt { w: usize, a: usize },
+    /// `w = eᵃ`.
+    Exp { w: usize, a: usize },
+    /// `w = ln a`.
+    Ln { w: usize, a: usize },
+    /// `w = aᵖ`.
+    Powf { w: usize, a: usize, p: f64 },
+    /// `s = sin a`, `c = cos a`, the pair whose recurrences read each other.
+    SinCos { s: usize, c: usize, a: usize },
+    /// `w = atan2(y, x)`, `r = x² + y²`.
+    Atan2 {
+        w: usize,
+        y: usize,
+        x: usize,
+        r: usize,
+    },
+}
+
+/// A [`Record`] translated once into a flat program over *slots* (registers), each operation of
+/// the record being `α ×` a slot:
+///
+/// * the linear operations are folded into the factors `α` — `c·u`, `−u` and `u + u` make no
+///   instruction, `αu + βv` one, `αu + γ` one — since a linear combination of linear
+///   combinations is one;
+/// * the factors pass through products and quotients, `(αu)(βv) = αβ·uv`,
+///   `(αu)/(βv) = (α/β)·u/v`, `1/(αu) = α⁻¹·(1/u)`, and through `√(αu) = √α √u` and
+///   `(αu)^p = α^p u^p` for `α > 0`;
+/// * `sin u` and `cos u` of the same argument are one instruction;
+/// * the operands are slot offsets resolved in advance, the constants preset in their slots.
+///
+/// [`eval`](Self::eval) runs the program on any [`DualNum<f64>`] type, one dispatch per
+/// instruction, its slots in a buffer on the stack when they fit in [`STACK_BYTES`], with
+/// the bounds checks of the slot indices proved away (each index masked by the buffer's
+/// power-of-two length, which the slot count does not exceed); [`Jets`](super::Jets) runs the
+/// same program order by order over Taylor coefficients, each slot a jet of `stride` coefficients.
+///
+/// References: A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, §2.2
+/// (the evaluation procedure as a three-part register program); À. Jorba & M. Zou,
+/// Exp. Math. 14 (2005) 99–117, §2.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Program {
+    /// The number of buffer entries per slot.
+    pub(super) stride: usize,
+    /// The number of slots; the first `inputs` hold the inputs.
+    pub(super) slots: usize,
+    pub(super) inputs: usize,
+    pub(super) instructions: Vec<Instr>,
+    /// Constants as `(offset, value)`.
+    pub(super) consts: Vec<(usize, f64)>,
+    /// Every operation of the record as `(offset of a slot, α)` (empty once products are
+    /// fused).
+    pub(super) value: Vec<(usize, f64)>,
+    /// The outputs as `(offset, α)`.
+    pub(super) outputs: Vec<(usize, f64)>,
+}
+
+/// The largest buffer of slot values [`Program::eval`] keeps on the stack, in bytes (a larger
+/// one is allocated on the heap for the call).
+const STACK_BYTES: usize = 1 << 14;
+
+impl Program {
+    /// The program of `record` with one buffer entry per slot, for [`eval`](Self::eval): as
+    /// [`with_stride`](Self::with_stride), and a product whose only use is a linear
+    /// combination `α·(ab) + βc` fused with it into one instruction (the same roundings in the
+    /// same order).
+    pub(super) fn new(record: &Record) -> Self {
+        let mut program = Self::with_stride(record, 1);
+        program.fuse();
+        program
+    }
+
+    /// Fuse each product used once, by a linear combination, into it; the operations' slots
+    /// ([`value`](Self::value)) are dropped, since a fused product has none.
+    fn fuse(&mut self) {
+        let mut uses = vec![0usize; self.slots];
+        for ins in &self.instructions {
+            for r in ins.reads() {
+                uses[r] += 1;
+            }
+        }
+        for &(o, _) in &self.outputs {
+            uses[o] += 1;
+        }
+        // The instruction writing each slot.
+        let mut writer = vec![usize::MAX; self.slots];
+        for (k, ins) in self.instructions.iter().enumerate() {
+            if let Instr::Mul { w, .. } = *ins {
+                writer[w] = k;
+            }
+        }
+        let mut dead = vec![false; self.instructions.len()];
+        for k in 0..self.instructions.len() {
+            let Instr::Lin {
+                w,
+                a,
+                alpha,
+                b,
+                beta,
+            } = self.instructions[k]
+            else {
+                continue;
+            };
+            let single = |s: usize| uses[s] == 1 && writer[s] != usize::MAX;
+            let (t, alpha, c, beta) = if single(a) {
+                (a, alpha, b, beta)
+            } else if single(b) {
+                (b, beta, a, alpha)
+            } else {
+                continue;
+            };
+            let Instr::Mul { a, b, .. } = self.instructions[writer[t]] else {
+                continue;
+            };
+            dead[writer[t]] = true;
+            self.instructions[k] = Instr::MulAdd {
+                w,
+                a,
+                b,
+                alpha,
+                c,
+                beta,
+            };
+        }
+        let mut k = 0;
+        self.instructions.retain(|_| {
+            k += 1;
+            !dead[k - 1]
+        });
+        self.value = Vec::new();
+    }
+
+    /// The program of `record` with `stride` buffer entries per slot.
+    pub(super) fn with_stride(record: &Record, stride: usize) -> Self {
+        let mut compiler = Compiler {
+            stride,
+            slots: 0,
+            program: Vec::new(),
+            consts: Vec::new(),
+            scaled: HashMap::new(),
+        };
+        let value = compiler.translate(record);
+        let outputs = record.outputs.iter().map(|&o| value[o]).collect();
+        Self {
+            stride,
+            slots: compiler.slots,
+            inputs: record.inputs,
+            instructions: compiler.program,
+            consts: compiler.consts,
+            value,
+            outputs,
+        }
+    }
+
+    /// The number of instructions.
+    pub(super) fn len(&self) -> usize {
+        self.instructions.len()
+    }
+
+    /// The outputs at `x` into `y` (`y[k]` for the `k`-th output), without validation: NaN in
+    /// gives NaN out. No allocation when the slots fit in [`STACK_BYTES`].
+    ///
+    /// # Panics
+    /// If `x` holds fewer values than the record has inputs or `y` fewer than it has outputs.
+    #[inline]
+    pub(super) fn eval<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
+        let n = self.slots * self.stride;
+        let fits = |s: usize| n <= s && s * std::mem::size_of::<D>() <= STACK_BYTES;
+        if fits(32) {
+            self.run::<D, 32>(x, y)
+        } else if fits(64) {
+            self.run::<D, 64>(x, y)
+        } else if fits(512) {
+            self.run::<D, 512>(x, y)
+        } else {
+            let mut v = vec![D::zero(); n];
+            self.exec(&mut v, usize::MAX, x, y)
+        }
+    }
+
+    /// [`eval`](Self::eval) with the slots in an array of `S ≥ slots` (a power of two) values.
+    #[inline]
+    fn run<D: DualNum<f64> + Copy, const S: usize>(&self, x: &[D], y: &mut [D]) {
+        let mut v = [D::zero(); S];
+        self.exec(&mut v, S - 1, x, y)
+    }
+
+    /// The program over the buffer `v`, every offset taken `& mask` (the identity on offsets
+    /// below `v.len()`, which `mask + 1` bounds when `v.len()` is a power of two).
+    #[inline(always)]
+    fn exec<D: DualNum<f64> + Copy>(&self, v: &mut [D], mask: usize, x: &[D], y: &mut [D]) {
+        for (i, &xi) in x[..self.inputs].iter().enumerate() {
+            v[(i * self.stride) & mask] = xi;
+        }
+        for &(w, c) in &self.consts {
+            v[w & mask] = D::from(c);
+        }
+        for &ins in &self.instructions {
+            step(ins, v, mask);
+        }
+        for (yk, &(o, alpha)) in y[..self.outputs.len()].iter_mut().zip(&self.outputs) {
+            *yk = v[o & mask] * alpha;
+        }
+    }
+}
+
+impl Instr {
+    /// The offsets the instruction reads.
+    fn reads(&self) -> impl Iterator<Item = usize> {
+        let (a, b, c) = match *self {
+            Instr::Lin { a, b, .. } | Instr::Mul { a, b, .. } | Instr::Div { a, b, .. } => {
+                (Some(a), Some(b), None)
+            }
+            Instr::MulAdd { a, b, c, .. } => (Some(a), Some(b), Some(c)),
+            Instr::Affine { a, .. }
+            | Instr::Recip { a, .. }
+            | Instr::Sqrt { a, .. }
+            | Instr::Exp { a, .. }
+            | Instr::Ln { a, .. }
+            | Instr::Powf { a, .. }
+            | Instr::SinCos { a, .. } => (Some(a), None, None),
+            Instr::Atan2 { y, x, r, .. } => (Some(y), Some(x), Some(r)),
+        };
+        a.into_iter().chain(b).chain(c)
+    }
+}
+
+/// The value of one instruction (for jets: the coefficient of order 0), each offset `& mask`.
+#[inline(always)]
+pub(super) fn step<D: DualNum<f64> + Copy>(ins: Instr, v: &mut [D], mask: usize) {
+    match ins {
+        Instr::Lin {
+            w,
+            a,
+            alpha,
+            b,
+            beta,
+        } => v[w & mask] = v[a & mask] * alpha + v[b & mask] * beta,
+        Instr::Affine { w, a, alpha, gamma } => v[w & mask] = v[a & mask] * alpha + gamma,
+        Instr::Mul { w, a, b } => v[w & mask] = v[a & mask] * v[b & mask],
+        Instr::MulAdd {
+            w,
+            a,
+            b,
+            alpha,
+            c,
+            beta,
+        } => v[w & mask] = v[a & mask] * v[b & mask] * alpha + v[c & mask] * beta,
+        Instr::Div { w, a, b } => v[w & mask] = v[a & mask] / v[b & mask],
+        Instr::Recip { w, a } => v[w & mask] = v[a & mask].recip(),
+        Instr::Sqrt { w, a } => v[w & mask] = v[a & mask].sqrt(),
+        Instr::Exp { w, a } => v[w & mask] = v[a & mask].exp(),
+        Instr::Ln { w, a } => v[w & mask] = v[a & mask].ln(),
+        Instr::Powf { w, a, p } => v[w & mask] = v[a & mask].powf(p),
+        Instr::SinCos { s, c, a } => (v[s & mask], v[c & mask]) = v[a & mask].sin_cos(),
+        Instr::Atan2 { w, y, x, .. } => v[w & mask] = v[y & mask].atan2(v[x & mask]),
+    }
+}
+
+/// The translation of a record into slots and instructions (see [`Program`]).
+struct Compiler {
+    stride: usize,
+    slots: usize,
+    program: Vec<Instr>,
+    consts: Vec<(usize, f64)>,
+    /// Slots holding `α × slot`, made when an operation needs its operand itself.
+    scaled: HashMap<(usize, u64), usize>,
+}
+
+impl Compiler {
+    /// A new slot's offset.
+    fn slot(&mut self) -> usize {
+        self.slots += 1;
+        (self.slots - 1) * self.stride
+    }
+
+    /// The offset of a slot holding `α × slot` itself.
+    fn materialise(&mut self, (a, alpha): (usize, f64)) -> usize {
+        if alpha == 1.0 {
+            return a;
+        }
+        if let Some(&w) = self.scaled.get(&(a, alpha.to_bits())) {
+            return w;
+        }
+        let w = self.slot();
+        self.program.push(Instr::Affine {
+            w,
+            a,
+            alpha,
+            gamma: 0.0,
+        });
+        self.scaled.insert((a, alpha.to_bits()), w);
+        w
+    }
+
+    /// `αu + βv` of two values.
+    fn lin(&mut self, (a, alpha): (usize, f64), (b, beta): (usize, f64)) -> (usize, f64) {
+        if a == b {
+            return (a, alpha + beta);
+        }
+        let w = self.slot();
+        self.program.push(Instr::Lin {
+            w,
+            a,
+            alpha,
+            b,
+            beta,
+        });
+        (w, 1.0)
+    }
+
+    /// A new slot computed by `make(w)`, with factor 1.
+    fn emit(&mut self, make: impl FnOnce(usize) -> Instr) -> (usize, f64) {
+        let w = self.slot();
+        self.program.push(make(w));
+        (w, 1.0)
+    }
+
+    /// The program of `record`: every operation as `(offset, α)`.
+    fn translate(&mut self, record: &Record) -> Vec<(usize, f64)> {
+        let mut value: Vec<Option<(usize, f64)>> = vec![None; record.len()];
+        for v in value.iter_mut().take(record.inputs) {
+            *v = Some((self.slot(), 1.0));
+        }
+        let at = |value: &[Option<(usize, f64)>], j: usize| value[j].unwrap_or((0, f64::NAN));
+        for (i, op) in record.ops.iter().enumerate().skip(record.inputs) {
+            if value[i].is_some() {
+                // The partner of a `sin`/`cos` pair already made.
+                continue;
+            }
+            let v = match *op {
+                Op::Input(j) => at(&value, j),
+                Op::Const(x) => {
+                    let w = self.slot();
+                    self.consts.push((w, x));
+                    (w, 1.0)
+                }
+                Op::Add(a, b) => self.lin(at(&value, a), at(&value, b)),
+                Op::Sub(a, b) => {
+                    let (b, beta) = at(&value, b);
+                    self.lin(at(&value, a), (b, -beta))
+                }
+                Op::Neg(a) => {
+                    let (a, alpha) = at(&value, a);
+                    (a, -alpha)
+                }
+                Op::Scale(a, x) => {
+                    let (a, alpha) = at(&value, a);
+                    (a, alpha * x)
+                }
+                Op::Shift(a, gamma) => {
+                    let (a, alpha) = at(&value, a);
+                    self.emit(|w| Instr::Affine { w, a, alpha, gamma })
+                }
+                Op::Mul(a, b) => {
+                    let ((a, alpha), (b, beta)) = (at(&value, a), at(&value, b));
+                    let (w, _) = self.emit(|w| Instr::Mul { w, a, b });
+                    (w, alpha * beta)
+                }
+                Op::Div(a, b) => {
+                    let ((a, alpha), (b, beta)) = (at(&value, a), at(&value, b));
+                    let (w, _) = self.emit(|w| Instr::Div { w, a, b });
+                    (w, alpha / beta)
+                }
+                Op::Recip(a) => {
+                    let (a, alpha) = at(&value, a);
+                    let (w, _) = self.emit(|w| Instr::Recip { w, a });
+                    (w, alpha.recip())
+                }
+                Op::Sqrt(a) => match at(&value, a) {
+                    (a, alpha) if alpha > 0.0 => {
+                        let (w, _) = self.emit(|w| Instr::Sqrt { w, a });
+                        (w, alpha.sqrt())
+                    }
+                    av => {
+                        let a = self.materialise(av);
+                        self.emit(|w| Instr::Sqrt { w, a })
+                    }
+                },
+                Op::Powf(a, p) => match at(&value, a) {
+                    (a, alpha) if alpha > 0.0 => {
+                        let (w, _) = self.emit(|w| Instr::Powf { w, a, p });
+                        (w, alpha.powf(p))
+                    }
+                    av => {
+                        let a = self.materialise(av);
+                        self.emit(|w| Instr::Powf { w, a, p })
+                    }
+                },
+                Op::Exp(a) => {
+                    let a = self.materialise(at(&value, a));
+                    self.emit(|w| Instr::Exp { w, a })
+                }
+                Op::Ln(a) => {
+                    let a = self.materialise(at(&value, a));
+                    self.emit(|w| Instr::Ln { w, a })
+                }
+                Op::Sin { arg, cos: partner } | Op::Cos { arg, sin: partner } => {
+                    let a = self.materialise(at(&value, arg));
+                    let (s, c) = (self.slot(), self.slot());
+                    self.program.push(Instr::SinCos { s, c, a });
+                    let (this, other) = match op {
+                        Op::Sin { .. } => (s, c),
+                        _ => (c, s),
+                    };
+                    value[partner] = Some((other, 1.0));
+                    (this, 1.0)
+                }
+                Op::Atan2 { y, x, r } => {
+                    let y = self.materialise(at(&value, y));
+                    let x = self.materialise(at(&value, x));
+                    let r = self.materialise(at(&value, r));
+                    self.emit(|w| Instr::Atan2 { w, y, x, r })
+                }
+            };
+            value[i] = Some(v);
+        }
+        value
+            .into_iter()
+            .map(|v| v.unwrap_or((0, f64::NAN)))
+            .collect()
+    }
+}
