@@ -11,7 +11,7 @@
 //! Lagrange's equations (`nonholonomic::Constrained`) takes, and RATTLE takes them with a
 //! Hamiltonian (`integrate::ConstrainedHamiltonian`).
 
-use super::{check_name, Expression, MAX_DOF};
+use super::{Expression, MAX_DOF};
 use crate::constraints::HolonomicConstraints;
 use crate::error::{Error, Result};
 use nalgebra::SVector;
@@ -32,12 +32,7 @@ impl<const N: usize, const K: usize> ExpressionConstraints<N, K> {
     /// [`Error::InvalidInput`] for `N` outside `1 … MAX_DOF`, `K` not in `1 … N − 1`, a number of
     /// names that is not `N` or of texts that is not `K`; the errors of [`Expression::new`].
     pub fn new(texts: &[&str], coordinates: &[&str], parameters: &[(&str, f64)]) -> Result<Self> {
-        if N == 0 || N > MAX_DOF {
-            return Err(Error::invalid(
-                "degrees of freedom",
-                format!("{N}; expression systems have 1 … {MAX_DOF}"),
-            ));
-        }
+        let names = configuration_variables::<N>(coordinates)?;
         if K == 0 || K >= N {
             return Err(Error::invalid(
                 "constraints",
@@ -50,18 +45,6 @@ impl<const N: usize, const K: usize> ExpressionConstraints<N, K> {
                 format!("{} expressions for {K} constraints", texts.len()),
             ));
         }
-        if coordinates.len() != N {
-            return Err(Error::invalid(
-                "coordinates",
-                format!("{} names for {N} coordinates", coordinates.len()),
-            ));
-        }
-        for c in coordinates {
-            check_name(c, "coordinate")?;
-        }
-        let names: Vec<&str> = std::iter::once("t")
-            .chain(coordinates.iter().copied())
-            .collect();
         let g = texts
             .iter()
             .map(|text| Expression::new(text, &names, parameters))
@@ -88,6 +71,30 @@ impl<const N: usize, const K: usize> ExpressionConstraints<N, K> {
         }
         Ok(g)
     }
+}
+
+/// The variables `t, q₁, …, q_N` of an expression on the configuration space.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for `N` outside `1 … MAX_DOF` or a number of names that is not `N`.
+pub(super) fn configuration_variables<'a, const N: usize>(
+    coordinates: &[&'a str],
+) -> Result<Vec<&'a str>> {
+    if N == 0 || N > MAX_DOF {
+        return Err(Error::invalid(
+            "degrees of freedom",
+            format!("{N}; expression systems have 1 … {MAX_DOF}"),
+        ));
+    }
+    if coordinates.len() != N {
+        return Err(Error::invalid(
+            "coordinates",
+            format!("{} names for {N} coordinates", coordinates.len()),
+        ));
+    }
+    Ok(std::iter::once("t")
+        .chain(coordinates.iter().copied())
+        .collect())
 }
 
 impl<const N: usize, const K: usize> HolonomicConstraints<N, K> for ExpressionConstraints<N, K> {

@@ -13,7 +13,8 @@
 //! "Kepler + perturbation" system that every integrator, the Wisdom–Holman method and the SABA
 //! methods run.
 
-use super::{check_name, Expression, MAX_DOF};
+use super::constraints::configuration_variables;
+use super::{Expression, MAX_DOF};
 use crate::error::{Error, Result};
 use nalgebra::SVector;
 use num_dual::DualNum;
@@ -40,15 +41,9 @@ impl<const N: usize> ExpressionDisturbingFunction<N> {
         coordinates: Option<&[&str]>,
         parameters: &[(&str, f64)],
     ) -> Result<Self> {
-        if N == 0 || N > MAX_DOF {
-            return Err(Error::invalid(
-                "degrees of freedom",
-                format!("{N}; expression systems have 1 … {MAX_DOF}"),
-            ));
-        }
         let coordinates = match coordinates {
             Some(c) => c,
-            None if N <= CARTESIAN.len() => &CARTESIAN[..N],
+            None if (1..=CARTESIAN.len()).contains(&N) => &CARTESIAN[..N],
             None => {
                 return Err(Error::invalid(
                     "coordinates",
@@ -56,18 +51,7 @@ impl<const N: usize> ExpressionDisturbingFunction<N> {
                 ))
             }
         };
-        if coordinates.len() != N {
-            return Err(Error::invalid(
-                "coordinates",
-                format!("{} names for {N} coordinates", coordinates.len()),
-            ));
-        }
-        for c in coordinates {
-            check_name(c, "coordinate")?;
-        }
-        let names: Vec<&str> = std::iter::once("t")
-            .chain(coordinates.iter().copied())
-            .collect();
+        let names = configuration_variables::<N>(coordinates)?;
         Ok(Self {
             r: Expression::new(text, &names, parameters)?,
         })
