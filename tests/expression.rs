@@ -401,8 +401,8 @@ fn non_finite_initial_states_are_refused() {
 /// Hamiltonian by expression `H = p²/2 − g cos q` the vector field `(p, −g sin q)`.
 #[test]
 fn lagrangian_and_parameters() {
-    let l = ExpressionLagrangian::<1>::new("q_dot^2/2 + g*cos(q)", &["q"], None, &[("g", 9.81)])
-        .unwrap();
+    let l =
+        ExpressionLagrangian::<1>::new("v_q^2/2 + g*cos(q)", &["q"], None, &[("g", 9.81)]).unwrap();
     let a = l
         .accelerations(0.0, &SVector::from([0.4]), &SVector::from([0.1]))
         .unwrap();

@@ -5801,7 +5801,7 @@ mod expression_calls {
             |a| {
                 judge(
                     ExpressionLagrangian::<1>::new(
-                        "q_dot^2/2 + g*cos(q)",
+                        "v_q^2/2 + g*cos(q)",
                         &["q"],
                         None,
                         &[("g", a[0])],
@@ -5867,6 +5867,223 @@ mod expression_calls {
                         8.0 * EPS * (1.0 + a[2].abs() + a[1] * a[1]),
                     ),
                 }
+            },
+        );
+        add_forms(c);
+    }
+
+    /// A TOML number, `nan` and `inf` included.
+    fn toml_num(x: f64) -> String {
+        if x.is_nan() {
+            "nan".to_string()
+        } else if x.is_infinite() {
+            if x > 0.0 {
+                "inf".into()
+            } else {
+                "-inf".into()
+            }
+        } else {
+            format!("{x:?}")
+        }
+    }
+
+    /// The case of a `[system]` table, against `want` (the energy at the initial state, `None`
+    /// where the input is invalid).
+    fn build_verdict(
+        text: &str,
+        want: Option<f64>,
+        energy_at: (&[f64], &[f64]),
+        tol: f64,
+    ) -> Verdict {
+        let table: toml::Table = match toml::from_str(text) {
+            Ok(t) => t,
+            Err(_) => return Typed,
+        };
+        match (Catalogue::builtin().build("h.toml", &table), want) {
+            (Err(_), None) => Typed,
+            (Err(e), Some(_)) => Wrong(format!("refused: {e}")),
+            (Ok(_), None) => Wrong("accepted an invalid initial state".into()),
+            (Ok(case), Some(want)) => near(
+                "energy",
+                case.energy(0.0, energy_at.0, energy_at.1)
+                    .unwrap_or(f64::NAN),
+                want,
+                tol,
+            ),
+        }
+    }
+
+    /// Disturbing functions, constraints and the Lagrangian, disturbing-function and
+    /// constrained forms of a scene's system.
+    fn add_forms(c: &mut Vec<Call>) {
+        use hamilton_jacobi::expression::{ExpressionConstraints, ExpressionDisturbingFunction};
+        use hamilton_jacobi::integrate::PerturbedKepler;
+        use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
+        const R_J2: &str = "mu*J2*Re^2/2*(x^2 + y^2 - 2*z^2)/(x^2 + y^2 + z^2)^2.5";
+        for (label, text) in hostile_texts() {
+            let text2 = text.clone();
+            c.push(Call {
+                label: format!("ExpressionDisturbingFunction::value({label})"),
+                body: Box::new(move || {
+                    judge(
+                        ExpressionDisturbingFunction::<3>::new(&text, None, &[]),
+                        true,
+                        |r| match r.value(0.3, &SVector::from([0.7, 0.2, -0.1])) {
+                            Err(_) => Typed,
+                            Ok(v) => finite_ok("R", v),
+                        },
+                    )
+                }),
+            });
+            c.push(Call {
+                label: format!("ExpressionConstraints::value({label})"),
+                body: Box::new(move || {
+                    judge(
+                        ExpressionConstraints::<2, 1>::new(&[&text2], &["x", "y"], &[]),
+                        true,
+                        |g| match g.value(0.3, &SVector::from([0.7, 0.2])) {
+                            Err(_) => Typed,
+                            Ok(v) => finite_ok("g", v[0]),
+                        },
+                    )
+                }),
+            });
+        }
+        // R of J₂ against the crate's J₂ model (U = −R).
+        sweep(
+            c,
+            "ExpressionDisturbingFunction::new",
+            &[1.0, 1.1, 0.2, 0.3],
+            &[(0, -1.0)],
+            |a| {
+                let params = [("mu", a[0]), ("J2", 1e-3), ("Re", 0.9)];
+                judge(
+                    ExpressionDisturbingFunction::<3>::new(R_J2, None, &params),
+                    a[0].is_finite(),
+                    |r| {
+                        let q = SVector::from([a[1], a[2], a[3]]);
+                        let Ok(rust) = J2::new(a[0], 1e-3, 0.9)
+                            .and_then(|m| PerturbedTwoBody::conservative(a[0], m))
+                        else {
+                            // μ ≤ 0: the expression is still a function; the system is refused.
+                            return judge(PerturbedTwoBody::conservative(a[0], r), false, |_| Good);
+                        };
+                        let want = -rust.perturbation(0.0, &q);
+                        match r.value(0.0, &q) {
+                            Err(_) => Typed,
+                            Ok(v) => {
+                                near("R", v, want, 16.0 * EPS * want.abs() + f64::MIN_POSITIVE)
+                            }
+                        }
+                    },
+                )
+            },
+        );
+        sweep(
+            c,
+            "ExpressionConstraints::new",
+            &[1.0, 0.6, 0.8],
+            &[],
+            |a| {
+                judge(
+                    ExpressionConstraints::<2, 1>::new(
+                        &["x^2 + y^2 - l^2"],
+                        &["x", "y"],
+                        &[("l", a[0])],
+                    ),
+                    a[0].is_finite(),
+                    |g| {
+                        let want = a[1] * a[1] + a[2] * a[2] - a[0] * a[0];
+                        match g.value(0.0, &SVector::from([a[1], a[2]])) {
+                            Err(_) if !want.is_finite() => Typed,
+                            Err(e) => Wrong(format!("refused a finite point: {e}")),
+                            Ok(v) => near(
+                                "g",
+                                v[0],
+                                want,
+                                4.0 * EPS * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]),
+                            ),
+                        }
+                    },
+                )
+            },
+        );
+        // A Lagrangian scene: L = v²/2 + g cos q, energy v²/2 − g cos q.
+        sweep(
+            c,
+            "Catalogue::build(lagrangian)",
+            &[0.4, 0.2, 9.81],
+            &[],
+            |a| {
+                let text = format!(
+                    "lagrangian = \"v_q^2/2 + g*cos(q)\"\ncoordinates = [\"q\"]\n\
+                     parameters = {{ g = {} }}\nq = [{}]\nv = [{}]\n",
+                    toml_num(a[2]),
+                    toml_num(a[0]),
+                    toml_num(a[1])
+                );
+                let want = a[1] * a[1] / 2.0 - a[2] * a[0].cos();
+                let valid = fin(a) && want.is_finite() && (a[1] * a[1]).is_finite();
+                build_verdict(
+                    &text,
+                    valid.then_some(want),
+                    (&[a[0]], &[a[1]]),
+                    8.0 * EPS * (1.0 + a[2].abs() + a[1] * a[1]),
+                )
+            },
+        );
+        // A disturbing-function scene: Kepler − R_{J₂} from (x, 0, 0) with velocity (0, v, 0.35).
+        sweep(
+            c,
+            "Catalogue::build(disturbing_function)",
+            &[1.2, 0.85, 1e-3],
+            &[(0, 0.0)],
+            |a| {
+                let text = format!(
+                    "disturbing_function = \"{R_J2}\"\nparameters = {{ J2 = {}, Re = 0.9 }}\n\
+                     q = [{}, 0.0, 0.0]\np = [0.0, {}, 0.35]\n",
+                    toml_num(a[2]),
+                    toml_num(a[0]),
+                    toml_num(a[1])
+                );
+                let (x, v) = (a[0], a[1]);
+                let r = a[2] * 0.81 / 2.0 * (x * x) / (x * x).powf(2.5);
+                let want = (v * v + 0.35 * 0.35) / 2.0 - 1.0 / x.abs() - r;
+                let valid = fin(a) && r.is_finite() && want.is_finite() && (v * v).is_finite();
+                build_verdict(
+                    &text,
+                    valid.then_some(want),
+                    (&[x, 0.0, 0.0], &[0.0, v, 0.35]),
+                    16.0 * EPS * (1.0 + v * v + 1.0 / x.abs() + r.abs()),
+                )
+            },
+        );
+        // A constrained scene: the spherical pendulum from (x, 0, z) with velocity (0, v, 0).
+        sweep(
+            c,
+            "Catalogue::build(constraints)",
+            &[0.6, -0.8, 0.7],
+            &[],
+            |a| {
+                let text = format!(
+                    "lagrangian = \"(v_x^2 + v_y^2 + v_z^2)/2 - g*z\"\n\
+                     coordinates = [\"x\", \"y\", \"z\"]\nparameters = {{ g = 1.0 }}\n\
+                     constraints = [\"x^2 + y^2 + z^2 - 1\"]\n\
+                     q = [{}, 0.0, {}]\nv = [0.0, {}, 0.0]\n",
+                    toml_num(a[0]),
+                    toml_num(a[1]),
+                    toml_num(a[2])
+                );
+                let (x, z, v) = (a[0], a[1], a[2]);
+                let on = (x * x + z * z - 1.0).abs() <= 1e-12 * (1.0 + 2.0 * (x * x + z * z));
+                let want = v * v / 2.0 + z;
+                let valid = fin(a) && on && want.is_finite();
+                build_verdict(
+                    &text,
+                    valid.then_some(want),
+                    (&[x, 0.0, z], &[0.0, v, 0.0]),
+                    8.0 * EPS * (1.0 + v * v),
+                )
             },
         );
     }

@@ -16,15 +16,24 @@
 //! ch. 3.2), so that the vector field costs one pass over a flat list of operations.
 //! [`ExpressionSeparable`] is `H = T(t, p) + V(t, q)`, which the explicit splitting methods need
 //! ([`ExpressionHamiltonian::separable`] splits a Hamiltonian whose terms each depend on `p` or
-//! on `q` only). [`ExpressionLagrangian`] is `L(t, q, q̇)`.
+//! on `q` only). [`ExpressionLagrangian`] is `L(t, q, q̇)`, a Hamiltonian system through the
+//! Legendre transform [`Legendre`](crate::Legendre). [`ExpressionDisturbingFunction`] is a
+//! disturbing function `R(t, q)` of the Kepler problem ([`disturbing`]), [`ExpressionConstraints`]
+//! holonomic constraints `g(t, q) = 0` ([`constraints`]).
 //!
 //! The number of degrees of freedom is a const generic of the systems; a number known only at run
 //! time is dispatched to `N = 1 … MAX_DOF` by [`with_dof!`](crate::with_dof).
 //!
 //! Names: the variables are the names given (coordinates, momenta or velocities, parameters) and
-//! `t`; the constant `pi`; the functions of [`parse::FUNCTIONS`].
+//! `t`; the constant `pi`; the functions of [`parse::FUNCTIONS`]. The momentum of the coordinate
+//! `x` is `p_x` and its velocity `v_x` unless other names are given.
 
+pub mod constraints;
+pub mod disturbing;
 pub mod parse;
+
+pub use constraints::ExpressionConstraints;
+pub use disturbing::ExpressionDisturbingFunction;
 
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
@@ -541,7 +550,7 @@ pub struct ExpressionLagrangian<const N: usize> {
 
 impl<const N: usize> ExpressionLagrangian<N> {
     /// `L` from `text` in the `coordinates` (`N` names), the `velocities` (default
-    /// `<name>_dot` for each coordinate), the time `t` and the `parameters` with their values.
+    /// `v_<name>` for each coordinate), the time `t` and the `parameters` with their values.
     ///
     /// # Errors
     /// As [`ExpressionHamiltonian::new`].
@@ -556,7 +565,7 @@ impl<const N: usize> ExpressionLagrangian<N> {
                 text,
                 coordinates,
                 velocities,
-                ("velocities", |q| format!("{q}_dot")),
+                ("velocities", |q| format!("v_{q}")),
                 parameters,
             )?,
         })

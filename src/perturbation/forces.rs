@@ -26,6 +26,8 @@
 //!   (conservative, time-dependent in the circular case).
 //! * [`LinearDrag`]: `f = −k v`; [`ConstantThrust`]: a constant acceleration in the inertial or
 //!   in the radial–transverse–normal (RTN) frame (non-conservative, [`MomentumForce`]).
+//! * [`ExpressionDisturbingFunction`]: `R(t, q)` written as an expression (a scene's
+//!   `disturbing_function`), entering as `U = −R`.
 //! * [`Sum`] adds models; [`NoForce`] and [`NoPotential`] are the empty ones. A user's own
 //!   disturbing function or force implements [`DisturbingFunction`] / [`MomentumForce`] (or is
 //!   written in one line with [`disturbing_function!`](crate::disturbing_function) /
@@ -44,6 +46,7 @@
 
 use super::variation::{DisturbingFunction, GradientForce, MomentumForce, ParametricDisturbance};
 use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
+use crate::expression::ExpressionDisturbingFunction;
 use crate::hamiltonian::{Parametric, PerturbedKepler, Separable};
 use crate::systems::{CentralPotential, InverseDistance};
 use nalgebra::{SVector, Vector3};
@@ -689,6 +692,15 @@ impl<U: DisturbingFunction<N>, const N: usize> PerturbedKepler<N>
     #[inline]
     fn perturbation<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D {
         self.potential.disturbing_function(t, q)
+    }
+}
+
+/// A disturbing function `R(t, q)` given by an expression, in the sign of celestial mechanics
+/// (force `+∇R`), as the potential energy `U = −R` of this module.
+impl<const N: usize> DisturbingFunction<N> for ExpressionDisturbingFunction<N> {
+    #[inline]
+    fn disturbing_function<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D {
+        -self.eval(t, q)
     }
 }
 

@@ -6,7 +6,7 @@
 //! | `pendulum` | `n` (1), `amplitude` or `gap` (π − amplitude) from rest, or `q`, `p` | splitting, exact flow, Hamilton–Jacobi, normal form, Lindstedt |
 //! | `j2-orbit` | `mu` (1), `j2` (1.08e−3), `radius` (0.9), `a`, `e`, `i`, `raan`, `argp`, `mean_anomaly` | splitting, Wisdom–Holman/SABA, osculating and mean elements |
 //! | `heavy-top` | `inertia` (1), `axial_inertia` (0.5), `mgl` (1), `theta` (π/3), `theta_dot` (0), `phi_dot` (0), `omega_z` (5) | exact flow and Hamilton–Jacobi (quadrature) |
-//! | `expression` (default when `hamiltonian` is given) | `hamiltonian`, `coordinates`, `momenta` (`p_<coordinate>`), `parameters` ({}), `q`, `p`, `period` | splitting when `H = T(p) + V(q)` ([`super::expression`]) |
+//! | `expression` (default when `hamiltonian`, `lagrangian` or `disturbing_function` is given) | `hamiltonian`, `coordinates`, `momenta` (`p_<coordinate>`), `parameters` ({}), `q`, `p`, `period`; or `lagrangian`, `coordinates`, `velocities` (`v_<coordinate>`), `parameters`, `constraints`, `q`, `v`, `period`; or `disturbing_function` (`H = H_Kepler − R`), `mu` (1), `coordinates` (`x, y, z`), `parameters`, `q`, `p`, `period` | splitting when `H = T(p) + V(q)`; constrained methods with `constraints`; splitting, Wisdom–Holman/SABA for `disturbing_function` ([`super::expression`]) |
 //! | `transformation-gallery` | — | none: a table of certification defects |
 //! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
 //! | `free-rigid-body` | `moments` ([1, 2, 3]), `spin` (1), `perturbation` (1e−3, of `spin`), `time` (100), `steps` (10000) | none: the intermediate-axis instability (growth rate, flips) and the Lie–Poisson splitting against the Euler–Poinsot flow, a table and figures |
@@ -338,8 +338,8 @@ impl Catalogue {
         );
         c.register(
             "expression",
-            "a Hamiltonian given by an expression (`hamiltonian = \"…\"`, the default when the \
-             table has one)",
+            "a system given by an expression: `hamiltonian`, `lagrangian` (with `constraints`) \
+             or `disturbing_function` of Kepler (the default when the table has one)",
             Box::new(super::expression::expression_system),
         );
         c.register(
@@ -394,7 +394,12 @@ impl Catalogue {
         table: &toml::Table,
     ) -> std::result::Result<Box<dyn Case>, SceneError> {
         let name = match table.get("name") {
-            None if table.contains_key("hamiltonian") => "expression",
+            None if ["hamiltonian", "lagrangian", "disturbing_function"]
+                .iter()
+                .any(|k| table.contains_key(*k)) =>
+            {
+                "expression"
+            }
             Some(toml::Value::String(s)) => s.as_str(),
             Some(v) => {
                 return Err(SceneError::new(

@@ -1,7 +1,8 @@
 //! Scenes: comparisons set up in a TOML file instead of Rust, run by the `hj` binary.
 //!
 //! A scene names a system from the [catalogue] with its parameters and initial
-//! state (or defines its own by an expression, [`expression`]), the time span, the methods and theories to compare with the values of their knob, and
+//! state (or defines its own by a Hamiltonian, a Lagrangian with constraints or a disturbing
+//! function written as expressions, [`expression`]), the time span, the methods and theories to compare with the values of their knob, and
 //! the outputs wanted. Nothing is computed that the scene does not ask for.
 //!
 //! ```toml
@@ -91,7 +92,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 20] = [
+pub const BUILTIN: [(&str, &str); 21] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -122,6 +123,10 @@ pub const BUILTIN: [(&str, &str); 20] = [
     (
         "henon-heiles-expression",
         include_str!("builtin/henon-heiles-expression.toml"),
+    ),
+    (
+        "spherical-pendulum-expression",
+        include_str!("builtin/spherical-pendulum-expression.toml"),
     ),
     (
         "chaplygin-sleigh",
