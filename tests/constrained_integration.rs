@@ -466,11 +466,13 @@ mod nonholonomic {
 
 /// Modin & Verdier's comparison (Numer. Math. 145 (2020) 405–435): the energy `E` and a first
 /// integral `I` along 10⁵ steps of each non-holonomic integrator, on the reversible integrable
-/// sleigh and vertical disk and on the integrable non-reversible problems of
-/// [`NonholonomicParticle`] (Cartesian coordinates, where a linear reversing symmetry remains,
-/// and sheared coordinates, where none does), measured and reported as a table
-/// (`--nocapture`). Where a bound follows from the method it is asserted; where the error grows,
-/// its growth exponent is reported.
+/// sleigh and vertical disk and on the integrable problems of [`NonholonomicParticle`] that are
+/// not reversible under the standard maps: the particle in the chart `x = u + ½σy² + ⅓τy³`,
+/// whose reversing symmetry is the non-linear map `(u, y, z) ↦ (−u − σy² − ⅔τy³, y, −z)`
+/// (Cartesian coordinates `σ = τ = 0`, where it is linear, beside them). Measured and reported
+/// as a table (`--nocapture`); where a bound follows from the method it is asserted, where the
+/// error grows its growth exponent and drift rate are, the thresholds derived from runs at two
+/// step sizes.
 mod non_reversible {
     #[cfg(feature = "slow-tests")]
     use super::nonholonomic::vertical_disk_start;
@@ -478,7 +480,7 @@ mod non_reversible {
     use hamilton_jacobi::integrate::Dop853;
     use hamilton_jacobi::nalgebra::SVector;
     use hamilton_jacobi::nonholonomic::{
-        Constrained, ConstrainedMethod, LagrangeDAlembert, Projection,
+        BoltzmannHamel, Constrained, ConstrainedMethod, GibbsAppell, LagrangeDAlembert, Projection,
     };
     #[cfg(feature = "slow-tests")]
     use hamilton_jacobi::systems::ChaplyginSleigh;
@@ -511,6 +513,20 @@ mod non_reversible {
         i0: Option<f64>,
         e_growth: f64,
         i_growth: Option<f64>,
+        /// Least-squares slope of `E(t) − E₀` over the run.
+        e_rate: f64,
+    }
+
+    /// The least-squares slope of `Δ(t)` over the samples `(t, Δ)`.
+    fn rate(signed: &[(f64, f64)]) -> f64 {
+        let n = signed.len() as f64;
+        let (mt, md) = signed
+            .iter()
+            .fold((0.0, 0.0), |a, x| (a.0 + x.0 / n, a.1 + x.1 / n));
+        let (num, den) = signed.iter().fold((0.0, 0.0), |a, x| {
+            (a.0 + (x.0 - mt) * (x.1 - md), a.1 + (x.0 - mt) * (x.0 - mt))
+        });
+        num / den
     }
 
     /// `p` with `env(t) = max_{s ≤ t} |Δ(s)|`: `log₁₀(env(T)/env(T/10))`, 0 for a bounded error,
@@ -565,10 +581,8 @@ mod non_reversible {
         let (_, work, states) = m
             .run(sys, 0.0, q0, qd0, span, 1e-12, Some(SAMPLES))
             .unwrap();
-        let de: Vec<(f64, f64)> = states
-            .iter()
-            .map(|s| (s.t, (energy(s) - e0).abs()))
-            .collect();
+        let signed: Vec<(f64, f64)> = states.iter().map(|s| (s.t, energy(s) - e0)).collect();
+        let de: Vec<(f64, f64)> = signed.iter().map(|x| (x.0, x.1.abs())).collect();
         let di: Option<Vec<(f64, f64)>> = integral.map(|f| {
             states
                 .iter()
@@ -591,32 +605,40 @@ mod non_reversible {
             i0,
             e_growth: growth(&de, span),
             i_growth: di.as_ref().map(|d| growth(d, span)),
+            e_rate: rate(&signed),
         };
         let name = match m {
             ConstrainedMethod::Reduced(_) => "DOP853 rtol 1e-10",
             ConstrainedMethod::Projected(_) => "DOP853 + projection",
-            ConstrainedMethod::LagrangeDAlembert(_) => "discrete LdA, 1e5 steps",
+            ConstrainedMethod::LagrangeDAlembert(m) => {
+                if m.steps == STEPS {
+                    "discrete LdA, 1e5 steps"
+                } else {
+                    "discrete LdA, 5e4 steps"
+                }
+            }
         };
         let i_cols = match (r.i, r.i_growth) {
             (Some((a, b)), Some(g)) => format!("{a:9.2e} {b:9.2e} {g:6.2}"),
             _ => format!("{:>9} {:>9} {:>6}", "—", "—", "—"),
         };
         println!(
-            "| {problem:<30} | {name:<24} | {:>7} | {:9.2e} {:9.2e} {:6.2} | {i_cols} |",
-            work.steps, r.e.0, r.e.1, r.e_growth
+            "| {problem:<30} | {name:<24} | {:>7} | {:9.2e} {:9.2e} {:6.2} {:9.2e} | {i_cols} |",
+            work.steps, r.e.0, r.e.1, r.e_growth, r.e_rate
         );
         r
     }
 
     fn header() {
         println!(
-            "| {:<30} | {:<24} | {:>7} | {:>9} {:>9} {:>6} | {:>9} {:>9} {:>6} |",
+            "| {:<30} | {:<24} | {:>7} | {:>9} {:>9} {:>6} {:>9} | {:>9} {:>9} {:>6} |",
             "problem",
             "method",
             "steps",
             "|ΔE| 1st",
             "|ΔE| last",
             "p(E)",
+            "dE/dt",
             "|ΔI| 1st",
             "|ΔI| last",
             "p(I)"
@@ -648,25 +670,45 @@ mod non_reversible {
         }
     }
 
-    /// The particle in Cartesian (σ = 0) and in sheared (σ = 1) coordinates, the same motion.
-    fn particle_rows() -> Vec<Vec<Row>> {
+    /// The particle `B = κ = 1, k = ½` in the chart `x = u + ½σy² + ⅓τy³`, started at
+    /// `x = z = 0, y = 0.3, ẋ = 1, ẏ = 0.2`: the system and `(q₀, q̇₀)`.
+    #[allow(clippy::type_complexity)]
+    fn particle(
+        sigma: f64,
+        tau: f64,
+    ) -> (
+        NonholonomicParticle,
+        Constrained<NonholonomicParticle, NonholonomicParticle, 3, 1>,
+        SVector<f64, 3>,
+        SVector<f64, 3>,
+    ) {
+        let p = NonholonomicParticle::new(1.0, 1.0, 0.5)
+            .unwrap()
+            .with_shear(sigma, tau)
+            .unwrap();
+        let (y0, xd0, yd0) = (0.3f64, 1.0, 0.2);
+        let (c, dc) = (
+            0.5 * sigma * y0 * y0 + tau * y0.powi(3) / 3.0,
+            sigma * y0 + tau * y0 * y0,
+        );
+        let q0 = SVector::from([-c, y0, 0.0]);
+        let qd0 = SVector::from([xd0 - dc * yd0, yd0, y0 * xd0]);
+        (p, Constrained::new(p, p), q0, qd0)
+    }
+
+    /// The particle problems of the table: Cartesian, the quadratic chart (σ = 1, reversible in
+    /// disguise for the midpoint scheme) and the cubic chart (τ = 1), each with `methods`.
+    fn particle_rows(methods: &[ConstrainedMethod]) -> Vec<Vec<Row>> {
         let mut out = Vec::new();
-        for (name, sigma) in [
-            ("particle, Cartesian (σ = 0)", 0.0),
-            ("particle, sheared (σ = 1)", 1.0),
+        for (name, sigma, tau) in [
+            ("particle, Cartesian", 0.0, 0.0),
+            ("particle, x = u + ½y²", 1.0, 0.0),
+            ("particle, x = u + ⅓y³", 0.0, 1.0),
         ] {
-            let p = NonholonomicParticle::new(1.0, 1.0, 0.5)
-                .unwrap()
-                .with_shear(sigma)
-                .unwrap();
-            let sys = Constrained::new(p, p);
-            // x = u + ½σy², ẋ = u̇ + σyẏ.
-            let (y0, xd0, yd0) = (0.3, 1.0, 0.2);
-            let q0 = SVector::from([-0.5 * sigma * y0 * y0, y0, 0.0]);
-            let qd0 = SVector::from([xd0 - sigma * y0 * yd0, yd0, y0 * xd0]);
+            let (p, sys, q0, qd0) = particle(sigma, tau);
             let first_integral = |s: &State<3>| p.first_integral(&s.q, &s.p).unwrap();
             out.push(
-                methods()
+                methods
                     .iter()
                     .map(|m| row(name, &sys, m, q0, qd0, 1000.0, Some(&first_integral)))
                     .collect(),
@@ -676,9 +718,59 @@ mod non_reversible {
     }
 
     #[test]
+    fn sheared_particle_formulations_agree_with_the_closed_form() {
+        // Multipliers, embedding, Boltzmann–Hamel and Gibbs–Appell in the chart
+        // x = u + ½σy² + ⅓τy³ against the Cartesian equations (1 + y²)ẍ = Bẏ − yẋẏ,
+        // ÿ = −Bẋ − κy − k, z̈ = d/dt(yẋ), carried to the chart by ü = ẍ − c″ẏ² − c′ÿ.
+        let (b, kappa, k) = (1.0, 1.0, 0.5);
+        for (sigma, tau) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (-0.7, 1.3)] {
+            let p = NonholonomicParticle::new(b, kappa, k)
+                .unwrap()
+                .with_shear(sigma, tau)
+                .unwrap();
+            let sys = Constrained::new(p, p);
+            let (bh, ga) = (BoltzmannHamel::new(p, p), GibbsAppell::new(p, p));
+            for (y, ud, yd) in [(0.3, 1.0, 0.2), (-0.7, 0.4, -1.1), (1.2, -0.5, 0.6)] {
+                let (dc, ddc) = (sigma * y + tau * y * y, sigma + 2.0 * tau * y);
+                let xd = ud + dc * yd;
+                let q = SVector::from([0.4, y, -0.2]);
+                let qd = SVector::from([ud, yd, y * xd]);
+                let xdd = (b * yd - y * xd * yd) / (1.0 + y * y);
+                let ydd = -b * xd - kappa * y - k;
+                let exact = SVector::from([xdd - ddc * yd * yd - dc * ydd, ydd, yd * xd + y * xdd]);
+                let w = SVector::from([0.0, ud, yd]);
+                let wb = bh.quasi_accelerations(0.0, &q, &w).unwrap();
+                let wg = ga.quasi_accelerations(0.0, &q, &w).unwrap();
+                assert!(wb[0] == 0.0 && wg[0] == 0.0, "{wb:?} {wg:?}");
+                // The quasi-velocities are (ż − yẋ, u̇, ẏ): their free rates are (ü, ÿ).
+                let candidates = [
+                    (
+                        "multipliers",
+                        sys.multiplier_accelerations(0.0, &q, &qd).unwrap().qddot,
+                    ),
+                    (
+                        "embedding",
+                        sys.embedded_accelerations(0.0, &q, &qd).unwrap(),
+                    ),
+                    ("Boltzmann–Hamel", SVector::from([wb[1], wb[2], exact[2]])),
+                    ("Gibbs–Appell", SVector::from([wg[1], wg[2], exact[2]])),
+                ];
+                // Each is one linear solve with AD derivatives: a few ulps of the largest term.
+                let tol = 1e-13 * (1.0 + exact.amax() + qd.amax() * qd.amax());
+                for (name, got) in candidates {
+                    assert!(
+                        (got - exact).amax() <= tol,
+                        "σ = {sigma}, τ = {tau}, {name}: {got:?} vs {exact:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn modin_verdier_non_reversible_drift_over_1e5_steps() {
         header();
-        let rows = particle_rows();
+        let rows = particle_rows(&methods());
         for r in &rows {
             assert_reference(r, 1000.0);
         }
@@ -699,14 +791,39 @@ mod non_reversible {
             let i = r.i.unwrap();
             assert!(r.e.1 > 2.0 * r.e.0 && i.1 > 2.0 * i.0, "no growth: {r:?}");
         }
-        // The sheared particle has no reversing symmetry that the scheme inherits: nothing bounds
-        // its drift; it is finite (checked in `row`) and its growth exponent is reported.
-        let sheared = rows[1][2];
-        println!(
-            "sheared particle, discrete LdA: growth exponents p(E) = {:.2}, p(I) = {:.2}",
-            sheared.e_growth,
-            sheared.i_growth.unwrap()
+        // The quadratic chart: the midpoint scheme keeps the non-linear reversing symmetry
+        // exactly (reversible in disguise): bounded, like the Cartesian particle.
+        assert_bounded(&rows[1][2]);
+        // The cubic chart: the energy error of the midpoint scheme drifts.
+        let cubic = rows[2][2];
+        let (p, sys, q0, qd0) = particle(0.0, 1.0);
+        let first_integral = |s: &State<3>| p.first_integral(&s.q, &s.p).unwrap();
+        let coarse = row(
+            "particle, x = u + ⅓y³",
+            &sys,
+            &ConstrainedMethod::LagrangeDAlembert(LagrangeDAlembert::new(STEPS / 2).unwrap()),
+            q0,
+            qd0,
+            1000.0,
+            Some(&first_integral),
         );
+        let ratio = coarse.e_rate / cubic.e_rate;
+        println!(
+            "cubic chart, discrete LdA: dE/dt {:.3e} (h = 0.01), {:.3e} (h = 0.02), ratio {ratio:.3} \
+             (O(h²) drift: 4); growth exponents p(E) {:.2}, {:.2}; p(I) {:.2}, {:.2}",
+            cubic.e_rate,
+            coarse.e_rate,
+            cubic.e_growth,
+            coarse.e_growth,
+            cubic.i_growth.unwrap(),
+            coarse.i_growth.unwrap()
+        );
+        // A drift, not an oscillation: growth exponent at least ½ at both step sizes, and the
+        // rate an O(h²) term of the modified equations (ratio 4 between h and 2h).
+        for r in [cubic, coarse] {
+            assert!(r.e_growth >= 0.5, "{r:?}");
+        }
+        assert!((ratio / 4.0 - 1.0).abs() < 0.25, "ratio {ratio}");
     }
 
     /// The whole table: the reversible sleigh and vertical disk beside the particles.
@@ -748,13 +865,18 @@ mod non_reversible {
                 )
             })
             .collect();
-        let particles = particle_rows();
+        let particles = particle_rows(&methods());
         assert_reference(&sleigh_rows, 1000.0);
         assert_reference(&disk_rows, 2000.0);
         for r in &particles {
             assert_reference(r, 1000.0);
         }
-        for r in [sleigh_rows[2], disk_rows[2], particles[0][2]] {
+        for r in [
+            sleigh_rows[2],
+            disk_rows[2],
+            particles[0][2],
+            particles[1][2],
+        ] {
             assert_bounded(&r);
         }
     }

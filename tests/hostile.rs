@@ -5118,22 +5118,30 @@ mod constrained_methods {
                 })
             },
         );
-        // The sheared particle, x = u + ½σy²: E and I against their closed forms in ẋ = u̇ + σyẏ,
-        // and the shear kept.
+        // The sheared particle, x = u + ½σy² + ⅓τy³: E and I against their closed forms in
+        // ẋ = u̇ + c′(y)ẏ, c′(y) = σy + τy², and the shear kept.
         sweep(
             c,
             "systems::NonholonomicParticle::with_shear",
-            &[1.0, 0.3, 1.0, 0.2],
-            &[(0, -3.0), (0, 0.0), (0, 1e300)],
+            &[1.0, 0.5, 0.3, 1.0, 0.2],
+            &[
+                (0, -3.0),
+                (0, 0.0),
+                (0, 1e300),
+                (1, -3.0),
+                (1, 0.0),
+                (1, 1e300),
+            ],
             |a| {
-                let (sigma, y, ud, yd) = (a[0], a[1], a[2], a[3]);
-                let xd = ud + sigma * y * yd;
+                let (sigma, tau, y, ud, yd) = (a[0], a[1], a[2], a[3], a[4]);
+                let xd = ud + y * (y * tau + sigma) * yd;
                 let q = SVector::from([0.0, y, 0.0]);
                 let v = SVector::from([ud, yd, y * xd]);
                 let p = NonholonomicParticle::new(1.0, 1.0, 0.5).unwrap();
-                judge(p.with_shear(sigma), sigma.is_finite(), |p| {
-                    if p.shear() != sigma {
-                        return Wrong(format!("shear {} ≠ {sigma}", p.shear()));
+                let ok = sigma.is_finite() && tau.is_finite();
+                judge(p.with_shear(sigma, tau), ok, |p| {
+                    if p.shear() != (sigma, tau) {
+                        return Wrong(format!("shear {:?} ≠ ({sigma}, {tau})", p.shear()));
                     }
                     let e = 0.5 * (xd * xd + yd * yd + v[2] * v[2]) + 0.5 * y * y + 0.5 * y;
                     let i = (1.0 + y * y).sqrt() * xd - y.asinh();
