@@ -14,7 +14,6 @@ use hamilton_jacobi::plot::{DataFormat, Figure, Format, Style};
 use hamilton_jacobi::stability::hamiltonian_equilibrium;
 use hamilton_jacobi::systems::HenonHeiles;
 use hamilton_jacobi::Error;
-use std::f64::consts::PI;
 use std::time::Instant;
 
 /// `L = ½|w'|²` at the section point `(0, y, p_x(y, p_y), p_y)` of energy `e`, `w'` by the
@@ -28,39 +27,45 @@ fn second_integral(nf: &BirkhoffNormalForm, e: f64, y: f64, py: f64) -> Option<f
     Some(0.5 * wn.iter().map(|x| x * x).sum::<f64>())
 }
 
-/// The level curve `L = level` traced along rays from `centre` (bisection on each ray, out to
-/// the first change of sign of `L − level`).
-fn level_curve(nf: &BirkhoffNormalForm, e: f64, centre: (f64, f64), level: f64) -> Vec<(f64, f64)> {
-    let f = |r: f64, th: f64| {
-        second_integral(nf, e, centre.0 + r * th.cos(), centre.1 + r * th.sin()).map(|l| l - level)
+/// The component of the level curve `L = level` through the section point nearest to `start`,
+/// by continuation: steps of length `h` along the tangent `(−∂L/∂p_y, ∂L/∂y)`, each followed by
+/// Newton corrections along `∇L` back to the level, until the curve closes or leaves the energy's
+/// region.
+fn level_curve(nf: &BirkhoffNormalForm, e: f64, start: (f64, f64), level: f64) -> Vec<(f64, f64)> {
+    let l = |p: (f64, f64)| second_integral(nf, e, p.0, p.1);
+    let grad = |p: (f64, f64)| -> Option<(f64, f64)> {
+        let d = 1e-6;
+        Some((
+            (l((p.0 + d, p.1))? - l((p.0 - d, p.1))?) / (2.0 * d),
+            (l((p.0, p.1 + d))? - l((p.0, p.1 - d))?) / (2.0 * d),
+        ))
     };
-    let mut out = Vec::new();
-    for k in 0..=240 {
-        let th = 2.0 * PI * f64::from(k) / 240.0;
-        let Some(g0) = f(0.0, th) else { continue };
-        let (mut lo, mut hi) = (0.0, f64::NAN);
-        for j in 1..=200 {
-            let r = 0.004 * f64::from(j);
-            match f(r, th) {
-                Some(g) if g.signum() != g0.signum() => {
-                    hi = r;
-                    break;
-                }
-                Some(_) => lo = r,
-                None => break,
-            }
+    let project = |mut p: (f64, f64)| -> Option<(f64, f64)> {
+        for _ in 0..8 {
+            let g = grad(p)?;
+            let r = (l(p)? - level) / (g.0 * g.0 + g.1 * g.1);
+            p = (p.0 - r * g.0, p.1 - r * g.1);
         }
-        if hi.is_nan() {
-            continue;
+        Some(p)
+    };
+    let h = 0.004;
+    let Some(first) = project(start) else {
+        return Vec::new();
+    };
+    let mut out = vec![first];
+    let mut p = first;
+    for k in 0..5000 {
+        let Some(g) = grad(p) else { break };
+        let n = g.0.hypot(g.1);
+        let Some(next) = project((p.0 - h * g.1 / n, p.1 + h * g.0 / n)) else {
+            break;
+        };
+        out.push(next);
+        p = next;
+        if k > 10 && (p.0 - first.0).hypot(p.1 - first.1) < h {
+            out.push(first);
+            break;
         }
-        for _ in 0..50 {
-            let mid = 0.5 * (lo + hi);
-            match f(mid, th) {
-                Some(g) if g.signum() == g0.signum() => lo = mid,
-                _ => hi = mid,
-            }
-        }
-        out.push((centre.0 + lo * th.cos(), centre.1 + lo * th.sin()));
     }
     out
 }
@@ -143,7 +148,7 @@ fn main() -> hamilton_jacobi::Result<()> {
         "Points of five regular orbits on the section x = 0, p_x > 0 (DOP853, tolerance \
          1e−13, 200 crossings each) and, through each, the level curve L = L̄ of the second \
          integral L = I₁ + I₂ of the degree-16 1:1 resonant normal form (L̄ the mid-range of L \
-         over the orbit's points), traced along rays from the points' centroid.",
+         over the orbit's points), traced by continuation from the first point.",
     );
     let dop = Dop853::new(1e-13, 1e-16)?.with_max_steps(10_000_000)?;
     for (name, y, py) in orbits {
@@ -159,12 +164,7 @@ fn main() -> hamilton_jacobi::Result<()> {
             .collect();
         let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let n = pts.len() as f64;
-        let centre = (
-            pts.iter().map(|p| p.0).sum::<f64>() / n,
-            pts.iter().map(|p| p.1).sum::<f64>() / n,
-        );
-        let curve = level_curve(&nf, e, centre, 0.5 * (lo + hi));
+        let curve = level_curve(&nf, e, pts[0], 0.5 * (lo + hi));
         println!(
             "{name}: L from {lo:.9} to {hi:.9} on {} section points; level curve of {} points",
             pts.len(),
