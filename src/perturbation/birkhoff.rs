@@ -103,6 +103,11 @@ pub const MAX_NORMAL_FORM_DEGREE: usize = 64;
 /// Relative size `|⟨λ, k⟩| / max|λ_j|` below which a divisor counts as a resonance.
 pub const SMALL_DIVISOR: f64 = 1e-8;
 
+/// Relative size (to the largest coefficient of the same degree) below which a coefficient of
+/// `H` in the complex normal coordinates is the rounding of the linear normal form and is set
+/// to zero (`32 ε`).
+const ROUNDING_LEVEL: f64 = 32.0 * f64::EPSILON;
+
 /// Largest `‖SᵀJS − J‖_max` accepted for the linear normal form.
 pub const MAX_SYMPLECTIC_DEFECT: f64 = 1e-9;
 
@@ -233,6 +238,14 @@ impl PhasePolynomial {
     /// `|ζ_j| ≤ 1`).
     pub fn part_norm(&self, d: usize) -> f64 {
         self.table.of_degree(d).map(|i| self.c[i].norm()).sum()
+    }
+
+    /// `max_{|α| = d} |c_α|`.
+    fn part_max(&self, d: usize) -> f64 {
+        self.table
+            .of_degree(d)
+            .map(|i| self.c[i].norm())
+            .fold(0.0, f64::max)
     }
 
     /// `self += s · other`.
@@ -936,6 +949,7 @@ fn complexify(p: &Polynomial, t: &DMatrix<C64>, table: &Arc<Monomials>) -> Phase
         p: &'a Polynomial,
         table: &'a Monomials,
         forms: &'a [Vec<(usize, C64)>],
+        /// The highest degree with a nonzero coefficient of `p`: no deeper product contributes.
         k: usize,
         out: &'a mut [C64],
     }
@@ -989,11 +1003,16 @@ fn complexify(p: &Polynomial, t: &DMatrix<C64>, table: &Arc<Monomials>) -> Phase
             alpha[v] -= 1;
         }
     }
+    let ptable = p.monomials();
+    let top = (0..=k.min(ptable.degree()))
+        .rev()
+        .find(|&d| ptable.of_degree(d).any(|i| p.coefficients()[i] != 0.0))
+        .unwrap_or(0);
     let mut ctx = Ctx {
         p,
         table,
         forms: &forms,
-        k,
+        k: top,
         out: &mut out.c,
     };
     visit(
@@ -1098,6 +1117,18 @@ pub fn normal_form<H: Hamiltonian<N>, const N: usize>(
             };
             quadratic_defect = quadratic_defect.max((hc.c[i] - exact).norm());
             hc.c[i] = exact;
+        }
+    }
+    // Coefficients at the rounding level of their degree (`|c| ≤ ROUNDING_LEVEL · max_{|α| = d}
+    // |c_α|`) are the rounding of `S` (e.g. the mixing of the modes of a repeated frequency):
+    // set to zero, so that the monomials a symmetry of `H` excludes stay exactly zero through
+    // the Lie series.
+    for d in 3..=degree {
+        let top = hc.part_max(d);
+        for i in table.of_degree(d) {
+            if hc.c[i].norm() <= ROUNDING_LEVEL * top {
+                hc.c[i] = C64::new(0.0, 0.0);
+            }
         }
     }
     let lambda = linear.lambda.clone();
