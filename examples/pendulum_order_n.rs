@@ -64,8 +64,8 @@ fn main() -> Result<()> {
         println!("  h_{m} = {h:.16e}");
     }
     println!(
-        "  imaginary residue dropped: {:.1e}",
-        nf.normal_form().imaginary_residue()
+        "  reality defect |Im K|: {:.1e}",
+        nf.normal_form().birkhoff().reality_defect()
     );
 
     println!("\nRelative error of the order-N period against the exact elliptic period:");

@@ -2892,6 +2892,149 @@ impl Hamiltonian<1> for GPendulum {
     }
 }
 
+/// The one-degree-of-freedom normal form (`perturbation::normal_form`) and the phase polynomials
+/// it is built on.
+fn add_one_dof_normal_forms(c: &mut Vec<Call>) {
+    use hamilton_jacobi::nalgebra::Complex;
+    use hamilton_jacobi::perturbation::birkhoff::PhasePolynomial;
+    use hamilton_jacobi::perturbation::normal_form::{FrequencyAmplitude, NormalForm};
+    use hamilton_jacobi::series::Monomials;
+    use hamilton_jacobi::stability::hamiltonian_equilibrium;
+    let v1 = |x: f64| SVector::<f64, 1>::new(x);
+    let eq = hamiltonian_equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+    let degree = 10;
+    let nf = Arc::new(NormalForm::new(&GPendulum(1.0), 0.0, &eq, degree).unwrap());
+    let n1 = Arc::clone(&nf);
+    sweep(
+        c,
+        "NormalForm::to_action_angle+from_action_angle",
+        &[0.3, -0.2],
+        &[(0, 3.0), (1, 1e3)],
+        move |a| {
+            let rho = a[0].hypot(a[1]);
+            let small = fin(a) && rho < 0.5;
+            judge(n1.to_action_angle(a[0], a[1]), fin(a), |(j, w)| {
+                all([
+                    finite_ok("J", j),
+                    finite_ok("w", w),
+                    judge(n1.from_action_angle(j, w), true, |(q, p)| {
+                        let err = (q - a[0]).abs() + (p - a[1]).abs();
+                        if small {
+                            // The two truncated series are inverse to O(ρ^K).
+                            near(
+                                "round trip",
+                                err,
+                                0.0,
+                                100.0 * rho.powi(degree as i32) + 1e-14,
+                            )
+                        } else {
+                            finite_ok("round trip", err)
+                        }
+                    }),
+                ])
+            })
+        },
+    );
+    let n2 = Arc::clone(&nf);
+    sweep(
+        c,
+        "NormalForm::state_at",
+        &[0.3, -0.2, 5.0],
+        &[(2, -1e3), (0, 3.0)],
+        move |a| {
+            judge(n2.state_at(a[0], a[1], a[2]), fin(a), |(q, p)| {
+                if a[0].hypot(a[1]) < 0.5 {
+                    // The motion stays on the level of H = p²/2 − cos q to the truncation order.
+                    let h0 = 0.5 * a[1] * a[1] - a[0].cos();
+                    let h1 = 0.5 * p * p - q.cos();
+                    near("energy drift", h1, h0, 1e-4)
+                } else {
+                    finite_ok("state", q + p)
+                }
+            })
+        },
+    );
+    sweep(
+        c,
+        "FrequencyAmplitude::new+estimates",
+        &[0.0, 1.0, -0.0625, 0.5],
+        &[(1, -1.0), (1, 0.0), (3, -1.0), (3, 1e3), (2, 1e300)],
+        |a| {
+            judge(
+                FrequencyAmplitude::new(a[..3].to_vec()),
+                fin(&a[..3]) && a[1] > 0.0,
+                |r| {
+                    let j_ok = a[3].is_finite() && a[3] >= 0.0;
+                    all([
+                        judge(r.frequency_estimate(a[3]), j_ok, |e| {
+                            let want = a[1] + 2.0 * a[2] * a[3];
+                            let tol = 4.0 * f64::EPSILON * (a[1].abs() + (2.0 * a[2] * a[3]).abs());
+                            if e.value > 0.0 {
+                                near("ω(J)", e.value, want, tol)
+                            } else {
+                                Wrong(format!("ω = {} ≤ 0 accepted", e.value))
+                            }
+                        }),
+                        judge(r.energy(a[3]), j_ok, |e| finite_ok("K(J)", e)),
+                        judge(r.period(a[3]), j_ok, |t| finite_ok("T(J)", t.value)),
+                    ])
+                },
+            )
+        },
+    );
+    let table = Arc::new(Monomials::new(2, 12).unwrap());
+    let t1 = Arc::clone(&table);
+    sweep(
+        c,
+        "PhasePolynomial::from_terms",
+        &[1.0, 0.5],
+        &[],
+        move |a| {
+            judge(
+                PhasePolynomial::from_terms(&t1, &[(vec![1, 1], Complex::new(a[0], a[1]))]),
+                fin(a),
+                |p| {
+                    let got = p.coefficient(&[1, 1]);
+                    all([near("re", got.re, a[0], 0.0), near("im", got.im, a[1], 0.0)])
+                },
+            )
+        },
+    );
+    let t2 = Arc::clone(&table);
+    sized(
+        c,
+        "PhasePolynomial::from_terms(exponent)",
+        &[0, 1, 12, 13, 1 << 40, usize::MAX],
+        move |n| {
+            let e = u32::try_from(n).unwrap_or(u32::MAX);
+            judge(
+                PhasePolynomial::from_terms(&t2, &[(vec![e, 0], Complex::new(2.0, 0.0))]),
+                n <= 12,
+                |p| near("coefficient", p.coefficient(&[e, 0]).re, 2.0, 0.0),
+            )
+        },
+    );
+    sized(
+        c,
+        "NormalForm::new(degree)",
+        &[0, 2, 3, 10, 64, 65, 1 << 40, usize::MAX],
+        move |n| {
+            let eq = hamiltonian_equilibrium(&GPendulum(1.0), 0.0, &v1(0.0), &v1(0.0)).unwrap();
+            judge(
+                NormalForm::new(&GPendulum(1.0), 0.0, &eq, n),
+                (3..=64).contains(&n),
+                |nf| {
+                    let k = nf.frequency_amplitude().energy_coefficients();
+                    all([
+                        near("ν", k[1], 1.0, 1e-15),
+                        near("h_2", k.get(2).copied().unwrap_or(-0.0625), -0.0625, 1e-15),
+                    ])
+                },
+            )
+        },
+    );
+}
+
 fn add_normal_forms(c: &mut Vec<Call>) {
     use hamilton_jacobi::nalgebra::DMatrix;
     use hamilton_jacobi::perturbation::birkhoff::{
@@ -3121,6 +3264,7 @@ fn every_entry_point_survives_hostile_input() {
     add_methods(&mut calls);
     add_lifts_and_steps(&mut calls);
     add_normal_forms(&mut calls);
+    add_one_dof_normal_forms(&mut calls);
     add_theories(&mut calls);
     add_brouwer(&mut calls);
     add_series(&mut calls);

@@ -8,7 +8,7 @@ use hamilton_jacobi::perturbation::birkhoff::{Block, Diagnostics, NormalFormKind
 use hamilton_jacobi::perturbation::brouwer::TheoryWarning;
 use hamilton_jacobi::perturbation::lindstedt::{lindstedt_pendulum, LindstedtSeries};
 use hamilton_jacobi::perturbation::normal_form::{
-    ConvergenceWarning, NormalForm, PendulumNormalForm, PoissonSeries, SeriesEstimate,
+    ConvergenceWarning, FrequencyAmplitude, PendulumNormalForm, SeriesEstimate,
 };
 use hamilton_jacobi::phase::State;
 use hamilton_jacobi::stability::{
@@ -91,39 +91,43 @@ fn orbital_elements() {
 
 #[test]
 fn normal_forms() {
-    // The pendulum's normal form as built; `NormalForm` is compared through its accessors.
+    // The pendulum's frequency–amplitude relation as built.
     let pendulum = PendulumNormalForm::new(1.0, 6).unwrap();
-    let nf = pendulum.normal_form();
-    let text = toml::to_string(nf).unwrap();
-    let back: NormalForm = toml::from_str(&text).unwrap();
-    assert_eq!(back.nu(), nf.nu());
-    assert_eq!(back.order(), nf.order());
-    assert_eq!(back.generators(), nf.generators());
-    assert_eq!(back.normal_terms(), nf.normal_terms());
-    assert_eq!(back.old_from_new(), nf.old_from_new());
-    assert_eq!(back.new_from_old(), nf.new_from_old());
-    assert_eq!(back.imaginary_residue(), nf.imaginary_residue());
-    assert_eq!(back.energy(0.3).unwrap(), nf.energy(0.3).unwrap());
-    // A stored normal form that `NormalForm::new` could not have built is refused.
-    let shortened = text.replacen("order = 6", "order = 7", 1);
-    assert_ne!(shortened, text);
-    assert!(toml::from_str::<NormalForm>(&shortened).is_err());
-    let negative = text.replacen("nu = 1.0", "nu = -1.0", 1);
-    assert_ne!(negative, text);
-    assert!(toml::from_str::<NormalForm>(&negative).is_err());
-    let not_finite = text.replacen("nu = 1.0", "nu = nan", 1);
-    assert!(toml::from_str::<NormalForm>(&not_finite).is_err());
+    let relation = pendulum.normal_form().frequency_amplitude();
+    let back = round_trip(relation);
+    assert_eq!(back.energy(0.3).unwrap(), relation.energy(0.3).unwrap());
+    assert_eq!(
+        back.frequency_coefficients(),
+        relation.frequency_coefficients()
+    );
+    // A stored relation that `FrequencyAmplitude::new` would refuse is refused.
+    let text = toml::to_string(relation).unwrap();
+    for (from, to) in [
+        (
+            "energy_coefficients = [0.0, 1.0,",
+            "energy_coefficients = [0.0, -1.0,",
+        ),
+        (
+            "energy_coefficients = [0.0, 1.0,",
+            "energy_coefficients = [0.0, nan,",
+        ),
+    ] {
+        let tampered = text.replacen(from, to, 1);
+        assert_ne!(tampered, text, "{text}");
+        assert!(toml::from_str::<FrequencyAmplitude>(&tampered).is_err());
+    }
+    assert!(toml::from_str::<FrequencyAmplitude>("energy_coefficients = [0.0]").is_err());
 
     #[derive(serde::Serialize, serde::Deserialize, PartialEq, Debug)]
     struct Terms {
-        series: PoissonSeries,
+        relation: FrequencyAmplitude,
         estimate: SeriesEstimate,
         kinds: Vec<NormalFormKind>,
         blocks: Vec<Block>,
         warnings: Vec<TheoryWarning>,
     }
     round_trip(&Terms {
-        series: nf.generators()[1].clone(),
+        relation: relation.clone(),
         estimate: pendulum.period(0.5).unwrap(),
         kinds: vec![
             NormalFormKind::Birkhoff,

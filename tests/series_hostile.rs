@@ -4,13 +4,15 @@
 
 use hamilton_jacobi::hamilton_jacobi::ActionAngle;
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::perturbation::birkhoff::MAX_NORMAL_FORM_DEGREE;
 use hamilton_jacobi::perturbation::lindstedt::{
     lindstedt_odd_force, lindstedt_pendulum, MAX_LINDSTEDT_ORDER,
 };
 use hamilton_jacobi::perturbation::normal_form::{
-    potential_perturbation, ConvergenceWarning, Grading, NormalForm, PendulumNormalForm,
-    MAX_NORMAL_FORM_ORDER, MAX_PENDULUM_ORDER, SERIES_WARNING_RATIO,
+    ConvergenceWarning, FrequencyAmplitude, NormalForm, PendulumNormalForm, MAX_PENDULUM_ORDER,
+    SERIES_WARNING_RATIO,
 };
+use hamilton_jacobi::stability::hamiltonian_equilibrium;
 use hamilton_jacobi::systems::pendulum_exact::{
     amplitude_from_state, energy, exact_state, period, period_from_gap, separatrix_gap,
     PendulumMotion,
@@ -50,17 +52,15 @@ fn huge_orders_are_refused_before_allocating() {
             Err(Error::OutOfDomain { .. })
         ));
     }
-    let pert = potential_perturbation(1.0, &[(4, 0.25)], Grading::EvenDegree).unwrap();
-    for order in [0, MAX_NORMAL_FORM_ORDER + 1, 1 << 40, usize::MAX] {
+    let duffing = Duffing { eps: 1.0 };
+    let zero = SVector::<f64, 1>::zeros();
+    let eq = hamiltonian_equilibrium(&duffing, 0.0, &zero, &zero).unwrap();
+    for degree in [0, 2, MAX_NORMAL_FORM_DEGREE + 1, 1 << 40, usize::MAX] {
         assert!(matches!(
-            NormalForm::new(1.0, &pert, order),
+            NormalForm::new(&duffing, 0.0, &eq, degree),
             Err(Error::OutOfDomain { .. })
         ));
     }
-    assert!(matches!(
-        potential_perturbation(1.0, &[(u32::MAX, 1.0)], Grading::Degree),
-        Err(Error::InvalidInput { .. })
-    ));
     // Refusals cost nothing (no O(N⁴) work, no allocation of the size asked for).
     assert!(t0.elapsed().as_secs_f64() < 0.5);
 }
@@ -213,12 +213,18 @@ hamilton_jacobi::hamiltonian!(
 
 #[test]
 fn normal_form_refuses_or_warns_where_its_series_has_not_converged() {
-    let order = 8;
-    let nf = |eps: f64| {
-        let pert = potential_perturbation(1.0, &[(4, eps / 4.0)], Grading::EvenDegree).unwrap();
-        NormalForm::new(1.0, &pert, order).unwrap()
+    // Degree 18: K(J) to J⁹, ω(J) to J⁸.
+    let degree = 18;
+    let nf = |eps: f64| -> FrequencyAmplitude {
+        let h = Duffing { eps };
+        let zero = SVector::<f64, 1>::zeros();
+        let eq = hamiltonian_equilibrium(&h, 0.0, &zero, &zero).unwrap();
+        NormalForm::new(&h, 0.0, &eq, degree)
+            .unwrap()
+            .frequency_amplitude()
+            .clone()
     };
-    // ε = 1, J = 1: the order-8 series used to sum to ω = −116. Its terms grow: refused.
+    // ε = 1, J = 1: the degree-18 series used to sum to ω = −116. Its terms grow: refused.
     let hard = nf(1.0);
     for j in [1.0, 2.0, 1e10] {
         assert!(

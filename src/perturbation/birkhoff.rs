@@ -194,6 +194,42 @@ impl PhasePolynomial {
         }
     }
 
+    /// The polynomial `Σ c ζ^α` of the terms `(α, c)` on the given tables (`2n` variables;
+    /// repeated multi-indices add).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for tables of an odd number of variables or a multi-index that is
+    /// not a monomial of the tables (wrong length, degree above `K`); [`Error::NonFinite`] for a
+    /// non-finite coefficient.
+    pub fn from_terms(table: &Arc<Monomials>, terms: &[(Vec<u32>, C64)]) -> Result<Self> {
+        if table.variables() % 2 != 0 {
+            return Err(Error::invalid(
+                "phase polynomial",
+                format!(
+                    "{} variables: the phase variables (x, y) come in pairs",
+                    table.variables()
+                ),
+            ));
+        }
+        let mut out = Self::zero(table);
+        for (alpha, c) in terms {
+            finite("phase-polynomial coefficient (re)", c.re)?;
+            finite("phase-polynomial coefficient (im)", c.im)?;
+            let i = table.index_of(alpha).ok_or_else(|| {
+                Error::invalid(
+                    "phase-polynomial term",
+                    format!(
+                        "{alpha:?} is not a monomial of {} variables of degree ≤ {}",
+                        table.variables(),
+                        table.degree()
+                    ),
+                )
+            })?;
+            out.c[i] += c;
+        }
+        Ok(out)
+    }
+
     /// The zero polynomial on the tables of `self`.
     fn zero_like(&self) -> Self {
         Self {
@@ -1315,6 +1351,20 @@ impl BirkhoffNormalForm {
             }
             (old_from_new, new_from_old)
         })
+    }
+
+    /// The truncated coordinate series `(ζ_old(ζ_new), ζ_new(ζ_old))`, one polynomial of degree
+    /// `K − 1` per complex coordinate `ζ = (x, y)`:
+    ///
+    /// ```text
+    /// ζ_old = exp(L_{χ_K}) ⋯ exp(L_{χ_3}) ζ,      ζ_new = exp(−L_{χ_3}) ⋯ exp(−L_{χ_K}) ζ,
+    /// ```
+    ///
+    /// truncated at degree `K − 1` (Dragt & Finn 1976); the maps of [`Self::from_normal`] and
+    /// [`Self::to_normal`] in the complex coordinates.
+    pub fn coordinate_series(&self) -> (&[PhasePolynomial], &[PhasePolynomial]) {
+        let (old_from_new, new_from_old) = self.maps();
+        (old_from_new, new_from_old)
     }
 
     /// `ζ` of the real normal coordinates `w = (Q, P)`.

@@ -1,108 +1,67 @@
-//! Lie-series normal form of a perturbed harmonic oscillator to arbitrary order (one degree of
-//! freedom).
+//! Normal form of one degree of freedom about an elliptic equilibrium: the frequency–amplitude
+//! relation, the map to the new action–angle variables, and the pendulum's period series.
 //!
 //! # Setting
 //!
-//! ```text
-//! H = ν J + Σ_{k=1}^{N} ε^k H_k(J, w),        q = √(2J/n) cos w,   p = −√(2nJ) sin w,
-//! ```
-//!
-//! in the action–angle variables `(w, J)` of the oscillator `½(p² + n²q²) = nJ` (`ν = n`; `w` the
-//! coordinate, `J` the momentum, `{w, J} = 1`). All functions are kept as *Poisson series* in the
-//! complex variables
+//! For a Hamiltonian `H(q, p)` of one degree of freedom (any [`Hamiltonian<1>`], written once for
+//! all number types) with an elliptic equilibrium `z₀` (eigenvalues `±iν`, `ν > 0`), the Birkhoff
+//! normal form of [`super::birkhoff`] — its case `N = 1` — gives the near-identity symplectic map
+//! `φ` from the new real normal coordinates `w' = (Q', P')` to the old ones and
 //!
 //! ```text
-//! ξ = √J e^{iw},   η = √J e^{−iw} = ξ̄,   ξ^a η^b = J^{(a+b)/2} e^{i(a−b)w},
-//! {f, g} = ∂f/∂w ∂g/∂J − ∂f/∂J ∂g/∂w = i (∂f/∂ξ ∂g/∂η − ∂f/∂η ∂g/∂ξ),
-//! {ξ^a η^b, ξ^c η^d} = i (a d − b c) ξ^{a+c−1} η^{b+d−1},
+//! H(z₀ + S φ(w')) = K(J) + O(|w'|^{K+1}),    K(J) = Σ_{m=0}^{⌊K/2⌋} h_m J^m,    h_1 = ν,
+//! J = (Q'² + P'²)/2,    ω(J) = dK/dJ,
+//! Q' = √(2J) cos(w + α),    P' = −√(2J) sin(w + α),
 //! ```
 //!
-//! so every series is a polynomial with the d'Alembert property built in (`J^{m/2} e^{ikw}` with
-//! `|k| ≤ m`, `k ≡ m mod 2`), and a potential polynomial in `q` is polynomial in `(ξ, η)`:
-//! `q = (ξ + η)/√(2n)`, `p = i √(n/2) (ξ − η)`. Coefficients are complex `f64`; a real function has
-//! `c_{ba} = c̄_{ab}`.
-//!
-//! # Algorithm (Lie-series normal form, Deprit-equivalent)
-//!
-//! The bookkeeping parameter `ε` is a *grade*: `H_k` has grade `k`. For `k = 1 … N` in turn, with
-//! the grades below `k` already in normal form, split the current grade-`k` term into its resonant
-//! part `Z_k` (the `a = b` monomials, i.e. functions of `J` alone) and the rest, and solve the
-//! homological equation
-//!
-//! ```text
-//! H_k + {ν ξη, χ_k} = Z_k,     {ν ξη, ξ^a η^b} = −iν (a − b) ξ^a η^b
-//!   ⇒  χ_k = Σ_{a≠b} −i h_{ab} / (ν (a − b)) ξ^a η^b,
-//! ```
-//!
-//! then replace `H ← exp(L_{χ_k}) H`, `L_χ f = {f, χ}`, truncated at grade `N` (`L_{χ_k}` raises
-//! the grade by `k`, so the series `Σ L^m/m!` stops by itself). After step `N`,
-//! `H̄ = Σ_{k=0}^{N} Z_k` depends on `J` alone, and the frequency–amplitude relation is
-//! `ω(J) = ∂H̄/∂J`. This is the composition-of-Lie-transforms form of Deprit's method
-//! (Deprit 1969; Dragt & Finn 1976): it produces the same normal form to every order, and its
-//! inverse is simply the composition of the inverse exponentials in reverse order.
-//!
-//! # The near-identity transformation
-//!
-//! `exp(L_χ) f (y) = f(φ_χ(y))` with `φ_χ` the time-one flow of `χ`, so after the `N` steps the old
-//! variables are `x = φ_{χ_1} ∘ … ∘ φ_{χ_N}(y)` and
-//!
-//! ```text
-//! ξ_old(y) = exp(L_{χ_N}) ⋯ exp(L_{χ_1}) ξ          (exp(L_{χ_1}) applied first),
-//! ξ_new(x) = exp(−L_{χ_1}) ⋯ exp(−L_{χ_N}) ξ        (exp(−L_{χ_N}) applied first),
-//! ```
-//!
-//! both kept as graded Poisson series to grade `N` ([`NormalForm::old_from_new`],
-//! [`NormalForm::new_from_old`]). The new action is `J' = |ξ_new|²`, the new angle `arg ξ_new`, and
-//! in the new variables the motion is `J' = const`, `w' = w'_0 + ω(J') t`.
-//!
-//! # Cost
-//!
-//! For a polynomial potential the grade-`k` term has `O(k)` monomials, so one bracket at grade
-//! `N` costs `O(N²)` monomial products and the whole construction `O(N⁵)` in the worst case (with
-//! `O(N)` Lie terms per step); the pendulum to order 12 is built in about a millisecond
-//! (measured in `tests/normal_form.rs` and `examples/pendulum_order_n.rs`).
+//! with the angle `w` measured from the direction of `+q` (`α` is fixed by the linear normal form
+//! `S`: `S⁻¹ e_q ∝ (cos α, −sin α)`). In the new variables the motion is `J = const`,
+//! `w = w₀ + ω(J) t`. [`FrequencyAmplitude`] holds `K(J)` with the convergence diagnostics of its
+//! truncated series; [`NormalForm`] adds the map (the truncated coordinate series of
+//! [`BirkhoffNormalForm::to_normal`] and [`BirkhoffNormalForm::from_normal`]). The Lie
+//! generators, the normal form as a polynomial and the exact generator flows are those of the
+//! underlying [`BirkhoffNormalForm`] ([`NormalForm::birkhoff`]).
 //!
 //! # The pendulum
 //!
-//! [`PendulumNormalForm`] specialises to `H = ½p² + n²(1 − cos θ)`, graded by powers of `a²`
-//! (`θ^{2j}` has grade `j − 1`), and turns the normal form into the period series
-//! `τ/(2π/n) = 1 + a²/16 + 11a⁴/3072 + …` (`a` the amplitude). That series (of `2K(k)/π`,
-//! `k = sin(a/2)`) has radius of convergence `a = π` in `a` — its only singularities are the
-//! logarithmic branch points `a = ±π` where `k = 1` — i.e. radius `π²` in `a²`: the separatrix.
-//! The frequency series `ω(J)` in the true action has radius `J_s = 8n/π`, the action of the
-//! separatrix (where `dE/dJ = 2π/τ → 0`). Near the separatrix phase averaging is meaningless
-//! so [`PendulumNormalForm::period_ratio`] returns a [`ConvergenceWarning`] when the small
-//! parameter `μ = (a/π)²` exceeds `1/2` and refuses amplitudes `a ≥ π`.
+//! [`PendulumNormalForm`] specialises to `H = ½p² + n²(1 − cos θ)` ([`Pendulum`]) at degree
+//! `K = 2N + 2` (order `N` in the squared amplitude `a²`) and turns the normal form into the period
+//! series `τ/(2π/n) = 1 + a²/16 + 11a⁴/3072 + …`. That series (of `2K(k)/π`, `k = sin(a/2)`) has
+//! radius of convergence `a = π` in `a` — its only singularities are the logarithmic branch points
+//! `a = ±π` where `k = 1` — i.e. radius `π²` in `a²`: the separatrix. The frequency series `ω(J)`
+//! in the true action has radius `J_s = 8n/π`, the action of the separatrix (where
+//! `dE/dJ = 2π/τ → 0`). Near the separatrix phase averaging is meaningless, so
+//! [`PendulumNormalForm::period_ratio`] returns a [`ConvergenceWarning`] when the small parameter
+//! `μ = (a/π)²` exceeds `1/2` and refuses amplitudes `a ≥ π`.
 //!
 //! # References
+//! * G. D. Birkhoff, *Dynamical Systems*, AMS 1927, ch. III.
 //! * A. Deprit, "Canonical transformations depending on a small parameter", *Celestial Mechanics*
 //!   1, 12–30 (1969), doi:10.1007/BF01230629.
-//! * A. J. Dragt and J. M. Finn, "Lie series and invariant functions for analytic symplectic
-//!   maps", *J. Math. Phys.* 17, 2215–2227 (1976).
 //! * S. Ferraz-Mello, *Canonical Perturbation Theories*, Springer 2007, ch. 2–3 (Lie series,
 //!   d'Alembert characteristic, homological equation).
 //! * A. H. Nayfeh, *Perturbation Methods*, Wiley 1973, ch. 4 (Lindstedt–Poincaré; the
 //!   cross-check in [`super::lindstedt`]).
 
-use crate::error::{finite, positive, Error, Result};
+use crate::error::{all_finite, finite, positive, Error, Result};
+use crate::hamiltonian::Hamiltonian;
+use crate::perturbation::birkhoff::{
+    normal_form, BirkhoffNormalForm, Block, NormalFormKind, PhasePolynomial, C64,
+    MAX_NORMAL_FORM_DEGREE,
+};
 use crate::perturbation::lindstedt::{series_pow_ball, tail_ratio, Ball};
+use crate::series::{scope, Polynomial, Scope, Series};
+use crate::stability::{hamiltonian_equilibrium, PhaseEquilibrium};
 use crate::systems::pendulum_exact::amplitude_from_state;
-use nalgebra::Complex;
-use std::collections::BTreeMap;
+use crate::systems::Pendulum;
+use nalgebra::SVector;
 use std::f64::consts::PI;
 
-/// Complex `f64`.
-pub type C64 = Complex<f64>;
-
-/// Highest grade `N` accepted by [`NormalForm::new`]. The work grows like `N⁴`–`N⁵` (pendulum:
-/// 1.1 ms at `N = 12`, 18 ms at `N = 24`, so about a second at `N = 64` by extrapolation). The cap
-/// keeps a typo from running for hours.
-pub const MAX_NORMAL_FORM_ORDER: usize = 64;
-
-/// Highest order (power of `a²`) of [`PendulumNormalForm`]. The `a^{2k}` coefficients of the period
-/// series fall like `π^{−2k}/k`; at order 40 they are ~1e−21 of the leading one, and any
-/// amplitude where they still matter (a ≳ 2.9) is already flagged by the convergence warning.
-pub const MAX_PENDULUM_ORDER: usize = 40;
+/// Highest order (power of `a²`) of [`PendulumNormalForm`]: the normal form of order `N` has
+/// degree `2N + 2 ≤` [`MAX_NORMAL_FORM_DEGREE`]. The `a^{2k}` coefficients of the period series
+/// fall like `π^{−2k}/k`; at order 31 they are ~1e−16 of the leading one, and any amplitude where
+/// they still matter (a ≳ 2.8) is already flagged by the convergence warning.
+pub const MAX_PENDULUM_ORDER: usize = (MAX_NORMAL_FORM_DEGREE - 2) / 2;
 
 /// Small parameter `μ = (a/π)²` above which [`PendulumNormalForm::period_ratio`] warns.
 ///
@@ -114,431 +73,127 @@ pub const MAX_PENDULUM_ORDER: usize = 40;
 /// says nothing about the error. `μ = 1/2` is `a = π/√2 ≈ 2.221`.
 pub const PENDULUM_WARNING_MU: f64 = 0.5;
 
-/// A Poisson series `Σ c_{ab} ξ^a η^b` (see the module documentation for the variables).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The frequency–amplitude relation of a one-degree-of-freedom normal form,
+///
+/// ```text
+/// K(J) = Σ_{m=0}^{M} h_m J^m,    ω(J) = dK/dJ = Σ_{m=0}^{M−1} (m + 1) h_{m+1} J^m,
+/// ```
+///
+/// truncated at `J^M`, with the convergence diagnostics of the truncated series
+/// ([`Self::frequency_estimate`]). Built from a [`BirkhoffNormalForm`] of one degree of freedom
+/// ([`Self::from_birkhoff`]) or from known coefficients ([`Self::new`]).
+#[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
     derive(serde::Serialize, serde::Deserialize),
-    serde(into = "Vec<((u32, u32), C64)>", from = "Vec<((u32, u32), C64)>")
+    serde(try_from = "StoredRelation")
 )]
-pub struct PoissonSeries {
-    terms: BTreeMap<(u32, u32), C64>,
+pub struct FrequencyAmplitude {
+    energy_coefficients: Vec<f64>,
 }
 
-/// Stored as the list of its terms `((a, b), c)` (formats such as JSON and TOML key maps by strings).
+/// The stored form of a [`FrequencyAmplitude`], checked by [`FrequencyAmplitude::new`].
 #[cfg(feature = "serde")]
-impl From<PoissonSeries> for Vec<((u32, u32), C64)> {
-    fn from(s: PoissonSeries) -> Self {
-        s.terms.into_iter().collect()
-    }
+#[derive(serde::Deserialize)]
+struct StoredRelation {
+    energy_coefficients: Vec<f64>,
 }
 
-/// The series `Σ c ξ^a η^b` of a list of terms (repeated exponents add).
+/// A stored relation is accepted as [`FrequencyAmplitude::new`] accepts its coefficients.
 #[cfg(feature = "serde")]
-impl From<Vec<((u32, u32), C64)>> for PoissonSeries {
-    fn from(terms: Vec<((u32, u32), C64)>) -> Self {
-        let mut s = PoissonSeries::zero();
-        for ((a, b), c) in terms {
-            s.add_term(a, b, c);
-        }
-        s
+impl TryFrom<StoredRelation> for FrequencyAmplitude {
+    type Error = Error;
+    fn try_from(s: StoredRelation) -> Result<Self> {
+        Self::new(s.energy_coefficients)
     }
 }
 
-impl PoissonSeries {
-    /// The zero series.
-    pub fn zero() -> Self {
-        Self::default()
-    }
-
-    /// `c ξ^a η^b`.
-    pub fn monomial(a: u32, b: u32, c: C64) -> Self {
-        let mut s = Self::zero();
-        s.add_term(a, b, c);
-        s
-    }
-
-    /// `ξ = √J e^{iw}`.
-    pub fn xi() -> Self {
-        Self::monomial(1, 0, C64::new(1.0, 0.0))
-    }
-
-    /// The action `J = ξη`.
-    pub fn action() -> Self {
-        Self::monomial(1, 1, C64::new(1.0, 0.0))
-    }
-
-    /// `c J^{m/2} e^{ikw}` in action–angle form, i.e. `c ξ^{(m+k)/2} η^{(m−k)/2}`.
+impl FrequencyAmplitude {
+    /// The relation `K(J) = Σ h_m J^m` of the coefficients `h_0 … h_M`.
     ///
     /// # Errors
-    /// [`Error::InvalidInput`] unless `|k| ≤ m` and `k ≡ m (mod 2)` — the d'Alembert
-    /// characteristic: only such terms are analytic (polynomial in `q, p`) at `J = 0`;
-    /// [`Error::NonFinite`] for a non-finite coefficient.
-    pub fn action_angle_term(m: u32, k: i32, c: C64) -> Result<Self> {
-        finite("Poisson-series coefficient (re)", c.re)?;
-        finite("Poisson-series coefficient (im)", c.im)?;
-        let (mi, ki) = (i64::from(m), i64::from(k));
-        if ki.abs() > mi || (mi - ki).rem_euclid(2) != 0 {
+    /// [`Error::InvalidInput`] for fewer than two coefficients; [`Error::NonFinite`] for a
+    /// non-finite one; [`Error::OutOfDomain`] for `h_1 ≤ 0` (the linear frequency `ν = h_1` of a
+    /// libration about a minimum of `K` is positive).
+    pub fn new(energy_coefficients: Vec<f64>) -> Result<Self> {
+        if energy_coefficients.len() < 2 {
             return Err(Error::invalid(
-                "action–angle term J^{m/2} e^{ikw}",
-                format!(
-                    "m = {m}, k = {k}: need |k| ≤ m and k ≡ m (mod 2) (d'Alembert characteristic)"
-                ),
+                "frequency–amplitude relation",
+                "needs the coefficients h_0 and h_1 at least",
             ));
         }
-        Ok(Self::monomial(
-            ((mi + ki) / 2) as u32,
-            ((mi - ki) / 2) as u32,
-            c,
-        ))
-    }
-
-    /// `(ξ + η)^m` times `c`: the building block of a potential polynomial in `q`.
-    pub fn binomial_power(m: u32, c: f64) -> Self {
-        let mut s = Self::zero();
-        let mut binom = 1.0_f64; // C(m, r), exact below 2^53 (m ≤ 56)
-        for r in 0..=m {
-            s.add_term(r, m - r, C64::new(c * binom, 0.0));
-            binom = binom * f64::from(m - r) / f64::from(r + 1);
-        }
-        s
-    }
-
-    /// Add `c ξ^a η^b`.
-    pub fn add_term(&mut self, a: u32, b: u32, c: C64) {
-        if c == C64::new(0.0, 0.0) {
-            return;
-        }
-        *self.terms.entry((a, b)).or_insert(C64::new(0.0, 0.0)) += c;
-    }
-
-    /// `self += s · other`.
-    pub fn add_scaled(&mut self, other: &Self, s: C64) {
-        for (&(a, b), c) in &other.terms {
-            self.add_term(a, b, c * s);
-        }
-    }
-
-    /// Coefficient of `ξ^a η^b`.
-    pub fn coefficient(&self, a: u32, b: u32) -> C64 {
-        self.terms
-            .get(&(a, b))
-            .copied()
-            .unwrap_or(C64::new(0.0, 0.0))
-    }
-
-    /// Iterator over `((a, b), c)`.
-    pub fn iter(&self) -> impl Iterator<Item = (&(u32, u32), &C64)> {
-        self.terms.iter()
-    }
-
-    /// Number of stored monomials.
-    pub fn len(&self) -> usize {
-        self.terms.len()
-    }
-
-    /// Whether no monomial is stored.
-    pub fn is_empty(&self) -> bool {
-        self.terms.is_empty()
-    }
-
-    /// Poisson bracket `{self, g} = i Σ (a d − b c) c₁ c₂ ξ^{a+c−1} η^{b+d−1}`.
-    pub fn bracket(&self, g: &Self) -> Self {
-        let mut out = Self::zero();
-        for (&(a, b), c1) in &self.terms {
-            for (&(c, d), c2) in &g.terms {
-                let w = i64::from(a) * i64::from(d) - i64::from(b) * i64::from(c);
-                if w != 0 {
-                    // w ≠ 0 implies a + c ≥ 1 and b + d ≥ 1.
-                    let coef = c1 * c2 * C64::new(0.0, w as f64);
-                    out.add_term(a + c - 1, b + d - 1, coef);
-                }
-            }
-        }
-        out
-    }
-
-    /// Value at `(ξ, η)`; for a real phase point `η = ξ̄`.
-    pub fn eval(&self, xi: C64, eta: C64) -> C64 {
-        self.terms
-            .iter()
-            .map(|(&(a, b), c)| c * xi.powu(a) * eta.powu(b))
-            .sum()
-    }
-
-    /// Value at the real phase point `(J, w)`.
-    pub fn eval_action_angle(&self, action: f64, angle: f64) -> C64 {
-        let xi = C64::from_polar(action.sqrt(), angle);
-        self.eval(xi, xi.conj())
-    }
-
-    /// Largest `|c_{ba} − c̄_{ab}|`: zero for a real-valued series.
-    pub fn reality_defect(&self) -> f64 {
-        self.terms
-            .iter()
-            .map(|(&(a, b), c)| (self.coefficient(b, a) - c.conj()).norm())
-            .fold(0.0, f64::max)
-    }
-
-    /// Largest `|c_{ab}|`.
-    pub fn max_abs(&self) -> f64 {
-        self.terms.values().map(|c| c.norm()).fold(0.0, f64::max)
-    }
-}
-
-/// Apply `exp(s L_χ)` (`L_χ f = {f, χ}`, `s = ±1`) to a graded series `f` (index = grade),
-/// with `χ` of grade `g ≥ 1`, truncating at the last grade of `f`.
-fn lie_exp(f: &[PoissonSeries], chi: &PoissonSeries, g: usize, s: f64) -> Vec<PoissonSeries> {
-    let top = f.len() - 1;
-    let mut out = f.to_vec();
-    if chi.is_empty() {
-        return out;
-    }
-    // term holds (s^m/m!) L^m f, shifted by m·g grades.
-    let mut term: Vec<PoissonSeries> = f.to_vec();
-    let mut m = 1usize;
-    while m * g <= top {
-        let mut next = vec![PoissonSeries::zero(); top + 1];
-        let mut any = false;
-        for (grade, t) in term.iter().enumerate() {
-            if t.is_empty() || grade + g > top {
-                continue;
-            }
-            let b = t.bracket(chi);
-            if !b.is_empty() {
-                next[grade + g].add_scaled(&b, C64::new(s / m as f64, 0.0));
-                any = true;
-            }
-        }
-        if !any {
-            break;
-        }
-        for (o, t) in out.iter_mut().zip(&next) {
-            o.add_scaled(t, C64::new(1.0, 0.0));
-        }
-        term = next;
-        m += 1;
-    }
-    out
-}
-
-/// Sum of a graded series at `(ξ, ξ̄)`.
-fn eval_graded(f: &[PoissonSeries], xi: C64) -> C64 {
-    f.iter().map(|t| t.eval(xi, xi.conj())).sum()
-}
-
-/// Normal form of `H = ν J + Σ_{k=1}^{N} ε^k H_k` to grade `N` (see the module documentation).
-#[derive(Clone, Debug)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(remote = "Self")
-)]
-pub struct NormalForm {
-    nu: f64,
-    order: usize,
-    generators: Vec<PoissonSeries>,
-    normal: Vec<PoissonSeries>,
-    old_from_new: Vec<PoissonSeries>,
-    new_from_old: Vec<PoissonSeries>,
-    imag_residue: f64,
-}
-
-/// Stored as its fields.
-#[cfg(feature = "serde")]
-impl serde::Serialize for NormalForm {
-    fn serialize<S: serde::Serializer>(
-        &self,
-        serializer: S,
-    ) -> std::result::Result<S::Ok, S::Error> {
-        NormalForm::serialize(self, serializer)
-    }
-}
-
-/// A stored normal form is accepted with `ν > 0`, `N ∈ 1..=MAX_NORMAL_FORM_ORDER`, `N` generators,
-/// `N + 1` grades in each series and finite coefficients, as [`NormalForm::new`] builds it.
-#[cfg(feature = "serde")]
-impl<'de> serde::Deserialize<'de> for NormalForm {
-    fn deserialize<D: serde::Deserializer<'de>>(
-        deserializer: D,
-    ) -> std::result::Result<Self, D::Error> {
-        let r = NormalForm::deserialize(deserializer)?;
-        let checked = || -> Result<()> {
-            positive("oscillator frequency ν", r.nu)?;
-            if !(1..=MAX_NORMAL_FORM_ORDER).contains(&r.order) {
-                return Err(Error::out_of_domain(
-                    "normal-form order N",
-                    r.order as f64,
-                    format!("{{1, …, {MAX_NORMAL_FORM_ORDER}}}"),
-                ));
-            }
-            let grades = [
-                ("generators", &r.generators, r.order),
-                ("normal form", &r.normal, r.order + 1),
-                ("old from new", &r.old_from_new, r.order + 1),
-                ("new from old", &r.new_from_old, r.order + 1),
-            ];
-            for (what, series, len) in grades {
-                if series.len() != len {
-                    return Err(Error::invalid(
-                        what,
-                        format!("{} grades, expected {len}", series.len()),
-                    ));
-                }
-                for (_, c) in series.iter().flat_map(PoissonSeries::iter) {
-                    finite(what, c.re)?;
-                    finite(what, c.im)?;
-                }
-            }
-            finite("imaginary residue", r.imag_residue)?;
-            Ok(())
-        };
-        checked().map_err(serde::de::Error::custom)?;
-        Ok(r)
-    }
-}
-
-impl NormalForm {
-    /// Build the normal form of `H = ν ξη + Σ_k ε^k H_k`, `perturbation[k−1] = H_k`, to grade
-    /// `order = N` (grades of the perturbation beyond `N` are ignored, missing ones are zero).
-    ///
-    /// # Errors
-    /// [`Error::OutOfDomain`] for `ν ≤ 0` or `order ∉ 1..=MAX_NORMAL_FORM_ORDER`;
-    /// [`Error::NonFinite`] for a non-finite coefficient; [`Error::InvalidInput`] if some `H_k`
-    /// is not real-valued (`|c_{ba} − c̄_{ab}| > 1e−12 max|c|`: the normal form of a complex
-    /// Hamiltonian is not a real frequency).
-    pub fn new(nu: f64, perturbation: &[PoissonSeries], order: usize) -> Result<Self> {
-        let nu = positive("oscillator frequency ν", nu)?;
-        if !(1..=MAX_NORMAL_FORM_ORDER).contains(&order) {
-            return Err(Error::out_of_domain(
-                "normal-form order N",
-                order as f64,
-                format!("{{1, …, {MAX_NORMAL_FORM_ORDER}}}"),
-            ));
-        }
-        for (k, hk) in perturbation.iter().enumerate() {
-            for (_, c) in hk.iter() {
-                finite(format!("coefficient of H_{}", k + 1), c.re)?;
-                finite(format!("coefficient of H_{}", k + 1), c.im)?;
-            }
-            // Rounding of the input coefficients themselves is the only legitimate defect.
-            if hk.reality_defect() > 1e-12 * hk.max_abs() {
-                return Err(Error::invalid(
-                    format!("H_{}", k + 1),
-                    "not real-valued: the coefficient of ξ^b η^a must be the conjugate of that \
-                     of ξ^a η^b",
-                ));
-            }
-        }
-        let mut h: Vec<PoissonSeries> = vec![PoissonSeries::zero(); order + 1];
-        h[0] = PoissonSeries::monomial(1, 1, C64::new(nu, 0.0));
-        for (k, hk) in perturbation.iter().enumerate().take(order) {
-            h[k + 1] = hk.clone();
-        }
-        let mut generators = Vec::with_capacity(order);
-        for k in 1..=order {
-            let mut chi = PoissonSeries::zero();
-            for (&(a, b), c) in h[k].iter() {
-                if a != b {
-                    let d = nu * (f64::from(a) - f64::from(b));
-                    chi.add_term(a, b, c * C64::new(0.0, -1.0 / d));
-                }
-            }
-            h = lie_exp(&h, &chi, k, 1.0);
-            generators.push(chi);
-        }
-        // After step k grade k is resonant up to rounding: drop the O(ε_mach) remainders.
-        let mut imag_residue = 0.0_f64;
-        let normal: Vec<PoissonSeries> = h
-            .iter()
-            .map(|hk| {
-                let mut z = PoissonSeries::zero();
-                for (&(a, b), c) in hk.iter() {
-                    if a == b {
-                        imag_residue = imag_residue.max(c.im.abs());
-                        z.add_term(a, b, C64::new(c.re, 0.0));
-                    }
-                }
-                z
-            })
-            .collect();
-        let mut ident = vec![PoissonSeries::zero(); order + 1];
-        ident[0] = PoissonSeries::xi();
-        let mut old_from_new = ident.clone();
-        for (k, chi) in generators.iter().enumerate() {
-            old_from_new = lie_exp(&old_from_new, chi, k + 1, 1.0);
-        }
-        let mut new_from_old = ident;
-        for (k, chi) in generators.iter().enumerate().rev() {
-            new_from_old = lie_exp(&new_from_old, chi, k + 1, -1.0);
-        }
+        all_finite("coefficients h_m of K(J)", &energy_coefficients)?;
+        positive("linear frequency h_1", energy_coefficients[1])?;
         Ok(Self {
-            nu,
-            order,
-            generators,
-            normal,
-            old_from_new,
-            new_from_old,
-            imag_residue,
+            energy_coefficients,
         })
     }
 
-    /// Oscillator frequency `ν`.
-    pub fn nu(&self) -> f64 {
-        self.nu
-    }
-
-    /// Grade `N`.
-    pub fn order(&self) -> usize {
-        self.order
-    }
-
-    /// The generators `χ_1 … χ_N` (index `k − 1`).
-    pub fn generators(&self) -> &[PoissonSeries] {
-        &self.generators
-    }
-
-    /// The normal form by grade, `Z_0 = ν J, Z_1, …, Z_N` (each a function of `J = ξη` alone).
-    pub fn normal_terms(&self) -> &[PoissonSeries] {
-        &self.normal
-    }
-
-    /// `H̄(J) = Σ_m h_m J^m` as the coefficient vector `h_0 … h_M` (grades summed).
-    pub fn energy_coefficients(&self) -> Vec<f64> {
-        let mut out = Vec::new();
-        for z in &self.normal {
-            for (&(a, _), c) in z.iter() {
-                let m = a as usize;
-                if out.len() <= m {
-                    out.resize(m + 1, 0.0);
-                }
-                out[m] += c.re;
+    /// The relation of a [`NormalFormKind::Birkhoff`] normal form of one degree of freedom about
+    /// an elliptic equilibrium of positive frequency: `K(J)` is
+    /// [`BirkhoffNormalForm::action_polynomial`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for another kind, more than one degree of freedom, or a hyperbolic
+    /// equilibrium; [`Error::OutOfDomain`] for a negative frequency (an elliptic equilibrium of
+    /// negative Krein signature, a maximum of `H`: write it for `−H`).
+    pub fn from_birkhoff(nf: &BirkhoffNormalForm) -> Result<Self> {
+        if nf.dof() != 1 {
+            return Err(Error::invalid(
+                "frequency–amplitude relation",
+                format!(
+                    "needs one degree of freedom, the normal form has {}",
+                    nf.dof()
+                ),
+            ));
+        }
+        match nf.linear().blocks().first() {
+            Some(Block::Elliptic { frequency, .. }) => {
+                positive("linear frequency ν of the equilibrium", *frequency)?;
+            }
+            _ => {
+                return Err(Error::invalid(
+                    "frequency–amplitude relation",
+                    "the equilibrium is not elliptic: there is no libration about it",
+                ))
             }
         }
-        out
+        let k = nf.action_polynomial()?;
+        Self::new(k.coefficients().to_vec())
     }
 
-    /// `ω(J) = dH̄/dJ = Σ_m ω_m J^m` as `ω_0 … ω_{M−1}` (`ω_0 = ν`).
+    /// `h_0 … h_M`.
+    pub fn energy_coefficients(&self) -> &[f64] {
+        &self.energy_coefficients
+    }
+
+    /// The linear frequency `ν = h_1`.
+    pub fn linear_frequency(&self) -> f64 {
+        self.energy_coefficients[1]
+    }
+
+    /// The highest power `M` of `K(J)`.
+    pub fn order(&self) -> usize {
+        self.energy_coefficients.len() - 1
+    }
+
+    /// `ω(J) = Σ_m ω_m J^m` as `ω_0 … ω_{M−1}` (`ω_0 = ν`, `ω_m = (m + 1) h_{m+1}`).
     pub fn frequency_coefficients(&self) -> Vec<f64> {
-        let h = self.energy_coefficients();
+        let h = &self.energy_coefficients;
         (1..h.len()).map(|m| m as f64 * h[m]).collect()
     }
 
-    /// `H̄(J)`, refused where the truncated series has not converged.
+    /// `K(J)`, refused where the truncated series has not converged.
     ///
     /// # Errors
     /// As [`Self::frequency_estimate`] (without the sign condition on the value).
     pub fn energy(&self, action: f64) -> Result<f64> {
         Ok(self
-            .estimate(
-                "normal-form energy H̄(J)",
-                &self.energy_coefficients(),
-                action,
-            )?
+            .estimate("normal-form energy K(J)", &self.energy_coefficients, action)?
             .value)
     }
 
-    /// `ω(J) = dH̄/dJ`, refused where the truncated series has not converged; the diagnostics of
+    /// `ω(J) = dK/dJ`, refused where the truncated series has not converged; the diagnostics of
     /// a series that converges slowly are in [`Self::frequency_estimate`].
     ///
     /// # Errors
@@ -552,11 +207,11 @@ impl NormalForm {
     /// The convergence of the truncated series is judged from its own terms: `q` is the
     /// [`tail_ratio`] of `|ω_m| J^m` (the largest per-order ratio of successive terms over the last
     /// half of the series; for a series of radius `R` it tends to `J/R`). For `q < 1` the omitted
-    /// tail is estimated as `|ω_N J^N| q/(1 − q)` (geometric continuation) and for
+    /// tail is estimated as `|ω_M J^M| q/(1 − q)` (geometric continuation) and for
     /// `q > SERIES_WARNING_RATIO` the estimate carries [`ConvergenceWarning::SlowTerms`]: that
     /// tail may then exceed the last term kept. For `q ≥ 1` the terms grow and the truncated sum
     /// approximates nothing; a frequency `≤ 0` is not the frequency of any libration. Both are
-    /// refused (e.g. Duffing `H = ½(p² + q²) + q⁴/4` at `J = 1`, where the order-8 series sums
+    /// refused (e.g. Duffing `H = ½(p² + q²) + q⁴/4` at `J = 1`, where the degree-18 series sums
     /// to `ω = −116`; its radius in `J` is about 0.36).
     ///
     /// # Errors
@@ -575,7 +230,7 @@ impl NormalForm {
                      ω = {:e} ≤ 0, which is the frequency of no libration",
                     est.value
                 ),
-                iterations: self.order,
+                iterations: self.order(),
                 residual: est.last_term,
             });
         }
@@ -612,14 +267,14 @@ impl NormalForm {
                     "{what} at J = {j:e}: the terms of the truncated series grow by a factor \
                      {q:e} per order (outside its radius of convergence), sum {value:e}"
                 ),
-                iterations: self.order,
+                iterations: self.order(),
                 residual: last_term,
             });
         }
         let warning = (q > SERIES_WARNING_RATIO).then_some(ConvergenceWarning::SlowTerms {
             ratio: q,
             limit: SERIES_WARNING_RATIO,
-            order: self.order,
+            order: self.order(),
         });
         Ok(SeriesEstimate {
             value,
@@ -629,39 +284,6 @@ impl NormalForm {
             warning,
         })
     }
-
-    /// Old `ξ` as a graded series in the new variables (grade 0 is `ξ`).
-    pub fn old_from_new(&self) -> &[PoissonSeries] {
-        &self.old_from_new
-    }
-
-    /// New `ξ` as a graded series in the old variables.
-    pub fn new_from_old(&self) -> &[PoissonSeries] {
-        &self.new_from_old
-    }
-
-    /// Largest imaginary part dropped from the resonant terms (rounding only, for a real `H`).
-    pub fn imaginary_residue(&self) -> f64 {
-        self.imag_residue
-    }
-
-    /// Map an old phase point, given as `ξ = √J e^{iw}`, to the new `ξ'` (truncated at grade `N`).
-    pub fn to_new(&self, xi_old: C64) -> C64 {
-        eval_graded(&self.new_from_old, xi_old)
-    }
-
-    /// Map a new phase point `ξ'` back to the old `ξ`.
-    pub fn to_old(&self, xi_new: C64) -> C64 {
-        eval_graded(&self.old_from_new, xi_new)
-    }
-
-    /// Per-grade contributions of `to_new` at `ξ_old` (for convergence monitoring).
-    pub fn to_new_by_grade(&self, xi_old: C64) -> Vec<C64> {
-        self.new_from_old
-            .iter()
-            .map(|t| t.eval(xi_old, xi_old.conj()))
-            .collect()
-    }
 }
 
 /// `Σ c_k x^k`.
@@ -669,66 +291,127 @@ fn horner(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, ck| acc * x + ck)
 }
 
-/// How the monomials `q^m` of a potential are graded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Grading {
-    /// `q^m` has grade `m − 2` (generic polynomial potentials, e.g. a cubic term).
-    Degree,
-    /// `q^m` has grade `(m − 2)/2`; only even `m` allowed (even potentials such as the pendulum:
-    /// grade = power of the squared amplitude).
-    EvenDegree,
-}
-
-/// The graded perturbation `Σ_m v_m q^m` of the oscillator `½(p² + n²q²)`, with
-/// `q^m = (2n)^{−m/2} (ξ + η)^m`.
+/// The normal form of a Hamiltonian of one degree of freedom about an elliptic equilibrium,
+/// in its action–angle form (see the module documentation): the [`BirkhoffNormalForm`] of
+/// degree `K`, its [`FrequencyAmplitude`] relation and the map `(q, p) ↔ (J, w)`.
 ///
-/// # Errors
-/// [`Error::OutOfDomain`] for `n ≤ 0`; [`Error::InvalidInput`] for a power `m < 3`, an odd `m`
-/// with [`Grading::EvenDegree`], or `m > 2 + MAX_NORMAL_FORM_ORDER·(1 or 2)`;
-/// [`Error::NonFinite`] for a non-finite coefficient.
-pub fn potential_perturbation(
-    n: f64,
-    potential: &[(u32, f64)],
-    grading: Grading,
-) -> Result<Vec<PoissonSeries>> {
-    let n = positive("oscillator frequency n", n)?;
-    let mut out: Vec<PoissonSeries> = Vec::new();
-    for &(m, v) in potential {
-        finite(format!("coefficient of q^{m}"), v)?;
-        if m < 3 {
-            return Err(Error::invalid(
-                format!("power q^{m}"),
-                "the perturbation starts at q³ (fold q² into n)",
-            ));
-        }
-        let grade = match grading {
-            Grading::Degree => (m - 2) as usize,
-            Grading::EvenDegree => {
-                if m % 2 == 1 {
-                    return Err(Error::invalid(
-                        format!("power q^{m}"),
-                        "odd power with Grading::EvenDegree",
-                    ));
-                }
-                ((m - 2) / 2) as usize
-            }
-        };
-        if grade > MAX_NORMAL_FORM_ORDER {
-            return Err(Error::invalid(
-                format!("power q^{m}"),
-                format!("grade {grade} exceeds MAX_NORMAL_FORM_ORDER = {MAX_NORMAL_FORM_ORDER}"),
-            ));
-        }
-        if out.len() < grade {
-            out.resize(grade, PoissonSeries::zero());
-        }
-        let scale = v * (2.0 * n).powf(-0.5 * f64::from(m));
-        out[grade - 1].add_scaled(&PoissonSeries::binomial_power(m, scale), C64::new(1.0, 0.0));
-    }
-    Ok(out)
+/// ```
+/// use hamilton_jacobi::nalgebra::Vector1;
+/// use hamilton_jacobi::perturbation::normal_form::NormalForm;
+/// use hamilton_jacobi::stability::hamiltonian_equilibrium;
+/// use hamilton_jacobi::systems::Pendulum;
+/// let h = Pendulum::new(1.0).unwrap();
+/// let eq = hamiltonian_equilibrium(&h, 0.0, &Vector1::new(0.1), &Vector1::new(0.0)).unwrap();
+/// let nf = NormalForm::new(&h, 0.0, &eq, 6).unwrap();
+/// // K(J) = J − J²/16 − J³/256 + O(J⁴)
+/// let k = nf.frequency_amplitude().energy_coefficients();
+/// assert!((k[2] + 1.0 / 16.0).abs() < 1e-15 && (k[3] + 1.0 / 256.0).abs() < 1e-16);
+/// ```
+#[derive(Clone, Debug)]
+pub struct NormalForm {
+    birkhoff: BirkhoffNormalForm,
+    relation: FrequencyAmplitude,
+    angle_origin: f64,
 }
 
-/// Estimated ratio of successive terms above which a truncated series of [`NormalForm`] carries
+impl NormalForm {
+    /// The normal form of `h` at time `t` about the elliptic equilibrium `eq` (see
+    /// [`hamiltonian_equilibrium`]) to degree `degree` in the phase variables (`K(J)` to
+    /// `J^{⌊K/2⌋}`).
+    ///
+    /// # Errors
+    /// The errors of [`normal_form`] (degree outside `3..=MAX_NORMAL_FORM_DEGREE`, not an
+    /// equilibrium, a Jordan block, `H` not analytic there) and of
+    /// [`FrequencyAmplitude::from_birkhoff`] (a hyperbolic equilibrium or a maximum of `H`).
+    pub fn new<H: Hamiltonian<1>>(
+        h: &H,
+        t: f64,
+        eq: &PhaseEquilibrium<1>,
+        degree: usize,
+    ) -> Result<Self> {
+        Self::from_birkhoff(normal_form(h, t, eq, degree, NormalFormKind::Birkhoff)?)
+    }
+
+    /// The action–angle form of a [`NormalFormKind::Birkhoff`] normal form of one degree of
+    /// freedom.
+    ///
+    /// # Errors
+    /// As [`FrequencyAmplitude::from_birkhoff`].
+    pub fn from_birkhoff(birkhoff: BirkhoffNormalForm) -> Result<Self> {
+        let relation = FrequencyAmplitude::from_birkhoff(&birkhoff)?;
+        // S⁻¹ e_q = (S_pP, −S_pQ) (det S = 1) lies along (cos α, −sin α).
+        let s = birkhoff.linear().symplectic_matrix();
+        let angle_origin = s[(1, 0)].atan2(s[(1, 1)]);
+        Ok(Self {
+            birkhoff,
+            relation,
+            angle_origin,
+        })
+    }
+
+    /// The underlying normal form (generators, `K` as a polynomial, exact generator flows,
+    /// diagnostics and remainder).
+    pub fn birkhoff(&self) -> &BirkhoffNormalForm {
+        &self.birkhoff
+    }
+
+    /// The frequency–amplitude relation `K(J)`, `ω(J)`.
+    pub fn frequency_amplitude(&self) -> &FrequencyAmplitude {
+        &self.relation
+    }
+
+    /// The degree `K` in the phase variables.
+    pub fn degree(&self) -> usize {
+        self.birkhoff.degree()
+    }
+
+    /// The new action–angle `(J, w)` of the phase point `(q, p)`, `w ∈ (−π, π]`, by the truncated
+    /// coordinate series ([`BirkhoffNormalForm::to_normal`]).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ input or a non-finite image.
+    pub fn to_action_angle(&self, q: f64, p: f64) -> Result<(f64, f64)> {
+        let w = self.birkhoff.linear_coordinates(&[q, p])?;
+        let wn = self.birkhoff.to_normal(&w)?;
+        let j = finite("action J", 0.5 * (wn[0] * wn[0] + wn[1] * wn[1]))?;
+        let angle = (-wn[1]).atan2(wn[0]) - self.angle_origin;
+        Ok((j, PI - (PI - angle).rem_euclid(2.0 * PI)))
+    }
+
+    /// The phase point `(q, p)` of the new action–angle `(J, w)`, by the truncated coordinate
+    /// series ([`BirkhoffNormalForm::from_normal`]).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for NaN/∞ input or a non-finite image; [`Error::OutOfDomain`] for
+    /// `J < 0`.
+    pub fn from_action_angle(&self, action: f64, angle: f64) -> Result<(f64, f64)> {
+        let j = finite("action J", action)?;
+        let w = finite("angle w", angle)?;
+        if j < 0.0 {
+            return Err(Error::out_of_domain("action J", j, "[0, ∞)"));
+        }
+        let r = (2.0 * j).sqrt();
+        let (s, c) = (w + self.angle_origin).sin_cos();
+        let old = self.birkhoff.from_normal(&[r * c, -r * s])?;
+        let z = self.birkhoff.phase_point(&old)?;
+        Ok((z[0], z[1]))
+    }
+
+    /// The perturbative motion from `(q₀, p₀)`: `J = const`, `w = w₀ + ω(J) t`, mapped back.
+    ///
+    /// # Errors
+    /// As [`Self::to_action_angle`], [`FrequencyAmplitude::frequency_estimate`] (refused where
+    /// the frequency series has not converged) and [`Self::from_action_angle`]; also
+    /// [`Error::NonFinite`] for `t`.
+    pub fn state_at(&self, q0: f64, p0: f64, t: f64) -> Result<(f64, f64)> {
+        let t = finite("t", t)?;
+        let (j, w0) = self.to_action_angle(q0, p0)?;
+        let w = w0 + self.relation.frequency_estimate(j)?.value * t;
+        self.from_action_angle(j, w)
+    }
+}
+
+/// Estimated ratio of successive terms above which a truncated series of [`FrequencyAmplitude`] carries
 /// [`ConvergenceWarning::SlowTerms`]: the geometric tail `|T_N| q/(1 − q)` then exceeds the last
 /// term kept (the rule of [`PENDULUM_WARNING_MU`], applied to the terms themselves).
 pub const SERIES_WARNING_RATIO: f64 = 0.5;
@@ -766,12 +449,12 @@ pub struct SeriesEstimate {
     pub value: f64,
     /// The small parameter: `μ = (a/π)²` for the pendulum's period series (the ratio of
     /// successive terms in the limit), the estimated ratio `q` of successive terms
-    /// ([`tail_ratio`]) for the series of [`NormalForm`].
+    /// ([`tail_ratio`]) for the series of [`FrequencyAmplitude`].
     pub small_parameter: f64,
     /// The last term kept (`c_N a^{2N}`, `ω_N J^N`, …).
     pub last_term: f64,
     /// Bound on the omitted tail, `|last term| μ/(1 − μ)` (see [`PENDULUM_WARNING_MU`]; for
-    /// [`NormalForm`] an estimate by geometric continuation with ratio `q`).
+    /// [`FrequencyAmplitude`] an estimate by geometric continuation with ratio `q`).
     pub tail_bound: f64,
     /// Set when the small parameter is not small.
     pub warning: Option<ConvergenceWarning>,
@@ -816,10 +499,9 @@ impl SeriesEstimate {
 
 /// Normal form of the pendulum `H = ½ p² + n² (1 − cos θ)` to order `N` in `a²`.
 ///
-/// `n²(1 − cos θ) − ½ n² θ² = n² Σ_{j≥2} (−1)^{j+1} θ^{2j}/(2j)!`, with `θ^{2j}` at grade `j − 1`
-/// ([`Grading::EvenDegree`]); order `N` keeps `θ⁴ … θ^{2N+2}`. Results (`n = 1`; verified to
-/// `J^{14}` and `a^{28}` against the exact reversion of the elliptic action and the series of
-/// `2K(k)/π` in `tests/normal_form.rs`): `H̄ = J − J²/16 − J³/256 − 5J⁴/8192 − …`,
+/// The [`NormalForm`] of [`Pendulum`] at degree `2N + 2` (`θ⁴ … θ^{2N+2}` kept). Results (`n = 1`;
+/// verified to `J^{N+1}` and `a^{2N}` against the exact reversion of the elliptic action and the
+/// series of `2K(k)/π` in `tests/normal_form.rs`): `K(J) = J − J²/16 − J³/256 − 5J⁴/8192 − …`,
 /// `τ/(2π/n) = 1 + a²/16 + 11a⁴/3072 + 173a⁶/737280 + …`.
 ///
 /// ```
@@ -856,16 +538,11 @@ impl PendulumNormalForm {
                 format!("{{1, …, {MAX_PENDULUM_ORDER}}}"),
             ));
         }
-        let mut pot = Vec::with_capacity(order);
-        let mut fact = 2.0_f64; // (2j)!
-        for j in 2..=order + 1 {
-            fact *= ((2 * j - 1) * (2 * j)) as f64;
-            let sign = if j % 2 == 0 { -1.0 } else { 1.0 };
-            pot.push(((2 * j) as u32, sign * n * n / fact));
-        }
-        let pert = potential_perturbation(n, &pot, Grading::EvenDegree)?;
-        let normal_form = NormalForm::new(n, &pert, order)?;
-        let (period_series, period_series_error) = period_series_from(&normal_form, n, order);
+        let pendulum = Pendulum::new(n)?;
+        let zero = SVector::<f64, 1>::zeros();
+        let eq = hamiltonian_equilibrium(&pendulum, 0.0, &zero, &zero)?;
+        let normal_form = NormalForm::new(&pendulum, 0.0, &eq, 2 * order + 2)?;
+        let (period_series, period_series_error) = period_series_from(&normal_form, order)?;
         Ok(Self {
             n,
             order,
@@ -885,19 +562,19 @@ impl PendulumNormalForm {
         self.order
     }
 
-    /// The underlying [`NormalForm`].
+    /// The underlying [`NormalForm`] (degree `2N + 2`).
     pub fn normal_form(&self) -> &NormalForm {
         &self.normal_form
     }
 
-    /// `H̄(J) = Σ_m h_m J^m`, `m = 0 … N + 1` (`h_1 = n`, `h_2 = −1/16`, `h_3 = −1/(256 n)`, …).
-    pub fn energy_coefficients(&self) -> Vec<f64> {
-        self.normal_form.energy_coefficients()
+    /// `K(J) = Σ_m h_m J^m`, `m = 0 … N + 1` (`h_1 = n`, `h_2 = −1/16`, `h_3 = −1/(256 n)`, …).
+    pub fn energy_coefficients(&self) -> &[f64] {
+        self.normal_form.relation.energy_coefficients()
     }
 
     /// `ω(J) = Σ_m ω_m J^m`, `m = 0 … N`.
     pub fn frequency_coefficients(&self) -> Vec<f64> {
-        self.normal_form.frequency_coefficients()
+        self.normal_form.relation.frequency_coefficients()
     }
 
     /// `τ/(2π/n) = Σ_{k=0}^{N} c_k a^{2k}` (independent of `n`).
@@ -907,12 +584,11 @@ impl PendulumNormalForm {
 
     /// Absolute rounding-error bounds of [`Self::period_ratio_series`]: first-order running error
     /// analysis from the coefficient model [`COEFFICIENT_ULPS`] (see `period_series_from`). The
-    /// coefficients of this series come from the turning point `ξ = η = √J₀`, where the monomials
-    /// of the transformation alternate in sign: the actual error grows by about 2.3 per order
-    /// (measured against exact rationals: 1.8e−13 relative at `k = 10`, 7e−2 at `k = 40`), and
-    /// the bound, which adds every rounding in absolute value, lies 10²–10⁴ above it (1.9e−10 at
-    /// `k = 10`; it exceeds 1 relative beyond `k ≈ 33`). For high orders use the Lindstedt series
-    /// ([`super::lindstedt::lindstedt_pendulum`]), accurate to ~1e−14 at every order.
+    /// coefficients of this series come from the turning point `θ = a, p = 0`, where the
+    /// monomials of the transformation alternate in sign: the actual error grows by about 2 per
+    /// order, and the bound, which adds every rounding in absolute value, lies 10²–10⁴ above it.
+    /// For high orders use the Lindstedt series ([`super::lindstedt::lindstedt_pendulum`]),
+    /// accurate to ~1e−14 at every order.
     pub fn period_ratio_error_bounds(&self) -> &[f64] {
         &self.period_series_error
     }
@@ -970,14 +646,12 @@ impl PendulumNormalForm {
     ) -> Result<(f64, f64, Option<ConvergenceWarning>)> {
         let a = amplitude_from_state(self.n, theta, p)?;
         let mu = small_parameter(a)?;
-        // ξ = √J e^{iw} with q = (ξ + ξ̄)/√(2n), p = −√(2n) Im ξ.
-        let xi = C64::new(theta * (0.5 * self.n).sqrt(), -p / (2.0 * self.n).sqrt());
-        let xn = self.normal_form.to_new(xi);
+        let (j, w) = self.normal_form.to_action_angle(theta, p)?;
         let warning = (mu > PENDULUM_WARNING_MU).then_some(ConvergenceWarning::NearSeparatrix {
             small_parameter: mu,
             limit: PENDULUM_WARNING_MU,
         });
-        Ok((xn.norm_sqr(), xn.arg(), warning))
+        Ok((j, w, warning))
     }
 
     /// The state `(θ, p)` with new action–angle `(J', w')`.
@@ -987,7 +661,7 @@ impl PendulumNormalForm {
     /// action: larger actions are rotations, outside the normal form's domain).
     pub fn from_action_angle(&self, action: f64, angle: f64) -> Result<(f64, f64)> {
         let j = finite("action J'", action)?;
-        let w = finite("angle w'", angle)?;
+        finite("angle w'", angle)?;
         let js = 8.0 * self.n / PI;
         if !(0.0..js).contains(&j) {
             return Err(Error::out_of_domain(
@@ -996,11 +670,7 @@ impl PendulumNormalForm {
                 format!("[0, 8n/π) = [0, {js})"),
             ));
         }
-        let xo = self.normal_form.to_old(C64::from_polar(j.sqrt(), w));
-        Ok((
-            xo.re * (2.0 / self.n).sqrt(),
-            -(2.0 * self.n).sqrt() * xo.im,
-        ))
+        self.normal_form.from_action_angle(j, angle)
     }
 
     /// The perturbative motion: `J' = const`, `w' = w'_0 + ω(J') t`, mapped back to `(θ, p)`.
@@ -1013,7 +683,7 @@ impl PendulumNormalForm {
         let (j, w0, _) = self.to_action_angle(theta0, p0)?;
         // The warnings of the amplitude were reported by `to_action_angle`; the frequency series
         // is refused only where it has not converged at all.
-        let w = w0 + self.normal_form.frequency_estimate(j)?.value * t;
+        let w = w0 + self.normal_form.relation.frequency_estimate(j)?.value * t;
         self.from_action_angle(j, w)
     }
 }
@@ -1041,90 +711,188 @@ fn small_parameter(a: f64) -> Result<f64> {
     Ok((a / PI) * (a / PI))
 }
 
-/// Relative rounding error assumed for a monomial coefficient of grade `g` of the normal form and
-/// of its transformation series: `COEFFICIENT_ULPS · (g + 1) · ε`. Each coefficient is a sum of
-/// `O(g)` Lie terms; the model is checked on the energy coefficients `h_m` against exact rationals
-/// at every order offered (`tests/normal_form.rs`, measured ≤ 0.6 of it).
+/// Relative rounding error assumed for a coefficient of degree `d` of the normal form and of its
+/// coordinate series: `COEFFICIENT_ULPS · ⌈d/2⌉ · ε`. Each coefficient is a sum of `O(d)` Lie
+/// terms; the model is checked on the energy coefficients `h_m` (degree `2m`) against exact
+/// rationals at every order offered (`tests/normal_form.rs`).
 pub const COEFFICIENT_ULPS: f64 = 8.0;
 
-/// Period-ratio series in `x = a²` from the normal form, with absolute rounding-error bounds.
-///
-/// At the turning point `θ = a`, `p = 0` the old variables are `ξ = η = √J₀`, `J₀ = n a²/2`, so the
-/// new action is `J'(J₀) = Σ_k j_k J₀^{k+1}` (grade `k` of `ξ'ξ̄'` is homogeneous of degree
-/// `2k + 2`: evaluate at `ξ = η = 1`). Then `ω/n = Σ_m (ω_m/n) J'^m` and `τ/(2π/n) = (ω/n)^{−1}`,
-/// all re-expanded in `x` to `x^N`.
-///
-/// The bounds follow the running error analysis of [`super::lindstedt::LindstedtSeries`] from the
-/// coefficient model [`COEFFICIENT_ULPS`]: the sum of a grade-`g` series at `ξ = η = 1` carries
-/// `(COEFFICIENT_ULPS (g + 1) + terms + 2) ε Σ|c|`. Its alternating monomials cancel, which is
-/// what makes the high coefficients of this series lose digits (about a factor 2.3 per order).
-fn period_series_from(nf: &NormalForm, n: f64, order: usize) -> (Vec<f64>, Vec<f64>) {
-    let len = order + 1;
-    let eps = f64::EPSILON;
-    // ξ'η' graded: products of the graded ξ' with its conjugate.
-    let one = C64::new(1.0, 0.0);
-    let sums: Vec<(C64, f64)> = nf
-        .new_from_old()
-        .iter()
-        .enumerate()
-        .map(|(g, s)| {
-            let mag: f64 = s.iter().map(|(_, c)| c.norm()).sum();
-            let ulps = COEFFICIENT_ULPS * (g + 1) as f64 + s.len() as f64 + 2.0;
-            (s.eval(one, one), ulps * eps * mag)
-        })
-        .collect();
-    let mut jprime = vec![Ball::default(); len + 1]; // coefficient of x^{k+1}
-    for (g1, &(v1, e1)) in sums.iter().enumerate() {
-        for (g2, &(v2, e2)) in sums.iter().enumerate() {
-            let g = g1 + g2;
-            if g > order {
-                continue;
-            }
-            // Re(v1 v̄2) = a1 a2 + b1 b2: two products and a sum.
-            let v = (v1 * v2.conj()).re;
-            let (m1, m2) = (v1.norm(), v2.norm());
-            let e = m1 * e2 + m2 * e1 + e1 * e2 + 2.0 * eps * m1 * m2;
-            let scale = (0.5 * n).powi(g as i32 + 1);
-            let term = Ball { v, e }.mul(Ball {
-                v: scale,
-                e: (g + 2) as f64 * eps * scale,
-            });
-            jprime[g + 1] = jprime[g + 1].add(term);
-        }
-    }
-    jprime.truncate(len);
-    // ω/n as a series in x; ω_m = m h_m with h_m from one grade (m − 1).
-    let w = nf.frequency_coefficients();
-    let mut omega = vec![Ball::default(); len];
-    let mut power = vec![Ball::default(); len];
-    power[0] = Ball::exact(1.0);
-    for (m, wm) in w.iter().enumerate().take(len) {
-        let wn = Ball {
-            v: wm / n,
-            e: (COEFFICIENT_ULPS * (m + 1) as f64 + 2.0) * eps * (wm / n).abs(),
-        };
-        for (o, p) in omega.iter_mut().zip(&power) {
-            *o = o.add(wn.mul(*p));
-        }
-        power = mul_trunc(&power, &jprime);
-    }
-    let c = series_pow_ball(&omega, -1.0);
-    (
-        c.iter().map(|b| b.v).collect(),
-        c.iter().map(|b| b.e).collect(),
-    )
+/// A truncated power series in one variable with a bound on the accumulated rounding error of
+/// each coefficient (first-order running error analysis, Higham 2002, §3.3): `value` and the
+/// nonnegative `bound` are both [`Series`] of one scope.
+#[derive(Clone, Copy)]
+struct BoundedSeries {
+    value: Series,
+    bound: Series,
 }
 
-/// Product of two power series truncated to the length of `a`, with running error bounds.
-fn mul_trunc(a: &[Ball], b: &[Ball]) -> Vec<Ball> {
-    let len = a.len();
-    let mut out = vec![Ball::default(); len];
-    for (i, ai) in a.iter().enumerate() {
-        for (j, bj) in b.iter().enumerate() {
-            if i + j < len {
-                out[i + j] = out[i + j].add(ai.mul(*bj));
-            }
-        }
+/// The series with the coefficients `|c_k|` of `s`.
+fn abs_series(sc: &Scope, s: Series) -> Result<Series> {
+    let mut p = sc.polynomial(s)?;
+    for c in p.coefficients_mut() {
+        *c = c.abs();
     }
-    out
+    sc.lift(&p)
+}
+
+/// The series of the coefficient vector `c` (shorter vectors are padded with zeros).
+fn series_of(sc: &Scope, c: &[f64]) -> Result<Series> {
+    let table = sc.monomials();
+    let mut p = Polynomial::zero(table.variables(), table.degree())?;
+    for (o, &v) in p.coefficients_mut().iter_mut().zip(c) {
+        *o = v;
+    }
+    sc.lift(&p)
+}
+
+impl BoundedSeries {
+    /// `a · b` truncated: value `a b`, bound `|a| e_b + e_a |b| + e_a e_b + γ_k (|a| |b|)_k`, with
+    /// `γ_k = (k + 2) ε` for the `k + 1` products and `k` sums of the coefficient `k`.
+    fn mul(self, o: Self, sc: &Scope) -> Result<Self> {
+        let (aa, ab) = (abs_series(sc, self.value)?, abs_series(sc, o.value)?);
+        let mut round = sc.polynomial(aa * ab)?;
+        for (k, c) in round.coefficients_mut().iter_mut().enumerate() {
+            *c *= (k + 2) as f64 * f64::EPSILON;
+        }
+        Ok(Self {
+            value: self.value * o.value,
+            bound: aa * o.bound + self.bound * ab + self.bound * o.bound + sc.lift(&round)?,
+        })
+    }
+
+    /// `a + s b` for an exact `s = ±1`: bound `e_a + e_b + ε |a + s b|`.
+    fn add(self, o: Self, s: f64, sc: &Scope) -> Result<Self> {
+        let value = self.value + o.value * s;
+        Ok(Self {
+            value,
+            bound: self.bound + o.bound + abs_series(sc, value)? * f64::EPSILON,
+        })
+    }
+}
+
+/// The period-ratio series in `x = a²` of a [`PendulumNormalForm`] of order `N`, with absolute
+/// rounding-error bounds.
+///
+/// At the turning point `θ = a`, `p = 0` the complex normal coordinates are `ζ = a v`
+/// (`v = T⁻¹ S⁻¹ e_q`), so the degree-`d` part of each new coordinate `ζ'_i(ζ)`
+/// ([`BirkhoffNormalForm::coordinate_series`]) contributes `X_{i,d} a^d`, `X_{i,d}` its value at
+/// `v`; the new action is `J'(a) = i x'(a) y'(a)`. Then `ω/ν = Σ_m (ω_m/ν) J'^m` and
+/// `τ/(2π/ν) = (ω/ν)^{−1}`, all as truncated series in `a` on the shared [`Series`] type and
+/// re-read in `x = a²` to `x^N`.
+///
+/// The bounds: `X_{i,d}` carries `(COEFFICIENT_ULPS ⌈d/2⌉ + 2d + terms + 2) ε Σ|c_α v^α|` (the
+/// coefficient model, the powers of `v`, the sum), `ω_m/ν` carries
+/// `(COEFFICIENT_ULPS (m + 1) + 2) ε |ω_m/ν|`, and the products and sums propagate them as in
+/// [`BoundedSeries`]; the reciprocal is Miller's recurrence with running bounds. The alternating
+/// monomials of the transformation at the turning point cancel, which is what makes the high
+/// coefficients of this series lose digits.
+fn period_series_from(nf: &NormalForm, order: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    let eps = f64::EPSILON;
+    let b = nf.birkhoff();
+    let s = b.linear().symplectic_matrix();
+    let u = [C64::new(s[(1, 1)], 0.0), C64::new(-s[(1, 0)], 0.0)];
+    let t_inv = b
+        .linear()
+        .complexification()
+        .clone()
+        .try_inverse()
+        .ok_or_else(|| Error::invalid("complexification", "singular"))?;
+    let v: Vec<C64> = (0..2)
+        .map(|i| t_inv[(i, 0)] * u[0] + t_inv[(i, 1)] * u[1])
+        .collect();
+    let top = 2 * order;
+    // Per-degree values of x'(a v), y'(a v): (re, im, bound) for d = 0 … top.
+    let parts = |p: &PhasePolynomial| -> Result<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        let table = p.monomials();
+        let (mut re, mut im, mut bound) =
+            (vec![0.0; top + 1], vec![0.0; top + 1], vec![0.0; top + 1]);
+        for d in 0..=top.min(table.degree()) {
+            let part = p.part(d);
+            let value = part.eval(&v)?;
+            let mut mag = 0.0;
+            let mut terms = 0usize;
+            for i in table.of_degree(d) {
+                let c = part.coefficients()[i];
+                if c == C64::new(0.0, 0.0) {
+                    continue;
+                }
+                let e = table.exponents(i).unwrap_or(&[]);
+                let vm: f64 = e
+                    .iter()
+                    .zip(&v)
+                    .map(|(&k, vk)| vk.norm().powi(i32::from(k)))
+                    .product();
+                mag += c.norm() * vm;
+                terms += 1;
+            }
+            let ulps =
+                COEFFICIENT_ULPS * d.div_ceil(2) as f64 + 2.0 * d as f64 + terms as f64 + 2.0;
+            re[d] = value.re;
+            im[d] = value.im;
+            bound[d] = ulps * eps * mag;
+        }
+        Ok((re, im, bound))
+    };
+    let (_, new_from_old) = b.coordinate_series();
+    let (xr, xi, ex) = parts(&new_from_old[0])?;
+    let (yr, yi, ey) = parts(&new_from_old[1])?;
+    let nu = nf.frequency_amplitude().linear_frequency();
+    let w = nf.frequency_amplitude().frequency_coefficients();
+    let (omega_v, omega_e) = scope(1, top, |sc| -> Result<(Polynomial, Polynomial)> {
+        let bounded = |c: &[f64], e: &[f64]| -> Result<BoundedSeries> {
+            Ok(BoundedSeries {
+                value: series_of(sc, c)?,
+                bound: series_of(sc, e)?,
+            })
+        };
+        let (xr, xi) = (bounded(&xr, &ex)?, bounded(&xi, &ex)?);
+        let (yr, yi) = (bounded(&yr, &ey)?, bounded(&yi, &ey)?);
+        // J' = Re(i x' y') = −(x'_r y'_i + x'_i y'_r).
+        let jp = xr.mul(yi, sc)?.add(xi.mul(yr, sc)?, 1.0, sc)?;
+        let jp = BoundedSeries {
+            value: -jp.value,
+            bound: jp.bound,
+        };
+        let mut omega = BoundedSeries {
+            value: Series::constant(0.0),
+            bound: Series::constant(0.0),
+        };
+        let mut power = BoundedSeries {
+            value: Series::constant(1.0),
+            bound: Series::constant(0.0),
+        };
+        for (m, wm) in w.iter().enumerate().take(order + 1) {
+            let c = wm / nu;
+            let wn = BoundedSeries {
+                value: Series::constant(c),
+                // ω_0/ν = ν/ν = 1 exactly.
+                bound: Series::constant(if m == 0 {
+                    0.0
+                } else {
+                    (COEFFICIENT_ULPS * (m + 1) as f64 + 2.0) * eps * c.abs()
+                }),
+            };
+            omega = omega.add(wn.mul(power, sc)?, 1.0, sc)?;
+            power = power.mul(jp, sc)?;
+        }
+        Ok((sc.polynomial(omega.value)?, sc.polynomial(omega.bound)?))
+    })??;
+    // ω/ν is even in a: its coefficients of a^{2k} are those of x^k.
+    let omega: Vec<Ball> = (0..=order)
+        .map(|k| Ball {
+            v: omega_v.coefficients()[2 * k],
+            e: omega_e.coefficients()[2 * k],
+        })
+        .collect();
+    if omega[0].v != 1.0 {
+        return Err(Error::invalid(
+            "pendulum period series",
+            format!("ω(0)/ν = {} ≠ 1", omega[0].v),
+        ));
+    }
+    let c = series_pow_ball(&omega, -1.0);
+    Ok((
+        c.iter().map(|b| b.v).collect(),
+        c.iter().map(|b| b.e).collect(),
+    ))
 }
