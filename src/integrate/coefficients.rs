@@ -589,6 +589,186 @@ pub const SBAB4: Table = Table {
     reference: "Laskar & Robutel 2001, Table 2",
 };
 
+// ---------------------------------------------------------------------------------------------
+// Symplectic correctors of the Wisdom–Holman map (drift–kick–drift kernel)
+// ---------------------------------------------------------------------------------------------
+
+/// A symplectic corrector of the drift–kick–drift Wisdom–Holman map
+/// `Φ_h = φ^A_{h/2} ∘ φ^B_h ∘ φ^A_{h/2}` for `H = A + εB` (J. Wisdom, M. Holman & J. Touma,
+/// "Symplectic correctors", Fields Inst. Commun. 10 (1996) 217–244; J. Wisdom, Astron. J. 131
+/// (2006) 2294; the coefficients of orders 3, 5, 7, 11, 17 from H. Rein & D. Tamayo, "WHFast",
+/// Mon. Not. R. Astron. Soc. 452 (2015) 376–388, doi:10.1093/mnras/stv1257, §2.3). The
+/// corrector is a near-identity symplectic map built from the same two flows,
+///
+/// ```math
+/// C_h = Z(a_m h, b_m h) \circ \dots \circ Z(a_1 h, b_1 h),\qquad
+/// Z(a, b) = \varphi^A_{a} \circ \varphi^B_{b} \circ \varphi^A_{-2a} \circ \varphi^B_{-b}
+///   \circ \varphi^A_{a},
+/// ```
+///
+/// (`Z(a₁h, b₁h)` applied first; inside `Z` the right-most flow first), chosen so that
+/// `C_h ∘ Φ_h ∘ C_h⁻¹ = φ^H_h + O(ε h^{k+1} + ε² h³)` per step: a run `C ∘ Φⁿ ∘ C⁻¹` has error
+/// `O(ε h^{k} + ε² h²)` over a fixed span for a corrector of order `k`, against `O(ε h²)` for
+/// `Φⁿ` alone. `Z(a, b)⁻¹ = Z(−a, b)`, so `C⁻¹` is the reversed word with `a ↦ −a`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corrector {
+    /// The order `k` of the corrector.
+    pub order: u32,
+    /// The pairs `(a_i, b_i)`, `Z(a₁h, b₁h)` first.
+    pub stages: &'static [(f64, f64)],
+    /// Where the coefficients come from.
+    pub reference: &'static str,
+}
+
+impl Corrector {
+    /// Kepler drifts and kicks of one application of `C` or `C⁻¹` (adjacent drifts merged):
+    /// `(2m + 1, 2m)` for `m` stages.
+    pub const fn evaluations(&self) -> (usize, usize) {
+        let m = self.stages.len();
+        (2 * m + 1, 2 * m)
+    }
+
+    /// Run the word of `C` (or of `C⁻¹` when `inverse`) over the step `h`: `f(flow, c)` for each
+    /// sub-step `φ^{flow}_{c h}` in the order applied, adjacent drifts merged.
+    pub fn for_each_sub_step<E>(
+        &self,
+        inverse: bool,
+        mut f: impl FnMut(Flow, f64) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let m = self.stages.len();
+        let mut pending = 0.0;
+        for i in 0..m {
+            let (a, b) = if inverse {
+                let (a, b) = self.stages[m - 1 - i];
+                (-a, b)
+            } else {
+                self.stages[i]
+            };
+            // Z(a, b) in the order applied: A(a) B(−b) A(−2a) B(b) A(a).
+            f(Flow::A, pending + a)?;
+            f(Flow::B, -b)?;
+            f(Flow::A, -2.0 * a)?;
+            f(Flow::B, b)?;
+            pending = a;
+        }
+        if m > 0 {
+            f(Flow::A, pending)?;
+        }
+        Ok(())
+    }
+}
+
+// a_k = k √(7/40); the b's in 50 digits (Rein & Tamayo 2015, Table 1 digits).
+const CA1: f64 = 0.41833001326703777398908601289259374469640768464934;
+const CA2: f64 = 0.83666002653407554797817202578518748939281536929867;
+const CA3: f64 = 1.2549900398011133219672580386777812340892230539480;
+const CA4: f64 = 1.6733200530681510959563440515703749787856307385973;
+const CA5: f64 = 2.0916500663351888699454300644629687234820384232467;
+const CA6: f64 = 2.5099800796022266439345160773555624681784461078960;
+const CA7: f64 = 2.9283100928692644179236020902481562128748537925454;
+const CA8: f64 = 3.3466401061363021919126881031407499575712614771947;
+const CB31: f64 = -0.024900596027799867499350357910273437184309981229127;
+const CB51: f64 = -0.0083001986759332891664501193034244790614366604097090;
+const CB52: f64 = 0.041500993379666445832250596517122395307183302048545;
+const CB71: f64 = 0.0024926811426922105779030593952776964450539008582219;
+const CB72: f64 = -0.018270923246702131478062356884535264841652263842597;
+const CB73: f64 = 0.053964399093127498721765893493510877532452806339655;
+const CB111: f64 = 0.00020361579647854651301632818774633716473696537436847;
+const CB112: f64 = -0.0023487215292295354188307328851055489876255097419754;
+const CB113: f64 = 0.012309078592019946317544564763237909911330686448336;
+const CB114: f64 = -0.038121613681288650508647613260247372125243616270670;
+const CB115: f64 = 0.072593394748842738674253180742744961827622366521517;
+const CB171: f64 = -0.0000043347415473373580190650223498124944896789841432241;
+const CB172: f64 = 0.000076436355227935738363241846979413475106795392377415;
+const CB173: f64 = -0.00063599983075817658983166881625078545864140848560259;
+const CB174: f64 = 0.0033132577069380655655490196833451994080066801611459;
+const CB175: f64 = -0.012071760822342291062449751726959664253913904872527;
+const CB176: f64 = 0.032422198864713580293681523029577130832258806467604;
+const CB177: f64 = -0.065192863576377893658290760803725762027864651086787;
+const CB178: f64 = 0.093056103771425958591541059067553547100903397724386;
+
+const CORRECTOR_REFERENCE: &str =
+    "Wisdom, Holman & Touma 1996, Fields Inst. Commun. 10, 217; Rein & Tamayo 2015, MNRAS 452, 376";
+
+/// Third-order corrector: 2 stages.
+pub const CORRECTOR3: Corrector = Corrector {
+    order: 3,
+    stages: &[(CA1, -CB31), (-CA1, CB31)],
+    reference: CORRECTOR_REFERENCE,
+};
+
+/// Fifth-order corrector: 4 stages.
+pub const CORRECTOR5: Corrector = Corrector {
+    order: 5,
+    stages: &[(-CA2, -CB51), (-CA1, -CB52), (CA1, CB52), (CA2, CB51)],
+    reference: CORRECTOR_REFERENCE,
+};
+
+/// Seventh-order corrector: 6 stages.
+pub const CORRECTOR7: Corrector = Corrector {
+    order: 7,
+    stages: &[
+        (-CA3, -CB71),
+        (-CA2, -CB72),
+        (-CA1, -CB73),
+        (CA1, CB73),
+        (CA2, CB72),
+        (CA3, CB71),
+    ],
+    reference: CORRECTOR_REFERENCE,
+};
+
+/// Eleventh-order corrector: 10 stages.
+pub const CORRECTOR11: Corrector = Corrector {
+    order: 11,
+    stages: &[
+        (-CA5, -CB111),
+        (-CA4, -CB112),
+        (-CA3, -CB113),
+        (-CA2, -CB114),
+        (-CA1, -CB115),
+        (CA1, CB115),
+        (CA2, CB114),
+        (CA3, CB113),
+        (CA4, CB112),
+        (CA5, CB111),
+    ],
+    reference: CORRECTOR_REFERENCE,
+};
+
+/// Seventeenth-order corrector: 16 stages.
+pub const CORRECTOR17: Corrector = Corrector {
+    order: 17,
+    stages: &[
+        (-CA8, -CB171),
+        (-CA7, -CB172),
+        (-CA6, -CB173),
+        (-CA5, -CB174),
+        (-CA4, -CB175),
+        (-CA3, -CB176),
+        (-CA2, -CB177),
+        (-CA1, -CB178),
+        (CA1, CB178),
+        (CA2, CB177),
+        (CA3, CB176),
+        (CA4, CB175),
+        (CA5, CB174),
+        (CA6, CB173),
+        (CA7, CB172),
+        (CA8, CB171),
+    ],
+    reference: CORRECTOR_REFERENCE,
+};
+
+/// The shipped correctors, lowest order first.
+pub const CORRECTORS: [&Corrector; 5] = [
+    &CORRECTOR3,
+    &CORRECTOR5,
+    &CORRECTOR7,
+    &CORRECTOR11,
+    &CORRECTOR17,
+];
+
 #[cfg(test)]
 mod tests {
     use super::super::methods::{Construction, METHODS};
@@ -741,5 +921,36 @@ mod tests {
             VERLET_KDK.label(),
             "Störmer–Verlet (kick–drift–kick), 1 stage, order 2"
         );
+    }
+
+    /// `a_k = k √(7/40)`, and the corrector word composed with its inverse is the identity word
+    /// (the drifts of each application sum to zero).
+    #[test]
+    fn corrector_coefficients() {
+        let alpha = (7.0f64 / 40.0).sqrt();
+        for (k, a) in [CA1, CA2, CA3, CA4, CA5, CA6, CA7, CA8].iter().enumerate() {
+            assert!((a - (k + 1) as f64 * alpha).abs() < 4e-16 * (k + 1) as f64);
+        }
+        for c in CORRECTORS {
+            for inverse in [false, true] {
+                let (mut drift, mut kick, mut na, mut nb) = (0.0, 0.0, 0, 0);
+                c.for_each_sub_step::<()>(inverse, |flow, x| {
+                    match flow {
+                        Flow::A => {
+                            drift += x;
+                            na += 1;
+                        }
+                        Flow::B => {
+                            kick += x;
+                            nb += 1;
+                        }
+                    }
+                    Ok(())
+                })
+                .unwrap();
+                assert!(drift.abs() < 1e-14 && kick.abs() < 1e-15, "{}", c.order);
+                assert_eq!((na, nb), c.evaluations());
+            }
+        }
     }
 }

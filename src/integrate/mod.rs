@@ -66,7 +66,7 @@ pub use tangent::{
     TangentMap, TangentMethod,
 };
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
-pub use wisdom_holman::{PerturbedKepler, WisdomHolman};
+pub use wisdom_holman::{PerturbedKepler, PlanetaryWisdomHolman, WisdomHolman};
 
 use crate::brackets::PhaseMap;
 use crate::error::{finite, Error, Result};

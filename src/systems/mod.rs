@@ -25,6 +25,7 @@
 //! | [`Particle`] in [`Cylindrical`], [`Spherical`] coordinates | 3 (applied force in Cartesian components) | Ardema's component equations [Ardema 7.2–7.3] |
 //! | [`Particle`] [`OnCurve`] | 1, on a fixed or moving plane curve `y = f(x, t)` | Ardema eq. 7.14 [Ardema 7.3] |
 //! | [`DoublePendulum`] | 2 (two rods; point masses the special case) | — (equilibria and their spectra in closed form) [Ardema 7.4, 12.3] |
+//! | [`PlanetarySystem`] | 3(n + 1): a central mass and n planets | — (momentum, angular momentum, energy; Wisdom–Holman splits in Jacobi and democratic heliocentric coordinates) [Wisdom & Holman 1991] |
 //! | [`RestrictedThreeBody`] | 2 (planar), 3 | — (Jacobi integral; L4 stable below Routh's ratio) [Szebehely §4.4] |
 //! | [`ClohessyWiltshire`] | 3, quadratic | closed form (Hill's equations) [Ardema 12.4] |
 //! | [`DumbbellSatellite`] | 3, `ρ` cyclic | relative equilibria, radial and tangential [Ardema 15.3] |
@@ -50,6 +51,7 @@ mod nonholonomic_particle;
 pub mod particle_formulations;
 mod pendulum;
 pub mod pendulum_exact;
+pub mod planetary;
 mod projectile;
 pub mod restricted_three_body;
 pub mod rigid_body;
@@ -80,6 +82,7 @@ pub use particle_formulations::{
     Spherical,
 };
 pub use pendulum::Pendulum;
+pub use planetary::{outer_solar_system, PlanetaryCoordinates, PlanetarySystem};
 pub use projectile::Projectile;
 pub use restricted_three_body::RestrictedThreeBody;
 pub use rigid_body::FreeRigidBody;
