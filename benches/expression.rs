@@ -4,9 +4,10 @@
 //!
 //! Variants per group:
 //! * `rust` — the catalogue system's `vector_field_unchecked` (forward-mode AD);
-//! * `expression` — [`ExpressionHamiltonian`]: one pass over the record of `H` and its gradient;
-//! * `expression_split` — the split form [`ExpressionSeparable`] (forward-mode AD of the records
-//!   of `T` and `V`), which the splitting methods use.
+//! * `expression` — [`ExpressionHamiltonian`]: one pass of the register program of the record of
+//!   Hamilton's equations `(∂H/∂p, −∂H/∂q)` (its slots on the stack);
+//! * `expression_split` — the split form [`ExpressionSeparable`] (forward-mode AD through the
+//!   programs of `T` and `V`), which the splitting methods use.
 //!
 //! The figure of merit is `expression / rust` (goal ≤ 3).
 
