@@ -457,7 +457,7 @@ fn generic_engine_cubic_oscillator() {
     );
     let mut worst = (0.0_f64, 0.0_f64);
     for j0 in [1e-3_f64, 1e-2, 3e-2] {
-        for w0 in [0.0, 1.0, 2.5] {
+        for w0 in [0.0_f64, 1.0, 2.5] {
             let q = (2.0 * j0 / n).sqrt() * w0.cos();
             let p = -(2.0 * n * j0).sqrt() * w0.sin();
             let hh = 0.5 * (p * p + n * n * q * q) + alpha * q.powi(3);
