@@ -602,7 +602,7 @@ pub const SBAB4: Table = Table {
 ///
 /// ```math
 /// C_h = Z(a_m h, b_m h) \circ \dots \circ Z(a_1 h, b_1 h),\qquad
-/// Z(a, b) = \varphi^A_{a} \circ \varphi^B_{b} \circ \varphi^A_{-2a} \circ \varphi^B_{-b}
+/// Z(a, b) = \varphi^A_{a} \circ \varphi^B_{-b} \circ \varphi^A_{-2a} \circ \varphi^B_{b}
 ///   \circ \varphi^A_{a},
 /// ```
 ///
@@ -654,11 +654,11 @@ impl Corrector {
             } else {
                 self.stages[i]
             };
-            // Z(a, b) in the order applied: A(a) B(−b) A(−2a) B(b) A(a).
+            // Z(a, b) in the order applied: A(a) B(b) A(−2a) B(−b) A(a).
             f(Flow::A, pending + a)?;
-            f(Flow::B, -b)?;
-            f(Flow::A, -2.0 * a)?;
             f(Flow::B, b)?;
+            f(Flow::A, -2.0 * a)?;
+            f(Flow::B, -b)?;
             pending = a;
         }
         if m > 0 {
