@@ -115,9 +115,15 @@ fn normal_form_energy_matches_exact_action_reversion() {
     }
     // Frequency ω = dH̄/dJ: 1 − J/8 − 3J²/256 − …
     let w = nf.frequency_coefficients();
+    // w_m = (m + 1) h_{m+1}: the same relative bound as h_{m+1}, to a few ulps.
     assert_eq!(w[0], 1.0);
-    assert_eq!(w[1], -1.0 / 8.0);
-    assert_eq!(w[2], -3.0 / 256.0);
+    for (m, exact) in [(1, -1.0 / 8.0), (2, -3.0 / 256.0)] {
+        assert!(
+            rel(w[m], exact) <= 8.0 * EPS * (m + 1) as f64,
+            "w_{m} = {} vs {exact}",
+            w[m]
+        );
+    }
     // The resonant terms of a real Hamiltonian are real: nothing but rounding was dropped.
     assert!(nf.normal_form().birkhoff().reality_defect() <= 1e-15);
     // Scaling: H = n² f(J/n) ⇒ h_m(n) = n^{2−m} h_m(1).
@@ -150,12 +156,12 @@ fn period_series_matches_elliptic_series_to_order_12() {
             );
         }
     }
-    // The two terms of second-order perturbation theory [Ardema 18.2], exactly.
+    // The two terms of second-order perturbation theory [Ardema 18.2], to a few ulps.
     let c = PendulumNormalForm::new(1.0, 2)
         .unwrap()
         .period_ratio_series()
         .to_vec();
-    assert_eq!(c[1], 1.0 / 16.0);
+    assert!(rel(c[1], 1.0 / 16.0) <= 2.0 * EPS);
     assert!(rel(c[2], 11.0 / 3072.0) <= 2.0 * EPS);
     // Independent of n (a dimensionless series).
     let c7 = PendulumNormalForm::new(7.5, 8)
