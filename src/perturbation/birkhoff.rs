@@ -202,7 +202,7 @@ impl PhasePolynomial {
     /// not a monomial of the tables (wrong length, degree above `K`); [`Error::NonFinite`] for a
     /// non-finite coefficient.
     pub fn from_terms(table: &Arc<Monomials>, terms: &[(Vec<u32>, C64)]) -> Result<Self> {
-        if table.variables() % 2 != 0 {
+        if !table.variables().is_multiple_of(2) {
             return Err(Error::invalid(
                 "phase polynomial",
                 format!(
