@@ -6228,7 +6228,8 @@ mod expression_calls {
                     toml_num(a[2])
                 );
                 let (x, z, v) = (a[0], a[1], a[2]);
-                let on = (x * x + z * z - 1.0).abs() <= 1e-12 * (1.0 + 2.0 * (x * x + z * z));
+                let r2 = x * x + z * z;
+                let on = r2.is_finite() && (r2 - 1.0).abs() <= 1e-12 * (1.0 + 2.0 * r2);
                 let want = v * v / 2.0 + z;
                 let valid = fin(a) && on && want.is_finite();
                 build_verdict(
@@ -6612,8 +6613,13 @@ fn add_planetary(c: &mut Vec<Call>) {
                 let m = PlanetaryWisdomHolman::new(wh, coords).unwrap();
                 let e0 = sys.value(0.0, &q, &p);
                 let r = Problem::new(&sys, 0.0, q, p, a[2]).and_then(|pb| m.propagate(&pb, 100));
+                // With (almost) no tangential velocity v = a[1] the planet passes the star at
+                // r ≈ v²/2 ≤ 5e−3: the O(ε h²) estimate of the democratic heliocentric jump
+                // assumes no close encounter, so only a finite state is asked of it there.
+                let collision = a[1].abs() < 0.1 && !matches!(coords, PlanetaryCoordinates::Jacobi);
                 judge(r, fin(a) && a[0] != 0.0, |r| {
                     match (e0, sys.value(a[2], &r.last.q, &r.last.p)) {
+                        (Ok(_), Ok(e1)) if collision && e1.is_finite() => Good,
                         (Ok(e0), Ok(e1)) => near_rel("energy", e1, e0, tol),
                         // H itself overflows at the start: the state must stay finite.
                         (Err(_), _) if r.last.is_finite() => Good,

@@ -217,7 +217,7 @@ impl Expression {
         self.variables
             .iter()
             .zip(x)
-            .map(|(n, v)| format!("{n} = {v}"))
+            .map(|(n, v)| format!("{n} = {}", crate::error::fmt_num(*v)))
             .collect::<Vec<_>>()
             .join(", ")
     }
