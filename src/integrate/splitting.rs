@@ -49,12 +49,32 @@ pub(crate) trait SubFlows<D: DualNum<f64> + Copy, const N: usize> {
     fn flow_b(&mut self, t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>>;
 }
 
-/// The composition kernel: run the word of `table` over the step `dt` from `(t, q, p)` and return
-/// the accumulated increments `(Δq, Δp)`. The time seen by a sub-flow is `t` plus the `A`-time
+/// A word in the two flows: the sub-steps `(flow, c)` of a composition, in the order applied,
+/// each over `c·dt`.
+pub(crate) trait Word {
+    /// Call `f(flow, c)` for each sub-step in the order applied.
+    fn for_each_sub_step<E>(
+        &self,
+        f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
+    ) -> std::result::Result<(), E>;
+}
+
+impl Word for Table {
+    #[inline]
+    fn for_each_sub_step<E>(
+        &self,
+        f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
+    ) -> std::result::Result<(), E> {
+        Table::for_each_sub_step(self, f)
+    }
+}
+
+/// The composition kernel: run `word` over the step `dt` from `(t, q, p)` and return the
+/// accumulated increments `(Δq, Δp)`. The time seen by a sub-flow is `t` plus the `A`-time
 /// elapsed before it.
 #[inline]
-pub(crate) fn compose<D, F, const N: usize>(
-    table: &Table,
+pub(crate) fn compose<W: Word + ?Sized, D, F, const N: usize>(
+    word: &W,
     flows: &mut F,
     t: D,
     q: &SVector<D, N>,
@@ -68,7 +88,7 @@ where
     let mut dq = SVector::<D, N>::zeros();
     let mut dp = SVector::<D, N>::zeros();
     let mut elapsed = D::from(0.0);
-    table.for_each_sub_step(|flow, c| {
+    word.for_each_sub_step(|flow, c| {
         if c == 0.0 {
             return Ok(());
         }

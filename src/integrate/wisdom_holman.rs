@@ -39,7 +39,7 @@
 
 use super::coefficients::{self, Corrector, Flow, Table, CORRECTORS};
 use super::methods::{Construction, METHODS};
-use super::splitting::{check_table, compose, SubFlows};
+use super::splitting::{check_table, compose, SubFlows, Word};
 use super::{check_initial_field, compensated_add, Fixed, OneStep, Problem, Report, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{positive, Error, Result};
@@ -205,7 +205,24 @@ fn finite_state<const N: usize>(
     })
 }
 
-/// The word of the corrector `C` (or `C⁻¹`) over the step `h` from `(t, q, p)`: its increments.
+/// The word of the corrector `C` (`inverse = false`) or `C⁻¹` (`true`), run by the composition
+/// kernel [`compose`].
+struct CorrectorWord<'a> {
+    corrector: &'a Corrector,
+    inverse: bool,
+}
+
+impl Word for CorrectorWord<'_> {
+    #[inline]
+    fn for_each_sub_step<E>(
+        &self,
+        f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
+    ) -> std::result::Result<(), E> {
+        self.corrector.for_each_sub_step(self.inverse, f)
+    }
+}
+
+/// The increments of the corrector `C` (or `C⁻¹`) over the step `h` from `(t, q, p)`.
 fn correct<D, F, const N: usize>(
     corrector: &Corrector,
     inverse: bool,
@@ -219,23 +236,8 @@ where
     D: DualNum<f64> + Copy,
     F: SubFlows<D, N>,
 {
-    let mut dq = SVector::<D, N>::zeros();
-    let mut dp = SVector::<D, N>::zeros();
-    corrector.for_each_sub_step(inverse, |flow, c| {
-        if c == 0.0 {
-            return Ok(());
-        }
-        match flow {
-            Flow::A => {
-                let (a, b) = flows.flow_a(t, &(q + dq), &(p + dp), h * c)?;
-                dq += a;
-                dp += b;
-            }
-            Flow::B => dp += flows.flow_b(t, &(q + dq), h * c)?,
-        }
-        Ok(())
-    })?;
-    Ok((dq, dp))
+    let word = CorrectorWord { corrector, inverse };
+    compose(&word, flows, t, q, p, h)
 }
 
 /// One step of `method` as seen at output times: `Φ_h`, or `C ∘ Φ_h ∘ C⁻¹` with a corrector.
