@@ -3,6 +3,7 @@
 //! and the quadratures through turning points of `∫ √F` and `∫ 1/√F` (libration and radial
 //! motion).
 
+pub(crate) mod double_double;
 pub mod elliptic;
 pub mod kepler_equation;
 pub mod stumpff;
