@@ -281,7 +281,7 @@ impl Algebra {
     /// `{f, g} = Σᵢ ∂f/∂θᵢ ∂g/∂Jᵢ − ∂f/∂Jᵢ ∂g/∂θᵢ`, times `scale`, added to `out`.
     fn bracket_add(&self, f: &Terms, g: &Terms, scale: f64, out: &mut Terms) {
         let n = self.deriv.len();
-        let dj = |t: &Terms| -> Vec<BTreeMap<Vec<i32>, (Vec<f64>, Vec<f64>)>> {
+        let dj = |t: &Terms| -> Vec<Terms> {
             (0..n)
                 .map(|i| {
                     t.iter()
@@ -550,7 +550,7 @@ pub fn lie_deprit<H: ActionAngleHamiltonian<N>, const N: usize>(
             let j = m - i;
             let mut t = triangle[i - 1][j + 1].clone();
             for k in 0..=j {
-                if k + 1 > generators.len() {
+                if k >= generators.len() {
                     continue;
                 }
                 let c = binomial(j, k);
