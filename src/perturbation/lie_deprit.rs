@@ -740,6 +740,21 @@ fn reciprocal(alg: &Algebra, p: &[f64]) -> Vec<f64> {
     sum.iter().map(|x| x / p0).collect()
 }
 
+/// Finite angles whose rounding stays below `1e-6` rad (`|θ| ≤ 10⁻⁶/2⁻⁵²`); beyond, the map's
+/// periodic terms are lost in the rounding of `θ`: [`Error::PhaseLost`].
+fn check_angles<const N: usize>(theta: &SVector<f64, N>) -> Result<()> {
+    all_finite("angles θ", theta.as_slice())?;
+    let limit = 1e-6 / f64::EPSILON;
+    match theta.iter().find(|t| t.abs() > limit) {
+        Some(&t) => Err(Error::PhaseLost {
+            what: "Lie–Deprit near-identity map".into(),
+            phase: t,
+            limit,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// `Σ_k c_k(δJ) e^{ik·θ}` (real part) at `(δJ, θ)`.
 fn eval_terms(t: &Terms, dj: &[f64], theta: &[f64], table: &Arc<Monomials>) -> Result<f64> {
     let mut sum = 0.0;
@@ -860,7 +875,7 @@ impl<const N: usize> LieDeprit<N> {
     /// order `n` (`H(E_W(J′, θ′)) = K(J′) + O(ε^{n+1})`).
     ///
     /// # Errors
-    /// NaN/∞ input.
+    /// NaN/∞ input; `|θ′|` beyond the phase resolution ([`Error::PhaseLost`]).
     pub fn from_normal(
         &self,
         j: &SVector<f64, N>,
@@ -868,7 +883,7 @@ impl<const N: usize> LieDeprit<N> {
         eps: f64,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         let dj = self.check_point(j, eps)?;
-        all_finite("angles θ′", theta.as_slice())?;
+        check_angles(theta)?;
         let table = self.energy[0].monomials().clone();
         let series = |terms: &[Terms]| -> Result<f64> {
             let mut sum = 0.0;
@@ -901,7 +916,7 @@ impl<const N: usize> LieDeprit<N> {
         eps: f64,
     ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
         self.check_point(j, eps)?;
-        all_finite("angles θ", theta.as_slice())?;
+        check_angles(theta)?;
         let (mut jn, mut tn) = (*j, *theta);
         let mut res = f64::INFINITY;
         for _ in 0..200 {
