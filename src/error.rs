@@ -192,6 +192,22 @@ pub enum Error {
         /// The time the run reached.
         t_reached: f64,
     },
+    /// A perturbation series meets a small divisor: the mode `k` of a term to be removed has
+    /// `|k·ω|` at or below the threshold (a resonance of the frequencies `ω`).
+    #[error(
+        "{what}: small divisor k·ω = {} for the resonance k = {k:?} (threshold {threshold:e})",
+        fmt_num(*divisor)
+    )]
+    SmallDivisor {
+        /// Which computation.
+        what: String,
+        /// The resonance vector `k`.
+        k: Vec<i32>,
+        /// The divisor `k·ω`.
+        divisor: f64,
+        /// The threshold it fell below.
+        threshold: f64,
+    },
 }
 
 /// The candidate roots of [`Error::NoRootOnSheet`] in exponent notation.

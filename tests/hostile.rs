@@ -3035,6 +3035,159 @@ fn add_one_dof_normal_forms(c: &mut Vec<Call>) {
     );
 }
 
+fn add_lie_deprit(c: &mut Vec<Call>) {
+    use hamilton_jacobi::perturbation::lie_deprit::{
+        lie_deprit, AmplitudePendulum, DrivenOscillator, LieDepritOptions, MAX_LIE_DEPRIT_ORDER,
+    };
+    let v1 = |x: f64| SVector::<f64, 1>::new(x);
+    sweep(
+        c,
+        "lie_deprit::lie_deprit(pendulum, J*, μ)",
+        &[1.0, 0.1],
+        &[(0, -1.0), (0, 1e-300), (0, 1e300), (1, 1e300)],
+        move |a| {
+            judge(
+                lie_deprit(&AmplitudePendulum, &v1(a[0]), &LieDepritOptions::new(4, 10)),
+                a[0].is_finite() && a[0] > 0.0,
+                |ld| {
+                    // [μ²] K(J*) = −J*²/16, [μ⁴] K(J*) = −J*³/256.
+                    let (k2, k4) = (
+                        ld.energy_coefficient(2).unwrap_or(f64::NAN),
+                        ld.energy_coefficient(4).unwrap_or(f64::NAN),
+                    );
+                    let (w2, w4) = (-a[0] * a[0] / 16.0, -a[0].powi(3) / 256.0);
+                    let k = ld.energy(&v1(a[0]), a[1]);
+                    all([
+                        near("[μ²] K", k2, w2, 1e-13 * w2.abs()),
+                        near("[μ⁴] K", k4, w4, 1e-13 * w4.abs()),
+                        finite_ok("remainder", ld.remainder()),
+                        finite_ok("Fourier error", ld.fourier_error()),
+                        judge(k, a[1].is_finite(), |k| {
+                            let want = a[0] + w2 * a[1].powi(2) + w4 * a[1].powi(4);
+                            near("K(J*; μ)", k, want, 1e-12 * (1.0 + want.abs()))
+                        }),
+                    ])
+                },
+            )
+        },
+    );
+    sized(
+        c,
+        "lie_deprit::lie_deprit(order)",
+        &[0, 1, 3, MAX_LIE_DEPRIT_ORDER + 1, usize::MAX],
+        move |n| {
+            judge(
+                lie_deprit(&AmplitudePendulum, &v1(1.0), &LieDepritOptions::new(n, 8)),
+                (1..=MAX_LIE_DEPRIT_ORDER).contains(&n),
+                |ld| {
+                    near(
+                        "K₀(J*)",
+                        ld.energy_coefficient(0).unwrap_or(f64::NAN),
+                        1.0,
+                        1e-15,
+                    )
+                },
+            )
+        },
+    );
+    sized(
+        c,
+        "lie_deprit::lie_deprit(harmonics)",
+        &[0, 3, 1 << 13, 1 << 40, usize::MAX],
+        move |h| {
+            judge(
+                lie_deprit(&AmplitudePendulum, &v1(1.0), &LieDepritOptions::new(2, h)),
+                true,
+                |ld| finite_ok("Fourier error", ld.fourier_error()),
+            )
+        },
+    );
+    sweep(
+        c,
+        "lie_deprit::lie_deprit(small-divisor threshold)",
+        &[1e-8],
+        &[(0, 0.5), (0, 1.0), (0, -1e-8)],
+        move |a| {
+            let options = LieDepritOptions {
+                small_divisor: a[0],
+                ..LieDepritOptions::new(2, 6)
+            };
+            judge(
+                lie_deprit(
+                    &DrivenOscillator {
+                        omega: 1.0,
+                        drive: 0.7,
+                    },
+                    &SVector::from([1.0, 1.0]),
+                    &options,
+                ),
+                a[0] > 0.0 && a[0] < 1.0,
+                |ld| {
+                    // k·ω = 1 ± 0.7 ≥ 0.3 > δ·1.7 for δ < 0.17; larger δ must refuse.
+                    if a[0] * 1.7 >= 0.3 {
+                        Wrong("a divisor 0.3 below the threshold was accepted".into())
+                    } else {
+                        judge(ld.frequencies(&SVector::from([1.0, 1.0]), 0.1), true, |w| {
+                            near("ω′₁ of a linear system", w[0], 1.0, 1e-13)
+                        })
+                    }
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "lie_deprit::lie_deprit(driven oscillator, Ω)",
+        &[0.7],
+        &[(0, 1.0), (0, 1.0 + 1e-12), (0, 1e300)],
+        move |a| {
+            judge(
+                lie_deprit(
+                    &DrivenOscillator {
+                        omega: 1.0,
+                        drive: a[0],
+                    },
+                    &SVector::from([1.0, 1.0]),
+                    &LieDepritOptions::new(2, 6),
+                ),
+                a[0].is_finite() && (a[0] - 1.0).abs() > 1e-6 && (a[0] + 1.0).abs() > 1e-6,
+                |ld| {
+                    judge(ld.frequencies(&SVector::from([1.0, 1.0]), 0.1), true, |w| {
+                        all([
+                            near("ω′₁ of a linear system", w[0], 1.0, 1e-12),
+                            near("ω′₂", w[1], a[0], 1e-12 * (1.0 + a[0].abs())),
+                        ])
+                    })
+                },
+            )
+        },
+    );
+    sweep(
+        c,
+        "LieDeprit::from_normal+to_normal(J′, θ′, μ)",
+        &[1.0, 0.3, 0.1],
+        &[(0, 1e300), (1, 1e300), (2, 1e300)],
+        move |a| {
+            let ld = lie_deprit(&AmplitudePendulum, &v1(1.0), &LieDepritOptions::new(4, 10))
+                .expect("nominal Lie–Deprit");
+            judge(
+                ld.from_normal(&v1(a[0]), &v1(a[1]), a[2]),
+                fin(a),
+                |(j, th)| {
+                    judge(ld.to_normal(&j, &th, a[2]), true, |(jn, tn)| {
+                        all([
+                            near("J′ round trip", jn[0], a[0], 1e-12 * (1.0 + a[0].abs())),
+                            near("θ′ round trip", tn[0], a[1], 1e-12 * (1.0 + a[1].abs())),
+                            judge(ld.energy(&jn, a[2]), true, |k| finite_ok("K", k)),
+                            judge(ld.frequencies(&jn, a[2]), true, |w| finite_ok("ω′", w[0])),
+                        ])
+                    })
+                },
+            )
+        },
+    );
+}
+
 fn add_normal_forms(c: &mut Vec<Call>) {
     use hamilton_jacobi::nalgebra::DMatrix;
     use hamilton_jacobi::perturbation::birkhoff::{
@@ -3264,6 +3417,7 @@ fn every_entry_point_survives_hostile_input() {
     add_methods(&mut calls);
     add_lifts_and_steps(&mut calls);
     add_normal_forms(&mut calls);
+    add_lie_deprit(&mut calls);
     add_one_dof_normal_forms(&mut calls);
     add_theories(&mut calls);
     add_brouwer(&mut calls);

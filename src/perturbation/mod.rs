@@ -30,7 +30,8 @@
 //!   map (truncated series and exact generator flow) and convergence diagnostics.
 //! * [`normal_form`]: the Lie-series normal form of a perturbed oscillator to any order (the
 //!   frequency–amplitude series and the near-identity transformation), with a convergence
-//!   warning near the separatrix; [`lindstedt`]: the Lindstedt–Poincaré expansion that
+//!   warning near the separatrix; [`lie_deprit`]: Deprit's triangle for a Hamiltonian given in
+//!   action–angle variables, `H(J, θ; ε)`, with small divisors named by their resonance; [`lindstedt`]: the Lindstedt–Poincaré expansion that
 //!   cross-checks it.
 //! * [`brouwer`]: Brouwer's analytic `J₂` theory closed in the eccentricity, with Lyddane's
 //!   non-singular variables: second-order secular rates, first-order long- and short-period
@@ -42,6 +43,7 @@ pub mod canonical;
 pub mod forces;
 pub mod gauss_variational;
 pub mod kepler_variation;
+pub mod lie_deprit;
 pub mod lindstedt;
 pub mod normal_form;
 pub mod ode;

@@ -2,6 +2,8 @@
 //! integrator oracle, and the observed order of convergence.
 #![allow(dead_code)]
 
+pub mod rational;
+
 use hamilton_jacobi::brackets::PhaseMap;
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::DualNum;
