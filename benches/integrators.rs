@@ -11,9 +11,9 @@ use hamilton_jacobi::integrate::{
     integrate, Dop853, ExactStep, Fixed, Gauss, LeviCivita, OneStep, Problem, Rk4, Splitting,
     TimeTransformed, WisdomHolman,
 };
-use hamilton_jacobi::phase::State;
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
+use hamilton_jacobi::phase::State;
 use hamilton_jacobi::systems::{Kepler2, Pendulum};
 use hamilton_jacobi::Hamiltonian;
 use std::f64::consts::PI;
@@ -82,8 +82,8 @@ fn bench(c: &mut Criterion) {
 fn regularised(c: &mut Criterion) {
     let e = 0.99f64;
     let kep = Kepler2::new(1.0).unwrap();
-    let start = State::from_arrays(0.0, [1.0 - e, 0.0], [0.0, ((1.0 + e) / (1.0 - e)).sqrt()])
-        .unwrap();
+    let start =
+        State::from_arrays(0.0, [1.0 - e, 0.0], [0.0, ((1.0 + e) / (1.0 - e)).sqrt()]).unwrap();
     let t1 = 10.0 * 2.0 * PI;
     let pb = Problem::new(&kep, 0.0, start.q, start.p, t1).unwrap();
     let lc = LeviCivita::new(&kep).unwrap();

@@ -6647,14 +6647,18 @@ fn add_regularisation(c: &mut Vec<Call>) {
         &[(0, 1.5), (0, -0.5), (1, -0.1)],
         |a| {
             let valid = fin(a) && a[0] > 0.0 && a[0] <= 1.0 && a[1] != 0.0;
-            judge(TimeTransformed::power(Splitting::VERLET_DKD, a[0], a[1]), valid, |m| {
-                near("ds", m.ds, a[1], 0.0)
-            })
+            judge(
+                TimeTransformed::power(Splitting::VERLET_DKD, a[0], a[1]),
+                valid,
+                |m| near("ds", m.ds, a[1], 0.0),
+            )
         },
     );
     sweep(c, "TimeTransformed::with_shift", &[2.0], &[], |a| {
         let m = TimeTransformed::logarithmic(Splitting::VERLET_DKD, 0.1).unwrap();
-        judge(m.with_shift(a[0]), fin(a), |m| near("c", m.shift, a[0], 0.0))
+        judge(m.with_shift(a[0]), fin(a), |m| {
+            near("c", m.shift, a[0], 0.0)
+        })
     });
     // Kepler e = 0.5 from periapsis by the logarithmic-Hamiltonian Kahan–Li 17: the energy is
     // kept, and the state at t₁ = π is the apoapsis.
@@ -6695,13 +6699,23 @@ fn add_regularisation(c: &mut Vec<Call>) {
             }
         })
     });
-    sweep(c, "regularised::levi_civita_inverse", &[-0.3, -0.2], &[], |a| {
-        let x = SVector::from([a[0], a[1]]);
-        judge(levi_civita_inverse(&x), fin(a) && x.norm().is_finite(), |u| {
-            let y = SVector::from([u[0] * u[0] - u[1] * u[1], 2.0 * u[0] * u[1]]);
-            near("|u²  − x|", (y - x).amax(), 0.0, 8.0 * EPS * x.amax())
-        })
-    });
+    sweep(
+        c,
+        "regularised::levi_civita_inverse",
+        &[-0.3, -0.2],
+        &[],
+        |a| {
+            let x = SVector::from([a[0], a[1]]);
+            judge(
+                levi_civita_inverse(&x),
+                fin(a) && x.norm().is_finite(),
+                |u| {
+                    let y = SVector::from([u[0] * u[0] - u[1] * u[1], 2.0 * u[0] * u[1]]);
+                    near("|u²  − x|", (y - x).amax(), 0.0, 8.0 * EPS * x.amax())
+                },
+            )
+        },
+    );
     // Levi-Civita + DOP853 on Kepler e = 0.5 against the exact flow at t₁.
     sweep(
         c,

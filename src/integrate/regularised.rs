@@ -226,7 +226,12 @@ fn time_momentum<S: PerturbedKepler<N>, const N: usize>(system: &S, x: &State<N>
 
 impl<S: PerturbedKepler<2>> Hamiltonian<3> for LeviCivita<'_, S> {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(&self, _s: D, q: &SVector<D, 3>, p: &SVector<D, 3>) -> D {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _s: D,
+        q: &SVector<D, 3>,
+        p: &SVector<D, 3>,
+    ) -> D {
         let u = SVector::from([q[0], q[1]]);
         let x = levi_civita_position(&u);
         let r = u.dot(&u);
@@ -237,7 +242,12 @@ impl<S: PerturbedKepler<2>> Hamiltonian<3> for LeviCivita<'_, S> {
 
 impl<S: PerturbedKepler<3>> Hamiltonian<5> for KustaanheimoStiefel<'_, S> {
     #[inline]
-    fn hamiltonian<D: DualNum<f64> + Copy>(&self, _s: D, q: &SVector<D, 5>, p: &SVector<D, 5>) -> D {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _s: D,
+        q: &SVector<D, 5>,
+        p: &SVector<D, 5>,
+    ) -> D {
         let u = SVector::from([q[0], q[1], q[2], q[3]]);
         let x = ks_position(&u);
         let r = u.dot(&u);
@@ -423,8 +433,9 @@ impl<R: Regularisation<N, M>, const N: usize, const M: usize> Observer<M> for Ou
             if ga != 0.0 && gb != 0.0 && (ga < 0.0) == (gb < 0.0) {
                 break;
             }
-            let Some(y) = locate(step.dense, step.prev, step.next, ga, gb, |z| z.q[M - 1] - target)
-            else {
+            let Some(y) = locate(step.dense, step.prev, step.next, ga, gb, |z| {
+                z.q[M - 1] - target
+            }) else {
                 self.error = Some(Error::NonFinite {
                     what: format!("dense output of the regularised run near t = {target:e}"),
                     value: f64::NAN,

@@ -219,5 +219,9 @@ pub(crate) fn illinois<Z: Copy>(
             side = 1;
         }
     }
-    Some(if sa.abs() <= sb.abs() { (za, sa) } else { (zb, sb) })
+    Some(if sa.abs() <= sb.abs() {
+        (za, sa)
+    } else {
+        (zb, sb)
+    })
 }

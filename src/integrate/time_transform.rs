@@ -83,8 +83,8 @@ impl Sundman {
     pub fn rate(self, x: f64) -> f64 {
         match self {
             Sundman::Logarithmic => 1.0 / x,
-            Sundman::Power(a) if a == 0.5 => 1.0 / x.sqrt(),
-            Sundman::Power(a) if a == 1.0 => 1.0,
+            Sundman::Power(0.5) => 1.0 / x.sqrt(),
+            Sundman::Power(1.0) => 1.0,
             Sundman::Power(a) => x.powf(a - 1.0),
         }
     }
@@ -248,13 +248,21 @@ impl TimeTransformed {
     }
 
     /// `U = c − V(t, q)`, checked positive.
-    fn u<S: Separable<N>, const N: usize>(&self, system: &S, t: f64, q: &SVector<f64, N>) -> Result<f64> {
+    fn u<S: Separable<N>, const N: usize>(
+        &self,
+        system: &S,
+        t: f64,
+        q: &SVector<f64, N>,
+    ) -> Result<f64> {
         let u = self.shift - system.potential(t, q);
         if u > 0.0 && u.is_finite() {
             Ok(u)
         } else {
             Err(Error::out_of_domain(
-                format!("U = c − V at t = {t:e}, q = {q:?} (time transformation, c = {:e})", self.shift),
+                format!(
+                    "U = c − V at t = {t:e}, q = {q:?} (time transformation, c = {:e})",
+                    self.shift
+                ),
                 u,
                 "(0, ∞): the transformation needs c − V > 0 along the motion (raise the shift c)",
             ))
