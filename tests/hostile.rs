@@ -3430,6 +3430,7 @@ fn every_entry_point_survives_hostile_input() {
     add_blow_up(&mut calls);
     add_inverse_problem(&mut calls);
     add_drag_power(&mut calls);
+    add_regularisation(&mut calls);
     constrained::add(&mut calls);
     stability_calls::add(&mut calls);
     hamiltonian_stability_calls::add(&mut calls);
@@ -6783,4 +6784,118 @@ fn add_planetary(c: &mut Vec<Call>) {
             },
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Regularised and time-transformed integration.
+
+fn add_regularisation(c: &mut Vec<Call>) {
+    use hamilton_jacobi::integrate::regularised::{
+        fictitious_span, ks_inverse, ks_position, levi_civita_inverse, propagate,
+    };
+    use hamilton_jacobi::integrate::{LeviCivita, TimeTransformed};
+    sweep(
+        c,
+        "TimeTransformed::power",
+        &[0.5, 0.1],
+        &[(0, 1.5), (0, -0.5), (1, -0.1)],
+        |a| {
+            let valid = fin(a) && a[0] > 0.0 && a[0] <= 1.0 && a[1] != 0.0;
+            judge(
+                TimeTransformed::power(Splitting::VERLET_DKD, a[0], a[1]),
+                valid,
+                |m| near("ds", m.ds, a[1], 0.0),
+            )
+        },
+    );
+    sweep(c, "TimeTransformed::with_shift", &[2.0], &[], |a| {
+        let m = TimeTransformed::logarithmic(Splitting::VERLET_DKD, 0.1).unwrap();
+        judge(m.with_shift(a[0]), fin(a), |m| {
+            near("c", m.shift, a[0], 0.0)
+        })
+    });
+    // Kepler e = 0.5 from periapsis by the logarithmic-Hamiltonian Kahan–Li 17: the energy is
+    // kept, and the state at t₁ = π is the apoapsis.
+    sweep(
+        c,
+        "integrate(TimeTransformed::logarithmic, Kepler)",
+        &[0.5, 0.0, 0.0, 3f64.sqrt(), PI],
+        &[(4, 1e300), (4, -PI)],
+        |a| {
+            let k = Kepler2::new(1.0).unwrap();
+            let m = TimeTransformed::logarithmic(Splitting::KAHAN_LI17, 0.05)
+                .unwrap()
+                .with_max_steps(1_000_000)
+                .unwrap();
+            let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
+            let run = Problem::new(&k, 0.0, q, p, a[4]).and_then(|pb| integrate(&pb, &m, &mut ()));
+            judge(run, fin(a), |r| {
+                let h0 = k.hamiltonian(0.0, &q, &p);
+                let h1 = k.hamiltonian(0.0, &r.last.q, &r.last.p);
+                all([
+                    near("t", r.last.t, a[4], 0.0),
+                    near("H", h1, h0, 1e-9 * (1.0 + h0.abs() + p.norm_squared())),
+                ])
+            })
+        },
+    );
+    sweep(c, "regularised::ks_inverse", &[0.3, -0.2, 0.5], &[], |a| {
+        let x = SVector::from([a[0], a[1], a[2]]);
+        judge(ks_inverse(&x), fin(a) && x.norm().is_finite(), |u| {
+            let y = ks_position(&u);
+            let e = (y - x).amax();
+            if e <= 8.0 * EPS * x.amax() {
+                Good
+            } else if !e.is_finite() {
+                NonFinite(format!("L(u)u − x = {e}"))
+            } else {
+                Wrong(format!("|L(u)u − x| = {e:e}"))
+            }
+        })
+    });
+    sweep(
+        c,
+        "regularised::levi_civita_inverse",
+        &[-0.3, -0.2],
+        &[],
+        |a| {
+            let x = SVector::from([a[0], a[1]]);
+            judge(
+                levi_civita_inverse(&x),
+                fin(a) && x.norm().is_finite(),
+                |u| {
+                    let y = SVector::from([u[0] * u[0] - u[1] * u[1], 2.0 * u[0] * u[1]]);
+                    near("|u²  − x|", (y - x).amax(), 0.0, 8.0 * EPS * x.amax())
+                },
+            )
+        },
+    );
+    // Levi-Civita + DOP853 on Kepler e = 0.5 against the exact flow at t₁.
+    sweep(
+        c,
+        "regularised::propagate(LeviCivita, Dop853)",
+        &[0.5, 0.0, 0.0, 3f64.sqrt(), 2.0],
+        &[(4, 1e300), (4, -2.0)],
+        |a| {
+            let k = Kepler2::new(1.0).unwrap();
+            let lc = LeviCivita::new(&k).unwrap();
+            let dop = Dop853::new(1e-12, 1e-12)
+                .unwrap()
+                .with_max_steps(100_000)
+                .unwrap();
+            let run = State::from_arrays(0.0, [a[0], a[1]], [a[2], a[3]]).and_then(|s| {
+                let span = fictitious_span(&lc, &s, a[4])?;
+                propagate(&lc, &dop, &s, &[a[4]], span).map(|r| (r, s))
+            });
+            judge(run, fin(a), |(r, s)| {
+                match k.exact_flow(0.0, &s.q, &s.p, a[4]) {
+                    Ok((q, p)) => {
+                        let e = (r.states[0].q - q).amax().max((r.states[0].p - p).amax());
+                        near("error against the exact flow", e, 0.0, 1e-8)
+                    }
+                    Err(_) => Good,
+                }
+            })
+        },
+    );
 }

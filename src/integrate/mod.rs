@@ -39,12 +39,14 @@ pub mod lie_poisson;
 pub mod methods;
 pub mod observers;
 pub mod rattle;
+pub mod regularised;
 pub mod rk4;
 pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
 pub mod tangent;
 pub mod taylor;
+pub mod time_transform;
 pub mod wisdom_holman;
 
 pub use any::{AnyMethod, GeneralMethod};
@@ -58,6 +60,7 @@ pub use observers::{
     Crossing, EnergyMonitor, Event, Events, Recorder, Samples, Section, MAX_SAMPLES,
 };
 pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
+pub use regularised::{KustaanheimoStiefel, LeviCivita, Regularisation, RegularisedRun};
 pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
@@ -66,6 +69,7 @@ pub use tangent::{
     TangentMap, TangentMethod,
 };
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
+pub use time_transform::{Sundman, TimeTransformed};
 pub use wisdom_holman::{PerturbedKepler, PlanetaryWisdomHolman, WisdomHolman};
 
 use crate::brackets::PhaseMap;

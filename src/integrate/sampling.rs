@@ -170,8 +170,26 @@ pub(crate) fn locate<const N: usize>(
     if ga == 0.0 {
         return Some(*prev);
     }
-    let (mut a, mut fa, mut za) = (prev.t, ga, *prev);
-    let (mut b, mut fb, mut zb) = (next.t, gb, *next);
+    let mut g_at = |t: f64| {
+        let z = dense.at(t);
+        let v = g(&z);
+        v.is_finite().then_some((v, z))
+    };
+    illinois((prev.t, ga, *prev), (next.t, gb, *next), &mut g_at).map(|(z, _)| z)
+}
+
+/// The Illinois variant of regula falsi on a bracket `(a, f(a), zₐ)`, `(b, f(b), z_b)` with
+/// `f(a)`, `f(b)` non-zero and of opposite signs: `eval(x)` returns `(f(x), z(x))`, or `None`
+/// when either is not finite. Iterates until the bracket is two adjacent floating-point numbers
+/// (at most 200 evaluations, fewer when `f` vanishes) and returns the evaluated `(z, f)` with the
+/// smaller `|f|` (Dowell & Jarratt, BIT 11 (1971) 168–174).
+pub(crate) fn illinois<Z: Copy>(
+    (mut a, ga, mut za): (f64, f64, Z),
+    (mut b, gb, mut zb): (f64, f64, Z),
+    eval: &mut impl FnMut(f64) -> Option<(f64, Z)>,
+) -> Option<(Z, f64)> {
+    // `fa`, `fb` are halved by the Illinois rule; `sa`, `sb` keep the values at `a`, `b`.
+    let (mut fa, mut fb, mut sa, mut sb) = (ga, gb, ga, gb);
     let mut side = 0i8;
     for _ in 0..200 {
         let mid = 0.5 * (a + b);
@@ -183,29 +201,27 @@ pub(crate) fn locate<const N: usize>(
         if !(t.is_finite() && (t - a) * (t - b) < 0.0) {
             t = mid;
         }
-        let z = dense.at(t);
-        let ft = g(&z);
-        if !ft.is_finite() {
-            return None;
-        }
+        let (ft, z) = eval(t)?;
         if ft == 0.0 {
-            return Some(z);
+            return Some((z, ft));
         }
         if (ft < 0.0) == (fa < 0.0) {
-            (a, fa, za) = (t, ft, z);
+            (a, fa, sa, za) = (t, ft, ft, z);
             if side == -1 {
                 fb *= 0.5;
             }
             side = -1;
         } else {
-            (b, fb, zb) = (t, ft, z);
+            (b, fb, sb, zb) = (t, ft, ft, z);
             if side == 1 {
                 fa *= 0.5;
             }
             side = 1;
         }
     }
-    // `fa`, `fb` may have been halved: compare the surface values afresh.
-    let (sa, sb) = (g(&za), g(&zb));
-    Some(if sa.abs() <= sb.abs() { za } else { zb })
+    Some(if sa.abs() <= sb.abs() {
+        (za, sa)
+    } else {
+        (zb, sb)
+    })
 }
