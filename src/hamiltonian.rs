@@ -380,6 +380,29 @@ pub trait Parametric<const N: usize, const M: usize> {
     }
 }
 
+/// A [`Parametric`] system separable at every value of its parameters,
+///
+/// ```math
+/// H(k; t, q, p) = T(k; t, p) + V(k; t, q),
+/// ```
+///
+/// each part given in the dual type of the arguments, so that the exact sub-flows of a splitting
+/// method (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, 2nd ed., §II.5) can carry
+/// derivatives with respect to `k`. The [`hamiltonian!`](crate::hamiltonian!) macro's parametric
+/// separable form implements it, and its [`Separable`] parts are these at the nominal `k`.
+pub trait ParametricSeparable<const N: usize, const M: usize>: Parametric<N, M> {
+    /// `T(k; t, p)`.
+    fn kinetic_with<D: DualNum<f64> + Copy>(&self, k: &SVector<D, M>, t: D, p: &SVector<D, N>)
+        -> D;
+    /// `V(k; t, q)`.
+    fn potential_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> D;
+}
+
 /// Define a Hamiltonian system in one line: a struct (with optional parameters) and its
 /// [`Hamiltonian`] implementation — or, written as `kinetic = T(p), potential = V(q)`, its
 /// [`Separable`] implementation (so that explicit splitting methods apply as well as every
@@ -392,7 +415,7 @@ pub trait Parametric<const N: usize, const M: usize> {
 /// | `Name<N> \|s, t, q, p\| H` | none (unit struct) | [`Hamiltonian`] |
 /// | `Name<N> { a: f64, … } \|s, t, q, p\| H` | public fields, reached as `s.a` | [`Hamiltonian`] |
 /// | `Name<N> { … }? \|s, t, q, p\| kinetic = T, potential = V` | as above | [`Separable`] (and so [`Hamiltonian`]) |
-/// | `Name<N> [k₁, k₂, …] \|t, q, p\| H` (or `kinetic = T, potential = V`) | `pub kᵢ: f64`, reached as dual numbers `kᵢ` | [`Parametric`] and [`Hamiltonian`] (or [`Separable`]) |
+/// | `Name<N> [k₁, k₂, …] \|t, q, p\| H` (or `kinetic = T, potential = V`) | `pub kᵢ: f64`, reached as dual numbers `kᵢ` | [`Parametric`] and [`Hamiltonian`] (or [`ParametricSeparable`] and [`Separable`]) |
 ///
 /// In the separable forms `T` sees only `p` (and `t`) and `V` only `q` (and `t`): a kinetic
 /// energy that depends on `q` does not compile. The closure-like part names the system itself
@@ -442,18 +465,42 @@ macro_rules! hamiltonian {
     ($(#[$meta:meta])* $vis:vis $name:ident < $n:literal > [ $($k:ident),+ $(,)? ]
         |$t:ident, $q:ident, $p:ident| kinetic = $kin:expr, potential = $pot:expr $(,)?) => {
         $crate::hamiltonian!(@parametric_struct $(#[$meta])* $vis $name $n [$($k),+] |$t, $q, $p| ($kin) + ($pot));
-        impl $crate::Separable<$n> for $name {
+        impl $crate::hamiltonian::ParametricSeparable<$n, { [$(stringify!($k)),+].len() }> for $name {
             #[inline]
-            #[allow(unused_variables)]
-            fn kinetic<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $p: &$crate::nalgebra::SVector<D, $n>) -> D {
-                $( let $k = D::from(self.$k); )+
+            #[allow(unused_variables, unused_assignments)]
+            fn kinetic_with<D: $crate::DualNum<f64> + Copy>(
+                &self,
+                k: &$crate::nalgebra::SVector<D, { [$(stringify!($k)),+].len() }>,
+                $t: D,
+                $p: &$crate::nalgebra::SVector<D, $n>,
+            ) -> D {
+                let mut i = 0usize;
+                $( let $k = k[i]; i += 1; )+
                 $kin
             }
             #[inline]
-            #[allow(unused_variables)]
-            fn potential<D: $crate::DualNum<f64> + Copy>(&self, $t: D, $q: &$crate::nalgebra::SVector<D, $n>) -> D {
-                $( let $k = D::from(self.$k); )+
+            #[allow(unused_variables, unused_assignments)]
+            fn potential_with<D: $crate::DualNum<f64> + Copy>(
+                &self,
+                k: &$crate::nalgebra::SVector<D, { [$(stringify!($k)),+].len() }>,
+                $t: D,
+                $q: &$crate::nalgebra::SVector<D, $n>,
+            ) -> D {
+                let mut i = 0usize;
+                $( let $k = k[i]; i += 1; )+
                 $pot
+            }
+        }
+        impl $crate::Separable<$n> for $name {
+            #[inline]
+            fn kinetic<D: $crate::DualNum<f64> + Copy>(&self, t: D, p: &$crate::nalgebra::SVector<D, $n>) -> D {
+                let k = $crate::hamiltonian::Parametric::parameters(self).map(D::from);
+                $crate::hamiltonian::ParametricSeparable::kinetic_with(self, &k, t, p)
+            }
+            #[inline]
+            fn potential<D: $crate::DualNum<f64> + Copy>(&self, t: D, q: &$crate::nalgebra::SVector<D, $n>) -> D {
+                let k = $crate::hamiltonian::Parametric::parameters(self).map(D::from);
+                $crate::hamiltonian::ParametricSeparable::potential_with(self, &k, t, q)
             }
         }
     };

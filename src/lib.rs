@@ -39,7 +39,7 @@ pub mod vector_space;
 pub mod workprecision;
 
 pub use error::{Error, Result};
-pub use hamiltonian::{Hamiltonian, Parametric, PhaseFunction, Separable};
+pub use hamiltonian::{Hamiltonian, Parametric, ParametricSeparable, PhaseFunction, Separable};
 pub use lagrangian::{Lagrangian, Legendre, Natural, NaturalHamiltonian, NaturalSystem};
 pub use nalgebra;
 pub use num_dual;

@@ -5620,12 +5620,14 @@ mod tangent_calls {
     use hamilton_jacobi::chaos::{chaos_indicators, chaos_map, energy_surface_deviation};
     use hamilton_jacobi::hamiltonian::Parametric;
     use hamilton_jacobi::integrate::{
-        parameter_tangent_map, variational_tangent_map, ParameterCoordinates, ParameterSensitivity,
-        TangentMap, TangentMethod, Unparametrised,
+        parameter_tangent_map, splitting_parameter_tangent_map, variational_tangent_map,
+        ParameterCoordinates, ParameterSensitivity, TangentMap, TangentMethod, Unparametrised,
     };
     use hamilton_jacobi::systems::HenonHeiles;
 
     hamilton_jacobi::hamiltonian!(Spring<1> [k] |_t, q, p| p[0] * p[0] * 0.5 + k * q[0] * q[0] * 0.5);
+    hamilton_jacobi::hamiltonian!(SplitSpring<1> [k] |_t, q, p|
+        kinetic = p[0] * p[0] * 0.5, potential = k * q[0] * q[0] * 0.5);
 
     /// A tangent map of Hénon–Heiles: finite, symplectic to `tol` relative to ‖Φ‖², the state's
     /// energy that of the start to `energy_tol` (relative).
@@ -5685,7 +5687,7 @@ mod tangent_calls {
         // DOP853's energy error grows with the span.
         type Run = fn(&Problem<'static, HenonHeiles, 2>) -> Result<TangentMap<2>>;
         type EnergyTolerance = fn(f64) -> f64;
-        let runs: [(&str, Run, f64, EnergyTolerance); 4] = [
+        let runs: [(&str, Run, f64, EnergyTolerance); 6] = [
             (
                 "TangentMethod::tangent_map(Verlet)",
                 |p| Fixed::new(Splitting::VERLET_KDK, 400)?.tangent_map(p),
@@ -5707,6 +5709,18 @@ mod tangent_calls {
             (
                 "integrate::variational_tangent_map",
                 |p| variational_tangent_map::<_, 2, 10>(p, &Dop853::new(1e-10, 1e-10)?),
+                1e-6,
+                |t1| 1e-9 * t1.abs().max(1e3),
+            ),
+            (
+                "TangentMethod::tangent_map(Taylor)",
+                |p| Taylor::new(1e-12)?.tangent_map(p),
+                1e-6,
+                |t1| 1e-9 * t1.abs().max(1e3),
+            ),
+            (
+                "integrate::variational_tangent_map(Taylor)",
+                |p| variational_tangent_map::<_, 2, 10>(p, &Taylor::new(1e-12)?),
                 1e-6,
                 |t1| 1e-9 * t1.abs().max(1e3),
             ),
@@ -5794,6 +5808,42 @@ mod tangent_calls {
                         t.jacobian.qq[(0, 0)],
                         (w * a[3]).cos(),
                         h.powi(6).max(1e-12),
+                    )
+                })
+            },
+        );
+        sweep(
+            c,
+            "integrate::splitting_parameter_tangent_map",
+            &[4.0, 0.5, 0.1, 3.0],
+            &[(0, -1.0), (3, 1e5)],
+            |a| {
+                // x(t) = x₀ cos ωt + (p₀/ω) sin ωt, ω = √k: ∂x/∂k = −(t/2ω)(x₀ sin ωt − (p₀/ω)
+                // cos ωt) − (p₀/2ω³) sin ωt.
+                let s = SplitSpring { k: a[0] };
+                let m = Fixed::new(Splitting::YOSHIDA3, 3000).unwrap();
+                let r = Problem::new(&s, 0.0, SVector::from([a[1]]), SVector::from([a[2]]), a[3])
+                    .and_then(|p| splitting_parameter_tangent_map::<_, 1, 1>(&p, &m));
+                let valid = fin(a) && a[3] != 0.0;
+                judge(r, valid, |t| {
+                    let w = a[0].sqrt();
+                    if a[0] <= 0.0 || !(w * a[3]).is_finite() || (w * a[3]).abs() > 100.0 {
+                        return finite_ok("∂x/∂k", t.dq_dk[(0, 0)] + t.jacobian.max_abs());
+                    }
+                    let (x0, p0, t1) = (a[1], a[2], a[3]);
+                    let (sn, cs) = (w * t1).sin_cos();
+                    // For ωt → 0 the closed form cancels: its limit −(x₀t²/2 + p₀t³/6) + O(k).
+                    let want = if (w * t1).abs() < 1e-4 {
+                        -(x0 * t1 * t1 / 2.0 + p0 * t1 * t1 * t1 / 6.0)
+                    } else {
+                        -(t1 / (2.0 * w)) * (x0 * sn - p0 / w * cs) - p0 / (2.0 * w * w * w) * sn
+                    };
+                    let h = w * t1 / 3000.0;
+                    near(
+                        "∂x/∂k",
+                        t.dq_dk[(0, 0)],
+                        want,
+                        (10.0 * h.powi(4) * (1.0 + want.abs()) * (1.0 + (w * t1).abs())).max(1e-11),
                     )
                 })
             },

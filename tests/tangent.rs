@@ -5,8 +5,9 @@
 
 use hamilton_jacobi::hamiltonian;
 use hamilton_jacobi::integrate::{
-    integrate, parameter_tangent_map, variational_tangent_map, AnyMethod, Dop853, Fixed, Gauss,
-    GeneralMethod, ParameterSensitivity, Problem, Splitting, TangentMap, TangentMethod, Taylor,
+    integrate, parameter_tangent_map, splitting_parameter_tangent_map, variational_tangent_map,
+    AnyMethod, Dop853, Fixed, Gauss, GeneralMethod, ParameterSensitivity, Problem, Splitting,
+    TangentMap, TangentMethod, Taylor,
 };
 use hamilton_jacobi::nalgebra::{SMatrix, SVector};
 use hamilton_jacobi::num_dual::Dual64;
@@ -149,6 +150,18 @@ fn ad_tangent_maps_agree_with_central_differences() {
             qp1(),
             50.0,
         ),
+        (
+            "Taylor, QP1",
+            AnyMethod::General(GeneralMethod::Taylor(Taylor::new(1e-12).unwrap())),
+            qp1(),
+            50.0,
+        ),
+        (
+            "Taylor, CH1",
+            AnyMethod::General(GeneralMethod::Taylor(Taylor::new(1e-12).unwrap())),
+            ch1(),
+            50.0,
+        ),
     ];
     for (name, m, start, t1) in cases {
         let problem = Problem::new(&HenonHeiles, 0.0, start.q, start.p, t1).unwrap();
@@ -249,7 +262,7 @@ fn orbital_element_derivatives_by_the_chain_rule() {
 
 #[test]
 fn tangent_maps_of_every_method_value() {
-    // The values of AnyMethod dispatch to the typed methods; the Taylor method refuses.
+    // The values of AnyMethod dispatch to the typed methods.
     let start = qp1();
     let problem = Problem::new(&HenonHeiles, 0.0, start.q, start.p, 10.0).unwrap();
     let typed = Fixed::new(Splitting::VERLET_KDK, 200)
@@ -266,12 +279,15 @@ fn tangent_maps_of_every_method_value() {
         .tangent_map(&problem)
         .unwrap();
     assert!(max_abs_diff(&rk4.jacobian, &typed.jacobian) < 1e-2);
-    let taylor = GeneralMethod::Taylor(Taylor::new(1e-12).unwrap()).tangent_map(&problem);
-    assert!(taylor.is_err());
+    let taylor = Taylor::new(1e-12).unwrap();
+    let any_taylor = GeneralMethod::Taylor(taylor).tangent_map(&problem).unwrap();
+    assert_eq!(any_taylor, taylor.tangent_map(&problem).unwrap());
+    assert!(max_abs_diff(&any_taylor.jacobian, &typed.jacobian) < 1e-2);
     // A variational system of the wrong size is refused.
     assert!(
         variational_tangent_map::<_, 2, 9>(&problem, &Dop853::new(1e-8, 1e-8).unwrap()).is_err()
     );
+    assert!(variational_tangent_map::<_, 2, 9>(&problem, &taylor).is_err());
 }
 
 // A pendulum of length l under gravity g, per unit mass: H = p²/(2l²) − g l cos θ.
@@ -326,4 +342,218 @@ fn parameter_derivatives_through_the_steps() {
     let bound = 2.0 * ((d2 - d1).abs() / 3.0 + 2000f64.sqrt() * f64::EPSILON * 10.0 * scale / h);
     assert!((by_steps.dq_dk[(0, 0)] - d1).abs() <= bound);
     assert!(parameter_tangent_map::<_, _, 1, 2, 4>(&problem, &gauss).is_err());
+}
+
+// Hénon–Heiles with the strength λ of its cubic terms, and the pendulum of `Swing` declared
+// separable (its length enters the kinetic part as well as the potential).
+hamiltonian!(CubicHenonHeiles<2> [lambda] |_t, q, p|
+    kinetic = p.dot(p) * 0.5,
+    potential = q.dot(q) * 0.5 + (q[0] * q[0] * q[1] - q[1] * q[1] * q[1] / 3.0) * lambda);
+hamiltonian!(SeparableSwing<1> [g, l] |_t, q, p|
+    kinetic = p[0] * p[0] / (l * l * 2.0),
+    potential = -(g * l * q[0].cos()));
+
+/// `∂z(t₁)/∂k` of the splitting runs against the forward sensitivity equations (DOP853 at
+/// rtol = 1e-13, an independent route) and against central differences in `k` of the real runs.
+fn check_splitting_parameter_derivatives<S, const N: usize, const M: usize, const K: usize>(
+    name: &str,
+    system: &S,
+    at: impl Fn(&SVector<f64, M>) -> S,
+    start: &State<N>,
+    t1: f64,
+    method: Splitting,
+    steps: usize,
+) where
+    S: hamilton_jacobi::ParametricSeparable<N, M> + hamilton_jacobi::Separable<N>,
+{
+    let problem = Problem::new(system, start.t, start.q, start.p, t1).unwrap();
+    let fixed = Fixed::new(method, steps).unwrap();
+    let pt = splitting_parameter_tangent_map::<_, N, M>(&problem, &fixed).unwrap();
+    // The final state is the real run's, the state block the run's own tangent map.
+    let run = integrate(&problem, &fixed, &mut ()).unwrap();
+    assert_eq!(pt.last, run.last, "{name}");
+    assert_eq!(
+        pt.jacobian,
+        fixed.tangent_map(&problem).unwrap().jacobian,
+        "{name}"
+    );
+    // The method's own error in ∂z/∂k, estimated by Richardson from n and 2n steps: for a
+    // method of order r the error at n steps is (D_n − D_2n) · 2ʳ/(2ʳ − 1) to leading order.
+    let finer = Fixed::new(method, 2 * steps).unwrap();
+    let pt2 = splitting_parameter_tangent_map::<_, N, M>(&problem, &finer).unwrap();
+    let r = method.table().order as i32;
+    let richardson = 2f64.powi(r) / (2f64.powi(r) - 1.0);
+    let own = ((pt.dq_dk - pt2.dq_dk).amax()).max((pt.dp_dk - pt2.dp_dk).amax()) * richardson;
+    // The sensitivity equations.
+    let aug = ParameterSensitivity::<_, N, M, K>::new(system).unwrap();
+    let (qa, pa) = aug.initial_state(&start.q, &start.p);
+    let big = Problem::new(&aug, start.t, qa, pa, t1).unwrap();
+    let last = integrate(&big, &Dop853::new(1e-13, 1e-13).unwrap(), &mut ())
+        .unwrap()
+        .last;
+    let (_, _, sq, sp) = aug.split(&last.q, &last.p);
+    let scale = sq.amax().max(sp.amax());
+    let err = (pt.dq_dk - sq).amax().max((pt.dp_dk - sp).amax());
+    // The reference's own error: DOP853's tolerance proportionality, 1e-13 times the scale
+    // amplified by the steps (a generous 1e-10 relative).
+    let floor = 1e-10 * scale;
+    println!(
+        "{name}: ‖∂z/∂k − S‖ = {err:e}, Richardson estimate of the method's error {own:e}, \
+         ‖S‖ = {scale:e}"
+    );
+    assert!(
+        err <= 2.0 * own + floor,
+        "{name}: {err:e} > 2 · {own:e} + {floor:e}"
+    );
+    assert!(
+        own <= 1e-2 * scale,
+        "{name}: the step is not in the asymptotic range"
+    );
+    // Central differences in each parameter of the real runs, with the truncation estimated from
+    // D(h) and D(2h) and the rounding √n ε ‖z‖ ‖∂z/∂k‖ / h, as in
+    // `ad_tangent_maps_agree_with_central_differences`.
+    let k0 = system.parameters();
+    for j in 0..M {
+        let final_state = |s: f64| {
+            let mut k = k0;
+            k[j] += s;
+            let sys = at(&k);
+            let pr = Problem::new(&sys, start.t, start.q, start.p, t1).unwrap();
+            let last = integrate(&pr, &fixed, &mut ()).unwrap().last;
+            let mut z = SVector::<f64, 8>::zeros();
+            for i in 0..N {
+                z[i] = last.q[i];
+                z[N + i] = last.p[i];
+            }
+            z
+        };
+        let h = 1e-5 * k0[j].abs().max(1.0);
+        let d1 = (final_state(h) - final_state(-h)) / (2.0 * h);
+        let d2 = (final_state(2.0 * h) - final_state(-2.0 * h)) / (4.0 * h);
+        let truncation = (d2 - d1).amax() / 3.0;
+        let z = run.last.q.amax().max(run.last.p.amax());
+        let rounding = (steps as f64).sqrt() * f64::EPSILON * z * scale.max(1.0) / h;
+        let mut ad = SVector::<f64, 8>::zeros();
+        for i in 0..N {
+            ad[i] = pt.dq_dk[(i, j)];
+            ad[N + i] = pt.dp_dk[(i, j)];
+        }
+        let e = (ad - d1).amax();
+        println!(
+            "{name}, ∂/∂{}: ‖AD − D(h)‖ = {e:e}, truncation {truncation:e}, rounding \
+             {rounding:e}",
+            S::NAMES[j]
+        );
+        assert!(e <= 2.0 * (truncation + rounding), "{name}, k{j}: {e:e}");
+    }
+}
+
+#[test]
+fn parameter_derivatives_through_splitting_steps() {
+    use hamilton_jacobi::integrate::coefficients::SABA2;
+    use hamilton_jacobi::Parametric;
+    let hh = CubicHenonHeiles { lambda: 1.0 };
+    let hh_at = |k: &SVector<f64, 1>| CubicHenonHeiles { lambda: k[0] };
+    for (name, method, steps) in [
+        ("Verlet, QP1", Splitting::VERLET_KDK, 2000),
+        ("Yoshida 4, QP1", Splitting::YOSHIDA3, 1000),
+        ("SABA2, QP1", Splitting::new(&SABA2).unwrap(), 1000),
+    ] {
+        check_splitting_parameter_derivatives::<_, 2, 1, 4>(
+            name,
+            &hh,
+            hh_at,
+            &qp1(),
+            20.0,
+            method,
+            steps,
+        );
+    }
+    let swing = SeparableSwing { g: 9.81, l: 0.7 };
+    let start = State::new(0.0, SVector::from([1.2]), SVector::from([0.3])).unwrap();
+    for (name, method, steps) in [
+        ("Verlet, swing", Splitting::VERLET_DKD, 4000),
+        ("Yoshida 4, swing", Splitting::YOSHIDA3, 2000),
+    ] {
+        check_splitting_parameter_derivatives::<_, 1, 2, 3>(
+            name,
+            &swing,
+            |k| SeparableSwing { g: k[0], l: k[1] },
+            &start,
+            10.0,
+            method,
+            steps,
+        );
+    }
+    // The separable swing is the general one: the same Hamiltonian at every (g, l).
+    let general = Swing { g: 9.81, l: 0.7 };
+    let (q, p) = (SVector::from([0.4]), SVector::from([-1.1]));
+    let k = SVector::from([9.0, 0.5]);
+    assert_eq!(
+        swing.hamiltonian_with(&k, 0.0, &q, &p),
+        general.hamiltonian_with(&k, 0.0, &q, &p)
+    );
+    // Non-finite parameters are refused.
+    let bad = CubicHenonHeiles { lambda: f64::NAN };
+    let problem = Problem::new(&bad, 0.0, qp1().q, qp1().p, 1.0);
+    if let Ok(problem) = problem {
+        let fixed = Fixed::new(Splitting::VERLET_KDK, 10).unwrap();
+        assert!(splitting_parameter_tangent_map::<_, 2, 1>(&problem, &fixed).is_err());
+    }
+}
+
+#[test]
+fn taylor_tangent_map_agrees_with_the_variational_equations() {
+    // Along QP1 and CH1 over t = 50: the Taylor method's tangent map with its steps chosen on z
+    // alone (frozen, replayed on the record of the variational equations) and with the
+    // variational components in its step control, against the variational equations integrated
+    // by DOP853 at rtol = atol = 1e-14 (an independent route). The bound is derived from the
+    // tolerance: each of the n steps makes a local error of at most ε relative to max(1, ‖x‖)
+    // (the Jorba–Zou control: the last terms of the series are ε), propagated to t₁ by a map of
+    // norm at most ‖Φ‖, so the global error of Φ is at most n ε ‖Φ‖ max(1, ‖Φ‖); the reference
+    // adds its own, 1e-14 under the same count.
+    for (name, start) in [("QP1", qp1()), ("CH1", ch1())] {
+        let problem = Problem::new(&HenonHeiles, 0.0, start.q, start.p, 50.0).unwrap();
+        let reference =
+            variational_tangent_map::<_, 2, 10>(&problem, &Dop853::new(1e-14, 1e-14).unwrap())
+                .unwrap();
+        let size = reference.jacobian.max_abs();
+        for tol in [1e-8, 1e-10, 1e-12] {
+            let m = Taylor::new(tol).unwrap();
+            let frozen = m.tangent_map(&problem).unwrap();
+            let controlled = variational_tangent_map::<_, 2, 10>(&problem, &m).unwrap();
+            let run = integrate(&problem, &m, &mut ()).unwrap();
+            // The frozen replay takes the run's steps; its state is the run's to rounding.
+            assert_eq!(frozen.work.steps, run.work.steps);
+            let state_error = (frozen.last.q - run.last.q)
+                .amax()
+                .max((frozen.last.p - run.last.p).amax());
+            assert!(
+                state_error <= 1e-13,
+                "{name} {tol:e}: state {state_error:e}"
+            );
+            for (route, tm) in [("frozen", &frozen), ("controlled", &controlled)] {
+                let n = tm.work.steps as f64 + reference.work.steps as f64;
+                let bound = n * tol.max(1e-14) * size * size.max(1.0);
+                let err = max_abs_diff(&tm.jacobian, &reference.jacobian);
+                let defect = tm.jacobian.symplectic_defect();
+                println!(
+                    "{name} tol {tol:e} {route}: ‖Φ − Φ_ref‖ = {err:e} (bound {bound:e}), \
+                     ‖ΦᵀJΦ − J‖ = {defect:e}, ‖Φ‖ = {size:e}, {} steps",
+                    tm.work.steps
+                );
+                assert!(err <= bound, "{name} {tol:e} {route}: {err:e} > {bound:e}");
+                // Symplectic to the tolerance: ΦᵀJΦ − J = δᵀJΦ + ΦᵀJδ + δᵀJδ for the error δ of
+                // Φ, and the exact Φ_ref is symplectic to its own error.
+                let ref_defect = reference.jacobian.symplectic_defect();
+                let sym_bound = 2.0 * 4.0 * bound * (size + bound) + ref_defect;
+                assert!(
+                    defect <= sym_bound,
+                    "{name} {tol:e} {route}: defect {defect:e} > {sym_bound:e}"
+                );
+            }
+            // With the tangent in the norm the steps are no longer than on z alone.
+            assert!(controlled.work.steps >= frozen.work.steps, "{name} {tol:e}");
+        }
+    }
 }

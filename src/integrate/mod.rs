@@ -65,8 +65,8 @@ pub use rk4::{rk4_increment, Rk4};
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
 pub use tangent::{
-    parameter_tangent_map, variational_tangent_map, ParameterCoordinates, ParameterTangent,
-    TangentMap, TangentMethod,
+    parameter_tangent_map, splitting_parameter_tangent_map, variational_tangent_map,
+    ParameterCoordinates, ParameterTangent, TangentMap, TangentMethod, VariationalMethod,
 };
 pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
 pub use time_transform::{Sundman, TimeTransformed};

@@ -32,7 +32,7 @@
 use super::FirstOrderSystem;
 use crate::ad::{augmented_state, phase_gradient, tangent_rates, PhaseDual};
 use crate::error::{Error, Result};
-use crate::hamiltonian::{Hamiltonian, Parametric};
+use crate::hamiltonian::{Hamiltonian, Parametric, ParametricSeparable, Separable};
 use crate::phase::PhaseMatrix;
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::{Dual64, DualNum};
@@ -75,6 +75,29 @@ impl<H: Hamiltonian<N>, const N: usize> Parametric<N, 0> for Unparametrised<'_, 
         p: &SVector<D, N>,
     ) -> D {
         self.0.hamiltonian(t, q, p)
+    }
+}
+
+/// A [`Separable`] system as a [`ParametricSeparable`] one without parameters, so that the
+/// splittings run it by the composition that carries parameter derivatives.
+impl<H: Separable<N>, const N: usize> ParametricSeparable<N, 0> for Unparametrised<'_, H> {
+    #[inline]
+    fn kinetic_with<D: DualNum<f64> + Copy>(
+        &self,
+        _k: &SVector<D, 0>,
+        t: D,
+        p: &SVector<D, N>,
+    ) -> D {
+        self.0.kinetic(t, p)
+    }
+    #[inline]
+    fn potential_with<D: DualNum<f64> + Copy>(
+        &self,
+        _k: &SVector<D, 0>,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> D {
+        self.0.potential(t, q)
     }
 }
 

@@ -28,10 +28,11 @@
 
 use super::coefficients::{self, Flow, Table};
 use super::methods::{Construction, METHODS};
+use super::sensitivity::Unparametrised;
 use super::{OneStep, Work};
 use crate::ad::{gradient, GradDual};
 use crate::error::{Error, Result};
-use crate::hamiltonian::Separable;
+use crate::hamiltonian::{ParametricSeparable, Separable};
 use nalgebra::SVector;
 use num_dual::DualNum;
 
@@ -107,14 +108,18 @@ where
     Ok((dq, dp))
 }
 
-/// Drift and kick of a separable system, counting gradients.
-struct SeparableFlows<'a, S> {
+/// Drift and kick of a [`ParametricSeparable`] system at parameters `k` given in the dual type of
+/// the step, so that the step carries derivatives with respect to `k`; counting gradients.
+struct ParametricFlows<'a, S, D, const M: usize> {
     system: &'a S,
+    k: &'a SVector<D, M>,
     work: &'a mut Work,
 }
 
-impl<S: Separable<N>, D: DualNum<f64> + Copy, const N: usize> SubFlows<D, N>
-    for SeparableFlows<'_, S>
+impl<S, D, const N: usize, const M: usize> SubFlows<D, N> for ParametricFlows<'_, S, D, M>
+where
+    S: ParametricSeparable<N, M>,
+    D: DualNum<f64> + Copy,
 {
     #[inline]
     fn flow_a(
@@ -125,13 +130,21 @@ impl<S: Separable<N>, D: DualNum<f64> + Copy, const N: usize> SubFlows<D, N>
         h: D,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
         self.work.gradients += 1;
-        let (_, tp) = gradient(|pd| self.system.kinetic(GradDual::from_re(t), pd), p);
+        let k = self.k.map(GradDual::from_re);
+        let (_, tp) = gradient(
+            |pd| self.system.kinetic_with(&k, GradDual::from_re(t), pd),
+            p,
+        );
         Ok((tp * h, SVector::zeros()))
     }
     #[inline]
     fn flow_b(&mut self, t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>> {
         self.work.gradients += 1;
-        let (_, vq) = gradient(|qd| self.system.potential(GradDual::from_re(t), qd), q);
+        let k = self.k.map(GradDual::from_re);
+        let (_, vq) = gradient(
+            |qd| self.system.potential_with(&k, GradDual::from_re(t), qd),
+            q,
+        );
         Ok(vq * (-h))
     }
 }
@@ -264,6 +277,28 @@ impl<S: Separable<N>, const N: usize> OneStep<S, N> for Splitting {
         dt: D,
         work: &mut Work,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
+        self.conservative(system, t, q, p)?;
+        self.increment_at(
+            &Unparametrised(system),
+            &SVector::zeros(),
+            t,
+            q,
+            p,
+            dt,
+            work,
+        )
+    }
+}
+
+impl Splitting {
+    /// An error for a system with non-conservative forces, which a splitting does not integrate.
+    fn conservative<S: Separable<N>, D: DualNum<f64> + Copy, const N: usize>(
+        &self,
+        system: &S,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> Result<()> {
         if <S as Separable<N>>::generalized_force(system, t, q, p).is_some() {
             return Err(Error::invalid(
                 format!("{} on this system", self.table.label()),
@@ -271,7 +306,32 @@ impl<S: Separable<N>, const N: usize> OneStep<S, N> for Splitting {
                  the system has non-conservative forces",
             ));
         }
-        let mut flows = SeparableFlows { system, work };
+        Ok(())
+    }
+
+    /// The increment of one step of a [`ParametricSeparable`] system at the parameters `k`, given
+    /// in the step's number type (derivatives with respect to `k` travel with the state's); a
+    /// [`Separable`] system is the one without parameters ([`Unparametrised`]), which
+    /// [`OneStep::increment`] runs after checking that it has no non-conservative forces.
+    ///
+    /// # Errors
+    /// None from the composition itself (the sub-flows are explicit).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn increment_at<S, D, const N: usize, const M: usize>(
+        &self,
+        system: &S,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+        dt: D,
+        work: &mut Work,
+    ) -> Result<(SVector<D, N>, SVector<D, N>)>
+    where
+        S: ParametricSeparable<N, M>,
+        D: DualNum<f64> + Copy,
+    {
+        let mut flows = ParametricFlows { system, k, work };
         compose(self.table, &mut flows, t, q, p, dt)
     }
 }

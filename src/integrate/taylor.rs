@@ -67,8 +67,9 @@ use super::{methods, observe, settle, Dense, Fixed, Method, Observer, Problem, R
 use crate::error::{Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::State;
-use crate::record::{gradient, record, Jets, Record, MAX_ORDER};
+use crate::record::{gradient, record, Jets, Record, Recorded, MAX_ORDER};
 use nalgebra::SVector;
+use num_dual::Dual;
 use std::marker::PhantomData;
 use std::time::Instant;
 
@@ -136,6 +137,43 @@ impl<const N: usize> VectorFieldRecord<N> {
             SVector::from_fn(|i, _| y[i]),
             SVector::from_fn(|i, _| y[N + i]),
         ))
+    }
+}
+
+impl<const N: usize> VectorFieldRecord<N> {
+    /// The variational equations of the recorded field, `ẋ = f(t, x)`, `Φ̇ = (∂f/∂x)(t, x) Φ`,
+    /// as a record with inputs `(t, x, Φe₁, …, Φe_{2N})` and outputs
+    /// `(f, (∂f/∂x)Φe₁, …, (∂f/∂x)Φe_{2N})` (HNW I, §I.14): each column is the recorded field
+    /// evaluated on dual numbers whose infinitesimal parts are that column (forward mode over the
+    /// record, Griewank & Walther §3.1), so that the Taylor coefficients of `Φ` from `Φ(t₀) = I`
+    /// are the derivatives with respect to `x₀` of those of `x`, and a Taylor step of this record
+    /// is the step of the field with its Jacobian. `start` is the recording point (with `Φ = I`).
+    pub(crate) fn variational(&self, start: &State<N>) -> Result<Record> {
+        let n = 2 * N;
+        let mut x = Vec::with_capacity(1 + n * (1 + n));
+        x.push(start.t);
+        x.extend(start.q.iter().chain(start.p.iter()));
+        for j in 0..n {
+            x.extend((0..n).map(|i| if i == j { 1.0 } else { 0.0 }));
+        }
+        record(&x, |v| {
+            let mut input = vec![Dual::<Recorded, f64>::from_re(v[0]); 1 + n];
+            let mut y = vec![Dual::<Recorded, f64>::from_re(Recorded::constant(0.0)); n];
+            let mut out = Vec::with_capacity(n * (1 + n));
+            let mut columns = Vec::with_capacity(n * n);
+            for j in 0..n {
+                for i in 0..n {
+                    input[1 + i] = Dual::new(v[1 + i], v[1 + n + n * j + i]);
+                }
+                self.record.eval_into(&input, &mut y);
+                if j == 0 {
+                    out.extend(y.iter().map(|d| d.re));
+                }
+                columns.extend(y.iter().map(|d| d.eps));
+            }
+            out.extend(columns);
+            Ok(out)
+        })
     }
 }
 
@@ -284,61 +322,17 @@ impl Taylor {
         let mut jets = Jets::new(record, order)?;
         let mut work = Work::default();
         let (t0, t1) = (problem.start.t, problem.t1);
-        let span = problem.span();
-        let dir = span.signum();
         let mut x = vec![0.0; 2 * N];
         let mut state = problem.start;
         observer.start(&state);
         let mut k = 0usize;
         loop {
-            if k >= self.max_steps {
-                return Err(Error::WorkLimit {
-                    what: "Taylor steps".into(),
-                    limit: self.max_steps,
-                    detail: format!(
-                        "at t = {:e} of [{t0:e}, {t1:e}], {:.3}% of the span",
-                        state.t,
-                        100.0 * ((state.t - t0) / span).abs()
-                    ),
-                    hint: "raise it with Taylor::with_max_steps(n), or shorten the span".into(),
-                });
-            }
+            self.within_budget(k, state.t, t0, t1)?;
             for (xi, v) in x.iter_mut().zip(state.q.iter().chain(state.p.iter())) {
                 *xi = *v;
             }
             jets.ode(state.t, &x, order)?;
-            let (h, last) = match self.control {
-                TaylorControl::Fixed { steps, .. } => {
-                    let last = k + 1 == steps;
-                    let h = if last {
-                        t1 - state.t
-                    } else {
-                        t0 + span * (k + 1) as f64 / steps as f64 - state.t
-                    };
-                    (h, last)
-                }
-                TaylorControl::Tolerance(_) => {
-                    let h = step_size(&jets, &x, order);
-                    let remaining = t1 - state.t;
-                    if h >= remaining.abs() {
-                        (remaining, true)
-                    } else {
-                        let h_min = (16.0 * f64::EPSILON * state.t.abs()).max(f64::MIN_POSITIVE);
-                        if h.is_nan() || h < h_min {
-                            return Err(Error::NotConverged {
-                                what: format!(
-                                    "Taylor step size at t = {:e}: |h| = {h:e} < 16ε|t| (a \
-                                     singularity within reach)",
-                                    state.t
-                                ),
-                                iterations: k,
-                                residual: h,
-                            });
-                        }
-                        (dir * h, false)
-                    }
-                }
-            };
+            let (h, last) = self.next_step(&jets, &x, state.t, k, t0, t1)?;
             let next = State {
                 t: if last { t1 } else { state.t + h },
                 q: SVector::from_fn(|i, _| horner(jets.series(i), order, h)),
@@ -382,6 +376,141 @@ impl Taylor {
             elapsed: clock.elapsed(),
         })
     }
+}
+
+impl Taylor {
+    /// [`Error::WorkLimit`] when step `k` (from 0) at time `t` of a run from `t₀` to `t₁` exceeds
+    /// the budget.
+    fn within_budget(&self, k: usize, t: f64, t0: f64, t1: f64) -> Result<()> {
+        if k >= self.max_steps {
+            return Err(Error::WorkLimit {
+                what: "Taylor steps".into(),
+                limit: self.max_steps,
+                detail: format!(
+                    "at t = {t:e} of [{t0:e}, {t1:e}], {:.3}% of the span",
+                    100.0 * ((t - t0) / (t1 - t0)).abs()
+                ),
+                hint: "raise it with Taylor::with_max_steps(n), or shorten the span".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Step `k` (from 0) from time `t` of a run from `t₀` to `t₁` whose series at `x` are in
+    /// `jets`: its length `h` and whether it is the last (see the [module docs](self)).
+    fn next_step(
+        &self,
+        jets: &Jets,
+        x: &[f64],
+        t: f64,
+        k: usize,
+        t0: f64,
+        t1: f64,
+    ) -> Result<(f64, bool)> {
+        let span = t1 - t0;
+        match self.control {
+            TaylorControl::Fixed { steps, .. } => {
+                let last = k + 1 == steps;
+                let h = if last {
+                    t1 - t
+                } else {
+                    t0 + span * (k + 1) as f64 / steps as f64 - t
+                };
+                Ok((h, last))
+            }
+            TaylorControl::Tolerance(_) => {
+                let h = step_size(jets, x, self.order());
+                let remaining = t1 - t;
+                if h >= remaining.abs() {
+                    return Ok((remaining, true));
+                }
+                let h_min = (16.0 * f64::EPSILON * t.abs()).max(f64::MIN_POSITIVE);
+                if h.is_nan() || h < h_min {
+                    return Err(Error::NotConverged {
+                        what: format!(
+                            "Taylor step size at t = {t:e}: |h| = {h:e} < 16ε|t| (a \
+                             singularity within reach)"
+                        ),
+                        iterations: k,
+                        residual: h,
+                    });
+                }
+                Ok((span.signum() * h, false))
+            }
+        }
+    }
+
+    /// Run on the recorded differential equation `ẋ = f(t, x)` of any dimension (inputs
+    /// `(t, x)`, outputs `f`; [`Jets`]) from `(t₀, x)` to `t₁`, `x` overwritten by the final
+    /// state, the steps chosen as `steps` says, the order the method's.
+    ///
+    /// # Errors
+    /// As [`run_recorded`](Self::run_recorded); [`Error::InvalidInput`] for frozen times that do
+    /// not run from `t₀` to `t₁`.
+    pub(crate) fn series_run(
+        &self,
+        record: &Record,
+        t0: f64,
+        x: &mut [f64],
+        t1: f64,
+        steps: SeriesSteps<'_>,
+    ) -> Result<Work> {
+        self.validate()?;
+        if let SeriesSteps::Frozen(times) = steps {
+            if times.len() < 2 || times[0] != t0 || times[times.len() - 1] != t1 {
+                return Err(Error::invalid(
+                    "frozen Taylor steps",
+                    format!(
+                        "{} times that do not run from {t0:e} to {t1:e}",
+                        times.len()
+                    ),
+                ));
+            }
+        }
+        let order = self.order();
+        let mut jets = Jets::new(record, order)?;
+        let mut work = Work::default();
+        let mut t = t0;
+        let mut k = 0usize;
+        loop {
+            self.within_budget(k, t, t0, t1)?;
+            jets.ode(t, x, order)?;
+            let (h, last) = match steps {
+                SeriesSteps::Frozen(times) => (times[k + 1] - t, k + 2 == times.len()),
+                SeriesSteps::Control => self.next_step(&jets, x, t, k, t0, t1)?,
+            };
+            for (j, xj) in x.iter_mut().enumerate() {
+                *xj = horner(jets.series(j), order, h);
+            }
+            work.steps += 1;
+            work.gradients += 1;
+            k += 1;
+            t = match steps {
+                SeriesSteps::Frozen(times) => times[k],
+                SeriesSteps::Control if last => t1,
+                SeriesSteps::Control => t + h,
+            };
+            if let Some(v) = x.iter().find(|v| !v.is_finite()) {
+                return Err(Error::NonFinite {
+                    what: format!("Taylor state at t = {t:e}"),
+                    value: *v,
+                });
+            }
+            if last {
+                return Ok(work);
+            }
+        }
+    }
+}
+
+/// The steps of [`Taylor::series_run`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum SeriesSteps<'a> {
+    /// Chosen by the method's control over every component of the state (for a tolerance, the
+    /// step of the [module docs](self) with the norm over all of `x`).
+    Control,
+    /// Frozen at the given times, from `t₀` to `t₁`.
+    Frozen(&'a [f64]),
 }
 
 /// `p = ⌈−½ ln ε + 1⌉`, at least 2.
