@@ -5925,6 +5925,30 @@ mod expression_calls {
                 })
             },
         );
+        // `tanh` of any finite argument is finite (±1 beyond |x| ≈ 19), on reals and in
+        // Hamilton's equations (its derivative `1 − tanh²` by the record).
+        sweep(
+            c,
+            "Expression tanh",
+            &[0.7],
+            &[(0, 800.0), (0, -800.0)],
+            |a| {
+                let e = Expression::new("tanh(x)", &["x"], &[]).unwrap();
+                let h = ExpressionHamiltonian::<1>::new("p_q^2/2 + tanh(q)", &["q"], None, &[])
+                    .unwrap();
+                let (q, p) = (SVector::from([a[0]]), SVector::from([0.5]));
+                let valid = a[0].is_finite();
+                all([
+                    judge(e.value(&[a[0]]), valid, |v| {
+                        near("tanh", v, a[0].tanh(), 2.0 * EPS)
+                    }),
+                    judge(h.vector_field(0.0, &q, &p), valid, |(_, pd)| {
+                        let t = a[0].tanh();
+                        near("ṗ = −sech²", pd[0], -(1.0 - t * t), 4.0 * EPS)
+                    }),
+                ])
+            },
+        );
         sweep(
             c,
             "ExpressionHamiltonian::separable",

@@ -29,7 +29,6 @@
 use super::coefficients::{self, Flow, Table};
 use super::methods::{Construction, METHODS};
 use super::{OneStep, Work};
-use crate::ad::{gradient, GradDual};
 use crate::error::{Error, Result};
 use crate::hamiltonian::Separable;
 use nalgebra::SVector;
@@ -125,13 +124,13 @@ impl<S: Separable<N>, D: DualNum<f64> + Copy, const N: usize> SubFlows<D, N>
         h: D,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
         self.work.gradients += 1;
-        let (_, tp) = gradient(|pd| self.system.kinetic(GradDual::from_re(t), pd), p);
+        let (_, tp) = self.system.kinetic_gradient(t, p);
         Ok((tp * h, SVector::zeros()))
     }
     #[inline]
     fn flow_b(&mut self, t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>> {
         self.work.gradients += 1;
-        let (_, vq) = gradient(|qd| self.system.potential(GradDual::from_re(t), qd), q);
+        let (_, vq) = self.system.potential_gradient(t, q);
         Ok(vq * (-h))
     }
 }
