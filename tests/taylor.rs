@@ -214,9 +214,11 @@ fn tanh_jets_and_large_arguments() {
         let d = rec.eval(&[Dual64::new(x, 1.0)]).unwrap()[0];
         assert_eq!((d.re, d.eps), (x.signum(), 0.0), "{x}");
     }
+    // Below |u| = 20 the dual number's own tanh, sinh/cosh: its derivative
+    // (cosh² − sinh²)/cosh² carries (2cosh² + 2sinh² + 3)u plus the functions' ulps, < 16ε.
     let d = rec.eval(&[Dual64::new(0.7, 1.0)]).unwrap()[0];
     let sech2 = 1.0 / (0.7f64.cosh() * 0.7f64.cosh());
-    assert!((d.eps - sech2).abs() <= 4.0 * eps * sech2, "{}", d.eps);
+    assert!((d.eps - sech2).abs() <= 16.0 * eps * sech2, "{}", d.eps);
     let rec = record(&[0.5, 0.0], |v| Ok(vec![(v[0] * 1000.0).tanh()])).unwrap();
     let mut jets = Jets::new(&rec, 8).unwrap();
     jets.ode(0.9, &[0.0], 8).unwrap();
