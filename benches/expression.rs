@@ -6,8 +6,8 @@
 //! * `rust` — the catalogue system's `vector_field_unchecked` (forward-mode AD);
 //! * `expression` — [`ExpressionHamiltonian`]: one pass of the register program of the record of
 //!   Hamilton's equations `(∂H/∂p, −∂H/∂q)` (its slots on the stack);
-//! * `expression_split` — the split form [`ExpressionSeparable`] (forward-mode AD through the
-//!   programs of `T` and `V`), which the splitting methods use.
+//! * `expression_split` — the split form [`ExpressionSeparable`], which the splitting methods
+//!   use: one pass of the register program of `(T, ∂T/∂p)` and one of `(V, ∂V/∂q)`.
 //!
 //! The figure of merit is `expression / rust` (goal ≤ 3).
 

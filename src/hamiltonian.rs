@@ -247,6 +247,28 @@ pub trait Separable<const N: usize> {
     /// Potential part `V(t, q)`.
     fn potential<D: DualNum<f64> + Copy>(&self, t: D, q: &SVector<D, N>) -> D;
 
+    /// `(T, ∂T/∂p)`, the drift of the splitting methods; by forward-mode AD of width `N`
+    /// unless the system has its own.
+    #[inline]
+    fn kinetic_gradient<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        p: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        gradient(|pd| self.kinetic(GradDual::from_re(t), pd), p)
+    }
+
+    /// `(V, ∂V/∂q)`, the kick of the splitting methods; by forward-mode AD of width `N` unless
+    /// the system has its own.
+    #[inline]
+    fn potential_gradient<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        gradient(|qd| self.potential(GradDual::from_re(t), qd), q)
+    }
+
     /// Non-conservative generalized forces, as [`Hamiltonian::generalized_force`]; `None` by default.
     fn generalized_force<D: DualNum<f64> + Copy>(
         &self,
@@ -281,8 +303,8 @@ impl<const N: usize, S: Separable<N>> Hamiltonian<N> for S {
         q: &SVector<D, N>,
         p: &SVector<D, N>,
     ) -> (D, SVector<D, N>, SVector<D, N>) {
-        let (tv, tp) = gradient(|pd| self.kinetic(GradDual::from_re(t), pd), p);
-        let (vv, vq) = gradient(|qd| self.potential(GradDual::from_re(t), qd), q);
+        let (tv, tp) = self.kinetic_gradient(t, p);
+        let (vv, vq) = self.potential_gradient(t, q);
         (tv + vv, vq, tp)
     }
 }
@@ -401,6 +423,32 @@ pub trait ParametricSeparable<const N: usize, const M: usize>: Parametric<N, M> 
         t: D,
         q: &SVector<D, N>,
     ) -> D;
+
+    /// `(T, ∂T/∂p)` at parameters `k`, the drift of the splitting methods; by forward-mode AD
+    /// of width `N` unless the system has its own.
+    #[inline]
+    fn kinetic_gradient_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        p: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        let k = k.map(GradDual::from_re);
+        gradient(|pd| self.kinetic_with(&k, GradDual::from_re(t), pd), p)
+    }
+
+    /// `(V, ∂V/∂q)` at parameters `k`, the kick of the splitting methods; by forward-mode AD
+    /// of width `N` unless the system has its own.
+    #[inline]
+    fn potential_gradient_with<D: DualNum<f64> + Copy>(
+        &self,
+        k: &SVector<D, M>,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        let k = k.map(GradDual::from_re);
+        gradient(|qd| self.potential_with(&k, GradDual::from_re(t), qd), q)
+    }
 }
 
 /// Define a Hamiltonian system in one line: a struct (with optional parameters) and its

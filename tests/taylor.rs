@@ -162,6 +162,77 @@ fn jets_integrate_every_elementary_function_to_rounding() {
     assert!(kinds(|o| matches!(o, Op::Ln(_))) && kinds(|o| matches!(o, Op::Exp(_))));
     assert!(kinds(|o| matches!(o, Op::Sqrt(_))) && kinds(|o| matches!(o, Op::Div(..))));
     assert!(kinds(|o| matches!(o, Op::Recip(_))) && kinds(|o| matches!(o, Op::Mul(..))));
+    assert!(kinds(|o| matches!(o, Op::Tanh(_))));
+}
+
+/// `tanh` is an operation of the record: the jets of `ẋ = tanh x` are the series of its
+/// solution `sinh x(t₀ + τ) = e^τ sinh x₀`; the jet of `tanh t` has the coefficients
+/// `d/dt tanh = sech²`, `½ d²/dt² tanh = −sech² tanh`; `tanh(±800) = ±1` on reals and on dual
+/// numbers (derivative 0), where `(eᵘ − e⁻ᵘ)/(eᵘ + e⁻ᵘ)` is `∞/∞`.
+#[test]
+fn tanh_jets_and_large_arguments() {
+    let eps = f64::EPSILON;
+    let (t0, x0, order) = (0.3, 0.8, 24);
+    let rec = record(&[t0, x0], |v| Ok(vec![v[1].tanh()])).unwrap();
+    assert!(rec.ops().iter().any(|o| matches!(o, Op::Tanh(_))));
+    let mut jets = Jets::new(&rec, order).unwrap();
+    jets.ode(t0, &[x0], order).unwrap();
+    let x = jets.series(0);
+    for tau in [-0.1, -0.03, 0.05, 0.1] {
+        let series: f64 = x.iter().rev().fold(0.0, |s, c| s * tau + c);
+        let exact = (x0.sinh() * f64::exp(tau)).asinh();
+        // Horner's rounding γ_{2K} Σ|c_k||τ|^k (Higham, Accuracy and Stability, §5.1), each
+        // coefficient to a few ulps, the closed form to 4 roundings of x ≈ 1, the truncation
+        // (|τ|/1.5)^{K+1} < 10⁻²⁸ (the singularity of asinh nearest is at |τ| ≈ 1.58).
+        let sum: f64 = x
+            .iter()
+            .enumerate()
+            .map(|(k, c)| c.abs() * tau.abs().powi(k as i32))
+            .sum();
+        let bound = (2 * order + 8) as f64 * eps * sum + 4.0 * eps * exact.abs();
+        let err = (series - exact).abs();
+        println!("ẋ = tanh x, τ = {tau}: |series − closed form| {err:e} (bound {bound:e})");
+        assert!(err <= bound, "τ = {tau}: {err:e} > {bound:e}");
+    }
+    // The jet of tanh t: the output of ẋ = tanh t.
+    let rec = record(&[t0, 0.0], |v| Ok(vec![v[0].tanh()])).unwrap();
+    let mut jets = Jets::new(&rec, 4).unwrap();
+    jets.ode(t0, &[0.0], 4).unwrap();
+    let out = rec.outputs()[0];
+    let (th, sech2) = (t0.tanh(), 1.0 / (t0.cosh() * t0.cosh()));
+    for (k, want) in [(0, th), (1, sech2), (2, -sech2 * th)] {
+        let got = jets.coefficient(out, k);
+        assert!(
+            (got - want).abs() <= 8.0 * eps * want.abs(),
+            "k = {k}: {got} {want}"
+        );
+    }
+    // ±800: on reals, on dual numbers, and in the record's jets.
+    let rec = record(&[0.5], |v| Ok(vec![v[0].tanh()])).unwrap();
+    for x in [800.0, -800.0, 1e300, -1e300] {
+        assert_eq!(rec.eval(&[x]).unwrap()[0], x.signum());
+        let d = rec.eval(&[Dual64::new(x, 1.0)]).unwrap()[0];
+        assert_eq!((d.re, d.eps), (x.signum(), 0.0), "{x}");
+    }
+    // Below |u| = 20 the dual number's own tanh, sinh/cosh: its derivative
+    // (cosh² − sinh²)/cosh² carries (2cosh² + 2sinh² + 3)u plus the functions' ulps, < 16ε.
+    let d = rec.eval(&[Dual64::new(0.7, 1.0)]).unwrap()[0];
+    let sech2 = 1.0 / (0.7f64.cosh() * 0.7f64.cosh());
+    assert!((d.eps - sech2).abs() <= 16.0 * eps * sech2, "{}", d.eps);
+    let rec = record(&[0.5, 0.0], |v| Ok(vec![(v[0] * 1000.0).tanh()])).unwrap();
+    let mut jets = Jets::new(&rec, 8).unwrap();
+    jets.ode(0.9, &[0.0], 8).unwrap();
+    let x = jets.series(0);
+    assert_eq!(x[1], 1.0);
+    assert!(x[2..].iter().all(|c| *c == 0.0), "{x:?}");
+    // sinh and cosh are written with exp: they overflow to ±∞ with it (|u| > 709.78).
+    let rec = record(&[0.5], |v| Ok(vec![v[0].sinh(), v[0].cosh()])).unwrap();
+    let mut y = [0.0; 2];
+    rec.eval_into(&[800.0], &mut y);
+    assert_eq!(y, [f64::INFINITY, f64::INFINITY]);
+    rec.eval_into(&[-800.0], &mut y);
+    assert_eq!(y, [f64::NEG_INFINITY, f64::INFINITY]);
+    assert!(matches!(rec.eval(&[800.0]), Err(Error::NonFinite { .. })));
 }
 
 fn kepler_start() -> (SVector<f64, 2>, SVector<f64, 2>) {

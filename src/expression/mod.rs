@@ -407,33 +407,48 @@ impl<const N: usize> ExpressionHamiltonian<N> {
             });
         }
         let names = self.h.variables();
-        let compile =
-            |e: Option<Expr>, range: std::ops::Range<usize>, part: &str| -> Option<Expression> {
-                let e = e.unwrap_or(Expr::Num(0.0));
-                // The part's own variables: t and one half of the phase variables.
-                let mut map = vec![usize::MAX; 1 + 2 * N];
-                map[0] = 0;
-                for (k, i) in range.clone().enumerate() {
-                    map[i] = k + 1;
-                }
-                let e = renumber(e, &map);
-                let vars: Vec<&str> = std::iter::once("t")
-                    .chain(range.map(|i| names[i].as_str()))
-                    .collect();
-                let text = format!("{part} of `{}`", self.h.text());
-                let record =
-                    record::record(&vec![0.5; vars.len()], |x| Ok(vec![e.eval(x)])).ok()?;
-                Some(Expression {
-                    text,
-                    variables: vars.iter().map(|v| v.to_string()).collect(),
-                    expr: e,
-                    record,
-                })
+        let compile = |e: Option<Expr>,
+                       range: std::ops::Range<usize>,
+                       part: &str|
+         -> Option<(Expression, Record)> {
+            let e = e.unwrap_or(Expr::Num(0.0));
+            // The part's own variables: t and one half of the phase variables.
+            let mut map = vec![usize::MAX; 1 + 2 * N];
+            map[0] = 0;
+            for (k, i) in range.clone().enumerate() {
+                map[i] = k + 1;
+            }
+            let e = renumber(e, &map);
+            let vars: Vec<&str> = std::iter::once("t")
+                .chain(range.map(|i| names[i].as_str()))
+                .collect();
+            let text = format!("{part} of `{}`", self.h.text());
+            let record = record::record(&vec![0.5; vars.len()], |x| Ok(vec![e.eval(x)])).ok()?;
+            let gradient = record::record(&vec![0.5; vars.len()], |x| {
+                let y = e.eval(x);
+                let mut out = vec![y];
+                out.extend(record::gradient(y, &x[1..]));
+                Ok(out)
+            })
+            .ok()?;
+            let expression = Expression {
+                text,
+                variables: vars.iter().map(|v| v.to_string()).collect(),
+                expr: e,
+                record,
             };
+            Some((expression, gradient))
+        };
+        let (kinetic, kinetic_gradient) =
+            compile(kinetic, 1 + N..1 + 2 * N, "the kinetic part T(t, p)")?;
+        let (potential, potential_gradient) =
+            compile(potential, 1..1 + N, "the potential part V(t, q)")?;
         Some(ExpressionSeparable {
             hamiltonian: self.clone(),
-            kinetic: compile(kinetic, 1 + N..1 + 2 * N, "the kinetic part T(t, p)")?,
-            potential: compile(potential, 1..1 + N, "the potential part V(t, q)")?,
+            kinetic,
+            potential,
+            kinetic_gradient,
+            potential_gradient,
         })
     }
 }
@@ -509,12 +524,18 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
 }
 
 /// A separable Hamiltonian `H = T(t, p) + V(t, q)` given by expressions (see
-/// [`ExpressionHamiltonian::separable`]); the explicit splitting methods apply to it.
+/// [`ExpressionHamiltonian::separable`]); the explicit splitting methods apply to it. The
+/// drift `∂T/∂p` and the kick `∂V/∂q` are recorded once each with their function, by the
+/// adjoint sweep (Griewank & Walther, ch. 3.2), and cost one pass of a register program.
 #[derive(Clone, Debug)]
 pub struct ExpressionSeparable<const N: usize> {
     hamiltonian: ExpressionHamiltonian<N>,
     kinetic: Expression,
     potential: Expression,
+    /// `(T, ∂T/∂p)`, inputs `(t, p)`.
+    kinetic_gradient: Record,
+    /// `(V, ∂V/∂q)`, inputs `(t, q)`.
+    potential_gradient: Record,
 }
 
 impl<const N: usize> ExpressionSeparable<N> {
@@ -538,6 +559,38 @@ impl<const N: usize> Separable<N> for ExpressionSeparable<N> {
         x[1..=N].copy_from_slice(q.as_slice());
         self.potential.eval(&x[..=N])
     }
+
+    #[inline]
+    fn kinetic_gradient<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        p: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        half_gradient(&self.kinetic_gradient, t, p)
+    }
+
+    #[inline]
+    fn potential_gradient<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        half_gradient(&self.potential_gradient, t, q)
+    }
+}
+
+/// `(f, ∂f/∂z)` from the record of a function of `(t, z)` and its gradient.
+#[inline]
+fn half_gradient<D: DualNum<f64> + Copy, const N: usize>(
+    record: &Record,
+    t: D,
+    z: &SVector<D, N>,
+) -> (D, SVector<D, N>) {
+    let mut x = [t; 1 + MAX_DOF];
+    x[1..=N].copy_from_slice(z.as_slice());
+    let mut y = [D::zero(); 1 + MAX_DOF];
+    record.eval_into(&x[..=N], &mut y[..=N]);
+    (y[0], SVector::from_fn(|i, _| y[1 + i]))
 }
 
 /// A Lagrangian `L(t, q, q̇)` given by an expression in named coordinates, velocities and

@@ -99,6 +99,24 @@ impl<H: Separable<N>, const N: usize> ParametricSeparable<N, 0> for Unparametris
     ) -> D {
         self.0.potential(t, q)
     }
+    #[inline]
+    fn kinetic_gradient_with<D: DualNum<f64> + Copy>(
+        &self,
+        _k: &SVector<D, 0>,
+        t: D,
+        p: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        self.0.kinetic_gradient(t, p)
+    }
+    #[inline]
+    fn potential_gradient_with<D: DualNum<f64> + Copy>(
+        &self,
+        _k: &SVector<D, 0>,
+        t: D,
+        q: &SVector<D, N>,
+    ) -> (D, SVector<D, N>) {
+        self.0.potential_gradient(t, q)
+    }
 }
 
 /// The state `(q, p)` of a [`Parametric`] system augmented with its sensitivities

@@ -30,7 +30,6 @@ use super::coefficients::{self, Flow, Table};
 use super::methods::{Construction, METHODS};
 use super::sensitivity::Unparametrised;
 use super::{OneStep, Work};
-use crate::ad::{gradient, GradDual};
 use crate::error::{Error, Result};
 use crate::hamiltonian::{ParametricSeparable, Separable};
 use nalgebra::SVector;
@@ -130,21 +129,13 @@ where
         h: D,
     ) -> Result<(SVector<D, N>, SVector<D, N>)> {
         self.work.gradients += 1;
-        let k = self.k.map(GradDual::from_re);
-        let (_, tp) = gradient(
-            |pd| self.system.kinetic_with(&k, GradDual::from_re(t), pd),
-            p,
-        );
+        let (_, tp) = self.system.kinetic_gradient_with(self.k, t, p);
         Ok((tp * h, SVector::zeros()))
     }
     #[inline]
     fn flow_b(&mut self, t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>> {
         self.work.gradients += 1;
-        let k = self.k.map(GradDual::from_re);
-        let (_, vq) = gradient(
-            |qd| self.system.potential_with(&k, GradDual::from_re(t), qd),
-            q,
-        );
+        let (_, vq) = self.system.potential_gradient_with(self.k, t, q);
         Ok(vq * (-h))
     }
 }

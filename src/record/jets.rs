@@ -249,6 +249,10 @@ fn kth(ins: Instr, c: &mut [f64], k: usize) {
         Instr::Exp { w, a } => c[w + k] = rec::integral_w_du(jet(a), low(w), k),
         Instr::Ln { w, a } => c[w + k] = rec::ln(jet(a), low(w), k),
         Instr::Powf { w, a, p } => c[w + k] = rec::power(jet(a), p, low(w), k),
+        Instr::Tanh { w, s, a } => {
+            c[w + k] = rec::integral_w_du(jet(a), low(s), k);
+            c[s + k] = -rec::product(&c[w..=w + k], &c[w..=w + k], k);
+        }
         Instr::SinCos { s, c: co, a } => {
             (c[s + k], c[co + k]) = rec::sin_cos(jet(a), low(s), low(co), -1.0, k)
         }

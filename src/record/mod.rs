@@ -10,12 +10,14 @@
 //! ```
 //!
 //! each `φᵢ` one of the operations of [`Op`] (sum, difference, product, quotient, negation,
-//! shift and scaling by a constant, reciprocal, `√`, `exp`, `ln`, `sin`, `cos`, `u^a`,
+//! shift and scaling by a constant, reciprocal, `√`, `exp`, `ln`, `sin`, `cos`, `tanh`, `u^a`,
 //! `atan2`). [`record`] runs the user's code once on [`Recorded`] values, which implement
 //! [`DualNum<f64>`] and `Copy`: every arithmetic operation appends its `φᵢ` to the record of the
 //! running thread, so a [`Hamiltonian`](crate::Hamiltonian) written once runs unchanged. The other
 //! functions of `DualNum` are written in these operations (`tan = sin/cos`, `sinh = (eᵘ − e⁻ᵘ)/2`,
-//! `asin u = atan2(u, √(1 − u²))`, `log_b = ln/ln b`, …); the spherical Bessel functions
+//! `asin u = atan2(u, √(1 − u²))`, `log_b = ln/ln b`, …); `sinh` and `cosh` so written overflow
+//! to `±∞` where `eᵘ` does, `|u| > 709.78` (a little before the functions themselves, at
+//! `|u| > 710.48`), while `tanh` is an operation of its own and is `±1` there; the spherical Bessel functions
 //! `sph_j0…2` and the remainder `%` of non-constants have none, and [`record`] refuses a function
 //! that uses them ([`Error::InvalidInput`] naming the operation).
 //!
@@ -99,6 +101,8 @@ pub enum Op {
     Exp(usize),
     /// `ln a`.
     Ln(usize),
+    /// `tanh a`; its recurrence reads `1 − tanh² a`, which the program keeps beside it.
+    Tanh(usize),
     /// `sin a`; `cos` is the operation of the same argument that the recurrence of `sin` needs.
     Sin {
         /// The argument.
@@ -143,6 +147,7 @@ impl Op {
             | Op::Sqrt(a)
             | Op::Exp(a)
             | Op::Ln(a)
+            | Op::Tanh(a)
             | Op::Powf(a, _) => (Some(a), None, None),
             Op::Sin { arg, cos } => (Some(arg), Some(cos), None),
             Op::Cos { arg, sin } => (Some(arg), Some(sin), None),
@@ -166,6 +171,7 @@ impl Op {
             Op::Sqrt(a) => Op::Sqrt(f(a)),
             Op::Exp(a) => Op::Exp(f(a)),
             Op::Ln(a) => Op::Ln(f(a)),
+            Op::Tanh(a) => Op::Tanh(f(a)),
             Op::Powf(a, c) => Op::Powf(f(a), c),
             Op::Sin { arg, cos } => Op::Sin {
                 arg: f(arg),
@@ -352,10 +358,11 @@ impl Record {
     /// instruction, `αu + βv` and `αu + γ` one; the factors pass through products, quotients,
     /// reciprocals and, for `α > 0`, roots and powers), `sin` and `cos` of one argument one
     /// instruction, a product used only by a linear combination `α·ab + βc` fused with it,
-    /// operands resolved to slots in advance, one dispatch per instruction. The slots live in a
-    /// buffer on the stack when it holds at most 512 values of `D` in at most 16 KiB (the
-    /// indices masked by its power-of-two length, so that no bounds check remains), on the heap
-    /// otherwise (Griewank & Walther, §2.2, the evaluation procedure as a register program).
+    /// operands resolved to slots in advance, one dispatch per instruction, the slot of a value
+    /// no longer read reused by a later one. The slots live in a buffer on the stack sized to
+    /// the program, of 16, 32, 64 or 512 values of `D` in at most 16 KiB (the indices masked by
+    /// its power-of-two length, so that no bounds check remains), on the heap otherwise
+    /// (Griewank & Walther, §2.2, the evaluation procedure as a register program).
     ///
     /// # Panics
     /// If `x` holds fewer values than the record has inputs, or `y` fewer than it has outputs.

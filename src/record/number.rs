@@ -66,6 +66,7 @@ fn key(op: &Op) -> Option<Key> {
         Op::Sin { arg, .. } => (11, arg, 0, 0),
         Op::Powf(a, c) => (12, a, 0, c.to_bits()),
         Op::Atan2 { y, x, .. } => (13, y, x, 0),
+        Op::Tanh(a) => (14, a, 0, 0),
     })
 }
 
@@ -412,6 +413,10 @@ pub(super) fn gradient(y: Recorded, wrt: &[Recorded]) -> Vec<Recorded> {
             Op::Sqrt(a) => acc(a, div(mul(w, Recorded::constant(0.5)), at(i))),
             Op::Exp(a) => acc(a, mul(w, at(i))),
             Op::Ln(a) => acc(a, div(w, at(a))),
+            Op::Tanh(a) => {
+                let t = at(i);
+                acc(a, mul(w, sub(Recorded::constant(1.0), mul(t, t))))
+            }
             Op::Sin { arg, cos } => acc(arg, mul(w, at(cos))),
             Op::Cos { arg, sin } => acc(arg, neg(mul(w, at(sin)))),
             Op::Powf(a, c) => acc(a, mul(w, mul(powf(at(a), c - 1.0), Recorded::constant(c)))),
@@ -582,8 +587,7 @@ impl DualNum<f64> for Recorded {
         mul(add(e, f), Recorded::constant(0.5))
     }
     fn tanh(&self) -> Self {
-        let (e, f) = (self.exp(), neg(*self).exp());
-        div(sub(e, f), add(e, f))
+        unary(*self, Op::Tanh, f64::tanh)
     }
     fn asinh(&self) -> Self {
         let r = add(mul(*self, *self), Recorded::constant(1.0)).sqrt();

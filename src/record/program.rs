@@ -47,6 +47,8 @@ pub(super) enum Instr {
     Ln { w: usize, a: usize },
     /// `w = aᵖ`.
     Powf { w: usize, a: usize, p: f64 },
+    /// `w = tanh a`, `s = 1 − w²` (the factor of its recurrence `w' = s a'`).
+    Tanh { w: usize, s: usize, a: usize },
     /// `s = sin a`, `c = cos a`, the pair whose recurrences read each other.
     SinCos { s: usize, c: usize, a: usize },
     /// `w = atan2(y, x)`, `r = x² + y²`.
@@ -67,7 +69,8 @@ pub(super) enum Instr {
 /// * the factors pass through products and quotients, `(αu)(βv) = αβ·uv`,
 ///   `(αu)/(βv) = (α/β)·u/v`, `1/(αu) = α⁻¹·(1/u)`, and through `√(αu) = √α √u` and
 ///   `(αu)^p = α^p u^p` for `α > 0`;
-/// * `sin u` and `cos u` of the same argument are one instruction;
+/// * `sin u` and `cos u` of the same argument are one instruction, and `tanh u` one with
+///   `1 − tanh² u` beside it;
 /// * the operands are slot offsets resolved in advance, the constants preset in their slots.
 ///
 /// [`eval`](Self::eval) runs the program on any [`DualNum<f64>`] type, one dispatch per
@@ -108,7 +111,72 @@ impl Program {
     pub(super) fn new(record: &Record) -> Self {
         let mut program = Self::with_stride(record, 1);
         program.fuse();
+        program.allocate();
         program
+    }
+
+    /// Reuse the slots of values no longer read: a linear scan over the straight-line program
+    /// that frees a slot after the last instruction reading it and gives an instruction's
+    /// results the slots freed so far (its own operands' included, since an instruction reads
+    /// all its operands before it writes), the inputs, constants and outputs kept throughout
+    /// (the register allocation of a basic block; Griewank & Walther, §4.1, the reuse of
+    /// locations of the evaluation procedure). The values computed are the same, in the same
+    /// order; the buffer needed shrinks to the number of values live at once.
+    fn allocate(&mut self) {
+        debug_assert_eq!(self.stride, 1);
+        const KEPT: usize = usize::MAX;
+        // The last instruction reading each slot (KEPT: never freed, None: never read).
+        let mut last: Vec<Option<usize>> = vec![None; self.slots];
+        for (k, ins) in self.instructions.iter().enumerate() {
+            for r in ins.reads() {
+                last[r] = Some(k);
+            }
+        }
+        let mut map = vec![usize::MAX; self.slots];
+        let mut next = 0;
+        let kept = (0..self.inputs)
+            .chain(self.consts.iter().map(|c| c.0))
+            .chain(self.outputs.iter().map(|o| o.0));
+        for s in kept {
+            last[s] = Some(KEPT);
+            if map[s] == usize::MAX {
+                map[s] = next;
+                next += 1;
+            }
+        }
+        let mut free: Vec<usize> = Vec::new();
+        for k in 0..self.instructions.len() {
+            let ins = self.instructions[k];
+            for r in ins.reads() {
+                if last[r] == Some(k) {
+                    last[r] = None;
+                    free.push(map[r]);
+                }
+            }
+            for w in ins.writes() {
+                if map[w] == usize::MAX {
+                    map[w] = free.pop().unwrap_or_else(|| {
+                        next += 1;
+                        next - 1
+                    });
+                }
+            }
+            // A result nobody reads (the partner of `sin`/`cos`, `1 − tanh²`) frees its slot
+            // at once.
+            for w in ins.writes() {
+                if last[w].is_none() {
+                    free.push(map[w]);
+                }
+            }
+            self.instructions[k] = ins.map(|o| map[o]);
+        }
+        for c in &mut self.consts {
+            c.0 = map[c.0];
+        }
+        for o in &mut self.outputs {
+            o.0 = map[o.0];
+        }
+        self.slots = next;
     }
 
     /// Fuse each product used once, by a linear combination, into it; the operations' slots
@@ -201,37 +269,49 @@ impl Program {
     /// The outputs at `x` into `y` (`y[k]` for the `k`-th output), without validation: NaN in
     /// gives NaN out. No allocation when the slots fit in [`STACK_BYTES`].
     ///
+    /// The buffer is sized to the program: the evaluators of 16, 32, 64 and 512 slots are separate
+    /// functions (not inlined here), so that a small program pays neither the stack probe of a
+    /// large frame nor the clearing of slots it does not have.
+    ///
     /// # Panics
     /// If `x` holds fewer values than the record has inputs or `y` fewer than it has outputs.
     #[inline]
     pub(super) fn eval<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
         let n = self.slots * self.stride;
         let fits = |s: usize| n <= s && s * std::mem::size_of::<D>() <= STACK_BYTES;
-        if fits(32) {
+        if fits(16) {
+            self.run::<D, 16>(x, y)
+        } else if fits(32) {
             self.run::<D, 32>(x, y)
         } else if fits(64) {
             self.run::<D, 64>(x, y)
         } else if fits(512) {
             self.run::<D, 512>(x, y)
         } else {
-            let mut v = vec![D::zero(); n];
-            self.exec(&mut v, usize::MAX, x, y)
+            self.run_heap(x, y)
         }
     }
 
     /// [`eval`](Self::eval) with the slots in an array of `S ≥ slots` (a power of two) values.
-    #[inline]
+    #[inline(never)]
     fn run<D: DualNum<f64> + Copy, const S: usize>(&self, x: &[D], y: &mut [D]) {
         let mut v = [D::zero(); S];
         self.exec(&mut v, S - 1, x, y)
     }
 
-    /// The program over the buffer `v`, every offset taken `& mask` (the identity on offsets
-    /// below `v.len()`, which `mask + 1` bounds when `v.len()` is a power of two).
+    /// [`eval`](Self::eval) with the slots on the heap (a program too large for the stack).
+    #[inline(never)]
+    fn run_heap<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
+        let mut v = vec![D::zero(); self.slots * self.stride];
+        self.exec(&mut v, usize::MAX, x, y)
+    }
+
+    /// The program (of stride 1) over the buffer `v`, every offset taken `& mask` (the identity
+    /// on offsets below `v.len()`, which `mask + 1` bounds when `v.len()` is a power of two).
     #[inline(always)]
     fn exec<D: DualNum<f64> + Copy>(&self, v: &mut [D], mask: usize, x: &[D], y: &mut [D]) {
-        for (i, &xi) in x[..self.inputs].iter().enumerate() {
-            v[(i * self.stride) & mask] = xi;
+        for (vi, &xi) in v.iter_mut().zip(&x[..self.inputs]) {
+            *vi = xi;
         }
         for &(w, c) in &self.consts {
             v[w & mask] = D::from(c);
@@ -246,6 +326,101 @@ impl Program {
 }
 
 impl Instr {
+    /// The offsets the instruction writes.
+    fn writes(&self) -> impl Iterator<Item = usize> {
+        let (a, b) = match *self {
+            Instr::Lin { w, .. }
+            | Instr::Affine { w, .. }
+            | Instr::Mul { w, .. }
+            | Instr::MulAdd { w, .. }
+            | Instr::Div { w, .. }
+            | Instr::Recip { w, .. }
+            | Instr::Sqrt { w, .. }
+            | Instr::Exp { w, .. }
+            | Instr::Ln { w, .. }
+            | Instr::Powf { w, .. }
+            | Instr::Atan2 { w, .. } => (w, None),
+            Instr::Tanh { w, s, .. } => (w, Some(s)),
+            Instr::SinCos { s, c, .. } => (s, Some(c)),
+        };
+        std::iter::once(a).chain(b)
+    }
+
+    /// The instruction with every offset `o` replaced by `f(o)`.
+    fn map(self, f: impl Fn(usize) -> usize) -> Instr {
+        match self {
+            Instr::Lin {
+                w,
+                a,
+                alpha,
+                b,
+                beta,
+            } => Instr::Lin {
+                w: f(w),
+                a: f(a),
+                alpha,
+                b: f(b),
+                beta,
+            },
+            Instr::Affine { w, a, alpha, gamma } => Instr::Affine {
+                w: f(w),
+                a: f(a),
+                alpha,
+                gamma,
+            },
+            Instr::Mul { w, a, b } => Instr::Mul {
+                w: f(w),
+                a: f(a),
+                b: f(b),
+            },
+            Instr::MulAdd {
+                w,
+                a,
+                b,
+                alpha,
+                c,
+                beta,
+            } => Instr::MulAdd {
+                w: f(w),
+                a: f(a),
+                b: f(b),
+                alpha,
+                c: f(c),
+                beta,
+            },
+            Instr::Div { w, a, b } => Instr::Div {
+                w: f(w),
+                a: f(a),
+                b: f(b),
+            },
+            Instr::Recip { w, a } => Instr::Recip { w: f(w), a: f(a) },
+            Instr::Sqrt { w, a } => Instr::Sqrt { w: f(w), a: f(a) },
+            Instr::Exp { w, a } => Instr::Exp { w: f(w), a: f(a) },
+            Instr::Ln { w, a } => Instr::Ln { w: f(w), a: f(a) },
+            Instr::Powf { w, a, p } => Instr::Powf {
+                w: f(w),
+                a: f(a),
+                p,
+            },
+            Instr::Tanh { w, s, a } => Instr::Tanh {
+                w: f(w),
+                s: f(s),
+                a: f(a),
+            },
+            Instr::SinCos { s, c, a } => Instr::SinCos {
+                s: f(s),
+                c: f(c),
+                a: f(a),
+            },
+            Instr::Atan2 { w, y, x, r } => Instr::Atan2 {
+                w: f(w),
+                y: f(y),
+                x: f(x),
+                r: f(r),
+            },
+        }
+    }
+
     /// The offsets the instruction reads.
     fn reads(&self) -> impl Iterator<Item = usize> {
         let (a, b, c) = match *self {
@@ -259,6 +434,7 @@ impl Instr {
             | Instr::Exp { a, .. }
             | Instr::Ln { a, .. }
             | Instr::Powf { a, .. }
+            | Instr::Tanh { a, .. }
             | Instr::SinCos { a, .. } => (Some(a), None, None),
             Instr::Atan2 { y, x, r, .. } => (Some(y), Some(x), Some(r)),
         };
@@ -293,9 +469,28 @@ pub(super) fn step<D: DualNum<f64> + Copy>(ins: Instr, v: &mut [D], mask: usize)
         Instr::Exp { w, a } => v[w & mask] = v[a & mask].exp(),
         Instr::Ln { w, a } => v[w & mask] = v[a & mask].ln(),
         Instr::Powf { w, a, p } => v[w & mask] = v[a & mask].powf(p),
+        Instr::Tanh { w, s, a } => {
+            let t = tanh(v[a & mask]);
+            (v[w & mask], v[s & mask]) = (t, D::one() - t * t)
+        }
         Instr::SinCos { s, c, a } => (v[s & mask], v[c & mask]) = v[a & mask].sin_cos(),
         Instr::Atan2 { w, y, x, .. } => v[w & mask] = v[y & mask].atan2(v[x & mask]),
     }
+}
+
+/// `tanh u` on any number type, finite for every finite `u`: the type's own `tanh` for
+/// `|u| ≤ 20`, and `sign(u) (1 − z)/(1 + z)`, `z = e^{−2|u|} < 10⁻¹⁷`, beyond, where the former
+/// may be `sinh/cosh = ∞/∞` for dual numbers (on `f64` both give `±1` exactly there, since
+/// `1 − tanh|u| < 2z` is below half an ulp of 1).
+#[inline(always)]
+fn tanh<D: DualNum<f64> + Copy>(u: D) -> D {
+    let x = u.re();
+    if x.abs() <= 20.0 {
+        return u.tanh();
+    }
+    let sign = x.signum();
+    let z = (u * (-2.0 * sign)).exp();
+    (D::one() - z) / (D::one() + z) * sign
 }
 
 /// The translation of a record into slots and instructions (see [`Program`]).
@@ -435,6 +630,12 @@ impl Compiler {
                 Op::Ln(a) => {
                     let a = self.materialise(at(&value, a));
                     self.emit(|w| Instr::Ln { w, a })
+                }
+                Op::Tanh(a) => {
+                    let a = self.materialise(at(&value, a));
+                    let (w, s) = (self.slot(), self.slot());
+                    self.program.push(Instr::Tanh { w, s, a });
+                    (w, 1.0)
                 }
                 Op::Sin { arg, cos: partner } | Op::Cos { arg, sin: partner } => {
                     let a = self.materialise(at(&value, arg));
