@@ -43,6 +43,7 @@ use super::{Control, Method, Observer, Problem, StepView, Work};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::{Hamiltonian, PerturbedKepler};
 use crate::phase::State;
+use crate::special::double_double::DoubleDouble as Dd;
 use nalgebra::SVector;
 use num_dual::DualNum;
 use std::time::{Duration, Instant};
@@ -218,9 +219,16 @@ fn singular_u() -> Error {
 }
 
 /// `p_t = −H(t, x, p)`, checked finite.
+///
+/// The Kepler part `|p|²/2 − μ/r` cancels to a relative `(1 − e)` near periapsis of an
+/// eccentric orbit, and `p_t` fixes the period of the regularised motion: it is formed in
+/// double-double from exact squares and rounded once, so that the period carries `ε/2` rather
+/// than `ε/(1 − e)` (at `e = 0.99`, 100 periods: `1.7e−7` in the final state otherwise).
 fn time_momentum<S: PerturbedKepler<N>, const N: usize>(system: &S, x: &State<N>) -> Result<f64> {
-    let r = x.q.norm();
-    let h = 0.5 * x.p.dot(&x.p) - system.mu() / r + system.perturbation(x.t, &x.q);
+    let square = |v: &SVector<f64, N>| v.iter().fold(Dd::from(0.0), |s, &c| s + Dd::product(c, c));
+    let r = square(&x.q).sqrt();
+    let kepler = square(&x.p) * 0.5 - Dd::from(system.mu()) / r;
+    let h = (kepler + Dd::from(system.perturbation(x.t, &x.q))).to_f64();
     Ok(-finite("energy H of the state to regularise", h)?)
 }
 

@@ -190,6 +190,8 @@ pub(crate) fn illinois<Z: Copy>(
 ) -> Option<(Z, f64)> {
     // `fa`, `fb` are halved by the Illinois rule; `sa`, `sb` keep the values at `a`, `b`.
     let (mut fa, mut fb, mut sa, mut sb) = (ga, gb, ga, gb);
+    // The sign of `f` at `a`, fixed: the halved `fa` may underflow to zero.
+    let negative_at_a = ga < 0.0;
     let mut side = 0i8;
     for _ in 0..200 {
         let mid = 0.5 * (a + b);
@@ -205,7 +207,7 @@ pub(crate) fn illinois<Z: Copy>(
         if ft == 0.0 {
             return Some((z, ft));
         }
-        if (ft < 0.0) == (fa < 0.0) {
+        if (ft < 0.0) == negative_at_a {
             (a, fa, sa, za) = (t, ft, ft, z);
             if side == -1 {
                 fb *= 0.5;

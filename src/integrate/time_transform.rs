@@ -57,7 +57,6 @@ use super::coefficients::Flow;
 use super::sampling::illinois;
 use super::splitting::Splitting;
 use super::{compensated_add, observe, settle, Dense, Method, Observer, Problem, Report, Work};
-use crate::ad::{gradient, GradDual};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Separable;
 use crate::phase::State;
@@ -286,7 +285,7 @@ impl TimeTransformed {
             match flow {
                 Flow::A => {
                     work.gradients += 1;
-                    let (tv, tp) = gradient(|pd| system.kinetic(GradDual::from_re(y.t), pd), &y.p);
+                    let (tv, tp) = system.kinetic_gradient(y.t, &y.p);
                     let e = tv + y.pt;
                     if !(e > 0.0 && e.is_finite()) {
                         return Err(Error::out_of_domain(
@@ -302,7 +301,7 @@ impl TimeTransformed {
                 Flow::B => {
                     work.gradients += 1;
                     work.hamiltonians += 1;
-                    let (v, vq) = gradient(|qd| system.potential(GradDual::from_re(y.t), qd), &y.q);
+                    let (v, vq) = system.potential_gradient(y.t, &y.q);
                     let u = self.shift - v;
                     if !(u > 0.0 && u.is_finite()) {
                         return Err(self.u(system, y.t, &y.q).err().unwrap_or_else(|| {
