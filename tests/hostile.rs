@@ -3037,9 +3037,28 @@ fn add_one_dof_normal_forms(c: &mut Vec<Call>) {
 
 fn add_lie_deprit(c: &mut Vec<Call>) {
     use hamilton_jacobi::perturbation::lie_deprit::{
-        lie_deprit, AmplitudePendulum, DrivenOscillator, LieDepritOptions, MAX_LIE_DEPRIT_ORDER,
+        lie_deprit, AmplitudePendulum, AtFixedEpsilon, DrivenOscillator, LieDepritOptions,
+        MAX_LIE_DEPRIT_ORDER,
     };
     let v1 = |x: f64| SVector::<f64, 1>::new(x);
+    // The pendulum in the oscillator's variables at fixed μ: H = μ^{−2}(p²/2 + 1 − cos q) with
+    // q = μ√(2J) sin θ, p = μ√(2J) cos θ.
+    sweep(
+        c,
+        "lie_deprit::AtFixedEpsilon(pendulum)::value",
+        &[1.0, 0.3, 0.1],
+        &[(2, 0.0), (2, 1e-300), (0, -1.0), (0, 1e300)],
+        move |a| {
+            let (r, th, mu) = ((2.0 * a[0]).sqrt() * a[2], a[1], a[2]);
+            let (q, p) = (r * th.sin(), r * th.cos());
+            let want = (p * p / 2.0 + (1.0 - q.cos())) / (mu * mu);
+            let got = AtFixedEpsilon::new(&AmplitudePendulum, a[2])
+                .and_then(|h| h.value(0.0, &v1(a[1]), &v1(a[0])));
+            judge(got, want.is_finite() && a[2] != 0.0, |v| {
+                near("H", v, want, 1e-14 * (1.0 + want.abs()))
+            })
+        },
+    );
     sweep(
         c,
         "lie_deprit::lie_deprit(pendulum, J*, μ)",

@@ -14,12 +14,12 @@ use hamilton_jacobi::integrate::{integrate, Dop853, Problem, Samples};
 use hamilton_jacobi::nalgebra::{SVector, Vector1, Vector2};
 use hamilton_jacobi::perturbation::birkhoff::{normal_form, NormalFormKind};
 use hamilton_jacobi::perturbation::lie_deprit::{
-    lie_deprit, ActionAngleHamiltonian, AmplitudePendulum, DrivenOscillator, LieDeprit,
-    LieDepritOptions,
+    lie_deprit, ActionAngleHamiltonian, AmplitudePendulum, AtFixedEpsilon, DrivenOscillator,
+    LieDeprit, LieDepritOptions,
 };
 use hamilton_jacobi::stability::hamiltonian_equilibrium;
 use hamilton_jacobi::systems::Pendulum;
-use hamilton_jacobi::{DualNum, Error, Hamiltonian};
+use hamilton_jacobi::{DualNum, Error};
 
 const EPS: f64 = f64::EPSILON;
 
@@ -161,19 +161,6 @@ impl ActionAngleHamiltonian<2> for Coupled {
     }
 }
 
-/// Hamilton's equations of an [`ActionAngleHamiltonian`] at a fixed `ε`, `q = θ`, `p = J`.
-struct AtEps<'a, H>(&'a H, f64);
-impl<H: ActionAngleHamiltonian<2>> Hamiltonian<2> for AtEps<'_, H> {
-    fn hamiltonian<D: DualNum<f64> + Copy>(
-        &self,
-        _t: D,
-        q: &SVector<D, 2>,
-        p: &SVector<D, 2>,
-    ) -> D {
-        self.0.hamiltonian(p, q, D::from(self.1))
-    }
-}
-
 const GOLDEN: [f64; 2] = [1.0, 0.618_033_988_749_894_8];
 
 #[test]
@@ -239,7 +226,7 @@ fn averaged_frequencies_match_integrated_orbits() {
         let dop = Dop853::new(1e-13, 1e-15).unwrap();
         let mut samples = Samples::uniform(0.0, span, 1).unwrap();
         let report = integrate(
-            &Problem::new(&AtEps(&sys, eps), 0.0, t0, j0, span).unwrap(),
+            &Problem::new(&AtFixedEpsilon::new(&sys, eps).unwrap(), 0.0, t0, j0, span).unwrap(),
             &dop,
             &mut samples,
         )

@@ -93,6 +93,53 @@ pub trait ActionAngleHamiltonian<const N: usize> {
     }
 }
 
+/// Hamilton's equations of an [`ActionAngleHamiltonian`] at a fixed `ε`: the
+/// [`Hamiltonian`](crate::Hamiltonian) `H(q = θ, p = J) = ε^{−s} h(J, θ; ε)`, so that every
+/// integrator and analysis of the crate applies to the system as written once (for example the
+/// orbit against which [`LieDeprit::frequencies`] is checked).
+#[derive(Clone, Copy, Debug)]
+pub struct AtFixedEpsilon<'a, H> {
+    system: &'a H,
+    eps: f64,
+}
+
+impl<'a, H> AtFixedEpsilon<'a, H> {
+    /// `system` at `ε = eps`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite `eps`; [`Error::OutOfDomain`] for `eps = 0` when the
+    /// system declares a scaling `s > 0` (`ε^{−s}` is singular there).
+    pub fn new<const N: usize>(system: &'a H, eps: f64) -> Result<Self>
+    where
+        H: ActionAngleHamiltonian<N>,
+    {
+        let eps = crate::error::finite("ε of the action–angle Hamiltonian", eps)?;
+        if eps == 0.0 && system.scaling() > 0 {
+            return Err(Error::out_of_domain(
+                "ε of an action–angle Hamiltonian with scaling s > 0",
+                eps,
+                "ε ≠ 0 (H = ε^{−s} h)",
+            ));
+        }
+        Ok(Self { system, eps })
+    }
+}
+
+impl<H: ActionAngleHamiltonian<N>, const N: usize> crate::Hamiltonian<N> for AtFixedEpsilon<'_, H> {
+    fn hamiltonian<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> D {
+        let h = self.system.hamiltonian(p, q, D::from(self.eps));
+        match self.system.scaling() {
+            0 => h,
+            s => h * self.eps.powi(-(s as i32)),
+        }
+    }
+}
+
 /// The pendulum `p²/2 + 1 − cos q` in the harmonic oscillator's action–angle variables
 /// `q = μ√(2J) sin θ`, `p = μ√(2J) cos θ`, graded by the amplitude `μ`
 /// ([`scaling`](ActionAngleHamiltonian::scaling) `s = 2`):
