@@ -4,27 +4,32 @@
 //! the Legendre transform; the crate's `PerturbedTwoBody<J2>` for `J₂` written as a disturbing
 //! function (`H = H_Kepler − R`); for the spherical pendulum written as a particle in space on
 //! the sphere, the closed-form conical motion (uniform rotation at `ω² = g/(ℓ cos α)`) and a
-//! Rust-written point mass with a Rust-written sphere under RATTLE. Malformed scenes give one-line
-//! errors naming the key.
+//! Rust-written point mass with a Rust-written sphere under RATTLE; for the Chaplygin sleigh and
+//! the non-holonomic particle written with Pfaffian constraints, the catalogue's Rust-written
+//! systems run by the same constrained integrators, and the sleigh's closed-form free motion
+//! [Hamel art. 238]. Malformed scenes give one-line errors naming the key.
 #![cfg(feature = "cli")]
 
 mod common;
 use common::quick;
 
 use hamilton_jacobi::constraints::HolonomicConstraints;
+use hamilton_jacobi::constraints::{classify, PfaffianConstraints};
 use hamilton_jacobi::expression::{
     ExpressionConstraints, ExpressionDisturbingFunction, ExpressionHamiltonian,
-    ExpressionLagrangian,
+    ExpressionLagrangian, ExpressionPfaffian,
 };
+use hamilton_jacobi::integrate::Dop853;
 use hamilton_jacobi::integrate::PerturbedKepler;
 use hamilton_jacobi::integrate::{
     integrate, ConstrainedHamiltonian, Control, Each, Fixed, Problem, Rattle, Rk4, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
+use hamilton_jacobi::nonholonomic::{Constrained, ConstrainedInfo, ConstrainedMethod};
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
 use hamilton_jacobi::scene::{self, Case, Catalogue, MethodKind, SceneError};
-use hamilton_jacobi::systems::HenonHeiles;
-use hamilton_jacobi::{DualNum, Hamiltonian, Legendre};
+use hamilton_jacobi::systems::{ChaplyginSleigh, HenonHeiles, NonholonomicParticle};
+use hamilton_jacobi::{DualNum, Hamiltonian, Lagrangian, Legendre};
 
 const EPS: f64 = f64::EPSILON;
 
@@ -463,6 +468,325 @@ fn spherical_pendulum_builtin_scene_runs() {
     std::fs::remove_dir_all(&out).ok();
 }
 
+// ---------------------------------------------------------------------------------------------
+// Pfaffian (non-holonomic) constraints
+// ---------------------------------------------------------------------------------------------
+
+const SLEIGH_LAGRANGIAN: &str =
+    "m/2*(v_x^2 + v_y^2) + m*s*v_th*(v_y*cos(th) - v_x*sin(th)) + I/2*v_th^2";
+const SLEIGH_PARAMETERS: [(&str, f64); 3] = [("m", 2.0), ("s", 0.5), ("I", 1.0)];
+const SLEIGH_ROW: [&str; 3] = ["-sin(th)", "cos(th)", "0"];
+
+/// The sleigh's Lagrangian and blade by expression, as `nonholonomic::Constrained`.
+fn expression_sleigh() -> Constrained<ExpressionLagrangian<3>, ExpressionPfaffian<3, 1>, 3, 1> {
+    let coordinates = ["x", "y", "th"];
+    let l =
+        ExpressionLagrangian::<3>::new(SLEIGH_LAGRANGIAN, &coordinates, None, &SLEIGH_PARAMETERS)
+            .unwrap();
+    let c = ExpressionPfaffian::<3, 1>::new(
+        &[SLEIGH_ROW],
+        None::<&[&str]>,
+        &coordinates,
+        &SLEIGH_PARAMETERS,
+    )
+    .unwrap();
+    Constrained::new(l, c)
+}
+
+/// The three constrained methods of the scenes: DOP853 on the multiplier form, with projection
+/// (both at `rtol = atol = 10⁻¹⁰`), and discrete Lagrange–d'Alembert with 1000 steps.
+fn constrained_methods() -> [(&'static str, ConstrainedMethod); 3] {
+    [
+        (
+            "dop853",
+            ConstrainedMethod::Reduced(Dop853::new(1e-10, 1e-10).unwrap()),
+        ),
+        (
+            "dop853-projection",
+            ConstrainedMethod::new(
+                ConstrainedInfo::find("dop853-projection").unwrap(),
+                1e-10,
+                100_000,
+            )
+            .unwrap(),
+        ),
+        (
+            "lagrange-dalembert",
+            ConstrainedMethod::new(
+                ConstrainedInfo::find("lagrange-dalembert").unwrap(),
+                1000.0,
+                100_000,
+            )
+            .unwrap(),
+        ),
+    ]
+}
+
+/// The coefficients by expression are the Rust-written ones: the same operations (`−sin ϑ`,
+/// `cos ϑ`, `0`; `−y`, `0`, `1`) give the same numbers, exactly; the Lagrangians agree to
+/// `16 ε` times the sum of the magnitudes of their terms (a dozen roundings on each side); the
+/// integrability test (Frobenius, on the forms by AD) finds the blade non-holonomic and the
+/// term `b = c·t` rheonomic, as it does for the Rust sleigh.
+#[test]
+fn pfaffian_rows_by_expression_are_the_rust_rows() {
+    let sys = expression_sleigh();
+    let sleigh = ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap();
+    let particle = NonholonomicParticle::new(0.7, 1.3, 0.2).unwrap();
+    let p_rows = ExpressionPfaffian::<3, 1>::new(
+        &[["-y", "0", "1"]],
+        None::<&[&str]>,
+        &["x", "y", "z"],
+        &[],
+    )
+    .unwrap();
+    let mut worst = 0.0f64;
+    for a in points(200, 2.0) {
+        let q = SVector::from([a[0], a[1], 3.0 * a[2]]);
+        let v = SVector::from([a[3], a[0] * a[1], a[2] - a[3]]);
+        assert_eq!(sys.constraints.forms(0.0, &q), sleigh.forms(0.0, &q));
+        assert_eq!(p_rows.forms(0.0, &q), particle.forms(0.0, &q));
+        let (e, r) = (
+            sys.lagrangian.lagrangian(0.0, &q, &v),
+            sleigh.lagrangian(0.0, &q, &v),
+        );
+        let scale = v[0] * v[0] + v[1] * v[1] + (v[2] * (v[0].abs() + v[1].abs())) + v[2] * v[2];
+        worst = worst.max((e - r).abs() / scale);
+        assert!((e - r).abs() <= 16.0 * EPS * scale, "L: {e} vs {r}");
+    }
+    println!("sleigh Lagrangian by expression vs Rust: max |ΔL|/Σ|terms| = {worst:e} (≤ 16 ε)");
+    let samples: Vec<(f64, SVector<f64, 3>)> = points(5, 2.0)
+        .iter()
+        .map(|a| (a[0], SVector::from([a[1], a[2], a[3]])))
+        .collect();
+    let by_expression = classify(&sys.constraints, &samples).unwrap();
+    let rust = classify(&sleigh, &samples).unwrap();
+    assert_eq!(by_expression, rust);
+    assert!(!by_expression.holonomic && by_expression.catastatic);
+    let driven = ExpressionPfaffian::<3, 1>::new(
+        &[SLEIGH_ROW],
+        Some(&["c*t"][..]),
+        &["x", "y", "th"],
+        &[("c", 0.3)],
+    )
+    .unwrap();
+    let k = classify(&driven, &samples).unwrap();
+    assert!(!k.catastatic && !k.scleronomic && !k.holonomic, "{k:?}");
+}
+
+/// The expression sleigh run by each constrained method against the catalogue's Rust-written
+/// sleigh: both evaluate the same mathematics with different association orders, so their fields
+/// differ by a few ε relative (the multiplier system `[M Bᵀ; B 0]` has condition ≈ 10 here);
+/// the force-free sleigh relaxes to straight motion (`v` and `ϑ̇` contract, `x, y, ϑ` integrate
+/// them), so the differences accumulate at most linearly: `|Δ| ≤ n · 64 ε · (1 + t) · max|z|`
+/// over `n` steps. Against the closed form `v = tanh t`, `ϑ̇ = √2/cosh t`,
+/// `ϑ = 2 arctan(tanh(t/2))` (`v₀ = 1`, `a = 1`) [Hamel art. 238] the tolerance-controlled
+/// DOP853 runs are within `n · rtol · (1 + max|z|)` (local errors at most `rtol` relative,
+/// not amplified by the contracting flow).
+#[test]
+fn expression_sleigh_runs_as_the_rust_sleigh_and_the_closed_form() {
+    let sys = expression_sleigh();
+    let sleigh = ChaplyginSleigh::new(2.0, 0.5, 1.0).unwrap();
+    let rust = Constrained::new(sleigh, sleigh);
+    let q0 = SVector::zeros();
+    let v0 = SVector::from([0.0, 0.0, 2f64.sqrt()]);
+    let t1 = 12.0;
+    for (name, method) in constrained_methods() {
+        let (a, work, _) = method.run(&sys, 0.0, q0, v0, t1, 1e-12, None).unwrap();
+        let (b, work_rust, _) = method.run(&rust, 0.0, q0, v0, t1, 1e-12, None).unwrap();
+        assert_eq!(work.steps, work_rust.steps, "{name}: the same steps");
+        let scale = 1.0 + b.q.amax().max(b.p.amax());
+        let d = (a.q - b.q).amax().max((a.p - b.p).amax());
+        let bound = work.steps as f64 * 64.0 * EPS * (1.0 + t1) * scale;
+        println!(
+            "sleigh by expression vs Rust, {name}, {} steps: |Δ| = {d:e} (bound {bound:e})",
+            work.steps
+        );
+        assert!(d <= bound, "{name}: {d:e} > {bound:e}");
+    }
+    let dop = ConstrainedMethod::Reduced(Dop853::new(1e-12, 1e-12).unwrap());
+    for t in [0.5, 2.0, 8.0] {
+        let (z, work, _) = dop.run(&sys, 0.0, q0, v0, t, 1e-12, None).unwrap();
+        let (v, w, th) = sleigh.free_motion(1.0, t).unwrap();
+        let (s, c) = z.q[2].sin_cos();
+        let got = [z.p[0] * c + z.p[1] * s, z.p[2], z.q[2]];
+        let err = (got[0] - v)
+            .abs()
+            .max((got[1] - w).abs())
+            .max((got[2] - th).abs());
+        let tol = work.steps as f64 * 1e-12 * (1.0 + z.q.amax().max(z.p.amax()));
+        println!(
+            "sleigh by expression vs closed form, t = {t}, {} steps: {err:e} (tol {tol:e})",
+            work.steps
+        );
+        assert!(err <= tol, "t = {t}: {err:e} > {tol:e}");
+    }
+}
+
+/// A rheonomic Pfaffian constraint, the non-holonomic particle with the drive
+/// `ż − y ẋ − β cos t = 0` (`b = −β cos t`), written in Rust.
+#[derive(Clone, Copy, Debug)]
+struct DrivenParticle(NonholonomicParticle, f64);
+
+impl PfaffianConstraints<3, 1> for DrivenParticle {
+    fn forms<D: DualNum<f64> + Copy>(
+        &self,
+        t: D,
+        q: &SVector<D, 3>,
+    ) -> (hamilton_jacobi::nalgebra::SMatrix<D, 1, 3>, SVector<D, 1>) {
+        let (a, _) = self.0.forms(t, q);
+        (a, SVector::from([-t.cos() * self.1]))
+    }
+}
+
+/// The term `b(t, q)` of `pfaffian_rhs`: the driven particle by expression (Lagrangian, rows
+/// and term) against the Rust particle with the Rust drive, each constrained method, same bound
+/// as the sleigh's (the motion in `y` is an oscillation, the drive enters `ż` additively: no
+/// exponential growth over `t = 6`).
+#[test]
+fn rheonomic_pfaffian_term_runs_as_the_rust_drive() {
+    let (bf, kappa, k, beta) = (0.7, 1.3, 0.2, 0.3);
+    let coordinates = ["x", "y", "z"];
+    let parameters = [("B", bf), ("kappa", kappa), ("k", k), ("beta", beta)];
+    let l = ExpressionLagrangian::<3>::new(
+        "(v_x^2 + v_y^2 + v_z^2)/2 + B*x*v_y - kappa*y^2/2 - k*y",
+        &coordinates,
+        None,
+        &parameters,
+    )
+    .unwrap();
+    let c = ExpressionPfaffian::<3, 1>::new(
+        &[["-y", "0", "1"]],
+        Some(&["-beta*cos(t)"][..]),
+        &coordinates,
+        &parameters,
+    )
+    .unwrap();
+    let sys = Constrained::new(l, c);
+    let particle = NonholonomicParticle::new(bf, kappa, k).unwrap();
+    let rust = Constrained::new(particle, DrivenParticle(particle, beta));
+    let q0 = SVector::from([0.0, 0.5, 0.0]);
+    let v0 = SVector::from([0.4, 0.2, 0.5 * 0.4 + beta]);
+    let t1 = 6.0;
+    for (name, method) in constrained_methods() {
+        let (a, work, _) = method.run(&sys, 0.0, q0, v0, t1, 1e-12, None).unwrap();
+        let (b, work_rust, _) = method.run(&rust, 0.0, q0, v0, t1, 1e-12, None).unwrap();
+        assert_eq!(work.steps, work_rust.steps, "{name}: the same steps");
+        let scale = 1.0 + b.q.amax().max(b.p.amax());
+        let d = (a.q - b.q).amax().max((a.p - b.p).amax());
+        let bound = work.steps as f64 * 64.0 * EPS * (1.0 + t1) * scale;
+        println!(
+            "driven particle by expression vs Rust, {name}, {} steps: |Δ| = {d:e} (bound \
+             {bound:e})",
+            work.steps
+        );
+        assert!(d <= bound, "{name}: {d:e} > {bound:e}");
+        // The drive is felt: ż − y ẋ = β cos t at the end (DOP853 keeps the constraint to its
+        // tolerance).
+        if name == "dop853" {
+            let r = b.p[2] - b.q[1] * b.p[0] - beta * t1.cos();
+            assert!(r.abs() < 1e-8, "constraint residual {r:e}");
+        }
+    }
+}
+
+/// The built-in sleigh by expression is the catalogue's sleigh: the same end state from the
+/// DOP853 methods (the scene path: keys, dispatch, initial checks), within the bound of
+/// `expression_sleigh_runs_as_the_rust_sleigh_and_the_closed_form` with `n ≤ 10⁴` steps; the
+/// scene runs every method it names.
+#[test]
+fn sleigh_expression_builtin_scene_matches_the_catalogue_sleigh() {
+    let catalogue = Catalogue::builtin();
+    let text = scene::builtin_text("chaplygin-sleigh-expression").unwrap();
+    let table: toml::Table = toml::from_str(text).unwrap();
+    let mut by_expression = catalogue
+        .build("s.toml", table["system"].as_table().unwrap())
+        .unwrap();
+    let rust_table: toml::Table = toml::from_str("name = \"chaplygin-sleigh\"").unwrap();
+    let mut rust = catalogue.build("r.toml", &rust_table).unwrap();
+    let t1 = 12.0;
+    // (Lagrange–d'Alembert's history ends at a midpoint state; the direct comparison above
+    // covers it.)
+    for (key, knob) in [("dop853", 1e-10), ("dop853-projection", 1e-10)] {
+        let a = last_state(&mut by_expression, key, knob, t1);
+        let b = last_state(&mut rust, key, knob, t1);
+        let d = max_diff(&a.0, &b.0).max(max_diff(&a.1, &b.1));
+        let scale = 1.0 + b.0.iter().chain(&b.1).fold(0.0f64, |m, x| m.max(x.abs()));
+        let bound = 1e4 * 64.0 * EPS * (1.0 + t1) * scale;
+        println!("chaplygin-sleigh-expression vs chaplygin-sleigh, {key}: |Δ| = {d:e}");
+        assert!(d <= bound, "{key}: {d:e} > {bound:e}");
+    }
+    let s = scene::parse("chaplygin-sleigh-expression", text, &catalogue).unwrap();
+    let out = std::env::temp_dir().join(format!("hj-pfaffian-scene-{}", std::process::id()));
+    let summary = s.run(&quick(&out)).unwrap();
+    assert!(
+        !summary.markdown.contains("- method["),
+        "{}",
+        summary.markdown
+    );
+    std::fs::remove_dir_all(&out).ok();
+}
+
+const SLEIGH_SCENE: &str = r#"
+[system]
+lagrangian = "m/2*(v_x^2 + v_y^2) + m*s*v_th*(v_y*cos(th) - v_x*sin(th)) + I/2*v_th^2"
+coordinates = ["x", "y", "th"]
+parameters = { m = 2.0, s = 0.5, I = 1.0 }
+pfaffian = [["-sin(th)", "cos(th)", "0"]]
+q = [0.0, 0.0, 0.0]
+v = [0.0, 0.0, 1.4142135623730951]
+"#;
+
+#[test]
+fn malformed_pfaffian_scenes_name_the_key() {
+    assert!(case_of(SLEIGH_SCENE)
+        .unwrap()
+        .supports(kind("lagrange-dalembert")));
+    let row = "pfaffian = [[\"-sin(th)\", \"cos(th)\", \"0\"]]";
+    // Dependent rows at the initial configuration, named.
+    let e = error_of(&SLEIGH_SCENE.replace(
+        row,
+        "pfaffian = [[\"-sin(th)\", \"cos(th)\", \"0\"], [\"-2*sin(th)\", \"2*cos(th)\", \"0\"]]",
+    ));
+    assert_names(&e, "system.q", &["rank deficient", "rows [1]"]);
+    // A row independent elsewhere but not at q₀ (x = 0).
+    let e = error_of(&SLEIGH_SCENE.replace(
+        row,
+        "pfaffian = [[\"-sin(th)\", \"cos(th)\", \"0\"], [\"0\", \"x\", \"0\"]]",
+    ));
+    assert_names(&e, "system.q", &["rows [1]"]);
+    // A row not finite at q₀, named with its entry.
+    let e = error_of(&SLEIGH_SCENE.replace("\"0\"]]", "\"1/x\"]]"));
+    assert_names(&e, "system.q", &["a[1][3]", "1/x"]);
+    // Initial velocities off the constraint: the residual.
+    let e = error_of(&SLEIGH_SCENE.replace("v = [0.0, 0.0,", "v = [0.0, 0.25,"));
+    assert_names(&e, "system.v", &["residual [0.25]"]);
+    let e = error_of(&format!("{SLEIGH_SCENE}pfaffian_rhs = [\"0.5\"]\n"));
+    assert_names(&e, "system.v", &["residual [0.5]"]);
+    // Shapes and types.
+    let e = error_of(&SLEIGH_SCENE.replace(row, "pfaffian = [[\"-sin(th)\", \"cos(th)\"]]"));
+    assert_names(&e, "system.pfaffian", &["row 1", "2 coefficients for 3"]);
+    let e = error_of(&SLEIGH_SCENE.replace(row, "pfaffian = [[\"-sin(th)\", 1.0, \"0\"]]"));
+    assert_names(&e, "system.pfaffian[0][1]", &["expected a string"]);
+    let e = error_of(&SLEIGH_SCENE.replace(row, "pfaffian = [\"-sin(th)\"]"));
+    assert_names(&e, "system.pfaffian[0]", &["row"]);
+    let e = error_of(&SLEIGH_SCENE.replace(
+        row,
+        "pfaffian = [[\"1\", \"0\", \"0\"], [\"0\", \"1\", \"0\"], [\"0\", \"0\", \"1\"]]",
+    ));
+    assert_names(&e, "system.pfaffian", &["3 rows on 3 coordinates"]);
+    let e = error_of(&format!("{SLEIGH_SCENE}pfaffian_rhs = [\"0\", \"0\"]\n"));
+    assert_names(&e, "system.pfaffian_rhs", &["2 terms for 1 rows"]);
+    let e = error_of(&SLEIGH_SCENE.replace(row, "pfaffian_rhs = [\"0\"]"));
+    assert_names(&e, "system.pfaffian_rhs", &["need their coefficients"]);
+    let e = error_of(&format!("{SLEIGH_SCENE}constraints = [\"x\"]\n"));
+    assert_names(&e, "system.pfaffian", &["either"]);
+    // Parse errors: the column and the entry.
+    let e = error_of(&SLEIGH_SCENE.replace("\"cos(th)\"", "\"cos(th\""));
+    assert_names(&e, "system.pfaffian", &["column", "a[1][2]"]);
+    let e = error_of(&format!("{SLEIGH_SCENE}pfaffian_rhs = [\"w\"]\n"));
+    assert_names(&e, "system.pfaffian", &["column", "b[1]", "`w`"]);
+}
+
 fn error_of(text: &str) -> SceneError {
     case_of(text).err().expect("a malformed system is refused")
 }
@@ -558,7 +882,7 @@ fn template_expression_forms_build() {
         }
     }
     forms.retain(|f| !f.is_empty());
-    assert_eq!(forms.len(), 3, "{forms:?}");
+    assert_eq!(forms.len(), 4, "{forms:?}");
     for form in forms {
         let text = format!("[system]\n{}\n", form.join("\n"));
         let case = case_of(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));

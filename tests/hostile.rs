@@ -6059,6 +6059,30 @@ mod expression_calls {
     pub fn add(c: &mut Vec<Call>) {
         for (label, text) in hostile_texts() {
             let text2 = text.clone();
+            let text3 = text.clone();
+            c.push(Call {
+                label: format!("ExpressionPfaffian::value({label})"),
+                body: Box::new(move || {
+                    let q = SVector::from([0.7, 0.2]);
+                    judge(
+                        hamilton_jacobi::expression::ExpressionPfaffian::<2, 1>::new(
+                            &[[text3.as_str(), "1"]],
+                            Some(&[text3.as_str()][..]),
+                            &["x", "y"],
+                            &[],
+                        ),
+                        true,
+                        |g| match (g.value(0.3, &q), g.check_configuration(0.3, &q)) {
+                            (Err(_), Err(_)) => Typed,
+                            (Ok((a, b)), Ok(())) => {
+                                all(a.iter().chain(b.iter()).map(|x| finite_ok("a, b", *x)))
+                            }
+                            (Ok(_), Err(e)) => Wrong(format!("finite rows refused: {e}")),
+                            (Err(_), Ok(())) => Wrong("non-finite rows accepted".into()),
+                        },
+                    )
+                }),
+            });
             c.push(Call {
                 label: format!("parse::parse({label})"),
                 body: Box::new(move || match parse::parse(&text, &["x", "t"]) {
@@ -6321,12 +6345,38 @@ mod expression_calls {
     /// Disturbing functions, constraints and the Lagrangian, disturbing-function and
     /// constrained forms of a scene's system.
     fn add_forms(c: &mut Vec<Call>) {
-        use hamilton_jacobi::expression::{ExpressionConstraints, ExpressionDisturbingFunction};
+        use hamilton_jacobi::expression::{
+            ExpressionConstraints, ExpressionDisturbingFunction, ExpressionPfaffian,
+        };
         use hamilton_jacobi::integrate::PerturbedKepler;
         use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
         const R_J2: &str = "mu*J2*Re^2/2*(x^2 + y^2 - 2*z^2)/(x^2 + y^2 + z^2)^2.5";
         for (label, text) in hostile_texts() {
             let text2 = text.clone();
+            let text3 = text.clone();
+            c.push(Call {
+                label: format!("ExpressionPfaffian::value({label})"),
+                body: Box::new(move || {
+                    let q = SVector::from([0.7, 0.2]);
+                    judge(
+                        ExpressionPfaffian::<2, 1>::new(
+                            &[[text3.as_str(), "1"]],
+                            Some(&[text3.as_str()][..]),
+                            &["x", "y"],
+                            &[],
+                        ),
+                        true,
+                        |g| match (g.value(0.3, &q), g.check_configuration(0.3, &q)) {
+                            (Err(_), Err(_)) => Typed,
+                            (Ok((a, b)), Ok(())) => {
+                                all(a.iter().chain(b.iter()).map(|x| finite_ok("a, b", *x)))
+                            }
+                            (Ok(_), Err(e)) => Wrong(format!("finite rows refused: {e}")),
+                            (Err(_), Ok(())) => Wrong("non-finite rows accepted".into()),
+                        },
+                    )
+                }),
+            });
             c.push(Call {
                 label: format!("ExpressionDisturbingFunction::value({label})"),
                 body: Box::new(move || {
@@ -6410,6 +6460,70 @@ mod expression_calls {
                             ),
                         }
                     },
+                )
+            },
+        );
+        // The sleigh's blade as Pfaffian rows with a term c·t, at (t, ϑ).
+        sweep(c, "ExpressionPfaffian::value", &[0.3, 1.5, 0.4], &[], |a| {
+            let (cc, t, th) = (a[0], a[1], a[2]);
+            judge(
+                ExpressionPfaffian::<3, 1>::new(
+                    &[["-sin(th)", "cos(th)", "0"]],
+                    Some(&["c*t"][..]),
+                    &["x", "y", "th"],
+                    &[("c", cc)],
+                ),
+                cc.is_finite(),
+                |g| {
+                    let q = SVector::from([0.0, 0.0, th]);
+                    let want = [-th.sin(), th.cos(), 0.0, cc * t];
+                    let valid = fin(a) && want.iter().all(|x| x.is_finite());
+                    match (g.value(t, &q), g.check_configuration(t, &q)) {
+                        (Err(_), Err(_)) if !valid => Typed,
+                        (Ok((m, b)), Ok(())) if valid => all([
+                            near("a_11", m[(0, 0)], want[0], 2.0 * EPS),
+                            near("a_12", m[(0, 1)], want[1], 2.0 * EPS),
+                            near("a_13", m[(0, 2)], want[2], 0.0),
+                            near("b_1", b[0], want[3], EPS * want[3].abs()),
+                        ]),
+                        (r, k) => Wrong(format!(
+                            "value {:?}, rank check {:?} (valid input: {valid})",
+                            r.map(|_| ()),
+                            k
+                        )),
+                    }
+                },
+            )
+        });
+        // A Pfaffian scene: the Chaplygin sleigh heading ϑ with speed u along it and ϑ̇ = w;
+        // the Jacobi integral m u²/2 + I w²/2 (m = 2, I = 1; the coupling term vanishes on the
+        // constraint, to rounding 2ε|u| times m s |w|).
+        sweep(
+            c,
+            "Catalogue::build(pfaffian)",
+            &[0.4, 0.8, 1.4],
+            &[],
+            |a| {
+                let (th, u, w) = (a[0], a[1], a[2]);
+                let (xd, yd) = (u * th.cos(), u * th.sin());
+                let text = format!(
+                    "lagrangian = \"m/2*(v_x^2 + v_y^2) + m*s*v_th*(v_y*cos(th) - v_x*sin(th)) \
+                     + I/2*v_th^2\"\ncoordinates = [\"x\", \"y\", \"th\"]\n\
+                     parameters = {{ m = 2.0, s = 0.5, I = 1.0 }}\n\
+                     pfaffian = [[\"-sin(th)\", \"cos(th)\", \"0\"]]\n\
+                     q = [0.0, 0.0, {}]\nv = [{}, {}, {}]\n",
+                    toml_num(th),
+                    toml_num(xd),
+                    toml_num(yd),
+                    toml_num(w)
+                );
+                let want = u * u + w * w / 2.0;
+                let valid = fin(a) && want.is_finite() && (xd * xd + yd * yd).is_finite();
+                build_verdict(
+                    &text,
+                    valid.then_some(want),
+                    (&[0.0, 0.0, th], &[xd, yd, w]),
+                    16.0 * EPS * (1.0 + u * u + w * w + (u * w).abs()),
                 )
             },
         );

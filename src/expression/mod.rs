@@ -19,7 +19,8 @@
 //! on `q` only). [`ExpressionLagrangian`] is `L(t, q, q̇)`, a Hamiltonian system through the
 //! Legendre transform [`Legendre`](crate::Legendre). [`ExpressionDisturbingFunction`] is a
 //! disturbing function `R(t, q)` of the Kepler problem ([`disturbing`]), [`ExpressionConstraints`]
-//! holonomic constraints `g(t, q) = 0` ([`constraints`]).
+//! holonomic constraints `g(t, q) = 0` and [`ExpressionPfaffian`] Pfaffian constraints
+//! `a(t, q) q̇ + b(t, q) = 0` ([`constraints`]).
 //!
 //! The number of degrees of freedom is a const generic of the systems; a number known only at run
 //! time is dispatched to `N = 1 … MAX_DOF` by [`with_dof!`](crate::with_dof).
@@ -32,7 +33,7 @@ pub mod constraints;
 pub mod disturbing;
 pub mod parse;
 
-pub use constraints::ExpressionConstraints;
+pub use constraints::{ExpressionConstraints, ExpressionPfaffian};
 pub use disturbing::ExpressionDisturbingFunction;
 
 use crate::error::{Error, Result};

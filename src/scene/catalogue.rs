@@ -206,6 +206,43 @@ impl<'a> Params<'a> {
             .map(Some)
     }
 
+    /// An optional array of arrays of strings (the rows of a matrix of expressions).
+    ///
+    /// # Errors
+    /// Wrong type of the array, of a row or of an entry (naming it).
+    pub fn text_rows(
+        &self,
+        key: &str,
+    ) -> std::result::Result<Option<Vec<Vec<String>>>, SceneError> {
+        let Some(a) = self.array(key, "arrays of strings")? else {
+            return Ok(None);
+        };
+        a.iter()
+            .enumerate()
+            .map(|(r, row)| match row {
+                toml::Value::Array(row) => row
+                    .iter()
+                    .enumerate()
+                    .map(|(c, x)| match x {
+                        toml::Value::String(s) => Ok(s.clone()),
+                        other => Err(self.error(
+                            &format!("{key}[{r}][{c}]"),
+                            format!("expected a string, found {}", other.type_str()),
+                        )),
+                    })
+                    .collect(),
+                other => Err(self.error(
+                    &format!("{key}[{r}]"),
+                    format!(
+                        "expected an array of strings (a row), found {}",
+                        other.type_str()
+                    ),
+                )),
+            })
+            .collect::<std::result::Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
     /// An optional array of finite numbers of any length.
     ///
     /// # Errors

@@ -31,6 +31,27 @@
 //! v = [0.0, 1.0, 0.0]                       # and velocities (tangent to them)
 //! ```
 //!
+//! Constraints may instead be Pfaffian (non-holonomic in general), `Σ_s a_rs(t, q) q̇_s +
+//! b_r(t, q) = 0`, one row of coefficients per constraint (1 … 3 rows, fewer than the
+//! coordinates) and optional terms `b_r` (default 0), e.g. the Chaplygin sleigh, whose blade
+//! does not slide sideways:
+//!
+//! ```toml
+//! [system]
+//! lagrangian = "m/2*(v_x^2 + v_y^2) + m*s*v_th*(v_y*cos(th) - v_x*sin(th)) + I/2*v_th^2"
+//! coordinates = ["x", "y", "th"]
+//! parameters = { m = 2.0, s = 0.5, I = 1.0 }
+//! pfaffian = [["-sin(th)", "cos(th)", "0"]]  # a_rs(t, q): row r multiplies q̇
+//! # pfaffian_rhs = ["0"]                     # b_r(t, q), one per row; default 0
+//! q = [0.0, 0.0, 0.0]
+//! v = [0.0, 0.0, 1.4142135623730951]         # satisfies a q̇ + b = 0
+//! ```
+//!
+//! `constraints` and `pfaffian` exclude each other (a holonomic `g = 0` is the Pfaffian row
+//! `∂g/∂q` with the term `∂g/∂t`). The rows must be finite and independent at the initial
+//! configuration (else an error naming the dependent rows), and the initial velocities must
+//! satisfy them (else an error with the residual).
+//!
 //! Without constraints the general methods apply (Runge–Kutta, Gauss–Legendre, DOP853); with
 //! them the constrained ones of [`ConstrainedCase`]: DOP853 on the multiplier form, with
 //! projection, and the discrete Lagrange–d'Alembert integrator.
@@ -69,7 +90,7 @@ use crate::constraints::Differentiated;
 use crate::error::{fmt_num, Error};
 use crate::expression::{
     ExpressionConstraints, ExpressionDisturbingFunction, ExpressionHamiltonian,
-    ExpressionLagrangian, ExpressionSeparable, MAX_DOF,
+    ExpressionLagrangian, ExpressionPfaffian, ExpressionSeparable, MAX_DOF,
 };
 use crate::nalgebra::SVector;
 use crate::perturbation::forces::{NoForce, PerturbedTwoBody};
@@ -279,6 +300,8 @@ fn lagrangian_system(s: &Params<'_>, text: &str) -> Result<Box<dyn Case>, SceneE
     let velocities = s.texts("velocities")?;
     let parameters = s.named_numbers("parameters")?;
     let constraints = s.texts("constraints")?;
+    let rows = s.text_rows("pfaffian")?;
+    let rhs = s.texts("pfaffian_rhs")?;
     let spec = Spec::new(
         text,
         &coordinates,
@@ -287,12 +310,26 @@ fn lagrangian_system(s: &Params<'_>, text: &str) -> Result<Box<dyn Case>, SceneE
         period(s)?,
     );
     let n = coordinates.len();
-    match constraints {
-        None => with_dof!(n, N => lagrangian_case::<N>(s, &spec), too_many(s, n)),
-        Some(g) => {
+    if rhs.is_some() && rows.is_none() {
+        return Err(s.error(
+            "pfaffian_rhs",
+            "the terms b_r of Pfaffian constraints need their coefficients `pfaffian`",
+        ));
+    }
+    match (constraints, rows) {
+        (None, None) => with_dof!(n, N => lagrangian_case::<N>(s, &spec), too_many(s, n)),
+        (Some(g), None) => {
             let g: Vec<&str> = g.iter().map(String::as_str).collect();
             with_dof!(n, N => constrained::<N>(s, &spec, &g), too_many(s, n))
         }
+        (None, Some(a)) => {
+            with_dof!(n, N => pfaffian::<N>(s, &spec, &a, rhs.as_deref()), too_many(s, n))
+        }
+        (Some(_), Some(_)) => Err(s.error(
+            "pfaffian",
+            "give the constraints either as holonomic `constraints` or as Pfaffian `pfaffian` \
+             (a holonomic g(t, q) = 0 is the Pfaffian row ∂g/∂q with the term ∂g/∂t)",
+        )),
     }
 }
 
@@ -415,6 +452,73 @@ fn constrained_case<const N: usize, const K: usize>(
     );
     let case = ConstrainedCase::new(l, Differentiated(g), q0, v0, description)
         .map_err(|e| at(s, "v", e))?;
+    Ok(Box::new(case))
+}
+
+/// Dispatch the number of Pfaffian constraints `K = 1 … MAX_CONSTRAINTS`, `K < N`.
+fn pfaffian<const N: usize>(
+    s: &Params<'_>,
+    spec: &Spec<'_>,
+    rows: &[Vec<String>],
+    rhs: Option<&[String]>,
+) -> Result<Box<dyn Case>, SceneError> {
+    if let Some(b) = rhs.filter(|b| b.len() != rows.len()) {
+        return Err(s.error(
+            "pfaffian_rhs",
+            format!(
+                "{} terms for {} rows of `pfaffian` (one b_r per row)",
+                b.len(),
+                rows.len()
+            ),
+        ));
+    }
+    match rows.len() {
+        1 if N > 1 => pfaffian_case::<N, 1>(s, spec, rows, rhs),
+        2 if N > 2 => pfaffian_case::<N, 2>(s, spec, rows, rhs),
+        3 if N > 3 => pfaffian_case::<N, 3>(s, spec, rows, rhs),
+        k => Err(s.error(
+            "pfaffian",
+            format!(
+                "{k} rows on {N} coordinates; a scene takes 1 … {} (fewer than the \
+                 coordinates)",
+                MAX_CONSTRAINTS.min(N - 1)
+            ),
+        )),
+    }
+}
+
+fn pfaffian_case<const N: usize, const K: usize>(
+    s: &Params<'_>,
+    spec: &Spec<'_>,
+    rows: &[Vec<String>],
+    rhs: Option<&[String]>,
+) -> Result<Box<dyn Case>, SceneError> {
+    let (l, q0, v0) = lagrangian::<N>(s, spec)?;
+    let c = ExpressionPfaffian::<N, K>::new(rows, rhs, &spec.coordinates, &spec.parameters)
+        .map_err(|e| at(s, "pfaffian", e))?;
+    // Finite rows of full rank at the initial configuration; then ConstrainedCase::new checks
+    // the initial velocities against them.
+    c.check_configuration(0.0, &q0).map_err(|e| at(s, "q", e))?;
+    let form = |r: usize| {
+        let terms = rows[r]
+            .iter()
+            .zip(&spec.coordinates)
+            .map(|(a, q)| format!("({a}) v_{q}"))
+            .collect::<Vec<_>>()
+            .join(" + ");
+        match rhs {
+            Some(b) => format!("{terms} + {} = 0", b[r]),
+            None => format!("{terms} = 0"),
+        }
+    };
+    let description = format!(
+        "L = {} under {}, q₀ = ({}), q̇₀ = ({})",
+        spec.text,
+        (0..K).map(form).collect::<Vec<_>>().join(", "),
+        list(&q0),
+        list(&v0)
+    );
+    let case = ConstrainedCase::new(l, c, q0, v0, description).map_err(|e| at(s, "v", e))?;
     Ok(Box::new(case))
 }
 

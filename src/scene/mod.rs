@@ -92,7 +92,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 21] = [
+pub const BUILTIN: [(&str, &str); 22] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -131,6 +131,10 @@ pub const BUILTIN: [(&str, &str); 21] = [
     (
         "chaplygin-sleigh",
         include_str!("builtin/chaplygin-sleigh.toml"),
+    ),
+    (
+        "chaplygin-sleigh-expression",
+        include_str!("builtin/chaplygin-sleigh-expression.toml"),
     ),
     ("rolling-disk", include_str!("builtin/rolling-disk.toml")),
     (
