@@ -2541,6 +2541,106 @@ fn add_rigid_bodies(c: &mut Vec<Call>) {
     });
     sweep(
         c,
+        "EulerPoinsot::attitude_at",
+        &[0.4, 0.3, 1.5, 7.0],
+        &[(3, 1e300), (3, -1e20), (0, 0.0), (1, 0.0)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let pi0 = Vector3::new(a[0], a[1], a[2]);
+            let r0 = quaternion_from_euler313(&Vector3::new(0.3, 1.1, -0.7)).unwrap();
+            let r = EulerPoinsot::new(&b, &pi0)
+                .and_then(|ep| Ok((ep.attitude_at(&r0, a[3])?, ep.momentum_at(a[3])?)));
+            judge(r, fin(a), |(r, pi)| {
+                // The spatial momentum RΠ is R₀Π₀; the quaternion is a unit one.
+                let sc = pi0.amax().max(f64::MIN_POSITIVE);
+                let drift = (r * (pi / sc) - r0 * (pi0 / sc)).amax();
+                all([
+                    near("|RΠ − R₀Π₀|/|Π|", drift, 0.0, 1e-12),
+                    near("|r|", r.norm(), 1.0, 1e-14),
+                ])
+            })
+        },
+    );
+    sweep(
+        c,
+        "EulerPoinsot::precession_at",
+        &[0.4, 0.3, 1.5, 7.0],
+        &[(3, 1e300), (3, -1e20), (0, 0.0), (1, 0.0)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let pi0 = Vector3::new(a[0], a[1], a[2]);
+            let r = EulerPoinsot::new(&b, &pi0).and_then(|ep| ep.precession_at(a[3]));
+            judge(r, fin(a), |phi| {
+                // φ̇ = L(Π₁²/I₁ + Π₂²/I₂)/(Π₁² + Π₂²) lies in [L/2, L] for I = (1, 2, 3).
+                let (lo, hi) = (0.5 * pi0.norm() * a[3], pi0.norm() * a[3]);
+                let (lo, hi) = (lo.min(hi), lo.max(hi));
+                let slack = 1e-12 * hi.abs().max(lo.abs());
+                if !phi.is_finite() {
+                    NonFinite(format!("φ = {phi}"))
+                } else if phi >= lo - slack && phi <= hi + slack {
+                    Good
+                } else {
+                    Wrong(format!("φ = {phi:e} outside [{lo:e}, {hi:e}]"))
+                }
+            })
+        },
+    );
+    sweep(
+        c,
+        "FreeRigidBody::exact_flow",
+        &[0.2, 1.0, 0.3, 1.2, 0.9, 1.5, 4.0],
+        &[(1, 0.0), (1, PI), (6, 1e300), (0, 1e20)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let (q0, p0) = (
+                SVector::from([a[0], a[1], a[2]]),
+                SVector::from([a[3], a[4], a[5]]),
+            );
+            let r = b.exact_flow(0.0, &q0, &p0, a[6]);
+            judge(r, fin(a), |(q, p)| {
+                let pis = FreeRigidBody::body_momentum(&q0, &p0)
+                    .and_then(|x| Ok((x, FreeRigidBody::body_momentum(&q, &p)?)));
+                match pis {
+                    Err(_) => Wrong("accepted a state whose Π is undefined".into()),
+                    Ok((x0, x)) => {
+                        let sc = x0.amax().max(f64::MIN_POSITIVE);
+                        let (x0, x) = (x0 / sc, x / sc);
+                        all([
+                            near_rel("|Π|²", x.norm_squared(), x0.norm_squared(), 1e-12),
+                            near_rel("E", b.energy_generic(&x), b.energy_generic(&x0), 1e-12),
+                            near("p_φ/|Π|", (p[0] - p0[0]) / sc, 0.0, 1e-12),
+                        ])
+                    }
+                }
+            })
+        },
+    );
+    sweep(
+        c,
+        "LiePoisson::run_with_attitude",
+        &[0.4, 0.3, 1.5, 0.05],
+        &[(3, 1e300)],
+        |a| {
+            let b = FreeRigidBody::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+            let pi0 = Vector3::new(a[0], a[1], a[2]);
+            let r0 = quaternion_from_euler313(&Vector3::new(0.3, 1.1, -0.7)).unwrap();
+            let m = LiePoisson::composition(&b, &YOSHIDA3).unwrap();
+            judge(
+                m.run_with_attitude(&pi0, &r0, a[3], 100, |_, _, _| {}),
+                fin(a) && a[3] != 0.0,
+                |(x, r)| {
+                    let sc = pi0.amax().max(f64::MIN_POSITIVE);
+                    let drift = (r * (x / sc) - r0 * (pi0 / sc)).amax();
+                    all([
+                        near_rel("|Π|²", x.norm_squared(), pi0.norm_squared(), 1e-13),
+                        near("|RΠ − R₀Π₀|/|Π|", drift, 0.0, 1e-12),
+                    ])
+                },
+            )
+        },
+    );
+    sweep(
+        c,
         "LiePoisson::run",
         &[0.4, 0.3, 1.5, 0.05],
         &[(3, 1e300)],

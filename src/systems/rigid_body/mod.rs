@@ -1,7 +1,7 @@
 //! Rigid bodies [Ardema ch. 11; Hamel art. 242]: inertia tensors and kinetic energy
 //! ([`inertia`]), attitude by 3-1-3 Euler angles and unit quaternions ([`rotation`]), Euler's
 //! equations and the free body in canonical form ([`euler`]), the Euler–Poinsot exact flow
-//! of its angular momentum ([`euler_poinsot`]), and the body about a fixed point under gravity
+//! of its angular momentum and attitude ([`euler_poinsot`]), and the body about a fixed point under gravity
 //! ([`heavy`]), of which the heavy symmetric top of [`crate::systems::HeavyTop`] is Lagrange's
 //! case.
 //!
