@@ -78,6 +78,7 @@ pub mod catalogue;
 pub mod constrained;
 pub mod expression;
 pub mod gallery;
+pub mod henon_heiles;
 pub mod impulse;
 pub mod megno;
 pub mod parameter_sweep;
@@ -92,7 +93,7 @@ pub use runner::{FigureOptions, FigureSetup, RunOptions, RunSummary, Scene};
 pub use spec::{parse_scene_file, Knob, MethodKind, SceneError, SceneFile, TheoryKind};
 
 /// The built-in scenes, embedded in the binary: `(name, TOML text)`.
-pub const BUILTIN: [(&str, &str); 21] = [
+pub const BUILTIN: [(&str, &str); 22] = [
     ("kepler-e0", include_str!("builtin/kepler-e0.toml")),
     ("kepler-e0.5", include_str!("builtin/kepler-e0.5.toml")),
     ("kepler-e0.9", include_str!("builtin/kepler-e0.9.toml")),
@@ -147,6 +148,10 @@ pub const BUILTIN: [(&str, &str); 21] = [
     ),
     ("megno-map", include_str!("builtin/megno-map.toml")),
     ("struck-rods", include_str!("builtin/struck-rods.toml")),
+    (
+        "henon-heiles-normal-form",
+        include_str!("builtin/henon-heiles-normal-form.toml"),
+    ),
 ];
 
 /// The scenes `hj` runs with no arguments (the showcase): one of each kind, quick.
