@@ -11,6 +11,7 @@ pub mod cli;
 pub mod constraints;
 pub mod error;
 pub mod expression;
+pub mod frequency_analysis;
 pub mod hamilton_jacobi;
 pub mod hamiltonian;
 pub mod implicit;

@@ -6711,7 +6711,33 @@ mod expression_calls {
 
 mod scene_kind_calls {
     use super::*;
+    use hamilton_jacobi::frequency_analysis::leading_line;
+    use hamilton_jacobi::nalgebra::Complex;
+    use hamilton_jacobi::scene::henon_heiles::{
+        henon_heiles_normal_form, measured_frequencies, torus_frequencies,
+    };
     use hamilton_jacobi::scene::impulse::struck_rods;
+    use hamilton_jacobi::systems::HenonHeiles;
+
+    /// The 1:1 resonant normal form of Hénon–Heiles of degree `k`.
+    fn henon_heiles_form(k: usize) -> hamilton_jacobi::perturbation::birkhoff::BirkhoffNormalForm {
+        use hamilton_jacobi::perturbation::birkhoff::{normal_form, NormalFormKind};
+        let eq = hamilton_jacobi::stability::hamiltonian_equilibrium(
+            &HenonHeiles,
+            0.0,
+            &SVector::zeros(),
+            &SVector::zeros(),
+        )
+        .unwrap();
+        normal_form(
+            &HenonHeiles,
+            0.0,
+            &eq,
+            k,
+            NormalFormKind::Resonant(vec![vec![1, -1]]),
+        )
+        .unwrap()
+    }
     use hamilton_jacobi::scene::megno::henon_heiles_megno_map;
     use hamilton_jacobi::scene::rigid_body::intermediate_axis;
     use hamilton_jacobi::scene::Table;
@@ -6806,6 +6832,137 @@ mod scene_kind_calls {
                     finite_table(&map.table(), 0, 0)
                 })
             },
+        );
+        // Frequency analysis: a pure line e^{iνt} sampled every h over 400 samples, band
+        // [lo, hi]; an Ok must find ν to the module's accuracy (rounding, the line alone).
+        sweep(
+            c,
+            "frequency_analysis::leading_line",
+            &[0.0, 0.25, 0.9, 1.2, 1.0],
+            &[
+                (1, 100.0),
+                (2, 1.1),
+                (3, 0.5),
+                (4, 1e300),
+                (0, 1e300),
+                (1, 1e-300),
+            ],
+            |a| {
+                let (t0, h, lo, hi, nu) = (a[0], a[1], a[2], a[3], a[4]);
+                let f: Vec<Complex<f64>> = (0..400)
+                    .map(|k| Complex::new(0.0, nu * (t0 + k as f64 * h)).exp())
+                    .collect();
+                let r = leading_line(t0, h, &f, (lo, hi));
+                let valid = fin(a) && h > 0.0 && lo < hi && lo.abs().max(hi.abs()) * h <= PI;
+                judge(r, valid, |line| {
+                    if !(line.frequency >= lo && line.frequency <= hi) {
+                        return Wrong(format!("frequency {} outside the band", line.frequency));
+                    }
+                    let in_band = nu > lo && nu < hi && (hi - lo) * 399.0 * h > 8.0;
+                    all([
+                        finite_ok("|amplitude|", line.amplitude.norm()),
+                        if in_band && (t0 + 400.0 * h).abs() < 1e6 {
+                            near("ν", line.frequency, nu, 1e-9 * nu.abs().max(1.0))
+                        } else {
+                            Good
+                        },
+                    ])
+                })
+            },
+        );
+        sized(
+            c,
+            "frequency_analysis::leading_line(samples)",
+            &[0, 1, 7, 8, 100_000],
+            |n| {
+                let f = vec![Complex::new(1.0, 0.0); n];
+                // A constant has its line at ν = 0, at the band's start: refused for n ≥ 8 too.
+                let r = leading_line(0.0, 0.1, &f, (0.0, 1.0));
+                judge(r, false, |_| Good)
+            },
+        );
+        sweep(
+            c,
+            "scene::henon_heiles::measured_frequencies",
+            &[0.05, 0.0, 12.0, 1.0, 0.1],
+            &[(2, 1e9), (3, 0.01), (4, 1e-300), (0, 1.0)],
+            |a| {
+                let r = HenonHeiles::section_start(a[0], a[1], 0.0)
+                    .and_then(|s| measured_frequencies(&s, a[2], a[3], a[4]));
+                let valid = fin(a) && a[0] >= 0.0 && a[2] > 0.0 && a[3] > 0.4 * a[4];
+                judge(r, valid, |(f, s)| {
+                    all([finite_ok("ν_fast", f), finite_ok("ν_slow", s)])
+                })
+            },
+        );
+        sweep(
+            c,
+            "scene::henon_heiles::torus_frequencies",
+            &[0.01, 0.05, 0.0],
+            &[(0, 1.0), (0, 1e-300), (1, 1e300)],
+            |a| {
+                let nf = henon_heiles_form(6);
+                let r = HenonHeiles::section_start(a[0], a[1], a[2])
+                    .and_then(|s| torus_frequencies(&nf, &[s.q[0], s.q[1], s.p[0], s.p[1]]));
+                judge(r, fin(a), |(f, s)| {
+                    // At small energy the frequencies approach the linear ones: ν_fast → 1,
+                    // ν_slow → 0 (both O(E); 0.01 < 0.5 · 1/12 here).
+                    if a[0] <= 0.01 {
+                        all([near("ν_fast", f, 1.0, 0.5), near("ν_slow", s, 0.0, 0.5)])
+                    } else {
+                        all([finite_ok("ν_fast", f), finite_ok("ν_slow", s)])
+                    }
+                })
+            },
+        );
+        sized(
+            c,
+            "scene::henon_heiles::torus_frequencies(not 1:1)",
+            &[4],
+            |k| {
+                let eq = hamilton_jacobi::stability::hamiltonian_equilibrium(
+                    &HenonHeiles,
+                    0.0,
+                    &SVector::zeros(),
+                    &SVector::zeros(),
+                )
+                .unwrap();
+                let nf = hamilton_jacobi::perturbation::birkhoff::normal_form(
+                    &HenonHeiles,
+                    0.0,
+                    &eq,
+                    k,
+                    hamilton_jacobi::perturbation::birkhoff::NormalFormKind::Resonant(vec![vec![
+                        1, 1,
+                    ]]),
+                );
+                match nf {
+                    Err(_) => Typed,
+                    Ok(nf) => judge(torus_frequencies(&nf, &[0.0, 0.1, 0.1, 0.0]), false, |_| {
+                        Good
+                    }),
+                }
+            },
+        );
+        sweep(
+            c,
+            "scene::henon_heiles::henon_heiles_normal_form(periods)",
+            &[10.0],
+            &[(0, 9.0), (0, 1e5)],
+            |a| {
+                let r = henon_heiles_normal_form(&[8], &[4], a[0]);
+                judge(
+                    r,
+                    fin(a) && (10.0..=1e4).contains(&a[0]),
+                    |(table, figures)| finite_table(&table, 2, figures.len()),
+                )
+            },
+        );
+        sized(
+            c,
+            "scene::henon_heiles::henon_heiles_normal_form(degree)",
+            &[0, 3, 31, usize::MAX],
+            |k| judge(henon_heiles_normal_form(&[k], &[4], 10.0), false, |_| Good),
         );
         sweep(
             c,

@@ -6,7 +6,7 @@
 //! mechanics   hamiltonian, lagrangian, brackets, constraints, particles, action
 //! models      systems, expression
 //! methods     transform, hamilton_jacobi, integrate, perturbation, nonholonomic, stability,
-//!             impulse, inverse_problem, chaos, least_action
+//!             impulse, inverse_problem, chaos, frequency_analysis, least_action
 //! harness     workprecision
 //! front end   plot, scene, bin
 //! ```
@@ -57,6 +57,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "stability",
             "inverse_problem",
             "chaos",
+            "frequency_analysis",
             "least_action",
         ],
     ),

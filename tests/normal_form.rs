@@ -1015,237 +1015,30 @@ mod n_dof {
     // Hénon–Heiles: the 1:1 resonant (Gustavson) normal form against frequency analysis.
     // ------------------------------------------------------------------------------------------
 
-    use hamilton_jacobi::integrate::{
-        integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, Samples, StepView,
-    };
+    use hamilton_jacobi::integrate::{integrate, Dop853, Problem};
     use hamilton_jacobi::perturbation::birkhoff::BirkhoffNormalForm;
-
+    use hamilton_jacobi::scene::henon_heiles::{
+        measured_frequencies, torus_frequencies, ORBITS_E001,
+    };
     use hamilton_jacobi::systems::HenonHeiles;
-
-    /// The flow of `K − L` in the real normal coordinates, `L = I₁ + I₂ = H₂`. In a 1:1 resonant
-    /// form every kept monomial commutes with `L`, so the flow of `K` is the flow of `K − L`
-    /// followed by the rotation of both modes by the angle `t` (the flow of `L`): the fast
-    /// rotation is factored out exactly and the integration sees only the slow motion.
-    struct NormalFlow<'a>(&'a BirkhoffNormalForm);
-    impl FirstOrderSystem<2> for NormalFlow<'_> {
-        fn field(
-            &self,
-            _t: f64,
-            q: &SVector<f64, 2>,
-            p: &SVector<f64, 2>,
-        ) -> Result<(SVector<f64, 2>, SVector<f64, 2>), Error> {
-            let f = self.0.normal_form_field(&[q[0], q[1], p[0], p[1]])?;
-            Ok((
-                Vector2::new(f[0] - p[0], f[1] - p[1]),
-                Vector2::new(f[2] + q[0], f[3] + q[1]),
-            ))
-        }
-    }
-
-    /// Records the unwrapped phase of mode 2, `φ₂ = arg(Q₂ − iP₂)`, at every step end and the
-    /// upward crossings of `I₁ = (Q₁² + P₁²)/2` through `level` (bisection on the dense output).
-    struct Reduced {
-        level: f64,
-        phase: f64,
-        last_angle: f64,
-        crossings: Vec<(f64, f64)>,
-        i1_min: f64,
-        i1_max: f64,
-    }
-    fn i1(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
-        0.5 * (q[0] * q[0] + p[0] * p[0])
-    }
-    fn angle2(q: &SVector<f64, 2>, p: &SVector<f64, 2>) -> f64 {
-        (-p[1]).atan2(q[1])
-    }
-    fn wrap(d: f64) -> f64 {
-        (d + PI).rem_euclid(2.0 * PI) - PI
-    }
-    impl Observer<2> for Reduced {
-        fn start(&mut self, s: &hamilton_jacobi::State<2>) {
-            self.last_angle = angle2(&s.q, &s.p);
-            self.phase = self.last_angle;
-        }
-        fn step(&mut self, st: &StepView<'_, 2>) -> Control {
-            let (a, b) = (st.prev, st.next);
-            let (ga, gb) = (i1(&a.q, &a.p) - self.level, i1(&b.q, &b.p) - self.level);
-            let ib = i1(&b.q, &b.p);
-            self.i1_min = self.i1_min.min(ib);
-            self.i1_max = self.i1_max.max(ib);
-            if ga < 0.0 && gb >= 0.0 {
-                let (mut lo, mut hi) = (a.t, b.t);
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if mid <= lo || mid >= hi {
-                        break;
-                    }
-                    let s = st.dense.at(mid);
-                    if i1(&s.q, &s.p) - self.level < 0.0 {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                let s = st.dense.at(lo);
-                let ph = self.phase + wrap(angle2(&s.q, &s.p) - self.last_angle);
-                self.crossings.push((lo, ph));
-            }
-            let ang = angle2(&b.q, &b.p);
-            self.phase += wrap(ang - self.last_angle);
-            self.last_angle = ang;
-            Control::Continue
-        }
-    }
-
-    /// `(ν_fast, ν_slow)` of the torus through the normal coordinates `w'` of the normal form:
-    /// the period `T_s` of the reduced motion (successive upward crossings of the mid level of
-    /// `I₁`) and the advance of the angle `φ₂` over it.
-    fn normal_form_frequencies(nf: &BirkhoffNormalForm, w: &[f64]) -> (f64, f64) {
-        let flow = NormalFlow(nf);
-        let dop = Dop853::new(1e-14, 1e-16)
-            .unwrap()
-            .with_max_steps(10_000_000)
-            .unwrap();
-        let q = Vector2::new(w[0], w[1]);
-        let p = Vector2::new(w[2], w[3]);
-        let mut probe = Reduced {
-            level: f64::INFINITY,
-            phase: 0.0,
-            last_angle: 0.0,
-            crossings: Vec::new(),
-            i1_min: f64::INFINITY,
-            i1_max: f64::NEG_INFINITY,
-        };
-        let mut span = 4000.0;
-        integrate(
-            &Problem::new(&flow, 0.0, q, p, span).unwrap(),
-            &dop,
-            &mut probe,
-        )
-        .unwrap();
-        let level = 0.5 * (probe.i1_min + probe.i1_max);
-        let obs = loop {
-            let mut obs = Reduced {
-                level,
-                crossings: Vec::new(),
-                ..probe
-            };
-            integrate(
-                &Problem::new(&flow, 0.0, q, p, span).unwrap(),
-                &dop,
-                &mut obs,
-            )
-            .unwrap();
-            if obs.crossings.len() >= 3 || span > 1e5 {
-                break obs;
-            }
-            span *= 2.0;
-        };
-        let c = &obs.crossings;
-        assert!(
-            c.len() >= 3,
-            "reduced motion: {} crossings in t ≤ {span}",
-            c.len()
-        );
-        let (t0, p0) = c[0];
-        let (t1, p1) = c[c.len() - 1];
-        let ts = (t1 - t0) / (c.len() - 1) as f64;
-        // φ₂ of the flow of K is φ₂ of the flow of K − L plus t.
-        (1.0 + (p1 - p0) / (t1 - t0), 2.0 * PI / ts)
-    }
-
-    /// The frequency of the largest line of `f(t)` in `[lo, hi]` by Laskar's frequency analysis:
-    /// `|⟨f, e^{iνt}⟩|` with the Hann window, maximised by golden-section search after a scan.
-    fn frequency_analysis(t: &[f64], f: &[(f64, f64)], lo: f64, hi: f64) -> f64 {
-        let tt = t[t.len() - 1] - t[0];
-        let win: Vec<f64> = t
-            .iter()
-            .map(|&ti| 1.0 - (2.0 * PI * (ti - t[0]) / tt).cos())
-            .collect();
-        let amp = |nu: f64| -> f64 {
-            let (mut re, mut im) = (0.0, 0.0);
-            for ((&ti, &(a, b)), &w) in t.iter().zip(f).zip(&win) {
-                let (s, c) = (nu * ti).sin_cos();
-                // (a + ib) e^{−iνt}
-                re += w * (a * c + b * s);
-                im += w * (b * c - a * s);
-            }
-            re * re + im * im
-        };
-        let scan = 200;
-        let mut best = (lo, 0.0);
-        for k in 0..=scan {
-            let nu = lo + (hi - lo) * k as f64 / scan as f64;
-            let a = amp(nu);
-            if a > best.1 {
-                best = (nu, a);
-            }
-        }
-        let step = (hi - lo) / scan as f64;
-        let (a, b) = (best.0 - step, best.0 + step);
-        // Golden-section search (argmin) for the largest |⟨f, e^{iνt}⟩|² on the bracket.
-        use argmin::core::{CostFunction, Executor, State};
-        use argmin::solver::goldensectionsearch::GoldenSectionSearch;
-        struct NegativeAmplitude<F>(F);
-        impl<F: Fn(f64) -> f64> CostFunction for NegativeAmplitude<F> {
-            type Param = f64;
-            type Output = f64;
-            fn cost(&self, nu: &f64) -> Result<f64, argmin::core::Error> {
-                Ok(-(self.0)(*nu))
-            }
-        }
-        let solver = GoldenSectionSearch::new(a, b)
-            .unwrap()
-            .with_tolerance(1e-14 / (a.abs() + b.abs()).max(1e-300))
-            .unwrap();
-        let result = Executor::new(NegativeAmplitude(amp), solver)
-            .configure(|state| state.param(best.0).max_iters(90))
-            .run()
-            .unwrap();
-        *result.state().get_best_param().unwrap()
-    }
-
-    /// `(ν_fast, ν_slow)` of the true orbit from `(x, y, p_x, p_y)` by frequency analysis over
-    /// `span`: the line of `y − i p_y` near `fast` and the line of `x² + p_x²` near `slow`.
-    fn measured_frequencies(z0: [f64; 4], span: f64, fast: f64, slow: f64) -> (f64, f64) {
-        let dop = Dop853::new(1e-14, 1e-16)
-            .unwrap()
-            .with_max_steps(50_000_000)
-            .unwrap();
-        let count = (span / 0.25).ceil() as usize;
-        let mut samples = Samples::uniform(0.0, span, count).unwrap();
-        let problem = Problem::new(
-            &HenonHeiles,
-            0.0,
-            Vector2::new(z0[0], z0[1]),
-            Vector2::new(z0[2], z0[3]),
-            span,
-        )
-        .unwrap();
-        integrate(&problem, &dop, &mut samples).unwrap();
-        let t: Vec<f64> = samples.states.iter().map(|s| s.t).collect();
-        let fy: Vec<(f64, f64)> = samples.states.iter().map(|s| (s.q[1], -s.p[1])).collect();
-        let mean = samples
-            .states
-            .iter()
-            .map(|s| s.q[0] * s.q[0] + s.p[0] * s.p[0])
-            .sum::<f64>()
-            / t.len() as f64;
-        let fx: Vec<(f64, f64)> = samples
-            .states
-            .iter()
-            .map(|s| (s.q[0] * s.q[0] + s.p[0] * s.p[0] - mean, 0.0))
-            .collect();
-        let nf = frequency_analysis(&t, &fy, fast - 0.4 * slow, fast + 0.4 * slow);
-        let ns = frequency_analysis(&t, &fx, 0.6 * slow, 1.4 * slow);
-        (nf, ns)
-    }
 
     /// Initial state on `x = 0` at energy `e`: `(0, y, p_x, p_y)` with `p_x > 0` from the energy.
     fn on_x0(e: f64, y: f64, py: f64) -> [f64; 4] {
-        let px2 = 2.0 * e - py * py - y * y + 2.0 * y * y * y / 3.0;
-        assert!(px2 > 0.0);
-        [0.0, y, px2.sqrt(), py]
+        let s = HenonHeiles::section_start(e, y, py).unwrap();
+        [s.q[0], s.q[1], s.p[0], s.p[1]]
+    }
+
+    /// The true frequencies of the orbit from `z0` over `periods` slow periods, from the guesses
+    /// `(fast, slow)` (`scene::henon_heiles::measured_frequencies`: frequency analysis of
+    /// `y − i p_y` and `x² + p_x²`, `hamilton_jacobi::frequency_analysis`).
+    fn measured(z0: [f64; 4], periods: f64, fast: f64, slow: f64) -> (f64, f64) {
+        let start = hamilton_jacobi::State::new(
+            0.0,
+            Vector2::new(z0[0], z0[1]),
+            Vector2::new(z0[2], z0[3]),
+        )
+        .unwrap();
+        measured_frequencies(&start, periods, fast, slow).unwrap()
     }
 
     /// Frequency errors `(fast, slow)` of the degree-`degree` resonant form for the orbit `z0`,
@@ -1254,7 +1047,7 @@ mod n_dof {
         let eq = hamiltonian_equilibrium(&HenonHeiles, 0.0, &Vector2::zeros(), &Vector2::zeros())
             .unwrap();
         let mut out = Vec::new();
-        let mut measured = None;
+        let mut truth = None;
         for &degree in degrees {
             let nf = normal_form(
                 &HenonHeiles,
@@ -1264,13 +1057,10 @@ mod n_dof {
                 NormalFormKind::Resonant(vec![vec![1, -1]]),
             )
             .unwrap();
-            let w = nf.linear_coordinates(&z0).unwrap();
-            let wn = nf.to_normal_flow(&w).unwrap();
             let clock = std::time::Instant::now();
-            let (pf, ps) = normal_form_frequencies(&nf, &wn);
+            let (pf, ps) = torus_frequencies(&nf, &z0).unwrap();
             let t_nf = clock.elapsed();
-            let (mf, ms) = *measured
-                .get_or_insert_with(|| measured_frequencies(z0, periods * 2.0 * PI / ps, pf, ps));
+            let (mf, ms) = *truth.get_or_insert_with(|| measured(z0, periods, pf, ps));
             eprintln!(
                 "  degree {degree}: normal-form frequencies {pf:.12} {ps:.12} ({t_nf:?}), \
                  measured {mf:.12} {ms:.12} (total {:?})",
@@ -1280,14 +1070,6 @@ mod n_dof {
         }
         out
     }
-
-    /// Named orbits at E = 0.01 on `x = 0` (`(y, p_y)`), regular and away from the separatrix of
-    /// the reduced 1:1 system.
-    const ORBITS_E001: [(&str, f64, f64); 3] = [
-        ("y = 0, p_y = 0", 0.0, 0.0),
-        ("y = 0.05, p_y = 0", 0.05, 0.0),
-        ("y = −0.06, p_y = 0.05", -0.06, 0.05),
-    ];
 
     #[test]
     fn henon_heiles_resonant_form_frequencies_at_e_001() {
@@ -1304,51 +1086,6 @@ mod n_dof {
                 ef10.max(es10) <= 1e-8,
                 "{name}: degree 10 {ef10:e} {es10:e}"
             );
-        }
-    }
-
-    /// Frequency analysis on a synthetic torus with known frequencies, sampled and windowed as
-    /// the orbits are (step 0.25, Hann window, 50 slow periods): the lines `ν_f + k ν_s`
-    /// (`|k| ≤ 3`) of `y − i p_y` and `k ν_s` of `x² + p_x²` with amplitudes falling by 5 per
-    /// order, the frequencies of QP2 at E = 1/12. The error of the method is far below the
-    /// frequency errors of the normal form compared at E = 1/12 (≥ 1e−7).
-    #[test]
-    fn frequency_analysis_error_on_a_synthetic_torus() {
-        let (nu_f, nu_s) = (0.953_123_456_7, 0.061_234_567_8);
-        for periods in [50.0, 100.0] {
-            let span = periods * 2.0 * PI / nu_s;
-            let count = (span / 0.25).ceil() as usize;
-            let t: Vec<f64> = (0..=count)
-                .map(|k| span * k as f64 / count as f64)
-                .collect();
-            let fy: Vec<(f64, f64)> = t
-                .iter()
-                .map(|&ti| {
-                    (-3i32..=3).fold((0.0, 0.0), |(re, im), k| {
-                        let a = 0.2f64.powi(k.abs()) * if k < 0 { 0.7 } else { 1.0 };
-                        let (s, c) =
-                            ((nu_f + f64::from(k) * nu_s) * ti + 0.3 * f64::from(k)).sin_cos();
-                        (re + a * c, im + a * s)
-                    })
-                })
-                .collect();
-            let fx: Vec<(f64, f64)> = t
-                .iter()
-                .map(|&ti| {
-                    let v = (1..=4).fold(0.0, |acc, k| {
-                        acc + 0.2f64.powi(k - 1)
-                            * (f64::from(k) * nu_s * ti + 0.1 * f64::from(k)).cos()
-                    });
-                    (v, 0.0)
-                })
-                .collect();
-            let ef =
-                (frequency_analysis(&t, &fy, nu_f - 0.4 * nu_s, nu_f + 0.4 * nu_s) - nu_f).abs();
-            let es = (frequency_analysis(&t, &fx, 0.6 * nu_s, 1.4 * nu_s) - nu_s).abs();
-            eprintln!(
-                "synthetic torus, {periods} slow periods: fast error {ef:.2e}, slow error {es:.2e}"
-            );
-            assert!(ef.max(es) <= 1e-9, "{periods} periods: {ef:e} {es:e}");
         }
     }
 
@@ -1423,11 +1160,9 @@ mod n_dof {
         let megno = mean_megno(z0);
         assert!((megno - 2.0).abs() <= 0.05, "{name}: ⟨Y⟩ = {megno}");
         let last = &forms[forms.len() - 1];
-        let w = last.linear_coordinates(&z0).unwrap();
-        let (pf, ps) = normal_form_frequencies(last, &last.to_normal_flow(&w).unwrap());
-        let span = 50.0 * 2.0 * PI / ps;
-        let (mf, ms) = measured_frequencies(z0, span, pf, ps);
-        let (mf2, ms2) = measured_frequencies(z0, 2.0 * span, pf, ps);
+        let (pf, ps) = torus_frequencies(last, &z0).unwrap();
+        let (mf, ms) = measured(z0, 50.0, pf, ps);
+        let (mf2, ms2) = measured(z0, 100.0, pf, ps);
         let delta = (mf - mf2).abs().max((ms - ms2).abs());
         eprintln!(
             "E = 1/12, {name}: ⟨Y⟩ = {megno:.4}, measured ν = ({mf2:.12}, {ms2:.12}), \
@@ -1438,8 +1173,7 @@ mod n_dof {
             .iter()
             .zip(&forms)
             .map(|(k, nf)| {
-                let w = nf.linear_coordinates(&z0).unwrap();
-                let (pf, ps) = normal_form_frequencies(nf, &nf.to_normal_flow(&w).unwrap());
+                let (pf, ps) = torus_frequencies(nf, &z0).unwrap();
                 let (ef, es) = ((pf - mf2).abs(), (ps - ms2).abs());
                 eprintln!(
                     "E = 1/12, {name}: degree {k}: error {:.3e} (fast {ef:.2e}, slow {es:.2e})",

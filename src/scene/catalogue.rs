@@ -11,6 +11,7 @@
 //! | `double-pendulum-spectrum` | `ratio_min` (0.01), `ratio_max` (100), `samples` (201), `l1` (1), `l2` (1), `g` (1) | none: λ² of the four equilibria against m₂/m₁, a table and a figure |
 //! | `free-rigid-body` | `moments` ([1, 2, 3]), `spin` (1), `perturbation` (1e−3, of `spin`), `time` (100), `steps` (10000) | none: the intermediate-axis instability (growth rate, flips) and the Lie–Poisson splitting against the Euler–Poinsot flow, a table and figures |
 //! | `megno-map` | `energy` (1/8), `n` (128), `time` (1000), `step` (0.1), `clip` (8) | none: the MEGNO map of the Hénon–Heiles section x = 0 on `n × n` cells, a table and a heat map |
+//! | `henon-heiles-normal-form` | `degrees` ([4, 6, …, 16]), `remainder_degrees` ([4, 6, …, 12]), `periods` (55) | none: the 1:1 resonant normal form of Hénon–Heiles against frequency analysis of integrated orbits at E = 0.01 and 1/12, and its remainder against the amplitude, a table and figures ([`super::henon_heiles`]) |
 //! | `struck-rods` | `mass` (1), `impulse` (1), `samples` (21) | none: velocity jumps of three hinged rods and of a rod struck at nℓ against their closed forms, a table and figures |
 //! | `chaplygin-sleigh` | `m` (2), `s` (0.5), `inertia` (1, about the blade), `v` (0), `theta_dot` (√2), `push` (0), `torque` (0) | DOP853 on the multiplier form, with projection, discrete Lagrange–d'Alembert (no other) |
 //! | `rolling-disk` | `m` (1), `r` (1), `g` (9.81), `a` (m r²/4), `c` (m r²/2), `v` (2.2), `lean` (0.01) | as the sleigh; the spectrum of upright rolling against the speed `v` |
@@ -398,6 +399,11 @@ impl Catalogue {
             "megno-map",
             "MEGNO map of the Hénon–Heiles surface of section (table and heat map)",
             Box::new(megno_map),
+        );
+        c.register(
+            "henon-heiles-normal-form",
+            "1:1 resonant normal form of Hénon–Heiles: frequency error against degree, remainder against amplitude (table and figures)",
+            Box::new(henon_heiles_normal_form),
         );
         c.register(
             "struck-rods",
@@ -1139,6 +1145,64 @@ fn megno_map(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
                     map.figure(energy, time, step),
                 )],
             ))
+        }),
+    }))
+}
+
+/// Whole numbers in `[lo, hi]` at `key` (1 to 32 of them), or `default`.
+fn counts_or(
+    s: &Params<'_>,
+    key: &str,
+    default: &[usize],
+    (lo, hi): (usize, usize),
+) -> std::result::Result<Vec<usize>, SceneError> {
+    let Some(xs) = s.numbers(key)? else {
+        return Ok(default.to_vec());
+    };
+    if xs.is_empty() || xs.len() > 32 {
+        return Err(s.error(key, "expected 1 to 32 whole numbers"));
+    }
+    xs.iter()
+        .map(|&x| {
+            if x.fract() != 0.0 || !(lo as f64..=hi as f64).contains(&x) {
+                Err(s.error(
+                    key,
+                    format!(
+                        "expected whole numbers in [{lo}, {hi}], found {}",
+                        fmt_num(x)
+                    ),
+                ))
+            } else {
+                Ok(x as usize)
+            }
+        })
+        .collect()
+}
+
+/// The 1:1 resonant normal form of Hénon–Heiles (issue 15 §3) at the `degrees` against frequency
+/// analysis of orbits integrated over `periods` slow periods, and the remainder slopes of the
+/// `remainder_degrees`.
+fn henon_heiles_normal_form(s: &Params<'_>) -> std::result::Result<Box<dyn Case>, SceneError> {
+    let degrees = counts_or(s, "degrees", &[4, 6, 8, 10, 12, 14, 16], (4, 30))?;
+    let remainder_degrees = counts_or(s, "remainder_degrees", &[4, 6, 8, 10, 12], (4, 30))?;
+    let periods = s.positive_or("periods", 55.0)?;
+    s.finish()?;
+    if !(10.0..=1e4).contains(&periods) {
+        return Err(s.error("periods", "expected a number of slow periods in [10, 10⁴]"));
+    }
+    let description = format!(
+        "Hénon–Heiles, 1:1 resonant (Gustavson) normal form at degrees {degrees:?}: torus          frequencies against frequency analysis over {} slow periods at E = 0.01 and 1/12;          remainder against amplitude at degrees {remainder_degrees:?}",
+        fmt_num(periods)
+    );
+    Ok(Box::new(TableCase {
+        description,
+        what: "the Hénon–Heiles normal form",
+        figures: vec![
+            super::henon_heiles::FREQUENCY_FIGURE,
+            super::henon_heiles::REMAINDER_FIGURE,
+        ],
+        compute: Box::new(move || {
+            super::henon_heiles::henon_heiles_normal_form(&degrees, &remainder_degrees, periods)
         }),
     }))
 }

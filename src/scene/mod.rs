@@ -78,6 +78,7 @@ pub mod catalogue;
 pub mod constrained;
 pub mod expression;
 pub mod gallery;
+pub mod henon_heiles;
 pub mod impulse;
 pub mod megno;
 pub mod parameter_sweep;
@@ -151,6 +152,10 @@ pub const BUILTIN: [(&str, &str); 22] = [
     ),
     ("megno-map", include_str!("builtin/megno-map.toml")),
     ("struck-rods", include_str!("builtin/struck-rods.toml")),
+    (
+        "henon-heiles-normal-form",
+        include_str!("builtin/henon-heiles-normal-form.toml"),
+    ),
 ];
 
 /// The scenes `hj` runs with no arguments (the showcase): one of each kind, quick.
