@@ -31,7 +31,8 @@ use hamilton_jacobi::phase::State;
 use hamilton_jacobi::plot::{self, DataFormat, Figure, Format, Grid, Size, Style};
 use hamilton_jacobi::record::{record, Jets};
 use hamilton_jacobi::series::{
-    expand_at, fourier_taylor, scope, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_SERIES_DEGREE,
+    expand_at, fourier_taylor, scope, Polynomial, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS,
+    MAX_SERIES_DEGREE,
 };
 use hamilton_jacobi::special::elliptic;
 use hamilton_jacobi::special::kepler_equation::{self, Conic};
@@ -1522,6 +1523,79 @@ fn add_series(c: &mut Vec<Call>) {
                     size += term.abs() * (1.0 + a[0].abs() + a[1].abs()).powi(k);
                 }
                 near("truncated exp(x + y)", v, sum, 64.0 * EPS * size)
+            })
+        },
+    );
+    // f = a₀ q² + a₁ p in one degree of freedom (n = 2, K = 3): {f, q p} = 2a₀ q² − a₁ p and
+    // ∂f/∂q = 2a₀ q, exactly (one product by an integer each).
+    let poly_qp = |a0: f64, a1: f64| {
+        let mut f = Polynomial::zero(2, 3).unwrap();
+        let i = f.monomials().index_of(&[2, 0]).unwrap();
+        let j = f.monomials().index_of(&[0, 1]).unwrap();
+        f.coefficients_mut()[i] = a0;
+        f.coefficients_mut()[j] = a1;
+        f
+    };
+    sweep(
+        c,
+        "Polynomial::poisson_bracket(a0 q² + a1 p, q p)",
+        &[0.7, -1.3],
+        &[(0, f64::MAX / 2.0)],
+        move |a| {
+            let f = poly_qp(a[0], a[1]);
+            let mut g = Polynomial::zero(2, 3).unwrap();
+            let k = g.monomials().index_of(&[1, 1]).unwrap();
+            g.coefficients_mut()[k] = 1.0;
+            judge(
+                f.poisson_bracket(&g, 1, 3),
+                fin(a) && (2.0 * a[0]).is_finite(),
+                |b| {
+                    all([
+                        near(
+                            "{f, qp}_q²",
+                            b.coefficient(&[2, 0]).unwrap(),
+                            2.0 * a[0],
+                            0.0,
+                        ),
+                        near("{f, qp}_p", b.coefficient(&[0, 1]).unwrap(), -a[1], 0.0),
+                    ])
+                },
+            )
+        },
+    );
+    sized(
+        c,
+        "Polynomial::poisson_bracket(dof)",
+        &[0, 1, 2, usize::MAX],
+        move |dof| {
+            let f = poly_qp(0.7, -1.3);
+            judge(f.poisson_bracket(&f, dof, 3), dof == 1, |b| {
+                near("{f, f}", b.part_norm(1) + b.part_norm(2), 0.0, 0.0)
+            })
+        },
+    );
+    sweep(
+        c,
+        "Polynomial::derivative(a0 q² + a1 p)",
+        &[0.7, -1.3],
+        &[],
+        move |a| {
+            // ∂/∂q drops the term a₁ p: only a₀ decides validity.
+            judge(
+                poly_qp(a[0], a[1]).derivative(0),
+                (2.0 * a[0]).is_finite(),
+                |d| near("∂f/∂q", d.coefficient(&[1, 0]).unwrap(), 2.0 * a[0], 0.0),
+            )
+        },
+    );
+    sized(
+        c,
+        "Polynomial::derivative(v)",
+        &[0, 1, 2, usize::MAX],
+        move |v| {
+            judge(poly_qp(0.7, -1.3).derivative(v), v < 2, |d| {
+                let want = if v == 0 { 0.0 } else { -1.3 };
+                near("∂f/∂x_v at 0", d.coefficients()[0], want, 0.0)
             })
         },
     );

@@ -424,3 +424,126 @@ fn degree_24_in_four_variables_completes() {
         t1.elapsed().as_secs_f64() * 1e3
     );
 }
+
+/// `max_α |got_α − want_α|` over the coefficients of degree `≤ top`, and `max_α |want_α|`.
+fn deviation(got: &Polynomial, want: &Polynomial, top: usize) -> (f64, f64) {
+    let table = got.monomials();
+    let (mut err, mut size) = (0.0f64, 0.0f64);
+    for i in 0..table.of_degree(top).end {
+        err = err.max((got.coefficients()[i] - want.coefficients()[i]).abs());
+        size = size.max(want.coefficients()[i].abs());
+    }
+    (err, size)
+}
+
+/// The derivation `∂/∂x_v` of the truncated algebra against the expansion of the closed-form
+/// derivative: `f = exp(x + 2y) sin(z + 0.3)` about `(0.2, −0.1, 0.4)`, degree 8;
+/// `∂f/∂x = f`, `∂f/∂y = 2f`, `∂f/∂z = exp(x + 2y) cos(z + 0.3)`, equal to degree 7, and the
+/// derivative's degree-8 part is zero. Tolerance: every coefficient of either side comes from
+/// the exp and sin/cos recurrences (≤ K steps, each a few roundings of the running coefficient
+/// scale) and one truncated product, so both are within `(4K + 4)·ε·M` of the exact Taylor
+/// coefficients, `M` the largest coefficient (the factor `α_v ≤ K` of the derivative is exact
+/// and multiplies one rounding): `tol = 2·(4K + 4)·K·ε·M`.
+#[test]
+fn derivative_is_the_expansion_of_the_closed_form_derivative() {
+    let k = 8;
+    let (f, fz) = scope(3, k, |s| {
+        let x = s.variable_at(0, 0.2).unwrap();
+        let y = s.variable_at(1, -0.1).unwrap();
+        let z = s.variable_at(2, 0.4).unwrap();
+        let e = (x + y * 2.0).exp();
+        (
+            s.polynomial(e * (z + 0.3).sin()).unwrap(),
+            s.polynomial(e * (z + 0.3).cos()).unwrap(),
+        )
+    })
+    .unwrap();
+    let mut two_f = f.clone();
+    two_f.coefficients_mut().iter_mut().for_each(|c| *c *= 2.0);
+    for (v, want) in [(0, &f), (1, &two_f), (2, &fz)] {
+        let d = f.derivative(v).unwrap();
+        let (err, size) = deviation(&d, want, k - 1);
+        let tol = 2.0 * (4 * k + 4) as f64 * k as f64 * EPS * size;
+        eprintln!("∂f/∂x_{v}: max deviation {err:e} (tolerance {tol:e})");
+        assert!(err <= tol, "∂/∂x_{v}: {err:e} > {tol:e}");
+        assert_eq!(d.part_norm(k), 0.0, "degree-{k} part of ∂/∂x_{v}");
+    }
+    assert!(f.derivative(3).is_err());
+}
+
+/// The Poisson bracket of truncated polynomials against the expansion of the bracket worked out
+/// by hand. Two degrees of freedom `(q₁, q₂, p₁, p₂) = (x₀, x₁, x₂, x₃)` and a parameter
+/// `λ = x₄` (a passive variable), about `(0.3, −0.2, 0.5, 0.7, 1.1)`, degree 7:
+///
+/// `f = q₁² p₂ + λ sin(q₂) p₁`, `g = exp(q₁) p₁ p₂ + q₂ p₂²`,
+/// `{f, g} = 2q₁p₂·e^{q₁}p₂ − λ sin q₂·e^{q₁}p₁p₂ + λ cos q₂·p₁(e^{q₁}p₁ + 2q₂p₂) − q₁²p₂²`,
+///
+/// equal to degree 6 (the bracket differentiates once); the value at the point also against the
+/// crate's AD bracket [`hamilton_jacobi::brackets::poisson_bracket`] (λ fixed). Tolerance as in
+/// the derivative test, with four products of derivatives summed: `tol = 8·(4K + 4)·K·ε·M`.
+#[test]
+fn poisson_bracket_is_the_expansion_of_the_closed_form_bracket() {
+    let k = 7;
+    let at = [0.3, -0.2, 0.5, 0.7, 1.1];
+    let (f, g, want) = scope(5, k, |s| {
+        let x: Vec<Series> = (0..5).map(|i| s.variable_at(i, at[i]).unwrap()).collect();
+        let (q1, q2, p1, p2, lam) = (x[0], x[1], x[2], x[3], x[4]);
+        let f = q1 * q1 * p2 + lam * q2.sin() * p1;
+        let e = q1.exp();
+        let g = e * p1 * p2 + q2 * p2 * p2;
+        let want = q1 * p2 * e * p2 * 2.0 - lam * q2.sin() * e * p1 * p2
+            + lam * q2.cos() * p1 * (e * p1 + q2 * p2 * 2.0)
+            - q1 * q1 * p2 * p2;
+        (
+            s.polynomial(f).unwrap(),
+            s.polynomial(g).unwrap(),
+            s.polynomial(want).unwrap(),
+        )
+    })
+    .unwrap();
+    // Exact to degree K − 1 only: ask for that, so the degree-K part is empty.
+    let b = f.poisson_bracket(&g, 2, k - 1).unwrap();
+    let (err, size) = deviation(&b, &want, k - 1);
+    let tol = 8.0 * (4 * k + 4) as f64 * k as f64 * EPS * size;
+    eprintln!("{{f, g}}: max deviation {err:e} (tolerance {tol:e})");
+    assert!(err <= tol, "{err:e} > {tol:e}");
+    assert_eq!(b.part_norm(k), 0.0);
+    // Antisymmetry: the same products with the opposite sign, summed in another order.
+    let mut ba = g.poisson_bracket(&f, 2, k - 1).unwrap();
+    ba.coefficients_mut().iter_mut().for_each(|c| *c = -*c);
+    let (anti, _) = deviation(&ba, &b, k);
+    assert!(anti <= tol, "antisymmetry defect {anti:e} > {tol:e}");
+    // Truncation at a lower degree keeps exactly the coefficients of degree ≤ 3.
+    let b3 = f.poisson_bracket(&g, 2, 3).unwrap();
+    let top3 = b.monomials().of_degree(3).end;
+    assert_eq!(&b3.coefficients()[..top3], &b.coefficients()[..top3]);
+    assert_eq!(b3.part_norm(4), 0.0);
+    // The value at the point against the AD bracket with λ = 1.1 fixed.
+    struct F;
+    impl hamilton_jacobi::PhaseFunction<2> for F {
+        fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+            q[0] * q[0] * p[1] + q[1].sin() * p[0] * 1.1
+        }
+    }
+    struct G;
+    impl hamilton_jacobi::PhaseFunction<2> for G {
+        fn eval<D: DualNum<f64> + Copy>(&self, _t: D, q: &SVector<D, 2>, p: &SVector<D, 2>) -> D {
+            q[0].exp() * p[0] * p[1] + q[1] * p[1] * p[1]
+        }
+    }
+    let ad = hamilton_jacobi::brackets::poisson_bracket(
+        &F,
+        &G,
+        0.0,
+        &SVector::from([at[0], at[1]]),
+        &SVector::from([at[2], at[3]]),
+    )
+    .unwrap();
+    let c0 = b.coefficients()[0];
+    eprintln!("{{f, g}} at the point: series {c0:e}, AD {ad:e}");
+    assert!((c0 - ad).abs() <= tol, "{c0:e} against AD {ad:e}");
+    assert!(f.poisson_bracket(&g, 3, k).is_err());
+    assert!(f.poisson_bracket(&g, 0, k).is_err());
+    let other = Polynomial::zero(5, k - 1).unwrap();
+    assert!(f.poisson_bracket(&other, 2, k).is_err());
+}

@@ -286,6 +286,37 @@ impl Monomials {
         Ok(())
     }
 
+    /// `out = ∂a/∂x_v` (graded order, slices of length [`len`](Self::len), `v < n`):
+    /// `out[α − e_v] = α_v a_α`; the terms of degree `K` of `out` are zero. The address of
+    /// `α − e_v` is found, as in the product, from the additive half codes:
+    /// `code(α − e_v) = code(α) − code(e_v)`.
+    pub(crate) fn derivative(&self, a: &[f64], v: usize, out: &mut [f64]) {
+        let len = self.len;
+        let out = &mut out[..len];
+        out.fill(0.0);
+        let n1 = self.n / 2;
+        let radix = self.degree as u32 + 1;
+        let (first, unit) = if v < n1 {
+            (true, radix.pow(v as u32))
+        } else {
+            (false, radix.pow((v - n1) as u32))
+        };
+        for (i, &ai) in a[..len].iter().enumerate() {
+            let e = self.exponents[i * self.n + v];
+            if e == 0 || ai == 0.0 {
+                continue;
+            }
+            let (mut c1, mut c2) = self.codes[i];
+            if first {
+                c1 -= unit;
+            } else {
+                c2 -= unit;
+            }
+            let s = self.ia1[c1 as usize] + self.ia2[c2 as usize];
+            out[self.graded[s as usize] as usize] = f64::from(e) * ai;
+        }
+    }
+
     /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
     /// zero); only the products of degree `≤ d` are formed. Slices of length `len`.
     pub(crate) fn mul_to_degree(
