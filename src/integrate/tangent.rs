@@ -476,6 +476,11 @@ impl<S: crate::hamiltonian::Separable<N>, const N: usize> TangentMethod<S, N> fo
         match self {
             Self::General(m) => m.tangent_map(problem),
             Self::Splitting(m) => m.tangent_map(problem),
+            Self::TimeTransformed(m) => Err(Error::invalid(
+                format!("tangent map of {}", m.name()),
+                "not available for time-transformed splittings (their end point is found by an \
+                 iteration in fictitious time); use the splitting in physical time or DOP853",
+            )),
         }
     }
 }

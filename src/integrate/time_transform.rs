@@ -54,6 +54,7 @@
 //! Numerical Integration*, 2nd ed., §VIII.2.
 
 use super::coefficients::Flow;
+use super::methods::{Construction, MethodInfo};
 use super::sampling::illinois;
 use super::splitting::Splitting;
 use super::{compensated_add, observe, settle, Dense, Method, Observer, Problem, Report, Work};
@@ -230,8 +231,14 @@ impl TimeTransformed {
         Ok(())
     }
 
-    /// The name: the transformation and the splitting's label.
+    /// The name: the label of its entry in [`METHODS`](super::METHODS) for the logarithmic
+    /// Hamiltonian over a listed word, otherwise the transformation and the splitting's label.
     pub fn name(&self) -> String {
+        if self.sundman == Sundman::Logarithmic {
+            if let Some(info) = MethodInfo::of(Construction::TimeTransformed(self.method.table())) {
+                return info.label();
+            }
+        }
         let f = match self.sundman {
             Sundman::Logarithmic => "logarithmic Hamiltonian".to_string(),
             Sundman::Power(a) => format!("Sundman power α={a}"),
