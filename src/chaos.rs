@@ -33,7 +33,8 @@
 
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Hamiltonian;
-use crate::integrate::{compensated_add, Fixed, OneStep, Problem, Work};
+use crate::integrate::tangent::fixed_steps;
+use crate::integrate::{Fixed, OneStep, Problem, Work};
 use crate::phase::{CanonicalPair, State};
 use nalgebra::SVector;
 use num_dual::Dual64;
@@ -153,82 +154,77 @@ pub fn chaos_indicators<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize>(
         ));
     }
     let s0 = &problem.start;
-    let mut q = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(s0.q[i], deviation.0[i] / n0));
-    let mut p = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(s0.p[i], deviation.1[i] / n0));
-    let (mut cq, mut cp) = (SVector::<Dual64, N>::zeros(), SVector::<Dual64, N>::zeros());
+    let q0 = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(s0.q[i], deviation.0[i] / n0));
+    let p0 = SVector::<Dual64, N>::from_fn(|i, _| Dual64::new(s0.p[i], deviation.1[i] / n0));
     let mut work = Work::default();
     let (mut weighted, mut area, mut growth, mut y_prev, mut s_prev) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let mut history = Vec::new();
-    let mut t = t0;
     let mut last = ChaosIndicators {
         t: t0,
         megno: 0.0,
         mean_megno: 0.0,
         lyapunov: 0.0,
     };
-    for k in 0..steps {
-        let (dq, dp) = method.method.increment(
-            problem.system,
-            Dual64::from(t),
-            &q,
-            &p,
-            Dual64::from(dt),
-            &mut work,
-        )?;
-        if method.compensated {
-            compensated_add(&mut q, &mut cq, &dq);
-            compensated_add(&mut p, &mut cp, &dp);
-        } else {
-            q += dq;
-            p += dp;
-        }
-        work.steps += 1;
-        t = if k + 1 == steps {
-            t1
-        } else {
-            t0 + dt * (k + 1) as f64
-        };
-        let norm = q
-            .iter()
-            .chain(p.iter())
-            .map(|v| v.eps * v.eps)
-            .sum::<f64>()
-            .sqrt();
-        let finite_state = q.iter().chain(p.iter()).all(|v| v.re.is_finite());
-        if !(finite_state && norm.is_finite() && norm > 0.0) {
-            return Err(Error::NonFinite {
-                what: format!(
-                    "orbit or deviation at t = {t:e} ({}; an escape?)",
-                    OneStep::<S, N>::name(&method.method)
-                ),
-                value: if finite_state { norm } else { f64::NAN },
-            });
-        }
-        for v in q
-            .iter_mut()
-            .chain(p.iter_mut())
-            .chain(cq.iter_mut())
-            .chain(cp.iter_mut())
-        {
-            v.eps /= norm;
-        }
-        let r = norm.ln();
-        let s = t - t0;
-        growth += r;
-        weighted += r * 0.5 * (s_prev + s);
-        let y = 2.0 * weighted / s;
-        area += 0.5 * (y_prev + y) * (s - s_prev);
-        (y_prev, s_prev) = (y, s);
-        last = ChaosIndicators {
-            t,
-            megno: y,
-            mean_megno: area / s,
-            lyapunov: growth / s,
-        };
-        if (k + 1) % every == 0 || (records > 0 && k + 1 == steps) {
-            history.push(last);
-        }
-    }
+    let (q, p) = fixed_steps(
+        method,
+        t0,
+        t1,
+        &q0,
+        &p0,
+        |t, q, p, h| {
+            let step = method
+                .method
+                .increment(problem.system, t, q, p, h, &mut work);
+            work.steps += 1;
+            step
+        },
+        |k, t, sums| {
+            let norm = sums
+                .q
+                .iter()
+                .chain(sums.p.iter())
+                .map(|v| v.eps * v.eps)
+                .sum::<f64>()
+                .sqrt();
+            let finite_state = sums.q.iter().chain(sums.p.iter()).all(|v| v.re.is_finite());
+            if !(finite_state && norm.is_finite() && norm > 0.0) {
+                return Err(Error::NonFinite {
+                    what: format!(
+                        "orbit or deviation at t = {t:e} ({}; an escape?)",
+                        OneStep::<S, N>::name(&method.method)
+                    ),
+                    value: if finite_state { norm } else { f64::NAN },
+                });
+            }
+            for v in sums
+                .q
+                .iter_mut()
+                .chain(sums.p.iter_mut())
+                .chain(sums.cq.iter_mut())
+                .chain(sums.cp.iter_mut())
+            {
+                v.eps /= norm;
+            }
+            let r = norm.ln();
+            let s = t - t0;
+            growth += r;
+            weighted += r * 0.5 * (s_prev + s);
+            let y = 2.0 * weighted / s;
+            area += 0.5 * (y_prev + y) * (s - s_prev);
+            (y_prev, s_prev) = (y, s);
+            last = ChaosIndicators {
+                t,
+                megno: y,
+                mean_megno: area / s,
+                lyapunov: growth / s,
+            };
+            if (k + 1) % every == 0 || (records > 0 && k + 1 == steps) {
+                history.push(last);
+            }
+            Ok(())
+        },
+    )?;
+    let t = last.t;
     Ok(ChaosRun {
         last,
         history,

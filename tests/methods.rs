@@ -19,11 +19,13 @@ use hamilton_jacobi::systems::{Kepler2, Pendulum};
 /// Kepler + J₂ in the equatorial plane.
 type PlanarJ2 = PerturbedTwoBody<J2, NoForce, 2>;
 
-/// A knob value every method accepts: 20 steps, or a tolerance of 1e−8.
+/// A knob value every method accepts: 20 steps, a tolerance of 1e−8, or a step of 0.05 in
+/// fictitious time.
 fn knob(info: &MethodInfo) -> f64 {
     match info.knob {
         Knob::Steps => 20.0,
         Knob::Tolerance => 1e-8,
+        Knob::FictitiousStep => 0.05,
     }
 }
 
@@ -69,12 +71,26 @@ fn every_entry_round_trips() {
                 assert_eq!(a.info(), Some(info), "{key}");
                 assert_eq!(Some(a.order()), info.order, "{key}");
                 let shown = Method::<Pendulum, 1>::label(&a);
-                assert_eq!(shown, format!("{label} n=20"), "{key}");
-                let AnyMethod::Splitting(f) = a else {
-                    panic!("{key}: not a splitting")
-                };
-                assert_eq!(OneStep::<Pendulum, 1>::name(&f.method), label);
-                integrate(&pp, &a, &mut ()).unwrap();
+                match a {
+                    AnyMethod::Splitting(f) => {
+                        assert_eq!(shown, format!("{label} n=20"), "{key}");
+                        assert_eq!(OneStep::<Pendulum, 1>::name(&f.method), label);
+                    }
+                    AnyMethod::TimeTransformed(m) => {
+                        assert_eq!(shown, format!("{label} ds=5e-2"), "{key}");
+                        assert_eq!(m.name(), label);
+                        assert_eq!(info.knob, Knob::FictitiousStep, "{key}");
+                        assert!(a.steps().is_none(), "{key}");
+                        // U = −V = μ/r > 0 on Kepler's problem (shift c = 0); the pendulum's
+                        // V = 1 − cos q ≥ 0 needs a shift, which a table entry does not set.
+                        integrate(&kp, &a, &mut ()).unwrap();
+                        assert!(integrate(&pp, &a, &mut ()).is_err(), "{key}");
+                    }
+                    AnyMethod::General(_) => panic!("{key}: not a splitting"),
+                }
+                if let AnyMethod::Splitting(_) = a {
+                    integrate(&pp, &a, &mut ()).unwrap();
+                }
                 assert!(GeneralMethod::new(info, 20.0).is_err(), "{key}");
             }
             Capability::PerturbedKepler => {
@@ -103,9 +119,9 @@ fn every_entry_round_trips() {
             }
         }
     }
-    // RK4, Gauss–Legendre 1 … 6, DOP853, Taylor; 12 splittings; 8 Kepler splittings; the exact
-    // flow.
-    assert_eq!(seen, [9, 12, 8, 1]);
+    // RK4, Gauss–Legendre 1 … 6, DOP853, Taylor; 12 splittings and 3 of them time-transformed;
+    // 8 Kepler splittings; the exact flow.
+    assert_eq!(seen, [9, 15, 8, 1]);
 }
 
 /// The labels spell stages and order in one scheme for every family.
@@ -135,6 +151,14 @@ fn labels_follow_one_scheme() {
     assert_eq!(label("sbab2"), "Laskar–Robutel SBAB, 2 stages, order 2");
     assert_eq!(label("exact"), "exact flow");
     assert_eq!(label("taylor"), "Taylor (Jorba–Zou)");
+    assert_eq!(
+        label("log-h-verlet-dkd"),
+        "logarithmic-Hamiltonian leapfrog, 1 stage, order 2"
+    );
+    assert_eq!(
+        label("log-h-kahan-li17"),
+        "logarithmic-Hamiltonian Kahan–Li, 17 stages, order 8"
+    );
 }
 
 /// A scene names a method by its key, and the scene's kind is the table's entry: same key,
@@ -151,6 +175,7 @@ fn scene_kinds_are_the_table_entries() {
         let knob = match info.knob {
             Knob::Steps => SceneKnob::Steps,
             Knob::Tolerance => SceneKnob::Rtol,
+            Knob::FictitiousStep => SceneKnob::Ds,
         };
         assert_eq!(kind.knob(), knob, "{}", info.key);
     }

@@ -298,14 +298,15 @@ fn log_hamiltonian_leapfrog_keeps_the_kepler_orbit() {
 
 /// Higher-order compositions of the logarithmic-Hamiltonian leapfrog on Kepler e = 0.9 and 0.99
 /// over 100 periods against the exact flow, and the floor: the spread of the final states of
-/// the same scheme from starts moved by 1 ulp, beside the exact flow's own spread. Measured at
-/// ds = 0.05: errors 6.0e−11 (e = 0.9) and 1.4e−8 (e = 0.99), scheme spreads 6.5e−10 and
-/// 5.5e−7: the bounds are those floors.
+/// the same scheme from starts moved by 1 ulp, beside the exact flow's own spread. The error must
+/// reach max(1e−12, 3 × floor) (issue 18's goal for the time-transformed schemes). Measured at
+/// ds = 0.05: errors 1.1e−11 (e = 0.9) and 1.9e−7 (e = 0.99) against scheme spreads 6.5e−10 and
+/// 5.6e−7.
 #[test]
 fn log_hamiltonian_compositions_on_kepler_and_their_floor() {
     let kepler = Kepler2::new(1.0).unwrap();
     let t1 = 100.0 * TAU;
-    for (e, ds, bound) in [(0.9, 0.05, 1e-9), (0.99, 0.05, 1e-6)] {
+    for (e, ds) in [(0.9, 0.05), (0.99, 0.05)] {
         let start = kepler_start(e);
         let (qe, pe) = kepler.exact_flow(0.0, &start.q, &start.p, t1).unwrap();
         let pb = Problem::new(&kepler, 0.0, start.q, start.p, t1).unwrap();
@@ -326,7 +327,10 @@ fn log_hamiltonian_compositions_on_kepler_and_their_floor() {
              {exact_spread:.2e}",
             run.work.gradients, run.elapsed
         );
-        assert!(err < bound, "e = {e}: {err:e}");
+        // The goal of the time transformation: the truncation error below the rounding floor,
+        // max(1e−12, 3 × the 1-ulp spread of the scheme's own end state).
+        let bound = (3.0 * spread).max(1e-12);
+        assert!(err <= bound, "e = {e}: {err:e} > {bound:e}");
     }
 }
 

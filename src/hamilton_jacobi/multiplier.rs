@@ -31,6 +31,7 @@ use crate::brackets::partial_t;
 use crate::error::{all_finite, finite, Error, Result};
 use crate::hamiltonian::{Hamiltonian, PhaseFunction};
 use crate::phase::{check_phase, PhaseMatrix};
+use crate::special::double_double::compensated_add;
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::{first_derivative, Dual, DualNum};
 use std::cell::Cell;
@@ -272,16 +273,6 @@ pub fn variational_flow<H: Hamiltonian<N> + ?Sized, const N: usize>(
         jacobian: phi,
         divergence_integral: finite("∫ tr A dt", ell)?,
     })
-}
-
-/// Kahan's compensated summation `x += dx` componentwise, `c` carrying the lost low-order parts.
-fn compensated_add(x: &mut [f64], c: &mut [f64], dx: &[f64]) {
-    for ((x, c), &d) in x.iter_mut().zip(c.iter_mut()).zip(dx) {
-        let y = d - *c;
-        let s = *x + y;
-        *c = (s - *x) - y;
-        *x = s;
-    }
 }
 
 /// The momenta of a two-degree-of-freedom system solved from two integrals, `p_i = f_i(q; h, a)`

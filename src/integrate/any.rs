@@ -37,7 +37,8 @@
 
 use super::methods::{self, whole_steps, Capability, Construction, MethodInfo};
 use super::{
-    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting, Taylor,
+    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting, Sundman,
+    Taylor, TimeTransformed,
 };
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
@@ -203,8 +204,9 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for GeneralMethod {
     }
 }
 
-/// A method for a [`Separable`] system `H = T(p) + V(q)`: any [`GeneralMethod`], or an explicit
-/// splitting or composition method ([`Splitting`]) with a fixed number of steps.
+/// A method for a [`Separable`] system `H = T(p) + V(q)`: any [`GeneralMethod`], an explicit
+/// splitting or composition method ([`Splitting`]) with a fixed number of steps, or one run in
+/// fictitious time under the logarithmic Hamiltonian ([`TimeTransformed`]).
 // A Gauss–Legendre variant carries its coefficient tables (a few hundred bytes); method values
 // are built once per entry of a sweep, so the size is kept rather than boxed (which would cost
 // `Copy`).
@@ -215,12 +217,16 @@ pub enum AnyMethod {
     General(GeneralMethod),
     /// An explicit splitting method.
     Splitting(Fixed<Splitting>),
+    /// A splitting run in fictitious time under the logarithmic Hamiltonian, with its step `ds`
+    /// (adaptive in physical time).
+    TimeTransformed(TimeTransformed),
 }
 
 impl AnyMethod {
     /// The method `info` describes (one of [`METHODS`](super::METHODS), found by key with
-    /// [`MethodInfo::find`]), with `knob` its number of steps (a whole number) or, for
-    /// Dormand–Prince, its tolerance (`rtol = atol = knob`).
+    /// [`MethodInfo::find`]), with `knob` its number of steps (a whole number), for
+    /// Dormand–Prince its tolerance (`rtol = atol = knob`), for a time-transformed splitting its
+    /// step in fictitious time.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for a method that needs more than a [`Separable`] system
@@ -230,6 +236,10 @@ impl AnyMethod {
         match info.construction {
             Construction::Splitting(table) => {
                 Self::of_splitting(Splitting::new(table)?, whole_steps(knob)?)
+            }
+            Construction::TimeTransformed(table) => {
+                TimeTransformed::logarithmic(Splitting::new(table)?, knob)
+                    .map(Self::TimeTransformed)
             }
             _ if info.capability() == Capability::Hamiltonian => {
                 GeneralMethod::new(info, knob).map(Self::General)
@@ -247,6 +257,10 @@ impl AnyMethod {
         match self {
             Self::General(m) => Some(m.info()),
             Self::Splitting(m) => MethodInfo::of(Construction::Splitting(m.method.table())),
+            Self::TimeTransformed(m) if m.sundman == Sundman::Logarithmic => {
+                MethodInfo::of(Construction::TimeTransformed(m.method.table()))
+            }
+            Self::TimeTransformed(_) => None,
         }
     }
 
@@ -280,14 +294,17 @@ impl AnyMethod {
         match self {
             Self::General(m) => m.order(),
             Self::Splitting(m) => m.method.table().order,
+            Self::TimeTransformed(m) => m.method.table().order,
         }
     }
 
-    /// Number of steps of a fixed-step method; `None` for DOP853.
+    /// Number of steps of a fixed-step method; `None` for DOP853 and the time-transformed
+    /// splittings (fixed steps in fictitious time only).
     pub fn steps(&self) -> Option<usize> {
         match self {
             Self::General(m) => m.steps(),
             Self::Splitting(m) => Some(m.steps),
+            Self::TimeTransformed(_) => None,
         }
     }
 }
@@ -295,6 +312,12 @@ impl AnyMethod {
 impl From<GeneralMethod> for AnyMethod {
     fn from(m: GeneralMethod) -> Self {
         Self::General(m)
+    }
+}
+
+impl From<TimeTransformed> for AnyMethod {
+    fn from(m: TimeTransformed) -> Self {
+        Self::TimeTransformed(m)
     }
 }
 
@@ -309,6 +332,7 @@ impl<S: Separable<N>, const N: usize> Method<S, N> for AnyMethod {
         match self {
             Self::General(m) => Method::<S, N>::label(m),
             Self::Splitting(m) => Method::<S, N>::label(m),
+            Self::TimeTransformed(m) => Method::<S, N>::label(m),
         }
     }
 
@@ -320,6 +344,7 @@ impl<S: Separable<N>, const N: usize> Method<S, N> for AnyMethod {
         match self {
             Self::General(m) => integrate(problem, m, observer),
             Self::Splitting(m) => integrate(problem, m, observer),
+            Self::TimeTransformed(m) => integrate(problem, m, observer),
         }
     }
 }

@@ -78,6 +78,9 @@ pub enum Construction {
     Exact,
     /// [`Taylor`](super::Taylor) with its tolerance (order and step after Jorba & Zou).
     Taylor,
+    /// [`TimeTransformed`](super::TimeTransformed): the logarithmic Hamiltonian
+    /// (Mikkola–Tanikawa) over this table's word, with its step in fictitious time.
+    TimeTransformed(&'static Table),
 }
 
 impl Construction {
@@ -88,7 +91,7 @@ impl Construction {
             | Construction::Gauss(_)
             | Construction::Dop853
             | Construction::Taylor => Capability::Hamiltonian,
-            Construction::Splitting(_) => Capability::Separable,
+            Construction::Splitting(_) | Construction::TimeTransformed(_) => Capability::Separable,
             Construction::KeplerSplitting(_) => Capability::PerturbedKepler,
             Construction::Exact => Capability::ExactFlow,
         }
@@ -102,6 +105,9 @@ pub enum Knob {
     Steps,
     /// A tolerance, used as both `rtol` and `atol` of the step-size control.
     Tolerance,
+    /// The step `ds` in fictitious time of a time-transformed method (its steps in physical
+    /// time follow the motion).
+    FictitiousStep,
 }
 
 /// One integration method, described once (see the [module docs](self) for the naming scheme).
@@ -243,10 +249,30 @@ pub const EXACT: MethodInfo = MethodInfo {
     reference: "the system's closed-form flow (ExactFlow)",
 };
 
+/// A splitting word run in fictitious time under the logarithmic Hamiltonian (Mikkola &
+/// Tanikawa 1999): stages and order from the table (the order in `s`), knob the step `ds`.
+const fn log_hamiltonian(
+    key: &'static str,
+    family: &'static str,
+    table: &'static Table,
+) -> MethodInfo {
+    MethodInfo {
+        key,
+        family,
+        stages: table.stages(),
+        order: Some(table.order),
+        knob: Knob::FictitiousStep,
+        symplectic: true,
+        construction: Construction::TimeTransformed(table),
+        reference: "Mikkola & Tanikawa, MNRAS 310 (1999) 745–749; Preto & Tremaine, AJ 118 \
+                    (1999) 2532–2541",
+    }
+}
+
 /// Every integration method of the crate, in the order `hj list` shows them: the methods for
-/// any Hamiltonian (Taylor last of them), the explicit splittings (lowest order first), the Kepler splittings, the
-/// exact flow.
-pub static METHODS: [MethodInfo; 30] = {
+/// any Hamiltonian (Taylor last of them), the explicit splittings (lowest order first), the
+/// time-transformed splittings, the Kepler splittings, the exact flow.
+pub static METHODS: [MethodInfo; 33] = {
     use super::coefficients as c;
     use Construction::{KeplerSplitting, Splitting};
     [
@@ -271,6 +297,21 @@ pub static METHODS: [MethodInfo; 30] = {
         from_table("yoshida15", Splitting(&c::YOSHIDA15)),
         from_table("kahan-li17", Splitting(&c::KAHAN_LI17)),
         from_table("sofroniou-spaletta35", Splitting(&c::SOFRONIOU_SPALETTA35)),
+        log_hamiltonian(
+            "log-h-verlet-dkd",
+            "logarithmic-Hamiltonian leapfrog",
+            &c::VERLET_DKD,
+        ),
+        log_hamiltonian(
+            "log-h-kahan-li9",
+            "logarithmic-Hamiltonian Kahan–Li",
+            &c::KAHAN_LI9,
+        ),
+        log_hamiltonian(
+            "log-h-kahan-li17",
+            "logarithmic-Hamiltonian Kahan–Li",
+            &c::KAHAN_LI17,
+        ),
         from_table("wisdom-holman", KeplerSplitting(&c::SBAB1)),
         from_table("saba1", KeplerSplitting(&c::SABA1)),
         from_table("saba2", KeplerSplitting(&c::SABA2)),

@@ -416,20 +416,19 @@ impl<M> Fixed<M> {
     }
 }
 
-/// Kahan-compensated `x += dx`, for any number type (on dual numbers the real parts round
-/// exactly as on reals, so a run differentiated by [`tangent`] follows the real run bit for bit).
+/// Kahan-compensated `x += dx` on phase vectors ([`kahan_add`](crate::special::double_double::kahan_add)
+/// componentwise).
 #[inline]
 pub(crate) fn compensated_add<D: DualNum<f64> + Copy, const N: usize>(
     x: &mut SVector<D, N>,
     carry: &mut SVector<D, N>,
     dx: &SVector<D, N>,
 ) {
-    for i in 0..N {
-        let y = dx[i] - carry[i];
-        let s = x[i] + y;
-        carry[i] = (s - x[i]) - y;
-        x[i] = s;
-    }
+    crate::special::double_double::compensated_add(
+        x.as_mut_slice(),
+        carry.as_mut_slice(),
+        dx.as_slice(),
+    );
 }
 
 impl<S: Hamiltonian<N>, M: OneStep<S, N>, const N: usize> Method<S, N> for Fixed<M> {

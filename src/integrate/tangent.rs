@@ -95,18 +95,41 @@ impl<S, M: OneStep<S, N>, const N: usize> PhaseMap<N> for FixedRun<'_, S, M> {
         p: &SVector<D, N>,
     ) -> CanonicalPair<N, D> {
         let mut work = Work::default();
-        fixed_steps(self.method, t.re(), self.t1, q, p, |tk, q, p, dt| {
-            self.method
-                .method
-                .increment(self.system, tk, q, p, dt, &mut work)
+        // A failed step makes the map non-finite, which `run_jacobian` reports.
+        fixed_steps(
+            self.method,
+            t.re(),
+            self.t1,
+            q,
+            p,
+            |tk, q, p, dt| {
+                self.method
+                    .method
+                    .increment(self.system, tk, q, p, dt, &mut work)
+            },
+            |_, _, _| Ok(()),
+        )
+        .unwrap_or_else(|_| {
+            let nan = SVector::from_element(D::from(f64::NAN));
+            (nan, nan)
         })
     }
 }
 
+/// The running sums of [`fixed_steps`]: the state and the carries of its compensated sums (zero
+/// when the method sums plainly).
+pub(crate) struct FixedSums<D, const N: usize> {
+    pub q: SVector<D, N>,
+    pub p: SVector<D, N>,
+    pub cq: SVector<D, N>,
+    pub cp: SVector<D, N>,
+}
+
 /// The driver of [`Fixed`] on any number type: `method.steps` equal steps from `(t₀, q, p)` to
 /// `t₁`, each the increment `increment(t_k, q, p, h)`, summed (compensated when the method is) as
-/// by [`integrate`]; NaN when a step fails.
-fn fixed_steps<D: DualNum<f64> + Copy, M, const N: usize>(
+/// by [`integrate`]; after step `k` (ending at `t`), `after_step(k, t, sums)` may inspect or
+/// rescale the sums. The first error of a step or of `after_step` ends the run.
+pub(crate) fn fixed_steps<D: DualNum<f64> + Copy, M, const N: usize>(
     method: &Fixed<M>,
     t0: f64,
     t1: f64,
@@ -118,31 +141,34 @@ fn fixed_steps<D: DualNum<f64> + Copy, M, const N: usize>(
         &SVector<D, N>,
         D,
     ) -> Result<(SVector<D, N>, SVector<D, N>)>,
-) -> CanonicalPair<N, D> {
+    mut after_step: impl FnMut(usize, f64, &mut FixedSums<D, N>) -> Result<()>,
+) -> Result<CanonicalPair<N, D>> {
     let steps = method.steps;
     let dt = (t1 - t0) / steps as f64;
-    let (mut q, mut p) = (*q, *p);
-    let (mut cq, mut cp) = (SVector::<D, N>::zeros(), SVector::<D, N>::zeros());
+    let mut sums = FixedSums {
+        q: *q,
+        p: *p,
+        cq: SVector::zeros(),
+        cp: SVector::zeros(),
+    };
     let mut tk = t0;
     for k in 0..steps {
-        let Ok((dq, dp)) = increment(D::from(tk), &q, &p, D::from(dt)) else {
-            let nan = SVector::from_element(D::from(f64::NAN));
-            return (nan, nan);
-        };
+        let (dq, dp) = increment(D::from(tk), &sums.q, &sums.p, D::from(dt))?;
         if method.compensated {
-            compensated_add(&mut q, &mut cq, &dq);
-            compensated_add(&mut p, &mut cp, &dp);
+            compensated_add(&mut sums.q, &mut sums.cq, &dq);
+            compensated_add(&mut sums.p, &mut sums.cp, &dp);
         } else {
-            q += dq;
-            p += dp;
+            sums.q += dq;
+            sums.p += dp;
         }
         tk = if k + 1 == steps {
             t1
         } else {
             t0 + dt * (k + 1) as f64
         };
+        after_step(k, tk, &mut sums)?;
     }
-    (q, p)
+    Ok((sums.q, sums.p))
 }
 
 /// The Jacobian of `map` at the problem's initial state, with the errors named after `what`.
@@ -450,6 +476,11 @@ impl<S: crate::hamiltonian::Separable<N>, const N: usize> TangentMethod<S, N> fo
         match self {
             Self::General(m) => m.tangent_map(problem),
             Self::Splitting(m) => m.tangent_map(problem),
+            Self::TimeTransformed(m) => Err(Error::invalid(
+                format!("tangent map of {}", m.name()),
+                "not available for time-transformed splittings (their end point is found by an \
+                 iteration in fictitious time); use the splitting in physical time or DOP853",
+            )),
         }
     }
 }
@@ -610,7 +641,8 @@ where
                     .method
                     .increment_at(problem.system, &kd, t, q, p, h, &mut work)
             },
-        );
+            |_, _, _| Ok(()),
+        )?;
         let column = q.iter().chain(p.iter()).map(|d| d.eps);
         if let Some(v) = column.clone().find(|v| !v.is_finite()) {
             return Err(Error::NonFinite {

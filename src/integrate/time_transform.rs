@@ -54,12 +54,14 @@
 //! Numerical Integration*, 2nd ed., §VIII.2.
 
 use super::coefficients::Flow;
+use super::methods::{Construction, MethodInfo};
 use super::sampling::illinois;
 use super::splitting::Splitting;
 use super::{compensated_add, observe, settle, Dense, Method, Observer, Problem, Report, Work};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::Separable;
 use crate::phase::State;
+use crate::special::double_double::kahan_add;
 use nalgebra::SVector;
 use num_dual::Dual64;
 use std::cell::Cell;
@@ -137,14 +139,6 @@ struct Extended<const N: usize> {
     t: f64,
     pt: f64,
     carry: (SVector<f64, N>, SVector<f64, N>, f64, f64),
-}
-
-#[inline]
-fn kahan(x: &mut f64, carry: &mut f64, dx: f64) {
-    let y = dx - *carry;
-    let s = *x + y;
-    *carry = (s - *x) - y;
-    *x = s;
 }
 
 impl<const N: usize> Extended<N> {
@@ -237,8 +231,14 @@ impl TimeTransformed {
         Ok(())
     }
 
-    /// The name: the transformation and the splitting's label.
+    /// The name: the label of its entry in [`METHODS`](super::METHODS) for the logarithmic
+    /// Hamiltonian over a listed word, otherwise the transformation and the splitting's label.
     pub fn name(&self) -> String {
+        if self.sundman == Sundman::Logarithmic {
+            if let Some(info) = MethodInfo::of(Construction::TimeTransformed(self.method.table())) {
+                return info.label();
+            }
+        }
         let f = match self.sundman {
             Sundman::Logarithmic => "logarithmic Hamiltonian".to_string(),
             Sundman::Power(a) => format!("Sundman power α={a}"),
@@ -296,7 +296,7 @@ impl TimeTransformed {
                     }
                     let rate = self.sundman.rate(e) * hc;
                     compensated_add(&mut y.q, &mut y.carry.0, &(tp * rate));
-                    kahan(&mut y.t, &mut y.carry.2, rate);
+                    kahan_add(&mut y.t, &mut y.carry.2, rate);
                 }
                 Flow::B => {
                     work.gradients += 1;
@@ -313,7 +313,7 @@ impl TimeTransformed {
                         .eps;
                     let rate = self.sundman.rate(u) * hc;
                     compensated_add(&mut y.p, &mut y.carry.1, &(vq * (-rate)));
-                    kahan(&mut y.pt, &mut y.carry.3, -rate * vt);
+                    kahan_add(&mut y.pt, &mut y.carry.3, -rate * vt);
                 }
             }
             Ok(())

@@ -35,7 +35,7 @@
 //! the estimate, which is an estimate for `y_{h/2}`.
 
 use crate::error::{all_finite, finite, Error, Result};
-use crate::integrate::rk4_increment;
+use crate::integrate::{compensated_add, rk4_increment};
 use nalgebra::SVector;
 
 /// A pair of `N`-vectors: the `2N` elements (or their rates) as two blocks.
@@ -79,20 +79,6 @@ impl<const N: usize> Richardson<N> {
 fn check_rate<const N: usize>(t: f64, k: &ElementPair<N>) -> Result<()> {
     all_finite(format_args!("element rate ȧ at t = {t}; ȧ"), k.0.as_slice())?;
     all_finite(format_args!("element rate ḃ at t = {t}; ḃ"), k.1.as_slice())
-}
-
-/// Kahan-compensated `x += dx`.
-fn compensated_add<const N: usize>(
-    x: &mut SVector<f64, N>,
-    carry: &mut SVector<f64, N>,
-    dx: &SVector<f64, N>,
-) {
-    for i in 0..N {
-        let y = dx[i] - carry[i];
-        let s = x[i] + y;
-        carry[i] = (s - x[i]) - y;
-        x[i] = s;
-    }
 }
 
 /// Integrate `ode` from `(a₀, b₀)` at `t₀` to `t₁` with `steps` equal RK4 steps.

@@ -188,6 +188,7 @@ fn knob_values(file: &str, i: usize, m: &MethodSpec) -> Result<Vec<f64>, SceneEr
         (Knob::Steps, m.steps.is_some()),
         (Knob::Rtol, m.rtol.is_some()),
         (Knob::Orders, m.orders.is_some()),
+        (Knob::Ds, m.ds.is_some()),
     ];
     for (k, present) in given {
         if present && k != want {
@@ -207,6 +208,7 @@ fn knob_values(file: &str, i: usize, m: &MethodSpec) -> Result<Vec<f64>, SceneEr
         Knob::Steps => m.steps.iter().flatten().map(|&n| n as f64).collect(),
         Knob::Rtol => m.rtol.clone().unwrap_or_default(),
         Knob::Orders => m.orders.iter().flatten().map(|&n| f64::from(n)).collect(),
+        Knob::Ds => m.ds.clone().unwrap_or_default(),
     };
     if values.is_empty() {
         return Err(SceneError::new(
@@ -239,16 +241,21 @@ fn check_knob(knob: Knob, v: f64) -> Result<(), String> {
         Knob::Orders if !(1.0..=64.0).contains(&v) => {
             Err(format!("expected an order in 1..=64, found {}", fmt_num(v)))
         }
+        Knob::Ds if !(v.is_finite() && v > 0.0) => Err(format!(
+            "expected a positive finite step in fictitious time, found {}",
+            fmt_num(v)
+        )),
         _ => Ok(()),
     }
 }
 
 fn run_knob(file: &str, key: &str, r: &RunSpec) -> Result<f64, SceneError> {
     let want = r.method.knob();
-    let given: [(Knob, Option<f64>); 3] = [
+    let given: [(Knob, Option<f64>); 4] = [
         (Knob::Steps, r.steps.map(|n| n as f64)),
         (Knob::Rtol, r.rtol),
         (Knob::Orders, r.order.map(f64::from)),
+        (Knob::Ds, r.ds),
     ];
     let mut value = None;
     for (k, v) in given {
@@ -293,6 +300,7 @@ fn knob_text(kind: MethodKind, knob: f64) -> Option<String> {
         Knob::Steps => Some(format!("{knob:.0} steps")),
         Knob::Rtol => Some(format!("rtol {knob:.0e}")),
         Knob::Orders => Some(format!("order {knob:.0}")),
+        Knob::Ds => Some(format!("ds {}", fmt_num(knob))),
         Knob::None => None,
     }
 }

@@ -197,6 +197,8 @@ pub enum Knob {
     Rtol,
     /// Order of a series.
     Orders,
+    /// Step in fictitious time (time-transformed splittings).
+    Ds,
     /// No knob: one run.
     None,
 }
@@ -206,6 +208,7 @@ impl From<methods::Knob> for Knob {
         match knob {
             methods::Knob::Steps => Knob::Steps,
             methods::Knob::Tolerance => Knob::Rtol,
+            methods::Knob::FictitiousStep => Knob::Ds,
         }
     }
 }
@@ -225,6 +228,7 @@ impl Knob {
             Knob::Steps => "steps",
             Knob::Rtol => "rtol",
             Knob::Orders => "orders",
+            Knob::Ds => "ds",
             Knob::None => "",
         }
     }
@@ -322,6 +326,8 @@ pub struct MethodSpec {
     pub rtol: Option<Vec<f64>>,
     /// Orders (series theories).
     pub orders: Option<Vec<u32>>,
+    /// Steps in fictitious time (time-transformed splittings).
+    pub ds: Option<Vec<f64>>,
     /// Label in tables and legends (default: the method's label, [`MethodKind::label`]).
     pub label: Option<String>,
 }
@@ -338,6 +344,8 @@ pub struct RunSpec {
     pub rtol: Option<f64>,
     /// Order (series theories).
     pub order: Option<u32>,
+    /// Step in fictitious time (time-transformed splittings).
+    pub ds: Option<f64>,
 }
 
 fn yes() -> bool {

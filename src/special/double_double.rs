@@ -63,6 +63,37 @@ pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
     (p, a.mul_add(b, -p))
 }
 
+/// Kahan's compensated summation `x += dx`: `carry` holds the low-order part lost by the
+/// previous additions and is subtracted from the next increment,
+///
+/// ```math
+/// y = \delta x - c,\qquad s = \mathrm{fl}(x + y),\qquad c \leftarrow (s - x) - y,\qquad x \leftarrow s,
+/// ```
+///
+/// so that a sum of `n` increments has an error bound `2u Σ|δx|` independent of `n` (Higham,
+/// *Accuracy and Stability of Numerical Algorithms*, 2nd ed., 2002, §4.3). For any number type:
+/// on dual numbers the real parts round exactly as on reals, so a run differentiated by forward
+/// AD follows the real run bit for bit.
+#[inline]
+pub(crate) fn kahan_add<D: num_dual::DualNum<f64> + Copy>(x: &mut D, carry: &mut D, dx: D) {
+    let y = dx - *carry;
+    let s = *x + y;
+    *carry = (s - *x) - y;
+    *x = s;
+}
+
+/// [`kahan_add`] componentwise over equally long slices.
+#[inline]
+pub(crate) fn compensated_add<D: num_dual::DualNum<f64> + Copy>(
+    x: &mut [D],
+    carry: &mut [D],
+    dx: &[D],
+) {
+    for ((x, c), &d) in x.iter_mut().zip(carry.iter_mut()).zip(dx) {
+        kahan_add(x, c, d);
+    }
+}
+
 /// A double-double number `hi + lo`, normalised so that `hi = fl(hi + lo)` (see the
 /// [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
