@@ -65,12 +65,7 @@ pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
 
 /// Kahan's compensated summation `x += dx`: `carry` holds the low-order part lost by the
 /// previous additions and is subtracted from the next increment,
-///
-/// ```math
-/// y = \delta x - c,\qquad s = \mathrm{fl}(x + y),\qquad c \leftarrow (s - x) - y,\qquad x \leftarrow s,
-/// ```
-///
-/// so that a sum of `n` increments has an error bound `2u Σ|δx|` independent of `n` (Higham,
+/// `y = δx − c`, `s = fl(x + y)`, `c ← (s − x) − y`, `x ← s`, so that a sum of `n` increments has an error bound `2u Σ|δx|` independent of `n` (Higham,
 /// *Accuracy and Stability of Numerical Algorithms*, 2nd ed., 2002, §4.3). For any number type:
 /// on dual numbers the real parts round exactly as on reals, so a run differentiated by forward
 /// AD follows the real run bit for bit.

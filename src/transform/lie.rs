@@ -318,12 +318,7 @@ where
 /// point `(t₀, z₀) = (re t, re z)` to total degree `K = depth + d` in the displacement
 /// `x = z − z₀` (and `τ = t − t₀` when `d ≥ 1`, so that derivatives in `t` are kept):
 /// `ρ̂ = Σ_{|α| ≤ K} r_α x^α` ([`crate::series::scope_with`]). The Lie terms are polynomials,
-///
-/// ```math
-/// \varphi_0 = z_0 + x,\qquad \varphi_{k+1} = \{\varphi_k, \hat\rho\}
-/// \quad\text{truncated at degree } K - k - 1,
-/// ```
-///
+/// `φ₀ = z₀ + x` and `φ_{k+1} = {φ_k, ρ̂}` truncated at degree `K − k − 1`
 /// ([`Polynomial::poisson_bracket`]); each bracket differentiates once, so `φ_k` is exact to
 /// degree `K − k ≥ d` for `k ≤ depth`. Evaluated at the displacement `x = z − z₀` of `D`, whose
 /// powers beyond `d` vanish, `Σ_{|α| ≤ d} φ_{k,α} x^α` is the value of `φ_k` in `D` with all
