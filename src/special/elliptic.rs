@@ -251,13 +251,7 @@ pub(crate) fn incomplete_f(sin_phi: f64, cos2: f64, delta2: f64) -> Result<f64> 
 
 /// `Π(n; φ | k) = ∫₀^φ dθ / ((1 − n sin²θ) √(1 − k² sin²θ))` for `φ ∈ [−π/2, π/2]` and `n < 1`,
 /// given `sin φ`, `cos² φ`, `Δ² = 1 − k² sin² φ` and `1 − n`, via Carlson's form (DLMF 19.25.14)
-///
-/// ```math
-/// \Pi(n; \varphi \mid k) = \sin\varphi\, R_F(\cos^2\varphi, \Delta^2, 1)
-///   + \tfrac{n}{3}\sin^3\varphi\, R_J(\cos^2\varphi, \Delta^2, 1, 1 - n\sin^2\varphi),
-/// ```
-///
-/// with `1 − n sin²φ = cos²φ + (1 − n) sin²φ` formed without cancellation; `R_F`, `R_J` from the
+/// `Π = sin φ · R_F(cos²φ, Δ², 1) + (n/3) sin³φ · R_J(cos²φ, Δ², 1, 1 − n sin²φ)`, with `1 − n sin²φ = cos²φ + (1 − n) sin²φ` formed without cancellation; `R_F`, `R_J` from the
 /// `ellip` crate (Carlson's duplication algorithm, DLMF 19.36(i)).
 pub(crate) fn incomplete_pi(
     n: f64,
