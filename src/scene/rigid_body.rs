@@ -255,18 +255,14 @@ pub fn intermediate_axis(
                 curve.clone(),
                 Style::Line,
             )
-            .curve(
-                format!("{name}: attitude"),
-                attitude.clone(),
-                Style::LineMarkers,
-            );
+            .curve(format!("{name}: attitude"), attitude.clone(), Style::Line);
     }
     error_fig = error_fig.caption(format!(
         "The error of the Lie–Poisson splitting of H = Σ Π_i²/(2I_i) into exactly solvable \
          rotations (Strang, and its Yoshida composition) with {steps} steps over t ∈ [0, {}], \
          against the Euler–Poinsot exact flow, along the flipping motion of the momentum figure: \
          the relative error of Π (lines) and the angle of R_exact⁻¹R between the attitude \
-         carried through the same sub-rotations and the exact attitude (with markers; precession by \
+         carried through the same sub-rotations and the exact attitude (legend: attitude; precession by \
          the elliptic integral of the third kind). The error grows with the phase error of the flips; the Casimir |Π|² is kept to \
          rounding (max relative drift {} and {}) and the energy error stays bounded ({} and {}).",
         fmt_num(time),
