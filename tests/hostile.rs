@@ -6233,30 +6233,6 @@ mod expression_calls {
     pub fn add(c: &mut Vec<Call>) {
         for (label, text) in hostile_texts() {
             let text2 = text.clone();
-            let text3 = text.clone();
-            c.push(Call {
-                label: format!("ExpressionPfaffian::value({label})"),
-                body: Box::new(move || {
-                    let q = SVector::from([0.7, 0.2]);
-                    judge(
-                        hamilton_jacobi::expression::ExpressionPfaffian::<2, 1>::new(
-                            &[[text3.as_str(), "1"]],
-                            Some(&[text3.as_str()][..]),
-                            &["x", "y"],
-                            &[],
-                        ),
-                        true,
-                        |g| match (g.value(0.3, &q), g.check_configuration(0.3, &q)) {
-                            (Err(_), Err(_)) => Typed,
-                            (Ok((a, b)), Ok(())) => {
-                                all(a.iter().chain(b.iter()).map(|x| finite_ok("a, b", *x)))
-                            }
-                            (Ok(_), Err(e)) => Wrong(format!("finite rows refused: {e}")),
-                            (Err(_), Ok(())) => Wrong("non-finite rows accepted".into()),
-                        },
-                    )
-                }),
-            });
             c.push(Call {
                 label: format!("parse::parse({label})"),
                 body: Box::new(move || match parse::parse(&text, &["x", "t"]) {

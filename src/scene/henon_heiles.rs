@@ -23,6 +23,7 @@
 use super::case::Table;
 use crate::error::{finite, fmt_num, positive, Error, Result};
 use crate::frequency_analysis::leading_line;
+use crate::integrate::sampling::locate;
 use crate::integrate::{
     integrate, Control, Dop853, FirstOrderSystem, Observer, Problem, Samples, StepView,
 };
@@ -125,22 +126,14 @@ impl Observer<2> for Crossings {
         let (a, b) = (st.prev, st.next);
         let ib = action1(b);
         self.range = (self.range.0.min(ib), self.range.1.max(ib));
-        if action1(a) < self.level && ib >= self.level {
-            let (mut lo, mut hi) = (a.t, b.t);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if mid <= lo || mid >= hi {
-                    break;
-                }
-                if action1(&st.dense.at(mid)) < self.level {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
+        let (ga, gb) = (action1(a) - self.level, ib - self.level);
+        if ga < 0.0 && gb >= 0.0 {
+            // Located by the crate's Illinois iteration on the step's dense output.
+            let level = self.level;
+            if let Some(s) = locate(st.dense, a, b, ga, gb, |x| action1(x) - level) {
+                let ph = self.phase + wrap(angle2(&s) - self.last_angle);
+                self.crossings.push((s.t, ph));
             }
-            let s = st.dense.at(lo);
-            let ph = self.phase + wrap(angle2(&s) - self.last_angle);
-            self.crossings.push((lo, ph));
         }
         let ang = angle2(b);
         self.phase += wrap(ang - self.last_angle);
