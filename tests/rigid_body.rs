@@ -1050,10 +1050,11 @@ fn lie_poisson_attitude_order_against_euler_poinsot() {
 }
 
 /// Over 10⁴ periods of I = (1, 2, 3): the fourth-order composition's attitude error against the
-/// Euler–Poinsot attitude at 100 and 200 steps per period has the observed order 4 ± 0.1 (the
-/// error grows linearly in time — a phase error — and stays below 0.5 rad, far from the
-/// saturation of the angle at π, at these steps), the
-/// energy error stays bounded and the Casimir to rounding.
+/// Euler–Poinsot attitude at 100 and 200 steps per period has the observed order 4 ± 0.1, the
+/// energy error stays bounded and the Casimir to rounding. The attitude error is a phase error,
+/// `e(t) = C h⁴ t` plus a bounded part: from 10² to 10⁴ periods at the same step it grows by
+/// 100 within 5 % (the bounded part is below 1 % of `e(10²)`, and the angle of the error
+/// rotation, 0.15 rad, departs from additivity by `θ²/6 < 0.4 %`; measured 99.7).
 #[test]
 fn lie_poisson_attitude_over_ten_thousand_periods() {
     let b = body();
@@ -1061,6 +1062,7 @@ fn lie_poisson_attitude_over_ten_thousand_periods() {
     let y4 = LiePoisson::composition(&b, &YOSHIDA3).unwrap();
     let a = lie_poisson_attitude_error(&y4, &b, &pi0, 1e4, 100);
     let c = lie_poisson_attitude_error(&y4, &b, &pi0, 1e4, 200);
+    let short = lie_poisson_attitude_error(&y4, &b, &pi0, 1e2, 100);
     let order = (a.attitude / c.attitude).log2();
     eprintln!(
         "1e4 periods, order 4: attitude {:e} {:e} (observed {order:.3}), Π {:e} {:e}, \
@@ -1076,10 +1078,9 @@ fn lie_poisson_attitude_over_ten_thousand_periods() {
         a.spatial,
         c.spatial
     );
-    assert!(
-        a.attitude < 0.5 && (order - 4.0).abs() < 0.1,
-        "order {order}"
-    );
+    let growth = a.attitude / short.attitude;
+    assert!((order - 4.0).abs() < 0.1, "order {order}");
+    assert!((growth / 100.0 - 1.0).abs() < 0.05, "growth {growth}");
     assert!(a.energy < 1e-4 && c.energy < a.energy / 8.0);
     assert!(a.casimir < 1e-12 && c.casimir < 1e-12);
 }
