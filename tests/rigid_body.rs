@@ -1053,8 +1053,8 @@ fn lie_poisson_attitude_order_against_euler_poinsot() {
 /// Euler–Poinsot attitude at 100 and 200 steps per period has the observed order 4 ± 0.1, the
 /// energy error stays bounded and the Casimir to rounding. The attitude error is a phase error,
 /// `e(t) = C h⁴ t` plus a bounded part: from 10² to 10⁴ periods at the same step it grows by
-/// 100 within 5 % (the bounded part is below 1 % of `e(10²)`, and the angle of the error
-/// rotation, 0.15 rad, departs from additivity by `θ²/6 < 0.4 %`; measured 99.7).
+/// 100 within 5 %: the departures are the bounded part relative to `e(10²)` and the
+/// non-additivity of rotation angles, `θ²/6 < 0.4 %` at 0.15 rad (measured 99.7).
 #[test]
 fn lie_poisson_attitude_over_ten_thousand_periods() {
     let b = body();
