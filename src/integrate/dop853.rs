@@ -368,9 +368,14 @@ fn advance<D: DualNum<f64> + Copy, const N: usize>(
 }
 
 /// Stages 2–12 of one step of size `h` from `(t, y)`, with `k[0] = f(t, y)` given, and the
-/// eighth-order solution `y₁ = y + h Σᵢ bᵢ kᵢ`: the step written once for every number type, run
-/// on reals by [`Dop853`] and on dual numbers over a frozen step sequence by
-/// [`super::tangent`].
+/// eighth-order solution `y₁ = y + h Σᵢ bᵢ kᵢ` together with `Σᵢ bᵢ kᵢ` (which the error
+/// estimate reuses): the step written once for every number type, run on reals by [`Dop853`] and
+/// on dual numbers over a frozen step sequence by [`super::tangent`].
+///
+/// The eleven stages are written out (not looped over), so that each row `aᵢⱼ` is a constant of
+/// known length: the compiler unrolls the sums and folds the coefficients and the indices into
+/// the code. The sums are formed in the same order as by a loop, so the result is the same to
+/// the last bit.
 #[inline(always)]
 pub(crate) fn stages<D, F, const N: usize>(
     field: &mut F,
@@ -378,16 +383,24 @@ pub(crate) fn stages<D, F, const N: usize>(
     y: &CanonicalPair<N, D>,
     h: D,
     k: &mut [CanonicalPair<N, D>; 16],
-) -> Result<CanonicalPair<N, D>>
+) -> Result<(CanonicalPair<N, D>, CanonicalPair<N, D>)>
 where
     D: DualNum<f64> + Copy,
     F: FnMut(D, &SVector<D, N>, &SVector<D, N>) -> Result<CanonicalPair<N, D>>,
 {
-    for i in 1..12 {
-        let (q, p) = advance(y, h, A[i], &k[..]);
-        k[i] = field(t + h * C[i], &q, &p)?;
+    macro_rules! stage {
+        ($($i:literal)*) => {$(
+            let (q, p) = advance(y, h, A[$i], &k[..]);
+            k[$i] = field(t + h * C[$i], &q, &p)?;
+        )*};
     }
-    Ok(advance(y, h, &B, &k[..]))
+    stage!(1 2 3 4 5 6 7 8 9 10 11);
+    let sum_b = combine(&B, &k[..]);
+    let y1 = (
+        SVector::from_fn(|i, _| y.0[i] + sum_b.0[i] * h),
+        SVector::from_fn(|i, _| y.1[i] + sum_b.1[i] * h),
+    );
+    Ok((y1, sum_b))
 }
 
 /// The `2N` components of `(q, p)`.
@@ -408,6 +421,52 @@ fn norm2(xs: impl Iterator<Item = f64> + Clone) -> f64 {
         return m;
     }
     m * xs.map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+}
+
+/// The weighted norms `(‖err₅‖, ‖err₃‖)` of the 8(5,3) estimator (without the factor `h`), with
+/// `skᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|)`: `‖err₅‖ = √(Σᵢ (e5ᵢ/skᵢ)²)`,
+/// `‖err₃‖ = √(Σᵢ (((Σbk)ᵢ − (b̂k)ᵢ)/skᵢ)²)`, the components taken in the order `q₁ … q_N,
+/// p₁ … p_N`. One pass over the components; only when a sum of squares overflows or underflows
+/// is it formed again by [`norm2`], rescaled.
+#[inline(always)]
+fn error_norms<const N: usize>(
+    y: &CanonicalPair<N>,
+    y1: &CanonicalPair<N>,
+    e5: &CanonicalPair<N>,
+    sum_b: &CanonicalPair<N>,
+    bhh: &CanonicalPair<N>,
+    rtol: f64,
+    atol: f64,
+) -> (f64, f64) {
+    let (mut s5, mut s3) = (0.0f64, 0.0f64);
+    let mut add = |y0: f64, y1: f64, e: f64, b: f64, bh: f64| {
+        let w = atol + rtol * y0.abs().max(y1.abs());
+        let x5 = e / w;
+        let x3 = (b - bh) / w;
+        s5 += x5 * x5;
+        s3 += x3 * x3;
+    };
+    for i in 0..N {
+        add(y.0[i], y1.0[i], e5.0[i], sum_b.0[i], bhh.0[i]);
+    }
+    for i in 0..N {
+        add(y.1[i], y1.1[i], e5.1[i], sum_b.1[i], bhh.1[i]);
+    }
+    let plain = |s: f64| s.is_nan() || (s.is_finite() && (s == 0.0 || s >= f64::MIN_POSITIVE));
+    if plain(s5) && plain(s3) {
+        return (s5.sqrt(), s3.sqrt());
+    }
+    let sk = flat(y)
+        .zip(flat(y1))
+        .map(|(a, b): (f64, f64)| atol + rtol * a.abs().max(b.abs()));
+    let err5 = norm2(flat(e5).zip(sk.clone()).map(|(e, w)| e / w));
+    let err3 = norm2(
+        flat(sum_b)
+            .zip(flat(bhh))
+            .zip(sk)
+            .map(|((a, b), w)| (a - b) / w),
+    );
+    (err5, err3)
 }
 
 fn pair_finite<const N: usize>(y: &CanonicalPair<N>) -> bool {
@@ -817,26 +876,14 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
 
             // Stages 2–12.
             let y = (state.q, state.p);
-            let y1 = stages(&mut |t, q, p| system.field(t, q, p), state.t, &y, h, &mut k)?;
+            let (y1, sum_b) = stages(&mut |t, q, p| system.field(t, q, p), state.t, &y, h, &mut k)?;
             work.gradients += 11;
             let t_new = if last { t1 } else { state.t + h };
 
             // Error estimate (8(5,3)).
-            let sum_b = combine(&B, &k);
             let bhh = combine(&BHH, &k);
             let e5 = combine(&E5, &k);
-            // Weighted norms ‖err₅‖, ‖err₃‖ (without h), skᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|);
-            // err = |h|·‖err₅‖²/√(n(‖err₅‖² + 0.01‖err₃‖²)), written without squares.
-            let sk = flat(&y)
-                .zip(flat(&y1))
-                .map(|(a, b): (f64, f64)| atol + rtol * a.abs().max(b.abs()));
-            let err5 = norm2(flat(&e5).zip(sk.clone()).map(|(e, w)| e / w));
-            let err3 = norm2(
-                flat(&sum_b)
-                    .zip(flat(&bhh))
-                    .zip(sk)
-                    .map(|((a, b), w)| (a - b) / w),
-            );
+            let (err5, err3) = error_norms(&y, &y1, &e5, &sum_b, &bhh, rtol, atol);
             let mut err = if err5 == 0.0 {
                 0.0
             } else {
@@ -856,7 +903,12 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
             last_err = err;
 
             let fac11 = err.powf(expo1);
-            let fac = fac11 / facold.powf(self.beta);
+            // `x⁰ = 1` exactly: DOP853's default β = 0 costs no second power.
+            let fac = if self.beta == 0.0 {
+                fac11
+            } else {
+                fac11 / facold.powf(self.beta)
+            };
             let fac = (fac / self.safety).min(facc1).max(facc2);
             let mut h_new = h / fac;
             if err <= 1.0 {

@@ -244,7 +244,7 @@ impl<S: Hamiltonian<N>, const N: usize> PhaseMap<N> for Dop853Replay<'_, S> {
         for w in self.times.windows(2) {
             let (t, h) = (D::from(w[0]), D::from(w[1] - w[0]));
             y = match stages(&mut field, t, &y, h, &mut k) {
-                Ok(y1) => y1,
+                Ok((y1, _)) => y1,
                 Err(_) => {
                     let nan = SVector::from_element(D::from(f64::NAN));
                     return (nan, nan);
