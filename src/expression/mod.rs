@@ -549,9 +549,16 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, N>) {
-        let x = inputs(t, q, p);
+        // Built in place and read by the native code element by element: no copy of the
+        // freshly written inputs, whose wide loads would wait on the narrow stores.
+        let mut x = [0.0; 1 + 2 * MAX_DOF];
+        x[0] = t;
+        for i in 0..N {
+            x[1 + i] = q[i];
+            x[1 + N + i] = p[i];
+        }
         let mut y = [0.0; 2 * MAX_DOF];
-        self.field.eval_f64(&x[..1 + 2 * N], &mut y);
+        self.field.eval_f64(&x[..1 + 2 * N], &mut y[..2 * N]);
         (
             SVector::from_fn(|i, _| y[i]),
             SVector::from_fn(|i, _| y[N + i]),
@@ -641,6 +648,18 @@ fn half_gradient<D: DualNum<f64> + Copy, const N: usize>(
     t: D,
     z: &SVector<D, N>,
 ) -> (D, SVector<D, N>) {
+    if record.is_native() && record::is_f64::<D>() {
+        // On `f64` (`re` and `from` the identity): the inputs built in place for the native
+        // code, as in `vector_field_unchecked`.
+        let mut x = [0.0; 1 + MAX_DOF];
+        x[0] = t.re();
+        for i in 0..N {
+            x[1 + i] = z[i].re();
+        }
+        let mut y = [0.0; 1 + MAX_DOF];
+        record.eval_f64(&x[..=N], &mut y[..=N]);
+        return (D::from(y[0]), SVector::from_fn(|i, _| D::from(y[1 + i])));
+    }
     let mut x = [t; 1 + MAX_DOF];
     x[1..=N].copy_from_slice(z.as_slice());
     let mut y = [D::zero(); 1 + MAX_DOF];

@@ -393,9 +393,8 @@ pub(crate) struct Compiled {
 
 /// Whether `D` is `f64` (a real number type without derivatives, of the size of `f64`, named
 /// `f64`): then `D::re` and `D::from` are the identity.
-#[cfg(feature = "jit")]
 #[inline(always)]
-fn is_f64<D: DualNum<f64>>() -> bool {
+pub(crate) fn is_f64<D: DualNum<f64>>() -> bool {
     D::NDERIV == 0
         && std::mem::size_of::<D>() == std::mem::size_of::<f64>()
         && std::any::type_name::<D>() == "f64"
