@@ -353,7 +353,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
         Ok(Self {
             h,
             gradient: Compiled::new(gradient),
-            field: Compiled::new(field),
+            field: Compiled::phase(field, N),
         })
     }
 
@@ -549,20 +549,16 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, N>) {
-        // Built in place and read by the native code element by element: no copy of the
-        // freshly written inputs, whose wide loads would wait on the narrow stores.
-        let mut x = [0.0; 1 + 2 * MAX_DOF];
-        x[0] = t;
-        for i in 0..N {
-            x[1 + i] = q[i];
-            x[1 + N + i] = p[i];
-        }
-        let mut y = [0.0; 2 * MAX_DOF];
-        self.field.eval_f64(&x[..1 + 2 * N], &mut y[..2 * N]);
-        (
-            SVector::from_fn(|i, _| y[i]),
-            SVector::from_fn(|i, _| y[N + i]),
-        )
+        // The native code reads q and p and writes the two halves of the field in place.
+        let (mut a, mut b) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+        self.field.eval_phase(
+            t,
+            q.as_slice(),
+            p.as_slice(),
+            a.as_mut_slice(),
+            b.as_mut_slice(),
+        );
+        (a, b)
     }
 }
 

@@ -31,8 +31,30 @@ use std::sync::Mutex;
 /// code generator.
 pub(super) const MAX_INSTRUCTIONS: usize = 1 << 16;
 
-/// The signature of a compiled program: inputs at `x`, outputs to `y`.
-type Entry = unsafe extern "C" fn(x: *const f64, y: *mut f64);
+/// How the compiled function receives the program's inputs and returns its outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Layout {
+    /// `f(x, y)`: input `k` at `x[k]`, output `k` to `y[k]`.
+    Flat,
+    /// `f(t, q, p, a, b)` for a program of inputs `(t, q₁ … qₙ, p₁ … pₙ)` and outputs
+    /// `(a₁ … aₙ, b₁ … bₙ)`: Hamilton's equations read from and written to the state vectors
+    /// themselves, with no array of inputs built for the call.
+    Phase(usize),
+}
+
+/// The signature of a compiled program of [`Layout::Flat`].
+type FlatEntry = unsafe extern "C" fn(x: *const f64, y: *mut f64);
+
+/// The signature of a compiled program of [`Layout::Phase`].
+type PhaseEntry =
+    unsafe extern "C" fn(t: f64, q: *const f64, p: *const f64, a: *mut f64, b: *mut f64);
+
+/// The compiled function, of either layout.
+#[derive(Clone, Copy)]
+enum Entry {
+    Flat(FlatEntry),
+    Phase(PhaseEntry, usize),
+}
 
 /// A program compiled to native code, with the module owning the code's memory.
 pub(super) struct Native {
@@ -69,24 +91,64 @@ impl Drop for Native {
 }
 
 impl Native {
+    /// Whether the function is of [`Layout::Flat`] (for [`call`](Self::call)).
+    pub(super) fn is_flat(&self) -> bool {
+        matches!(self.entry, Entry::Flat(_))
+    }
+
     /// The outputs at `x` into `y`, as [`Program::eval`] on `f64`.
     ///
     /// # Panics
-    /// If `x` holds fewer values than the program has inputs or `y` fewer than it has outputs.
+    /// If `x` holds fewer values than the program has inputs or `y` fewer than it has outputs,
+    /// or if the function is not of [`Layout::Flat`].
     #[inline]
     pub(super) fn call(&self, x: &[f64], y: &mut [f64]) {
+        let Entry::Flat(entry) = self.entry else {
+            panic!("a native program of the phase layout called with flat arrays");
+        };
         assert!(x.len() >= self.inputs && y.len() >= self.outputs);
-        // SAFETY: `entry` was compiled by `compile` with the signature `Entry` for the host's
-        // C calling convention; it reads `x[0 .. inputs]` and writes `y[0 .. outputs]` only,
-        // which the assertion keeps in bounds; its code memory is owned by `self.module`, which
-        // lives as long as `self`.
-        unsafe { (self.entry)(x.as_ptr(), y.as_mut_ptr()) }
+        // SAFETY: `entry` was compiled by `compile` with the signature `FlatEntry` for the
+        // host's C calling convention; it reads `x[0 .. inputs]` and writes `y[0 .. outputs]`
+        // only, which the assertion keeps in bounds; its code memory is owned by `self.module`,
+        // which lives as long as `self`.
+        unsafe { entry(x.as_ptr(), y.as_mut_ptr()) }
     }
 
-    /// The program compiled, or `None` when it cannot be (see the [module docs](self)).
-    pub(super) fn compile(program: &Program) -> Option<Native> {
+    /// The outputs at `(t, q, p)` into `(a, b)`, for a function of [`Layout::Phase`]; `false`
+    /// (nothing written) for a function of the flat layout.
+    ///
+    /// # Panics
+    /// If a slice holds fewer values than the layout's `n`.
+    #[inline]
+    pub(super) fn call_phase(
+        &self,
+        t: f64,
+        q: &[f64],
+        p: &[f64],
+        a: &mut [f64],
+        b: &mut [f64],
+    ) -> bool {
+        let Entry::Phase(entry, n) = self.entry else {
+            return false;
+        };
+        assert!(q.len() >= n && p.len() >= n && a.len() >= n && b.len() >= n);
+        // SAFETY: `entry` was compiled by `compile` with the signature `PhaseEntry`; it reads
+        // `q[0 .. n]`, `p[0 .. n]` and writes `a[0 .. n]`, `b[0 .. n]` only, which the
+        // assertion keeps in bounds; its code memory is owned by `self.module`.
+        unsafe { entry(t, q.as_ptr(), p.as_ptr(), a.as_mut_ptr(), b.as_mut_ptr()) };
+        true
+    }
+
+    /// The program compiled with `layout`, or `None` when it cannot be (see the
+    /// [module docs](self)) or when the program's inputs and outputs do not fit the layout.
+    pub(super) fn compile(program: &Program, layout: Layout) -> Option<Native> {
         if program.stride != 1 || program.instructions.len() > MAX_INSTRUCTIONS {
             return None;
+        }
+        if let Layout::Phase(n) = layout {
+            if program.inputs != 1 + 2 * n || program.outputs.len() != 2 * n {
+                return None;
+            }
         }
         let mut flags = settings::builder();
         flags.set("use_colocated_libcalls", "false").ok()?;
@@ -101,11 +163,20 @@ impl Native {
             builder.symbol(*name, *address);
         }
         let mut module = JITModule::new(builder);
-        let entry = translate(&mut module, program)?;
-        // SAFETY: `translate` defined and finalized the function with the signature `Entry`
-        // (two pointer parameters, no result, the default calling convention of the host,
-        // which is its C convention).
-        let entry: Entry = unsafe { std::mem::transmute::<*const u8, Entry>(entry) };
+        let address = translate(&mut module, program, layout)?;
+        // SAFETY: `translate` defined and finalized the function with the signature of
+        // `layout` (`FlatEntry`: two pointer parameters; `PhaseEntry`: an `f64` and four
+        // pointers; no result; the default calling convention of the host, which is its C
+        // convention).
+        let entry = match layout {
+            Layout::Flat => {
+                Entry::Flat(unsafe { std::mem::transmute::<*const u8, FlatEntry>(address) })
+            }
+            Layout::Phase(n) => Entry::Phase(
+                unsafe { std::mem::transmute::<*const u8, PhaseEntry>(address) },
+                n,
+            ),
+        };
         Some(Native {
             entry,
             inputs: program.inputs,
@@ -154,11 +225,21 @@ extern "C" fn atan2(y: f64, x: f64) -> f64 {
 }
 
 /// Define and finalize the function of `program` in `module`; its address.
-fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
+fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Option<*const u8> {
     let pointer = module.target_config().pointer_type();
     let mut ctx = module.make_context();
-    ctx.func.signature.params.push(AbiParam::new(pointer));
-    ctx.func.signature.params.push(AbiParam::new(pointer));
+    if matches!(layout, Layout::Phase(_)) {
+        ctx.func.signature.params.push(AbiParam::new(F64));
+        ctx.func
+            .signature
+            .params
+            .extend([AbiParam::new(pointer); 4]);
+    } else {
+        ctx.func
+            .signature
+            .params
+            .extend([AbiParam::new(pointer); 2]);
+    }
     let mut shims = Vec::with_capacity(SHIMS.len());
     for (name, (params, results), _) in SHIMS {
         let mut sig = module.make_signature();
@@ -184,13 +265,31 @@ fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
     b.append_block_params_for_function_params(block);
     b.switch_to_block(block);
     b.seal_block(block);
-    let (px, py) = (b.block_params(block)[0], b.block_params(block)[1]);
+    let params = b.block_params(block).to_vec();
     let pair = b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
     let slot: Vec<Variable> = (0..program.slots).map(|_| b.declare_var(F64)).collect();
     let flags = MemFlags::trusted();
     let offset = |k: usize| i32::try_from(8 * k).ok();
+    // Input `k` and output `k`: a pointer parameter and an offset (input 0 of the phase
+    // layout, `t`, is the parameter itself and is not looked up here).
+    let input = |k: usize| match layout {
+        Layout::Flat => (0, k),
+        Layout::Phase(n) if k <= n => (1, k - 1),
+        Layout::Phase(n) => (2, k - 1 - n),
+    };
+    let output = |k: usize| match layout {
+        Layout::Flat => (1, k),
+        Layout::Phase(n) if k < n => (3, k),
+        Layout::Phase(n) => (4, k - n),
+    };
     for (k, &var) in slot.iter().enumerate().take(program.inputs) {
-        let v = b.ins().load(F64, flags, px, offset(k)?);
+        let v = match (layout, k) {
+            (Layout::Phase(_), 0) => params[0],
+            _ => {
+                let (base, at) = input(k);
+                b.ins().load(F64, flags, params[base], offset(at)?)
+            }
+        };
         b.def_var(var, v);
     }
     for &(w, c) in &program.consts {
@@ -200,6 +299,18 @@ fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
     let call = |b: &mut FunctionBuilder, f: FuncRef, args: &[Value]| -> Value {
         let inst = b.ins().call(f, args);
         b.inst_results(inst)[0]
+    };
+    // `α v` with the interpreter's rounding: `v · 1 = v` and `v · (−1) = −v` exactly (NaNs
+    // aside, whose payload is not compared), so those factors make no multiplication.
+    let scale = |b: &mut FunctionBuilder, v: Value, alpha: f64| -> Value {
+        if alpha == 1.0 {
+            v
+        } else if alpha == -1.0 {
+            b.ins().fneg(v)
+        } else {
+            let k = b.ins().f64const(alpha);
+            b.ins().fmul(v, k)
+        }
     };
     for &ins in &program.instructions {
         let get = |b: &mut FunctionBuilder, s: usize| b.use_var(slot[s]);
@@ -212,15 +323,20 @@ fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
                 beta,
             } => {
                 let (va, vb) = (get(&mut b, a), get(&mut b, bb));
-                let (ka, kb) = (b.ins().f64const(alpha), b.ins().f64const(beta));
-                let (ta, tb) = (b.ins().fmul(va, ka), b.ins().fmul(vb, kb));
-                let r = b.ins().fadd(ta, tb);
+                let ta = scale(&mut b, va, alpha);
+                // `x + (−1)·y = x − y` exactly.
+                let r = if beta == -1.0 {
+                    b.ins().fsub(ta, vb)
+                } else {
+                    let tb = scale(&mut b, vb, beta);
+                    b.ins().fadd(ta, tb)
+                };
                 b.def_var(slot[w], r);
             }
             Instr::Affine { w, a, alpha, gamma } => {
                 let va = get(&mut b, a);
-                let (ka, kg) = (b.ins().f64const(alpha), b.ins().f64const(gamma));
-                let ta = b.ins().fmul(va, ka);
+                let ta = scale(&mut b, va, alpha);
+                let kg = b.ins().f64const(gamma);
                 let r = b.ins().fadd(ta, kg);
                 b.def_var(slot[w], r);
             }
@@ -238,11 +354,14 @@ fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
                 beta,
             } => {
                 let (va, vb, vc) = (get(&mut b, a), get(&mut b, bb), get(&mut b, c));
-                let (ka, kb) = (b.ins().f64const(alpha), b.ins().f64const(beta));
                 let ab = b.ins().fmul(va, vb);
-                let ta = b.ins().fmul(ab, ka);
-                let tc = b.ins().fmul(vc, kb);
-                let r = b.ins().fadd(ta, tc);
+                let ta = scale(&mut b, ab, alpha);
+                let r = if beta == -1.0 {
+                    b.ins().fsub(ta, vc)
+                } else {
+                    let tc = scale(&mut b, vc, beta);
+                    b.ins().fadd(ta, tc)
+                };
                 b.def_var(slot[w], r);
             }
             Instr::Div { w, a, b: bb } => {
@@ -305,9 +424,9 @@ fn translate(module: &mut JITModule, program: &Program) -> Option<*const u8> {
     }
     for (k, &(o, alpha)) in program.outputs.iter().enumerate() {
         let v = b.use_var(slot[o]);
-        let ka = b.ins().f64const(alpha);
-        let r = b.ins().fmul(v, ka);
-        b.ins().store(flags, r, py, offset(k)?);
+        let r = scale(&mut b, v, alpha);
+        let (base, at) = output(k);
+        b.ins().store(flags, r, params[base], offset(at)?);
     }
     b.ins().return_(&[]);
     b.finalize();

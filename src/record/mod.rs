@@ -400,6 +400,9 @@ pub(crate) fn is_f64<D: DualNum<f64>>() -> bool {
         && std::any::type_name::<D>() == "f64"
 }
 
+/// The most degrees of freedom of [`Compiled::eval_phase`]'s interpreted form (its buffers).
+const PHASE_DOF: usize = 16;
+
 /// The most inputs and outputs of a record whose native code the generic
 /// [`Compiled::eval_into`] calls (it copies them through arrays on the stack).
 #[cfg(feature = "jit")]
@@ -410,9 +413,49 @@ impl Compiled {
     pub(crate) fn new(record: Record) -> Self {
         Self {
             #[cfg(feature = "jit")]
-            native: jit::Native::compile(&record.program).map(std::sync::Arc::new),
+            native: jit::Native::compile(&record.program, jit::Layout::Flat)
+                .map(std::sync::Arc::new),
             record,
         }
+    }
+
+    /// `record` of inputs `(t, q₁ … qₙ, p₁ … pₙ)` and outputs `(a₁ … aₙ, b₁ … bₙ)` (Hamilton's
+    /// equations), its native code under the feature `jit` reading and writing the state
+    /// vectors themselves ([`eval_phase`](Self::eval_phase)); [`eval_into`](Self::eval_into)
+    /// and [`eval_f64`](Self::eval_f64) interpret it.
+    pub(crate) fn phase(record: Record, n: usize) -> Self {
+        Self {
+            #[cfg(feature = "jit")]
+            native: jit::Native::compile(&record.program, jit::Layout::Phase(n))
+                .map(std::sync::Arc::new),
+            record,
+        }
+    }
+
+    /// The outputs at `(t, q, p)` into `(a, b)` on `f64` for a record made by
+    /// [`phase`](Self::phase) with `n = q.len()`: the native code when there is one, the
+    /// interpreter otherwise.
+    ///
+    /// # Panics
+    /// If a slice is shorter than `n = q.len()`, if `n` exceeds 16 (the interpreted form's
+    /// buffers), or if the record's inputs and outputs are not `1 + 2n` and `2n`.
+    #[inline]
+    pub(crate) fn eval_phase(&self, t: f64, q: &[f64], p: &[f64], a: &mut [f64], b: &mut [f64]) {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            if native.call_phase(t, q, p, a, b) {
+                return;
+            }
+        }
+        let n = q.len();
+        let mut x = [0.0; 1 + 2 * PHASE_DOF];
+        let mut y = [0.0; 2 * PHASE_DOF];
+        x[0] = t;
+        x[1..=n].copy_from_slice(q);
+        x[1 + n..=2 * n].copy_from_slice(p);
+        self.record.eval_into(&x[..1 + 2 * n], &mut y[..2 * n]);
+        a[..n].copy_from_slice(&y[..n]);
+        b[..n].copy_from_slice(&y[n..2 * n]);
     }
 
     /// The same record evaluated by the interpreter only.
@@ -445,7 +488,7 @@ impl Compiled {
     #[inline]
     pub(crate) fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
         #[cfg(feature = "jit")]
-        if let Some(native) = &self.native {
+        if let Some(native) = self.native.as_ref().filter(|n| n.is_flat()) {
             let (n, m) = (self.record.inputs, self.record.outputs.len());
             if is_f64::<D>() && n <= NATIVE_VALUES && m <= NATIVE_VALUES {
                 let mut xf = [0.0; NATIVE_VALUES];
@@ -471,7 +514,7 @@ impl Compiled {
     #[inline]
     pub(crate) fn eval_f64(&self, x: &[f64], y: &mut [f64]) {
         #[cfg(feature = "jit")]
-        if let Some(native) = &self.native {
+        if let Some(native) = self.native.as_ref().filter(|n| n.is_flat()) {
             return native.call(x, y);
         }
         self.record.eval_into(x, y)
