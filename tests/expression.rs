@@ -19,7 +19,7 @@ use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{PerturbedTwoBody, J2};
 use hamilton_jacobi::scene::{self, Catalogue};
 use hamilton_jacobi::systems::HenonHeiles;
-use hamilton_jacobi::{Error, Hamiltonian, Lagrangian, State};
+use hamilton_jacobi::{Error, Hamiltonian, Lagrangian, Separable, State};
 use proptest::prelude::*;
 
 const HH: &str = "(p_x^2 + p_y^2)/2 + (x^2 + y^2)/2 + x^2*y - y^3/3";
@@ -443,12 +443,17 @@ const U: f64 = f64::EPSILON / 2.0;
 
 impl Tree {
     fn text(&self) -> String {
+        self.text_in(&["x", "y", "z"])
+    }
+
+    /// The text with the variables named `names`.
+    fn text_in(&self, names: &[&str; 3]) -> String {
         match self {
             Tree::Num(c) => format!("{c:?}"),
-            Tree::Var(i) => ["x", "y", "z"][*i].to_string(),
-            Tree::Neg(a) => format!("(-{})", a.text()),
-            Tree::Bin(op, a, b) => format!("({} {op} {})", a.text(), b.text()),
-            Tree::Fun(f, a) => format!("{f}({})", a.text()),
+            Tree::Var(i) => names[*i].to_string(),
+            Tree::Neg(a) => format!("(-{})", a.text_in(names)),
+            Tree::Bin(op, a, b) => format!("({} {op} {})", a.text_in(names), b.text_in(names)),
+            Tree::Fun(f, a) => format!("{f}({})", a.text_in(names)),
         }
     }
 
@@ -518,23 +523,29 @@ impl Tree {
 }
 
 fn tree() -> impl Strategy<Value = Tree> {
+    tree_with(
+        &['+', '-', '*', '/'],
+        &["sin", "cos", "exp", "atan", "tanh"],
+    )
+}
+
+/// Random trees of the binary operations `ops` and the functions `functions`.
+fn tree_with(ops: &[char], functions: &[&'static str]) -> impl Strategy<Value = Tree> {
+    let (ops, functions) = (ops.to_vec(), functions.to_vec());
     let leaf = prop_oneof![
         (0.1f64..10.0).prop_map(Tree::Num),
         (0usize..3).prop_map(Tree::Var),
     ];
-    leaf.prop_recursive(6, 48, 2, |inner| {
+    leaf.prop_recursive(6, 48, 2, move |inner| {
         prop_oneof![
             inner.clone().prop_map(|a| Tree::Neg(Box::new(a))),
             (
-                prop::sample::select(vec!['+', '-', '*', '/']),
+                prop::sample::select(ops.clone()),
                 inner.clone(),
                 inner.clone()
             )
                 .prop_map(|(op, a, b)| Tree::Bin(op, Box::new(a), Box::new(b))),
-            (
-                prop::sample::select(vec!["sin", "cos", "exp", "atan", "tanh"]),
-                inner
-            )
+            (prop::sample::select(functions.clone()), inner)
                 .prop_map(|(f, a)| Tree::Fun(f, Box::new(a))),
         ]
     })
@@ -572,4 +583,178 @@ proptest! {
             prop_assert!((direct - want).abs() <= 2.0 * bound, "{} {direct} {want} {bound}", t.text());
         }
     }
+}
+
+/// Whether the native code of expression systems is expected: the feature `jit` on a host
+/// Cranelift supports.
+const NATIVE: bool = cfg!(all(
+    feature = "jit",
+    any(
+        target_arch = "x86_64",
+        target_arch = "aarch64",
+        target_arch = "riscv64"
+    )
+));
+
+/// Equal bit for bit, every NaN equal to every NaN.
+fn same(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()))
+}
+
+/// The vector field and the gradient of `e` (general and split forms) on `f64` at `(q, p)`, in
+/// one list.
+fn fields<const N: usize>(
+    e: &ExpressionHamiltonian<N>,
+    split: Option<&ExpressionSeparable<N>>,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Vec<f64> {
+    let (a, b) = e.vector_field_unchecked(0.25, q, p);
+    let (h, hq, hp) = e.gradient(0.25, q, p);
+    let mut out: Vec<f64> = a
+        .iter()
+        .chain(&b)
+        .chain(&[h])
+        .chain(&hq)
+        .chain(&hp)
+        .copied()
+        .collect();
+    if let Some(s) = split {
+        let (a, b) = s.vector_field_unchecked(0.25, q, p);
+        let (t, tp) = s.kinetic_gradient(0.25, p);
+        let (v, vq) = s.potential_gradient(0.25, q);
+        out.extend(a.iter().chain(&b).chain(&[t, v]).chain(&tp).chain(&vq));
+    }
+    out
+}
+
+/// The native code of an expression system against the interpreter of the same register
+/// program (the oracle: the same operations in the same order, so equal bit for bit), at `z`.
+fn native_is_interpreter<const N: usize>(e: &ExpressionHamiltonian<N>, z: &[f64]) -> bool {
+    let split = e.separable();
+    let (ei, si) = (e.interpreted(), split.as_ref().map(|s| s.interpreted()));
+    assert!(!ei.is_native() && si.as_ref().is_none_or(|s| !s.is_native()));
+    assert_eq!(e.is_native(), NATIVE);
+    assert!(split.as_ref().is_none_or(|s| s.is_native() == NATIVE));
+    let q = SVector::from_fn(|i, _| z[i]);
+    let p = SVector::from_fn(|i, _| z[N + i]);
+    same(
+        &fields(e, split.as_ref(), &q, &p),
+        &fields(&ei, si.as_ref(), &q, &p),
+    )
+}
+
+/// Hénon–Heiles and Kepler + J₂ (the systems of the `expression` benchmark): native code and
+/// interpreter agree bit for bit at 300 states of a box, and at states with NaN, ±∞, huge,
+/// subnormal and signed-zero components (NaN wherever the interpreter gives NaN).
+#[test]
+fn native_code_is_the_interpreter_on_the_benchmark_systems() {
+    fn shared<T: Send + Sync>() {}
+    shared::<ExpressionHamiltonian<2>>();
+    shared::<ExpressionSeparable<2>>();
+    let hh = henon_heiles();
+    let j2 = ExpressionHamiltonian::<3>::new(J2_3, &["x", "y", "z"], None, &j2_params()).unwrap();
+    let special = [
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        1e300,
+        -1e-310,
+        -0.0,
+        0.0,
+    ];
+    for (k, z) in points(300, 2.0).into_iter().enumerate() {
+        let w = [z[0], z[1], z[2], z[3], z[1] - z[0], 0.5 * z[2]];
+        let mut hostile = w;
+        hostile[k % 6] = special[k % special.len()];
+        for w in [w, hostile] {
+            assert!(native_is_interpreter(&hh, &w[..4]), "Hénon–Heiles at {w:?}");
+            assert!(native_is_interpreter(&j2, &w), "Kepler + J2 at {w:?}");
+        }
+    }
+}
+
+/// An expression whose register program holds every instruction — `αa + βb`, `αa + γ`,
+/// `ab`, `αab + βc`, `a/b`, `1/a`, `√a`, `eᵃ`, `ln a`, `aᵖ`, `tanh a`, `sin a, cos a`,
+/// `atan2(y, x)` — in native code and by the interpreter, bit for bit, at 200 states and at
+/// hostile ones.
+#[test]
+fn native_code_is_the_interpreter_for_every_instruction() {
+    let text = "2*x - 3*p_y + (y + 1.5) + x*y + 0.5*x*p_x - 1.25*p_y*y + x/(y + 3) + 1/(p_x + 4) \
+        + sqrt(x^2 + 1) + exp(y/3) + ln(p_x^2 + 2) + (y^2 + 1)^0.37 + tanh(3*x) + sin(p_y)*cos(2*p_y) \
+        + atan2(y, x + 5) + asin(p_x/9) + sinh(y)";
+    let e = ExpressionHamiltonian::<2>::new(text, &["x", "y"], None, &[]).unwrap();
+    assert!(e.separable().is_none());
+    let special = [
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        1e300,
+        4e-320,
+        -0.0,
+        30.0,
+    ];
+    for (k, z) in points(200, 3.0).into_iter().enumerate() {
+        let mut hostile = z;
+        hostile[k % 4] = special[k % special.len()];
+        assert!(native_is_interpreter(&e, &z), "{z:?}");
+        assert!(native_is_interpreter(&e, &hostile), "{hostile:?}");
+    }
+}
+
+/// A separable Hamiltonian whose potential part is the time alone, `V(t, q) = t`: the kick
+/// `∂V/∂q` is 0 (the adjoint of an input recorded after the output), the drift `∂T/∂p = p`.
+#[test]
+fn a_part_that_is_the_time_alone_has_zero_gradient() {
+    let e = ExpressionHamiltonian::<1>::new("t + p_q^2/2", &["q"], None, &[]).unwrap();
+    let s = e.separable().expect("T(p) + V(t)");
+    let (v, vq) = s.potential_gradient(0.75, &SVector::from([0.5]));
+    let (t, tp) = s.kinetic_gradient(0.75, &SVector::from([0.5]));
+    assert_eq!((v, vq[0], t, tp[0]), (0.75, 0.0, 0.125, 0.5));
+    assert!(native_is_interpreter(&e, &[0.5, -1.5]));
+}
+
+/// A finite, non-finite, huge, tiny or special value.
+fn any_value() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => -3.0f64..3.0,
+        1 => prop::sample::select(vec![
+            f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1e300, -1e300, 5e-324,
+            f64::MAX, f64::MIN_POSITIVE, 25.0, -710.0,
+        ]),
+        1 => any::<f64>(),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// `H = f(x, y, z) + g(u, v, w)` of random trees with every operation and every function
+    /// of the parser: the native vector field, gradient, drift and kick are the interpreter's, bit for
+    /// bit (NaN for NaN), at random states with NaN, ±∞, huge and subnormal components.
+    #[test]
+    fn random_systems_native_code_is_the_interpreter(
+        f in tree_with(&['+', '-', '*', '/', '^'], &unary_functions()),
+        g in tree_with(&['+', '-', '*', '/', '^'], &unary_functions()),
+        z in prop::collection::vec(any_value(), 6),
+    ) {
+        let text = format!("{} + {}", f.text(), g.text_in(&["u", "v", "w"]));
+        let e = ExpressionHamiltonian::<3>::new(&text, &["x", "y", "z"], Some(&["u", "v", "w"]), &[])
+            .unwrap();
+        prop_assert!(e.separable().is_some());
+        prop_assert!(native_is_interpreter(&e, &z), "{text} at {z:?}");
+    }
+}
+
+/// The functions of one argument of the parser (`atan2` is reached through `atan`, `asin`,
+/// `acos`, and `pow` through `^`).
+fn unary_functions() -> Vec<&'static str> {
+    parse::FUNCTIONS
+        .iter()
+        .filter(|f| f.2 == 1)
+        .map(|f| f.0)
+        .collect()
 }

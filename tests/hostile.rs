@@ -6374,6 +6374,60 @@ mod expression_calls {
         );
         sweep(
             c,
+            "ExpressionHamiltonian::interpreted, ExpressionSeparable::interpreted, is_native",
+            &[0.1, -0.2, 0.3, 0.25],
+            &[],
+            |a| {
+                let h = hh();
+                let Some(s) = h.separable() else {
+                    return Wrong("not split".into());
+                };
+                let (hi, si) = (h.interpreted(), s.interpreted());
+                if hi.is_native() || si.is_native() || h.is_native() != s.is_native() {
+                    return Wrong("interpreted systems report native code".into());
+                }
+                let (q, p) = (SVector::from([a[0], a[1]]), SVector::from([a[2], a[3]]));
+                // The closed form q̇ = p, ṗ = (−x − 2xy, −y − x² + y²), and the native code's
+                // values equal to the interpreter's.
+                let (x, y) = (a[0], a[1]);
+                let wq = p;
+                let wp = SVector::from([-x - 2.0 * x * y, -y - x * x + y * y]);
+                let valid = a.iter().all(|v| v.is_finite()) && wp.iter().all(|v| v.is_finite());
+                let bits = |(u, v): (SVector<f64, 2>, SVector<f64, 2>)| {
+                    u.iter().chain(&v).map(|z| z.to_bits()).collect::<Vec<_>>()
+                };
+                for (native, interpreted) in [
+                    (h.vector_field(0.0, &q, &p), hi.vector_field(0.0, &q, &p)),
+                    (s.vector_field(0.0, &q, &p), si.vector_field(0.0, &q, &p)),
+                ] {
+                    match (native, interpreted) {
+                        (Ok(n), Ok(i)) if bits(n) != bits(i) => {
+                            return Wrong("native code and interpreter differ".into())
+                        }
+                        (Ok(_), Err(_)) | (Err(_), Ok(_)) => {
+                            return Wrong("native code and interpreter disagree on refusal".into())
+                        }
+                        _ => {}
+                    }
+                }
+                all([
+                    judge(hi.vector_field(0.0, &q, &p), valid, |(qd, pd)| {
+                        all([
+                            near("q̇", (qd - wq).amax(), 0.0, 8.0 * EPS * (1.0 + wq.amax())),
+                            near("ṗ", (pd - wp).amax(), 0.0, 8.0 * EPS * (1.0 + wp.amax())),
+                        ])
+                    }),
+                    judge(si.vector_field(0.0, &q, &p), valid, |(qd, pd)| {
+                        all([
+                            near("q̇", (qd - wq).amax(), 0.0, 8.0 * EPS * (1.0 + wq.amax())),
+                            near("ṗ", (pd - wp).amax(), 0.0, 8.0 * EPS * (1.0 + wp.amax())),
+                        ])
+                    }),
+                ])
+            },
+        );
+        sweep(
+            c,
             "ExpressionLagrangian::new",
             &[9.81, 0.4, 0.1],
             &[],

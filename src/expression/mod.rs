@@ -22,6 +22,20 @@
 //! holonomic constraints `g(t, q) = 0` and [`ExpressionPfaffian`] Pfaffian constraints
 //! `a(t, q) q̇ + b(t, q) = 0` ([`constraints`]).
 //!
+//! # Cost
+//! The records are evaluated by the register program of [`crate::record`] (operations folded
+//! and fused, slots reused). On `f64` — the vector field, the gradient, the drift and the kick
+//! that integrators call — the programs of [`ExpressionHamiltonian`] and [`ExpressionSeparable`]
+//! are compiled once, at construction, to native code by the Cranelift code generator
+//! (<https://cranelift.dev>; feature `jit`, on by default): each slot a variable of the code
+//! generator, each instruction the same IEEE-754 operations in the same order as the interpreter
+//! (no fused multiply–add), `exp`, `ln`, `powf`, `tanh`, `sin_cos` and `atan2` calls of the same
+//! Rust functions, so the native code gives the interpreter's values bit for bit. Dual numbers,
+//! recorded values and Taylor jets run the interpreter; so does `f64` without the feature, on a
+//! host Cranelift does not support, or where compilation fails (silently: a speed path, not a
+//! change of values). [`ExpressionHamiltonian::interpreted`] gives the interpreted system, for
+//! verification; [`ExpressionHamiltonian::is_native`] tells which runs.
+//!
 //! The number of degrees of freedom is a const generic of the systems; a number known only at run
 //! time is dispatched to `N = 1 … MAX_DOF` by [`with_dof!`](crate::with_dof).
 //!
@@ -39,7 +53,7 @@ pub use disturbing::ExpressionDisturbingFunction;
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
 use crate::lagrangian::Lagrangian;
-use crate::record::{self, Record};
+use crate::record::{self, Compiled, Record};
 use nalgebra::SVector;
 use num_dual::DualNum;
 use parse::{BinOp, Expr, FUNCTIONS};
@@ -297,9 +311,9 @@ fn inputs<D: DualNum<f64> + Copy, const N: usize>(
 #[derive(Clone, Debug)]
 pub struct ExpressionHamiltonian<const N: usize> {
     h: Expression,
-    gradient: Record,
+    gradient: Compiled,
     /// Hamilton's equations `(∂H/∂p, −∂H/∂q)`.
-    field: Record,
+    field: Compiled,
 }
 
 impl<const N: usize> ExpressionHamiltonian<N> {
@@ -336,7 +350,28 @@ impl<const N: usize> ExpressionHamiltonian<N> {
                 .chain(g[..N].iter().map(|d| -*d))
                 .collect())
         })?;
-        Ok(Self { h, gradient, field })
+        Ok(Self {
+            h,
+            gradient: Compiled::new(gradient),
+            field: Compiled::phase(field, N),
+        })
+    }
+
+    /// The same system with its gradient and vector field on `f64` evaluated by the interpreter
+    /// of the register program instead of native code (see the [module docs](self#cost)): the
+    /// same values bit for bit, more slowly; for verifying the native code.
+    pub fn interpreted(&self) -> Self {
+        Self {
+            h: self.h.clone(),
+            gradient: self.gradient.interpreted(),
+            field: self.field.interpreted(),
+        }
+    }
+
+    /// Whether the gradient and vector field on `f64` run native code (feature `jit`, on a host
+    /// Cranelift supports; see the [module docs](self#cost)).
+    pub fn is_native(&self) -> bool {
+        self.gradient.is_native() && self.field.is_native()
     }
 
     /// The expression of `H`; its variables are `t`, the coordinates, the momenta.
@@ -346,7 +381,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
 
     /// The record of `(H, ∂H/∂q, ∂H/∂p)`, inputs `(t, q, p)`.
     pub fn gradient_record(&self) -> &Record {
-        &self.gradient
+        self.gradient.record()
     }
 
     /// `H` and its gradient at a state, refused when any of them is not finite: the check of an
@@ -360,7 +395,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
         let x = inputs(t, q, p);
         let mut y = [0.0; 1 + 2 * MAX_DOF];
         let y = &mut y[..1 + 2 * N];
-        self.gradient.eval_into(&x[..1 + 2 * N], y);
+        self.gradient.eval_f64(&x[..1 + 2 * N], y);
         let names = self.h.variables();
         for (k, v) in y.iter().enumerate() {
             if !v.is_finite() {
@@ -411,7 +446,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
         let compile = |e: Option<Expr>,
                        range: std::ops::Range<usize>,
                        part: &str|
-         -> Option<(Expression, Record)> {
+         -> Option<(Expression, Compiled)> {
             let e = e.unwrap_or(Expr::Num(0.0));
             // The part's own variables: t and one half of the phase variables.
             let mut map = vec![usize::MAX; 1 + 2 * N];
@@ -438,7 +473,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
                 expr: e,
                 record,
             };
-            Some((expression, gradient))
+            Some((expression, Compiled::new(gradient)))
         };
         let (kinetic, kinetic_gradient) =
             compile(kinetic, 1 + N..1 + 2 * N, "the kinetic part T(t, p)")?;
@@ -514,13 +549,16 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, N>) {
-        let x = inputs(t, q, p);
-        let mut y = [0.0; 2 * MAX_DOF];
-        self.field.eval_into(&x[..1 + 2 * N], &mut y);
-        (
-            SVector::from_fn(|i, _| y[i]),
-            SVector::from_fn(|i, _| y[N + i]),
-        )
+        // The native code reads q and p and writes the two halves of the field in place.
+        let (mut a, mut b) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+        self.field.eval_phase(
+            t,
+            q.as_slice(),
+            p.as_slice(),
+            a.as_mut_slice(),
+            b.as_mut_slice(),
+        );
+        (a, b)
     }
 }
 
@@ -534,15 +572,34 @@ pub struct ExpressionSeparable<const N: usize> {
     kinetic: Expression,
     potential: Expression,
     /// `(T, ∂T/∂p)`, inputs `(t, p)`.
-    kinetic_gradient: Record,
+    kinetic_gradient: Compiled,
     /// `(V, ∂V/∂q)`, inputs `(t, q)`.
-    potential_gradient: Record,
+    potential_gradient: Compiled,
 }
 
 impl<const N: usize> ExpressionSeparable<N> {
     /// The Hamiltonian `T + V` as one expression.
     pub fn hamiltonian(&self) -> &ExpressionHamiltonian<N> {
         &self.hamiltonian
+    }
+
+    /// The same system with the drift `∂T/∂p`, the kick `∂V/∂q` (and the Hamiltonian's gradient)
+    /// on `f64` evaluated by the interpreter instead of native code, as
+    /// [`ExpressionHamiltonian::interpreted`]: for verifying the native code.
+    pub fn interpreted(&self) -> Self {
+        Self {
+            hamiltonian: self.hamiltonian.interpreted(),
+            kinetic: self.kinetic.clone(),
+            potential: self.potential.clone(),
+            kinetic_gradient: self.kinetic_gradient.interpreted(),
+            potential_gradient: self.potential_gradient.interpreted(),
+        }
+    }
+
+    /// Whether the drift and the kick on `f64` run native code (see
+    /// [`ExpressionHamiltonian::is_native`]).
+    pub fn is_native(&self) -> bool {
+        self.kinetic_gradient.is_native() && self.potential_gradient.is_native()
     }
 }
 
@@ -583,10 +640,22 @@ impl<const N: usize> Separable<N> for ExpressionSeparable<N> {
 /// `(f, ∂f/∂z)` from the record of a function of `(t, z)` and its gradient.
 #[inline]
 fn half_gradient<D: DualNum<f64> + Copy, const N: usize>(
-    record: &Record,
+    record: &Compiled,
     t: D,
     z: &SVector<D, N>,
 ) -> (D, SVector<D, N>) {
+    if record.is_native() && record::is_f64::<D>() {
+        // On `f64` (`re` and `from` the identity): the inputs built in place for the native
+        // code, as in `vector_field_unchecked`.
+        let mut x = [0.0; 1 + MAX_DOF];
+        x[0] = t.re();
+        for i in 0..N {
+            x[1 + i] = z[i].re();
+        }
+        let mut y = [0.0; 1 + MAX_DOF];
+        record.eval_f64(&x[..=N], &mut y[..=N]);
+        return (D::from(y[0]), SVector::from_fn(|i, _| D::from(y[1 + i])));
+    }
     let mut x = [t; 1 + MAX_DOF];
     x[1..=N].copy_from_slice(z.as_slice());
     let mut y = [D::zero(); 1 + MAX_DOF];

@@ -54,6 +54,10 @@
 //! register program made once from it ([`Record::eval_into`]), and [`Jets`] propagates
 //! normalised Taylor coefficients through the same program, which is the Taylor method
 //! ([`crate::integrate::taylor`]).
+//! The expression systems ([`crate::expression`]) also compile the program, once, to native
+//! code by the Cranelift code generator (feature `jit`; <https://cranelift.dev>), which they run
+//! on `f64` with the interpreter's values bit for bit (see [the expression module's
+//! cost](crate::expression#cost)).
 //!
 //! References: A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, chs. 2–3
 //! and 13; À. Jorba & M. Zou, "A software package for the numerical integration of ODEs by means
@@ -61,6 +65,8 @@
 //! elementary operations).
 
 mod jets;
+#[cfg(feature = "jit")]
+mod jit;
 mod number;
 mod program;
 
@@ -369,6 +375,149 @@ impl Record {
     #[inline]
     pub fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
         self.program.eval(x, y)
+    }
+}
+
+/// A record with, under the feature `jit`, its register program compiled to native code once
+/// (by the Cranelift code generator; see `jit::Native`): [`eval_into`](Self::eval_into)
+/// on `f64` runs the native code, on every other number type (dual numbers, recorded values,
+/// jets) the interpreter of [`Record::eval_into`]. Both give the same values bit for bit; where
+/// the code cannot be compiled (a host Cranelift does not support, a program too large, an error
+/// of the code generator) the interpreter runs on `f64` too.
+#[derive(Clone, Debug)]
+pub(crate) struct Compiled {
+    record: Record,
+    #[cfg(feature = "jit")]
+    native: Option<std::sync::Arc<jit::Native>>,
+}
+
+/// Whether `D` is `f64` (a real number type without derivatives, of the size of `f64`, named
+/// `f64`): then `D::re` and `D::from` are the identity.
+#[inline(always)]
+pub(crate) fn is_f64<D: DualNum<f64>>() -> bool {
+    D::NDERIV == 0
+        && std::mem::size_of::<D>() == std::mem::size_of::<f64>()
+        && std::any::type_name::<D>() == "f64"
+}
+
+/// The most degrees of freedom of [`Compiled::eval_phase`]'s interpreted form (its buffers).
+const PHASE_DOF: usize = 16;
+
+/// The most inputs and outputs of a record whose native code the generic
+/// [`Compiled::eval_into`] calls (it copies them through arrays on the stack).
+#[cfg(feature = "jit")]
+const NATIVE_VALUES: usize = 16;
+
+impl Compiled {
+    /// `record` and, under the feature `jit`, its native code.
+    pub(crate) fn new(record: Record) -> Self {
+        Self {
+            #[cfg(feature = "jit")]
+            native: jit::Native::compile(&record.program, jit::Layout::Flat)
+                .map(std::sync::Arc::new),
+            record,
+        }
+    }
+
+    /// `record` of inputs `(t, q₁ … qₙ, p₁ … pₙ)` and outputs `(a₁ … aₙ, b₁ … bₙ)` (Hamilton's
+    /// equations), its native code under the feature `jit` reading and writing the state
+    /// vectors themselves ([`eval_phase`](Self::eval_phase)); [`eval_into`](Self::eval_into)
+    /// and [`eval_f64`](Self::eval_f64) interpret it.
+    pub(crate) fn phase(record: Record, n: usize) -> Self {
+        Self {
+            #[cfg(feature = "jit")]
+            native: jit::Native::compile(&record.program, jit::Layout::Phase(n))
+                .map(std::sync::Arc::new),
+            record,
+        }
+    }
+
+    /// The outputs at `(t, q, p)` into `(a, b)` on `f64` for a record made by
+    /// [`phase`](Self::phase) with `n = q.len()`: the native code when there is one, the
+    /// interpreter otherwise.
+    ///
+    /// # Panics
+    /// If a slice is shorter than `n = q.len()`, if `n` exceeds 16 (the interpreted form's
+    /// buffers), or if the record's inputs and outputs are not `1 + 2n` and `2n`.
+    #[inline]
+    pub(crate) fn eval_phase(&self, t: f64, q: &[f64], p: &[f64], a: &mut [f64], b: &mut [f64]) {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            if native.call_phase(t, q, p, a, b) {
+                return;
+            }
+        }
+        let n = q.len();
+        let mut x = [0.0; 1 + 2 * PHASE_DOF];
+        let mut y = [0.0; 2 * PHASE_DOF];
+        x[0] = t;
+        x[1..=n].copy_from_slice(q);
+        x[1 + n..=2 * n].copy_from_slice(p);
+        self.record.eval_into(&x[..1 + 2 * n], &mut y[..2 * n]);
+        a[..n].copy_from_slice(&y[..n]);
+        b[..n].copy_from_slice(&y[n..2 * n]);
+    }
+
+    /// The same record evaluated by the interpreter only.
+    pub(crate) fn interpreted(&self) -> Self {
+        Self {
+            record: self.record.clone(),
+            #[cfg(feature = "jit")]
+            native: None,
+        }
+    }
+
+    /// Whether `f64` evaluations run native code.
+    pub(crate) fn is_native(&self) -> bool {
+        #[cfg(feature = "jit")]
+        return self.native.is_some();
+        #[cfg(not(feature = "jit"))]
+        false
+    }
+
+    /// The record.
+    pub(crate) fn record(&self) -> &Record {
+        &self.record
+    }
+
+    /// The outputs at `x` into `y`, as [`Record::eval_into`]; on `f64` by the native code when
+    /// there is one.
+    ///
+    /// # Panics
+    /// If `x` holds fewer values than the record has inputs, or `y` fewer than it has outputs.
+    #[inline]
+    pub(crate) fn eval_into<D: DualNum<f64> + Copy>(&self, x: &[D], y: &mut [D]) {
+        #[cfg(feature = "jit")]
+        if let Some(native) = self.native.as_ref().filter(|n| n.is_flat()) {
+            let (n, m) = (self.record.inputs, self.record.outputs.len());
+            if is_f64::<D>() && n <= NATIVE_VALUES && m <= NATIVE_VALUES {
+                let mut xf = [0.0; NATIVE_VALUES];
+                for (a, b) in xf.iter_mut().zip(&x[..n]) {
+                    *a = b.re();
+                }
+                let mut yf = [0.0; NATIVE_VALUES];
+                native.call(&xf[..n], &mut yf[..m]);
+                for (a, b) in y[..m].iter_mut().zip(&yf) {
+                    *a = D::from(*b);
+                }
+                return;
+            }
+        }
+        self.record.eval_into(x, y)
+    }
+
+    /// The outputs at `x` into `y` on `f64`, as [`eval_into`](Self::eval_into) without the
+    /// copies of the generic form.
+    ///
+    /// # Panics
+    /// As [`eval_into`](Self::eval_into).
+    #[inline]
+    pub(crate) fn eval_f64(&self, x: &[f64], y: &mut [f64]) {
+        #[cfg(feature = "jit")]
+        if let Some(native) = self.native.as_ref().filter(|n| n.is_flat()) {
+            return native.call(x, y);
+        }
+        self.record.eval_into(x, y)
     }
 }
 

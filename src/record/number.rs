@@ -428,7 +428,8 @@ pub(super) fn gradient(y: Recorded, wrt: &[Recorded]) -> Vec<Recorded> {
         }
     }
     for (o, &i) in out.iter_mut().zip(&inputs) {
-        *o = adj[i];
+        // An input recorded after `y` (which therefore does not depend on it) has adjoint 0.
+        *o = adj.get(i).copied().unwrap_or(zero);
     }
     out
 }

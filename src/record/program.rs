@@ -1,5 +1,5 @@
 //! The flat register program of a record: the form in which a record is evaluated, on any
-//! number type and as Taylor jets.
+//! number type and as Taylor jets (and, feature `jit`, the form compiled to native code).
 
 use super::{Op, Record};
 use num_dual::DualNum;
@@ -78,6 +78,11 @@ pub(super) enum Instr {
 /// the bounds checks of the slot indices proved away (each index masked by the buffer's
 /// power-of-two length, which the slot count does not exceed); [`Jets`](super::Jets) runs the
 /// same program order by order over Taylor coefficients, each slot a jet of `stride` coefficients.
+///
+/// Under the feature `jit` a program of stride 1 is also compiled to native code by the
+/// Cranelift code generator (`jit::Native`, <https://cranelift.dev>), which
+/// performs [`step`]'s operations on `f64` in the same order: the expression systems run it on
+/// `f64`, this interpreter on every other number type and where no native code could be made.
 ///
 /// References: A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed., SIAM 2008, §2.2
 /// (the evaluation procedure as a three-part register program); À. Jorba & M. Zou,
@@ -483,7 +488,7 @@ pub(super) fn step<D: DualNum<f64> + Copy>(ins: Instr, v: &mut [D], mask: usize)
 /// may be `sinh/cosh = ∞/∞` for dual numbers (on `f64` both give `±1` exactly there, since
 /// `1 − tanh|u| < 2z` is below half an ulp of 1).
 #[inline(always)]
-fn tanh<D: DualNum<f64> + Copy>(u: D) -> D {
+pub(super) fn tanh<D: DualNum<f64> + Copy>(u: D) -> D {
     let x = u.re();
     if x.abs() <= 20.0 {
         return u.tanh();

@@ -1,0 +1,440 @@
+//! The register program of a record compiled to native code (feature `jit`): each slot of the
+//! [`Program`] (stride 1, products fused, slots allocated) a variable of the Cranelift code
+//! generator, each instruction the same IEEE-754 operations in the same order as the
+//! interpreter's [`step`](super::program::step) on `f64` — `+`, `−`, `×`, `/` and `√` as machine
+//! instructions (correctly rounded, no fused multiply–add), `exp`, `ln`, `powf`, `tanh`,
+//! `sin_cos` and `atan2` as calls of the very Rust functions the interpreter calls — so that the
+//! native code and the interpreter agree bit for bit. The function reads the inputs from `x` and
+//! writes the outputs to `y`; its slots are machine registers or its own stack frame.
+//!
+//! Compilation happens once (at the construction of an expression system); a host Cranelift does
+//! not support, a program larger than [`MAX_INSTRUCTIONS`] or any error of the code generator
+//! gives `None`, and the interpreter runs instead.
+//!
+//! Reference: the Cranelift code generator, <https://cranelift.dev> (Bytecode Alliance),
+//! crates `cranelift-codegen`, `cranelift-frontend`, `cranelift-jit`.
+
+#![allow(unsafe_code)]
+
+use super::program::{tanh, Instr, Program};
+use cranelift_codegen::ir::{
+    types::F64, AbiParam, FuncRef, InstBuilder, MemFlags, StackSlotData, StackSlotKind, Value,
+};
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{default_libcall_names, Linkage, Module};
+use num_dual::DualNum;
+use std::sync::Mutex;
+
+/// The largest program compiled (larger ones are interpreted): bounds the work and memory of the
+/// code generator.
+pub(super) const MAX_INSTRUCTIONS: usize = 1 << 16;
+
+/// How the compiled function receives the program's inputs and returns its outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Layout {
+    /// `f(x, y)`: input `k` at `x[k]`, output `k` to `y[k]`.
+    Flat,
+    /// `f(t, q, p, a, b)` for a program of inputs `(t, q₁ … qₙ, p₁ … pₙ)` and outputs
+    /// `(a₁ … aₙ, b₁ … bₙ)`: Hamilton's equations read from and written to the state vectors
+    /// themselves, with no array of inputs built for the call.
+    Phase(usize),
+}
+
+/// The signature of a compiled program of [`Layout::Flat`].
+type FlatEntry = unsafe extern "C" fn(x: *const f64, y: *mut f64);
+
+/// The signature of a compiled program of [`Layout::Phase`].
+type PhaseEntry =
+    unsafe extern "C" fn(t: f64, q: *const f64, p: *const f64, a: *mut f64, b: *mut f64);
+
+/// The compiled function, of either layout.
+#[derive(Clone, Copy)]
+enum Entry {
+    Flat(FlatEntry),
+    Phase(PhaseEntry, usize),
+}
+
+/// A program compiled to native code, with the module owning the code's memory.
+pub(super) struct Native {
+    entry: Entry,
+    inputs: usize,
+    outputs: usize,
+    /// The owner of the code memory, freed when `self` is dropped. After
+    /// `finalize_definitions` it is never used again but by [`Drop`]; the mutex only makes the
+    /// (`Send`, not `Sync`) module shareable.
+    module: Mutex<Option<JITModule>>,
+}
+
+impl std::fmt::Debug for Native {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Native")
+            .field("inputs", &self.inputs)
+            .field("outputs", &self.outputs)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Drop for Native {
+    fn drop(&mut self) {
+        let module = match self.module.get_mut() {
+            Ok(m) => m.take(),
+            Err(poisoned) => poisoned.into_inner().take(),
+        };
+        if let Some(module) = module {
+            // SAFETY: `entry` is the only pointer into the module's code and lives in `self`,
+            // which is being dropped: no call of it is running or can follow.
+            unsafe { module.free_memory() }
+        }
+    }
+}
+
+impl Native {
+    /// Whether the function is of [`Layout::Flat`] (for [`call`](Self::call)).
+    pub(super) fn is_flat(&self) -> bool {
+        matches!(self.entry, Entry::Flat(_))
+    }
+
+    /// The outputs at `x` into `y`, as [`Program::eval`] on `f64`.
+    ///
+    /// # Panics
+    /// If `x` holds fewer values than the program has inputs or `y` fewer than it has outputs,
+    /// or if the function is not of [`Layout::Flat`].
+    #[inline]
+    pub(super) fn call(&self, x: &[f64], y: &mut [f64]) {
+        let Entry::Flat(entry) = self.entry else {
+            panic!("a native program of the phase layout called with flat arrays");
+        };
+        assert!(x.len() >= self.inputs && y.len() >= self.outputs);
+        // SAFETY: `entry` was compiled by `compile` with the signature `FlatEntry` for the
+        // host's C calling convention; it reads `x[0 .. inputs]` and writes `y[0 .. outputs]`
+        // only, which the assertion keeps in bounds; its code memory is owned by `self.module`,
+        // which lives as long as `self`.
+        unsafe { entry(x.as_ptr(), y.as_mut_ptr()) }
+    }
+
+    /// The outputs at `(t, q, p)` into `(a, b)`, for a function of [`Layout::Phase`]; `false`
+    /// (nothing written) for a function of the flat layout.
+    ///
+    /// # Panics
+    /// If a slice holds fewer values than the layout's `n`.
+    #[inline]
+    pub(super) fn call_phase(
+        &self,
+        t: f64,
+        q: &[f64],
+        p: &[f64],
+        a: &mut [f64],
+        b: &mut [f64],
+    ) -> bool {
+        let Entry::Phase(entry, n) = self.entry else {
+            return false;
+        };
+        assert!(q.len() >= n && p.len() >= n && a.len() >= n && b.len() >= n);
+        // SAFETY: `entry` was compiled by `compile` with the signature `PhaseEntry`; it reads
+        // `q[0 .. n]`, `p[0 .. n]` and writes `a[0 .. n]`, `b[0 .. n]` only, which the
+        // assertion keeps in bounds; its code memory is owned by `self.module`.
+        unsafe { entry(t, q.as_ptr(), p.as_ptr(), a.as_mut_ptr(), b.as_mut_ptr()) };
+        true
+    }
+
+    /// The program compiled with `layout`, or `None` when it cannot be (see the
+    /// [module docs](self)) or when the program's inputs and outputs do not fit the layout.
+    pub(super) fn compile(program: &Program, layout: Layout) -> Option<Native> {
+        if program.stride != 1 || program.instructions.len() > MAX_INSTRUCTIONS {
+            return None;
+        }
+        if let Layout::Phase(n) = layout {
+            if program.inputs != 1 + 2 * n || program.outputs.len() != 2 * n {
+                return None;
+            }
+        }
+        let mut flags = settings::builder();
+        flags.set("use_colocated_libcalls", "false").ok()?;
+        flags.set("is_pic", "false").ok()?;
+        flags.set("opt_level", "speed").ok()?;
+        let isa = cranelift_native::builder()
+            .ok()?
+            .finish(settings::Flags::new(flags))
+            .ok()?;
+        let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
+        for (name, _, address) in SHIMS {
+            builder.symbol(*name, *address);
+        }
+        let mut module = JITModule::new(builder);
+        let address = translate(&mut module, program, layout)?;
+        // SAFETY: `translate` defined and finalized the function with the signature of
+        // `layout` (`FlatEntry`: two pointer parameters; `PhaseEntry`: an `f64` and four
+        // pointers; no result; the default calling convention of the host, which is its C
+        // convention).
+        let entry = match layout {
+            Layout::Flat => {
+                Entry::Flat(unsafe { std::mem::transmute::<*const u8, FlatEntry>(address) })
+            }
+            Layout::Phase(n) => Entry::Phase(
+                unsafe { std::mem::transmute::<*const u8, PhaseEntry>(address) },
+                n,
+            ),
+        };
+        Some(Native {
+            entry,
+            inputs: program.inputs,
+            outputs: program.outputs.len(),
+            module: Mutex::new(Some(module)),
+        })
+    }
+}
+
+/// The functions the native code calls: name, `(parameters, results)` in `f64`s (the
+/// parameter of `sin_cos` is followed by a pointer to its two results), address.
+const SHIMS: &[(&str, (usize, usize), *const u8)] = &[
+    ("hj_exp", (1, 1), exp as *const u8),
+    ("hj_ln", (1, 1), ln as *const u8),
+    ("hj_powf", (2, 1), powf as *const u8),
+    ("hj_tanh", (1, 1), tanh_f64 as *const u8),
+    ("hj_sin_cos", (1, 0), sin_cos as *const u8),
+    ("hj_atan2", (2, 1), atan2 as *const u8),
+];
+
+extern "C" fn exp(a: f64) -> f64 {
+    DualNum::<f64>::exp(&a)
+}
+
+extern "C" fn ln(a: f64) -> f64 {
+    DualNum::<f64>::ln(&a)
+}
+
+extern "C" fn powf(a: f64, p: f64) -> f64 {
+    DualNum::<f64>::powf(&a, p)
+}
+
+extern "C" fn tanh_f64(a: f64) -> f64 {
+    tanh(a)
+}
+
+extern "C" fn sin_cos(a: f64, out: *mut [f64; 2]) {
+    let (s, c) = DualNum::<f64>::sin_cos(&a);
+    // SAFETY: the native code passes the address of a stack slot of its own frame of two
+    // `f64`s, 8-aligned, for this call only.
+    unsafe { *out = [s, c] }
+}
+
+extern "C" fn atan2(y: f64, x: f64) -> f64 {
+    DualNum::<f64>::atan2(&y, x)
+}
+
+/// Define and finalize the function of `program` in `module`; its address.
+fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Option<*const u8> {
+    let pointer = module.target_config().pointer_type();
+    let mut ctx = module.make_context();
+    if matches!(layout, Layout::Phase(_)) {
+        ctx.func.signature.params.push(AbiParam::new(F64));
+        ctx.func
+            .signature
+            .params
+            .extend([AbiParam::new(pointer); 4]);
+    } else {
+        ctx.func
+            .signature
+            .params
+            .extend([AbiParam::new(pointer); 2]);
+    }
+    let mut shims = Vec::with_capacity(SHIMS.len());
+    for (name, (params, results), _) in SHIMS {
+        let mut sig = module.make_signature();
+        sig.params.extend((0..*params).map(|_| AbiParam::new(F64)));
+        if *results == 0 {
+            sig.params.push(AbiParam::new(pointer));
+        }
+        sig.returns
+            .extend((0..*results).map(|_| AbiParam::new(F64)));
+        let id = module.declare_function(name, Linkage::Import, &sig).ok()?;
+        shims.push(id);
+    }
+    let mut fctx = FunctionBuilderContext::new();
+    let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+    let refs: Vec<FuncRef> = shims
+        .iter()
+        .map(|id| module.declare_func_in_func(*id, b.func))
+        .collect();
+    let [f_exp, f_ln, f_powf, f_tanh, f_sin_cos, f_atan2] = refs[..] else {
+        return None;
+    };
+    let block = b.create_block();
+    b.append_block_params_for_function_params(block);
+    b.switch_to_block(block);
+    b.seal_block(block);
+    let params = b.block_params(block).to_vec();
+    let pair = b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
+    let slot: Vec<Variable> = (0..program.slots).map(|_| b.declare_var(F64)).collect();
+    let flags = MemFlags::trusted();
+    let offset = |k: usize| i32::try_from(8 * k).ok();
+    // Input `k` and output `k`: a pointer parameter and an offset (input 0 of the phase
+    // layout, `t`, is the parameter itself and is not looked up here).
+    let input = |k: usize| match layout {
+        Layout::Flat => (0, k),
+        Layout::Phase(n) if k <= n => (1, k - 1),
+        Layout::Phase(n) => (2, k - 1 - n),
+    };
+    let output = |k: usize| match layout {
+        Layout::Flat => (1, k),
+        Layout::Phase(n) if k < n => (3, k),
+        Layout::Phase(n) => (4, k - n),
+    };
+    for (k, &var) in slot.iter().enumerate().take(program.inputs) {
+        let v = match (layout, k) {
+            (Layout::Phase(_), 0) => params[0],
+            _ => {
+                let (base, at) = input(k);
+                b.ins().load(F64, flags, params[base], offset(at)?)
+            }
+        };
+        b.def_var(var, v);
+    }
+    for &(w, c) in &program.consts {
+        let v = b.ins().f64const(c);
+        b.def_var(slot[w], v);
+    }
+    let call = |b: &mut FunctionBuilder, f: FuncRef, args: &[Value]| -> Value {
+        let inst = b.ins().call(f, args);
+        b.inst_results(inst)[0]
+    };
+    // `α v` with the interpreter's rounding: `v · 1 = v` and `v · (−1) = −v` exactly (NaNs
+    // aside, whose payload is not compared), so those factors make no multiplication.
+    let scale = |b: &mut FunctionBuilder, v: Value, alpha: f64| -> Value {
+        if alpha == 1.0 {
+            v
+        } else if alpha == -1.0 {
+            b.ins().fneg(v)
+        } else {
+            let k = b.ins().f64const(alpha);
+            b.ins().fmul(v, k)
+        }
+    };
+    for &ins in &program.instructions {
+        let get = |b: &mut FunctionBuilder, s: usize| b.use_var(slot[s]);
+        match ins {
+            Instr::Lin {
+                w,
+                a,
+                alpha,
+                b: bb,
+                beta,
+            } => {
+                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
+                let ta = scale(&mut b, va, alpha);
+                // `x + (−1)·y = x − y` exactly.
+                let r = if beta == -1.0 {
+                    b.ins().fsub(ta, vb)
+                } else {
+                    let tb = scale(&mut b, vb, beta);
+                    b.ins().fadd(ta, tb)
+                };
+                b.def_var(slot[w], r);
+            }
+            Instr::Affine { w, a, alpha, gamma } => {
+                let va = get(&mut b, a);
+                let ta = scale(&mut b, va, alpha);
+                let kg = b.ins().f64const(gamma);
+                let r = b.ins().fadd(ta, kg);
+                b.def_var(slot[w], r);
+            }
+            Instr::Mul { w, a, b: bb } => {
+                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
+                let r = b.ins().fmul(va, vb);
+                b.def_var(slot[w], r);
+            }
+            Instr::MulAdd {
+                w,
+                a,
+                b: bb,
+                alpha,
+                c,
+                beta,
+            } => {
+                let (va, vb, vc) = (get(&mut b, a), get(&mut b, bb), get(&mut b, c));
+                let ab = b.ins().fmul(va, vb);
+                let ta = scale(&mut b, ab, alpha);
+                let r = if beta == -1.0 {
+                    b.ins().fsub(ta, vc)
+                } else {
+                    let tc = scale(&mut b, vc, beta);
+                    b.ins().fadd(ta, tc)
+                };
+                b.def_var(slot[w], r);
+            }
+            Instr::Div { w, a, b: bb } => {
+                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
+                let r = b.ins().fdiv(va, vb);
+                b.def_var(slot[w], r);
+            }
+            Instr::Recip { w, a } => {
+                // `f64::recip` is `1 / a`.
+                let va = get(&mut b, a);
+                let one = b.ins().f64const(1.0);
+                let r = b.ins().fdiv(one, va);
+                b.def_var(slot[w], r);
+            }
+            Instr::Sqrt { w, a } => {
+                let va = get(&mut b, a);
+                let r = b.ins().sqrt(va);
+                b.def_var(slot[w], r);
+            }
+            Instr::Exp { w, a } => {
+                let va = get(&mut b, a);
+                let r = call(&mut b, f_exp, &[va]);
+                b.def_var(slot[w], r);
+            }
+            Instr::Ln { w, a } => {
+                let va = get(&mut b, a);
+                let r = call(&mut b, f_ln, &[va]);
+                b.def_var(slot[w], r);
+            }
+            Instr::Powf { w, a, p } => {
+                let va = get(&mut b, a);
+                let kp = b.ins().f64const(p);
+                let r = call(&mut b, f_powf, &[va, kp]);
+                b.def_var(slot[w], r);
+            }
+            Instr::Tanh { w, s, a } => {
+                let va = get(&mut b, a);
+                let t = call(&mut b, f_tanh, &[va]);
+                let one = b.ins().f64const(1.0);
+                let tt = b.ins().fmul(t, t);
+                let r = b.ins().fsub(one, tt);
+                b.def_var(slot[w], t);
+                b.def_var(slot[s], r);
+            }
+            Instr::SinCos { s, c, a } => {
+                let va = get(&mut b, a);
+                let address = b.ins().stack_addr(pointer, pair, 0);
+                b.ins().call(f_sin_cos, &[va, address]);
+                let vs = b.ins().stack_load(F64, pair, 0);
+                let vc = b.ins().stack_load(F64, pair, 8);
+                b.def_var(slot[s], vs);
+                b.def_var(slot[c], vc);
+            }
+            Instr::Atan2 { w, y, x, .. } => {
+                let (vy, vx) = (get(&mut b, y), get(&mut b, x));
+                let r = call(&mut b, f_atan2, &[vy, vx]);
+                b.def_var(slot[w], r);
+            }
+        }
+    }
+    for (k, &(o, alpha)) in program.outputs.iter().enumerate() {
+        let v = b.use_var(slot[o]);
+        let r = scale(&mut b, v, alpha);
+        let (base, at) = output(k);
+        b.ins().store(flags, r, params[base], offset(at)?);
+    }
+    b.ins().return_(&[]);
+    b.finalize();
+    let id = module
+        .declare_function("program", Linkage::Export, &ctx.func.signature)
+        .ok()?;
+    module.define_function(id, &mut ctx).ok()?;
+    module.clear_context(&mut ctx);
+    module.finalize_definitions().ok()?;
+    Some(module.get_finalized_function(id))
+}
