@@ -523,15 +523,20 @@ impl LieOperator {
         }
     }
 
-    /// `out = {f, g}` truncated at degree `degree` (`f`, `out` in graded order, length `len`).
+    /// The terms of degree `≤ degree` of `{f, g}` into `out[..C(n + degree, n)]` (graded order;
+    /// the rest of `out` is not touched), from the terms of `f` of degree `≤ degree + 1`. Every
+    /// step runs over the prefix of degree `≤ degree` only, so the cost falls with the degree.
     pub(crate) fn apply(&mut self, f: &[f64], out: &mut [f64], degree: usize) {
         let table = &*self.table;
-        let top = table.of_degree(degree.min(table.degree())).end;
-        self.split.fill(0.0);
+        let degree = degree.min(table.degree());
+        let top = table.of_degree(degree).end;
         for (v, (x, x_nonzero)) in self.field.iter().enumerate() {
-            table.derivative(f, v, &mut self.derivative);
+            if *x_nonzero == 0 {
+                continue;
+            }
+            table.derivative_to(f, v, &mut self.derivative, degree);
             let df_nonzero = self.derivative[..top].iter().filter(|&&c| c != 0.0).count();
-            if df_nonzero == 0 || *x_nonzero == 0 {
+            if df_nonzero == 0 {
                 continue;
             }
             if df_nonzero <= *x_nonzero {
@@ -540,7 +545,7 @@ impl LieOperator {
                 table.mul_add_split(x, &self.derivative, &mut self.split, degree);
             }
         }
-        table.split_to_graded(&self.split, out);
+        table.take_split_to_degree(&mut self.split, out, degree);
     }
 }
 

@@ -293,9 +293,16 @@ impl Monomials {
     /// `α − e_v` is found, as in the product, from the additive half codes:
     /// `code(α − e_v) = code(α) − code(e_v)`.
     pub(crate) fn derivative(&self, a: &[f64], v: usize, out: &mut [f64]) {
-        let len = self.len;
-        let out = &mut out[..len];
+        self.derivative_to(a, v, out, self.degree);
+    }
+
+    /// The terms of degree `≤ d` of `∂a/∂x_v`: `out[..C(n + d, n)]` (graded order) from the terms
+    /// of `a` of degree `≤ d + 1`; the rest of `out` is not touched.
+    pub(crate) fn derivative_to(&self, a: &[f64], v: usize, out: &mut [f64], d: usize) {
+        let d = d.min(self.degree);
+        let out = &mut out[..self.upto[d]];
         out.fill(0.0);
+        let top = self.upto[(d + 1).min(self.degree)];
         let n1 = self.n / 2;
         let radix = self.degree as u32 + 1;
         let (first, unit) = if v < n1 {
@@ -303,7 +310,7 @@ impl Monomials {
         } else {
             (false, radix.pow((v - n1) as u32))
         };
-        for (i, &ai) in a[..len].iter().enumerate() {
+        for (i, &ai) in a[..top].iter().enumerate() {
             let e = self.exponents[i * self.n + v];
             if e == 0 || ai == 0.0 {
                 continue;
@@ -357,6 +364,19 @@ impl Monomials {
                 let s = r1[d1 as usize] + r2[d2 as usize];
                 acc[s as usize] += ai * bj;
             }
+        }
+    }
+
+    /// The terms of degree `≤ d` of `split` (split order) into `out[..C(n + d, n)]` (graded
+    /// order), each read position of `split` reset to zero: when `split` held only terms of
+    /// degree `≤ d` (a product truncated at `d`), it is all zero again afterwards, at a cost
+    /// `C(n + d, n)` instead of `len`.
+    pub(crate) fn take_split_to_degree(&self, split: &mut [f64], out: &mut [f64], d: usize) {
+        let top = self.upto[d.min(self.degree)];
+        for (o, &(c1, c2)) in out[..top].iter_mut().zip(&self.codes[..top]) {
+            let s = (self.ia1[c1 as usize] + self.ia2[c2 as usize]) as usize;
+            *o = split[s];
+            split[s] = 0.0;
         }
     }
 

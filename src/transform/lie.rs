@@ -410,9 +410,11 @@ where
         }
         unit[c] = 0;
         for (k, term) in terms.iter_mut().enumerate().skip(1) {
+            // φ_k to degree K − k: the prefix `f[..top]` (the rest is stale and never read).
+            let top = table.of_degree(degree - k).end;
             lie.apply(&f, &mut next, degree - k);
             std::mem::swap(&mut f, &mut next);
-            if let Some((i, &v)) = f.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            if let Some((i, &v)) = f[..top].iter().enumerate().find(|(_, v)| !v.is_finite()) {
                 return Err(Error::NonFinite {
                     what: format!(
                         "Taylor coefficient of x^{:?} of L_ρ^{k} z_{c} about {}",
