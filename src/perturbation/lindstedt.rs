@@ -30,6 +30,9 @@
 //! * S. Ferraz-Mello, *Canonical Perturbation Theories*, Springer 2007, ch. 2.
 
 use crate::error::{finite, positive, Error, Result};
+use crate::series::ball::{Ball, Coefficient, ROUND};
+use crate::series::poisson::{cosine_axpy as cos_axpy, cosine_product as cos_mul};
+use crate::series::recurrences::unit_power;
 
 /// Highest order accepted by [`lindstedt_odd_force`] (and [`lindstedt_pendulum`]). The coefficients
 /// of the pendulum's series fall like `π^{−2k}`, so beyond order ~150 they underflow to subnormals
@@ -233,115 +236,6 @@ fn horner(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, ck| acc * x + ck)
 }
 
-/// A double with a bound on its accumulated rounding error (first-order running error analysis,
-/// Higham 2002, §3.3; see [`LindstedtSeries`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Ball {
-    /// The computed value (bit-identical to the plain `f64` recursion).
-    pub(crate) v: f64,
-    /// Bound on `|v − exact|`.
-    pub(crate) e: f64,
-}
-
-/// Rounding increment per operation: twice the unit roundoff (see [`LindstedtSeries`]).
-const ROUND: f64 = f64::EPSILON;
-
-impl Ball {
-    pub(crate) const fn exact(v: f64) -> Self {
-        Self { v, e: 0.0 }
-    }
-    fn is_zero(self) -> bool {
-        self.v == 0.0 && self.e == 0.0
-    }
-    pub(crate) fn add(self, o: Self) -> Self {
-        let v = self.v + o.v;
-        Self {
-            v,
-            e: self.e + o.e + ROUND * v.abs(),
-        }
-    }
-    pub(crate) fn mul(self, o: Self) -> Self {
-        let v = self.v * o.v;
-        Self {
-            v,
-            e: self.v.abs() * o.e + o.v.abs() * self.e + self.e * o.e + ROUND * v.abs(),
-        }
-    }
-    /// Times an exactly representable constant.
-    pub(crate) fn scale(self, c: f64) -> Self {
-        let v = c * self.v;
-        Self {
-            v,
-            e: c.abs() * self.e + ROUND * v.abs(),
-        }
-    }
-    /// Divided by an exactly representable constant.
-    pub(crate) fn div(self, d: f64) -> Self {
-        let v = self.v / d;
-        Self {
-            v,
-            e: self.e / d.abs() + ROUND * v.abs(),
-        }
-    }
-    fn neg(self) -> Self {
-        Self {
-            v: -self.v,
-            e: self.e,
-        }
-    }
-}
-
-/// `f^p` of a power series with `f₀ = 1`, truncated to `f.len()` terms (J. C. P. Miller's
-/// recurrence, Knuth TAOCP vol. 2, §4.7: `g₀ = 1`, `k g_k = Σ_{j=1}^{k} ((p+1) j − k) f_j g_{k−j}`),
-/// with running error bounds. `p` must make `(p + 1) j − k` exact (`p` a half-integer).
-pub(crate) fn series_pow_ball(f: &[Ball], p: f64) -> Vec<Ball> {
-    debug_assert!(!f.is_empty() && f[0].v == 1.0);
-    let mut g = vec![Ball::default(); f.len()];
-    g[0] = Ball::exact(1.0);
-    for k in 1..f.len() {
-        let mut s = Ball::default();
-        for j in 1..=k {
-            let w = (p + 1.0) * j as f64 - k as f64;
-            s = s.add(f[j].scale(w).mul(g[k - j]));
-        }
-        g[k] = s.div(k as f64);
-    }
-    g
-}
-
-/// Product of two cosine polynomials `Σ a_m cos ms · Σ b_l cos ls`
-/// (`cos ms cos ls = ½[cos(m+l)s + cos(m−l)s]`).
-fn cos_mul(a: &[Ball], b: &[Ball]) -> Vec<Ball> {
-    if a.is_empty() || b.is_empty() {
-        return Vec::new();
-    }
-    let mut out = vec![Ball::default(); a.len() + b.len() - 1];
-    for (m, am) in a.iter().enumerate() {
-        if am.is_zero() {
-            continue;
-        }
-        for (l, bl) in b.iter().enumerate() {
-            if bl.is_zero() {
-                continue;
-            }
-            let h = am.scale(0.5).mul(*bl);
-            out[m + l] = out[m + l].add(h);
-            out[m.abs_diff(l)] = out[m.abs_diff(l)].add(h);
-        }
-    }
-    out
-}
-
-/// `a += s·b` for cosine polynomials.
-fn cos_axpy(a: &mut Vec<Ball>, s: Ball, b: &[Ball]) {
-    if a.len() < b.len() {
-        a.resize(b.len(), Ball::default());
-    }
-    for (ai, bi) in a.iter_mut().zip(b) {
-        *ai = ai.add(s.mul(*bi));
-    }
-}
-
 /// Refuse an order outside `1..=MAX_LINDSTEDT_ORDER` (before anything is allocated).
 fn check_order(order: usize) -> Result<usize> {
     if (1..=MAX_LINDSTEDT_ORDER).contains(&order) {
@@ -455,8 +349,8 @@ fn lindstedt_balls(odd_coefficients: &[Ball], order: usize) -> Result<LindstedtS
             pow_series[p].push(s);
         }
     }
-    let frequency = series_pow_ball(&sigma, 0.5);
-    let period_ratio = series_pow_ball(&sigma, -0.5);
+    let frequency = unit_power(&sigma, 0.5);
+    let period_ratio = unit_power(&sigma, -0.5);
     let values = |b: &[Ball]| b.iter().map(|c| c.v).collect::<Vec<f64>>();
     let errors = |b: &[Ball]| b.iter().map(|c| c.e).collect::<Vec<f64>>();
     let out = LindstedtSeries {

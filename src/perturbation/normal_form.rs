@@ -49,7 +49,9 @@ use crate::perturbation::birkhoff::{
     normal_form, BirkhoffNormalForm, Block, NormalFormKind, PhasePolynomial, C64,
     MAX_NORMAL_FORM_DEGREE,
 };
-use crate::perturbation::lindstedt::{series_pow_ball, tail_ratio, Ball};
+use crate::perturbation::lindstedt::tail_ratio;
+use crate::series::ball::Ball;
+use crate::series::recurrences::unit_power;
 use crate::series::{scope, Polynomial, Scope, Series};
 use crate::stability::{hamiltonian_equilibrium, PhaseEquilibrium};
 use crate::systems::pendulum_exact::amplitude_from_state;
@@ -890,7 +892,7 @@ fn period_series_from(nf: &NormalForm, order: usize) -> Result<(Vec<f64>, Vec<f6
             format!("ω(0)/ν = {} ≠ 1", omega[0].v),
         ));
     }
-    let c = series_pow_ball(&omega, -1.0);
+    let c = unit_power(&omega, -1.0);
     Ok((
         c.iter().map(|b| b.v).collect(),
         c.iter().map(|b| b.e).collect(),

@@ -39,6 +39,7 @@
 //! [`Hamiltonian`]: crate::Hamiltonian
 
 mod arena;
+pub(crate) mod ball;
 mod elementary;
 mod monomials;
 mod number;
@@ -50,6 +51,7 @@ pub use monomials::{Monomials, MAX_ADDRESS_TABLE, MAX_SERIES_COEFFICIENTS, MAX_S
 pub use poisson::{fourier_taylor, FourierTaylor, Harmonic};
 
 pub(crate) use elementary::power_by_squaring;
+
 pub(crate) use number::number_traits;
 
 use crate::error::{Error, Result};
@@ -68,7 +70,7 @@ use std::sync::Arc;
 ///   `%` of non-constant series, or more than [`MAX_ARENA_COEFFICIENTS`] coefficients stored:
 ///   [`Error::InvalidInput`] naming the fault, even when `f` returned.
 pub fn scope<R>(n: usize, degree: usize, f: impl FnOnce(&Scope) -> R) -> Result<R> {
-    scope_with(Arc::new(Monomials::new(n, degree)?), f)
+    scope_with(Monomials::shared(n, degree)?, f)
 }
 
 /// [`scope`] with monomial tables already built (shared by many scopes).
@@ -441,23 +443,10 @@ impl Polynomial {
                 reason: format!("need 1 ≤ N and 2N ≤ n = {n}, got N = {dof}"),
             });
         }
-        let table = &self.monomials;
-        let len = table.len();
-        let mut out = vec![0.0; len];
-        let (mut df, mut dg) = (vec![0.0; len], vec![0.0; len]);
-        let (mut product, mut scratch) = (vec![0.0; len], vec![0.0; len]);
-        for i in 0..dof {
-            for (a, b, sign) in [(i, dof + i, 1.0), (dof + i, i, -1.0)] {
-                table.derivative(&self.coefficients, a, &mut df);
-                table.derivative(&g.coefficients, b, &mut dg);
-                table.mul_to_degree(&df, &dg, &mut product, &mut scratch, degree);
-                for (o, x) in out.iter_mut().zip(&product) {
-                    *o += sign * x;
-                }
-            }
-        }
+        let mut out = vec![0.0; self.coefficients.len()];
+        LieOperator::new(g, dof).apply(&self.coefficients, &mut out, degree);
         Polynomial {
-            monomials: table.clone(),
+            monomials: self.monomials.clone(),
             coefficients: out,
         }
         .check_finite("the bracket's expansion point")
@@ -481,6 +470,82 @@ impl Polynomial {
             });
         }
         Ok(self)
+    }
+}
+
+/// The Lie operator `L_g f = {f, g}` of a fixed polynomial `g` in `N` degrees of freedom, for
+/// repeated application ([`Polynomial::poisson_bracket`], the Lie series of
+/// [`crate::transform::lie`]): the Hamiltonian vector field `X = (∂g/∂p, −∂g/∂q)` is formed once,
+/// so that
+///
+/// ```math
+/// L_g f = \sum_{v=1}^{2N} \frac{\partial f}{\partial x_v}\, X_v ,
+/// ```
+///
+/// and every application reuses the work arrays (no allocation). The `2N` products of one
+/// application are accumulated in the split order and returned to graded order once; each is
+/// formed with the sparser factor in the outer loop ([`Monomials::mul_add_split`]), so a
+/// polynomial `g` of low degree (few terms in `X`) costs little at any `K`.
+pub(crate) struct LieOperator {
+    table: Arc<Monomials>,
+    /// `(X_v, number of nonzero coefficients of X_v)`, `v = 0 … 2N − 1`.
+    field: Vec<(Vec<f64>, usize)>,
+    derivative: Vec<f64>,
+    split: Vec<f64>,
+}
+
+impl LieOperator {
+    /// The operator of `g` (`1 ≤ dof`, `2·dof ≤ n` checked by the caller).
+    pub(crate) fn new(g: &Polynomial, dof: usize) -> Self {
+        let table = g.monomials.clone();
+        let len = table.len();
+        let field = (0..2 * dof)
+            .map(|v| {
+                let (conjugate, sign) = if v < dof {
+                    (dof + v, 1.0)
+                } else {
+                    (v - dof, -1.0)
+                };
+                let mut x = vec![0.0; len];
+                table.derivative(&g.coefficients, conjugate, &mut x);
+                if sign < 0.0 {
+                    x.iter_mut().for_each(|c| *c = -*c);
+                }
+                let nonzero = x.iter().filter(|&&c| c != 0.0).count();
+                (x, nonzero)
+            })
+            .collect();
+        Self {
+            table,
+            field,
+            derivative: vec![0.0; len],
+            split: vec![0.0; len],
+        }
+    }
+
+    /// The terms of degree `≤ degree` of `{f, g}` into `out[..C(n + degree, n)]` (graded order;
+    /// the rest of `out` is not touched), from the terms of `f` of degree `≤ degree + 1`. Every
+    /// step runs over the prefix of degree `≤ degree` only, so the cost falls with the degree.
+    pub(crate) fn apply(&mut self, f: &[f64], out: &mut [f64], degree: usize) {
+        let table = &*self.table;
+        let degree = degree.min(table.degree());
+        let top = table.of_degree(degree).end;
+        for (v, (x, x_nonzero)) in self.field.iter().enumerate() {
+            if *x_nonzero == 0 {
+                continue;
+            }
+            table.derivative_to(f, v, &mut self.derivative, degree);
+            let df_nonzero = self.derivative[..top].iter().filter(|&&c| c != 0.0).count();
+            if df_nonzero == 0 {
+                continue;
+            }
+            if df_nonzero <= *x_nonzero {
+                table.mul_add_split(&self.derivative, x, &mut self.split, degree);
+            } else {
+                table.mul_add_split(x, &self.derivative, &mut self.split, degree);
+            }
+        }
+        table.take_split_to_degree(&mut self.split, out, degree);
     }
 }
 

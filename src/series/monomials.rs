@@ -16,6 +16,8 @@
 //! algebra space toolbox for nonlinear uncertainty propagation in space dynamics", ICATT 2016).
 
 use crate::error::{Error, Result};
+use std::cell::RefCell;
+use std::sync::Arc;
 
 /// The largest number of coefficients of one series value, `C(n + K, n) ≤ 2²⁰` (8 MiB per value);
 /// a larger request is refused before any allocation.
@@ -291,9 +293,16 @@ impl Monomials {
     /// `α − e_v` is found, as in the product, from the additive half codes:
     /// `code(α − e_v) = code(α) − code(e_v)`.
     pub(crate) fn derivative(&self, a: &[f64], v: usize, out: &mut [f64]) {
-        let len = self.len;
-        let out = &mut out[..len];
+        self.derivative_to(a, v, out, self.degree);
+    }
+
+    /// The terms of degree `≤ d` of `∂a/∂x_v`: `out[..C(n + d, n)]` (graded order) from the terms
+    /// of `a` of degree `≤ d + 1`; the rest of `out` is not touched.
+    pub(crate) fn derivative_to(&self, a: &[f64], v: usize, out: &mut [f64], d: usize) {
+        let d = d.min(self.degree);
+        let out = &mut out[..self.upto[d]];
         out.fill(0.0);
+        let top = self.upto[(d + 1).min(self.degree)];
         let n1 = self.n / 2;
         let radix = self.degree as u32 + 1;
         let (first, unit) = if v < n1 {
@@ -301,7 +310,7 @@ impl Monomials {
         } else {
             (false, radix.pow((v - n1) as u32))
         };
-        for (i, &ai) in a[..len].iter().enumerate() {
+        for (i, &ai) in a[..top].iter().enumerate() {
             let e = self.exponents[i * self.n + v];
             if e == 0 || ai == 0.0 {
                 continue;
@@ -327,12 +336,21 @@ impl Monomials {
         scratch: &mut [f64],
         d: usize,
     ) {
-        let len = self.len;
+        let scratch = &mut scratch[..self.len];
+        scratch.fill(0.0);
+        self.mul_add_split(a, b, scratch, d);
+        self.split_to_graded(scratch, out);
+    }
+
+    /// `acc += a·b` truncated at degree `d ≤ K`, with `acc` in the *split order* of the
+    /// address tables (see the [module docs](self); [`split_to_graded`](Self::split_to_graded)
+    /// returns it to graded order). The outer loop runs over the nonzero coefficients of `a`
+    /// only, so the cost is `Σ_{a_α ≠ 0} C(n + d − |α|, n)`: pass the sparser operand as `a`.
+    pub(crate) fn mul_add_split(&self, a: &[f64], b: &[f64], acc: &mut [f64], d: usize) {
         let d = d.min(self.degree);
         let top = self.upto[d];
         let (a, b) = (&a[..top], &b[..top]);
-        let scratch = &mut scratch[..len];
-        scratch.fill(0.0);
+        let acc = &mut acc[..self.len];
         let codes = &self.codes[..top];
         let (ia1, ia2) = (&self.ia1[..], &self.ia2[..]);
         for (i, &ai) in a.iter().enumerate() {
@@ -344,12 +362,62 @@ impl Monomials {
             let m = self.upto[d - self.degrees[i] as usize];
             for (&bj, &(d1, d2)) in b[..m].iter().zip(&codes[..m]) {
                 let s = r1[d1 as usize] + r2[d2 as usize];
-                scratch[s as usize] += ai * bj;
+                acc[s as usize] += ai * bj;
             }
         }
-        for (s, &g) in scratch.iter().zip(&self.graded) {
+    }
+
+    /// The terms of degree `≤ d` of `split` (split order) into `out[..C(n + d, n)]` (graded
+    /// order), each read position of `split` reset to zero: when `split` held only terms of
+    /// degree `≤ d` (a product truncated at `d`), it is all zero again afterwards, at a cost
+    /// `C(n + d, n)` instead of `len`.
+    pub(crate) fn take_split_to_degree(&self, split: &mut [f64], out: &mut [f64], d: usize) {
+        let top = self.upto[d.min(self.degree)];
+        for (o, &(c1, c2)) in out[..top].iter_mut().zip(&self.codes[..top]) {
+            let s = (self.ia1[c1 as usize] + self.ia2[c2 as usize]) as usize;
+            *o = split[s];
+            split[s] = 0.0;
+        }
+    }
+
+    /// `out` (graded order) from `split` (split order), both of length `len`.
+    pub(crate) fn split_to_graded(&self, split: &[f64], out: &mut [f64]) {
+        for (s, &g) in split[..self.len].iter().zip(&self.graded) {
             out[g as usize] = *s;
         }
+    }
+
+    /// The tables for `(n, degree)` shared through a small per-thread cache: repeated requests
+    /// (one per series scope or Lie-series evaluation) reuse one [`Arc`] instead of rebuilding
+    /// the tables. Errors as [`Monomials::new`]; tables above `CACHED_COEFFICIENTS`
+    /// coefficients are built afresh and not kept.
+    pub(crate) fn shared(n: usize, degree: usize) -> Result<Arc<Self>> {
+        /// Tables larger than this are not kept by the per-thread cache.
+        const CACHED_COEFFICIENTS: usize = 1 << 16;
+        /// Entries of the per-thread cache (least recently built evicted first).
+        const CACHE_ENTRIES: usize = 8;
+        thread_local! {
+            static CACHE: RefCell<Vec<Arc<Monomials>>> = const { RefCell::new(Vec::new()) };
+        }
+        if let Some(hit) = CACHE.with(|c| {
+            c.borrow()
+                .iter()
+                .find(|m| m.n == n && m.degree == degree)
+                .cloned()
+        }) {
+            return Ok(hit);
+        }
+        let table = Arc::new(Self::new(n, degree)?);
+        if table.len <= CACHED_COEFFICIENTS {
+            CACHE.with(|c| {
+                let mut c = c.borrow_mut();
+                if c.len() == CACHE_ENTRIES {
+                    c.remove(0);
+                }
+                c.push(table.clone());
+            });
+        }
+        Ok(table)
     }
 }
 

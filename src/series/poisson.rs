@@ -27,6 +27,7 @@
 //! interpolation error, J. P. Boyd, *Chebyshev and Fourier Spectral Methods*, 2nd ed., Dover
 //! 2001, §2.12 and ch. 11.
 
+use super::ball::Coefficient;
 use super::{scope_with, Monomials, Polynomial, Series};
 use crate::error::{Error, Result};
 use nalgebra::SVector;
@@ -291,4 +292,121 @@ pub fn fourier_taylor<const N: usize>(
         fourier_tail,
         aliasing,
     })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cosine series in one angle, over any coefficient ring.
+
+/// The product of two cosine series in one angle, `c(s) = a(s) b(s)` with
+/// `a = Σ_m a_m cos(ms)`, `b = Σ_l b_l cos(ls)` (index = harmonic), by the product-to-sum rule
+///
+/// ```math
+/// \cos ms\,\cos ls = \tfrac12\big[\cos(m + l)s + \cos(m - l)s\big],
+/// ```
+///
+/// each term `h = (a_m/2)·b_l` added to the harmonics `m + l` and `|m − l|` in the order
+/// `m = 0, 1, …`, `l = 0, 1, …` (exact zeros skipped). The `k = 0` harmonic of a [`Harmonic`] row
+/// of a one-angle [`FourierTaylor`] series with scalar coefficients; generic over the
+/// coefficient ring (`f64`, or [`Ball`](super::ball::Ball) with rounding-error bounds), used by
+/// the Lindstedt–Poincaré recursion ([`crate::perturbation::lindstedt`]). Empty if either factor
+/// is empty.
+pub(crate) fn cosine_product<C: Coefficient>(a: &[C], b: &[C]) -> Vec<C> {
+    if a.is_empty() || b.is_empty() {
+        return Vec::new();
+    }
+    let mut out = vec![C::default(); a.len() + b.len() - 1];
+    for (m, am) in a.iter().enumerate() {
+        if am.is_zero() {
+            continue;
+        }
+        let half = am.scale(0.5);
+        for (l, bl) in b.iter().enumerate() {
+            if bl.is_zero() {
+                continue;
+            }
+            let h = half.mul(*bl);
+            out[m + l] = out[m + l].add(h);
+            out[m.abs_diff(l)] = out[m.abs_diff(l)].add(h);
+        }
+    }
+    out
+}
+
+/// `a ← a + s·b` for cosine series in one angle (`a` grown to the length of `b`), coefficientwise
+/// `a_m ← a_m + s b_m`.
+pub(crate) fn cosine_axpy<C: Coefficient>(a: &mut Vec<C>, s: C, b: &[C]) {
+    if a.len() < b.len() {
+        a.resize(b.len(), C::default());
+    }
+    for (ai, bi) in a.iter_mut().zip(b) {
+        *ai = ai.add(s.mul(*bi));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::ball::Ball;
+    use super::*;
+
+    /// `Σ c_m cos(m s)` by direct summation.
+    fn value<C: Coefficient>(c: &[C], s: f64) -> f64 {
+        c.iter()
+            .enumerate()
+            .map(|(m, cm)| cm.value() * (m as f64 * s).cos())
+            .sum()
+    }
+
+    #[test]
+    fn cosine_product_is_the_pointwise_product() {
+        // Oracle: the product of the two trigonometric sums evaluated pointwise.
+        let a = [0.5, -1.25, 0.0, 0.375];
+        let b = [2.0, 0.0, -0.75];
+        let c = cosine_product(&a, &b);
+        assert_eq!(c.len(), 6);
+        for s in [0.0, 0.3, 1.7, -2.9, 3.1] {
+            let (x, y, z) = (value(&a, s), value(&b, s), value(&c, s));
+            // A handful of products of O(1) terms: a few ulps of Σ|a||b| ≈ 10.
+            assert!((z - x * y).abs() < 16.0 * f64::EPSILON * 10.0, "s = {s}");
+        }
+        // Exact identities: cos²s = (1 + cos 2s)/2, cos s cos 3s = (cos 2s + cos 4s)/2.
+        assert_eq!(
+            cosine_product(&[0.0, 1.0], &[0.0, 1.0]),
+            vec![0.5, 0.0, 0.5]
+        );
+        assert_eq!(
+            cosine_product(&[0.0, 1.0], &[0.0, 0.0, 0.0, 1.0]),
+            vec![0.0, 0.0, 0.5, 0.0, 0.5]
+        );
+        assert!(cosine_product::<f64>(&[], &[1.0]).is_empty());
+    }
+
+    #[test]
+    fn ball_values_equal_the_plain_ones_and_bounds_cover_the_rounding() {
+        // ((1/3) cos s)² = 1/18 + (1/18) cos 2s: the values are bit-identical to f64, and the
+        // bounds cover the error against the exact 1/18 (rounding of 1/3, ≤ ε/8, carried as ε/4).
+        let third = 1.0 / 3.0;
+        let a = [
+            Ball::default(),
+            Ball {
+                v: third,
+                e: f64::EPSILON / 4.0,
+            },
+        ];
+        let plain = cosine_product(&[0.0, third], &[0.0, third]);
+        let balls = cosine_product(&a, &a);
+        for (p, b) in plain.iter().zip(&balls) {
+            assert_eq!(*p, b.v);
+        }
+        for m in [0, 2] {
+            // |v − fl(1/18)| is exact (Sterbenz) and within ulp(1/18)/2 = ε/64 of |v − 1/18|,
+            // far below the derived bound of about ε/4.
+            let err = (balls[m].v - 1.0 / 18.0).abs();
+            assert!(err <= balls[m].e, "m = {m}: {err:e} > {:e}", balls[m].e);
+            assert!(balls[m].e < 8.0 * f64::EPSILON / 18.0);
+        }
+        let mut acc = vec![Ball::exact(1.0)];
+        cosine_axpy(&mut acc, Ball::exact(2.0), &balls);
+        assert_eq!(acc.len(), 3);
+        assert_eq!(acc[0].v, 1.0 + 2.0 * balls[0].v);
+    }
 }

@@ -39,6 +39,8 @@
 //! *Evaluating Derivatives*, 2nd ed., SIAM 2008, Table 13.2; À. Jorba & M. Zou, Exp. Math. 14
 //! (2005) 99–117, §2.2.
 
+use super::ball::Coefficient;
+
 /// `Σ_{i<n} (c + i) a_i b_{n−1−i}` over `n = min(len a, len b)` with `c = 0` and weights dropped
 /// when `weighted` is false: the Cauchy sums of every recurrence (no bounds checks in the loop).
 #[inline(always)]
@@ -126,4 +128,65 @@ pub fn sin_cos(u: &[f64], s: &[f64], c: &[f64], sigma: f64, k: usize) -> (f64, f
     }
     let inv = 1.0 / k as f64;
     (ss * inv, sigma * cs * inv)
+}
+
+/// The series `g = f^p` of a power series with `f₀ = 1`, to the length of `f`, by J. C. P.
+/// Miller's recurrence term by term (Knuth, TAOCP vol. 2, §4.7):
+///
+/// ```math
+/// g_0 = 1,\qquad g_k = \frac1k \sum_{j=1}^{k} \big((p + 1)j - k\big)\, f_j\, g_{k-j},
+/// ```
+///
+/// each term formed as `(f_j·w_j)·g_{k−j}` with the weight `w_j = (p + 1)j − k` exact (`p` an
+/// integer or half-integer), over any coefficient ring ([`Coefficient`]): with
+/// [`Ball`](super::ball::Ball) coefficients every term carries its rounding bound. This is
+/// [`power`] for `u₀ = 1` without its split into two Cauchy sums (`(p + 1) Σ j u_j w_{k−j} −
+/// k Σ u_j w_{k−j}`), which is faster on doubles but cancels, and would inflate the bounds.
+pub(crate) fn unit_power<C: Coefficient>(f: &[C], p: f64) -> Vec<C> {
+    debug_assert!(!f.is_empty() && f[0].value() == 1.0);
+    let mut g = vec![C::default(); f.len()];
+    if let Some(g0) = g.first_mut() {
+        *g0 = C::exact(1.0);
+    }
+    for k in 1..f.len() {
+        let mut s = C::default();
+        for j in 1..=k {
+            let w = (p + 1.0) * j as f64 - k as f64;
+            s = s.add(f[j].scale(w).mul(g[k - j]));
+        }
+        g[k] = s.div(k as f64);
+    }
+    g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::ball::Ball;
+    use super::*;
+
+    #[test]
+    fn unit_power_gives_the_binomial_series() {
+        // Oracle: (1 + x)^{−1/2} = Σ C(−1/2, k) x^k, C(−1/2, k) = (−1)^k (2k)!/(4^k (k!)²),
+        // exact in doubles (an integer over 4^k; the Ball values must equal them within the bound).
+        let mut f = vec![Ball::default(); 11];
+        f[0] = Ball::exact(1.0);
+        f[1] = Ball::exact(1.0);
+        let g = unit_power(&f, -0.5);
+        for (k, gk) in g.iter().enumerate() {
+            let binomial = (1..=k as u64).fold(1u64, |b, i| b * (k as u64 + i) / i); // C(2k, k)
+            let c = if k % 2 == 0 { 1.0 } else { -1.0 } * binomial as f64 / 4f64.powi(k as i32);
+            assert!((gk.v - c).abs() <= gk.e, "k = {k}: {} vs {c}", gk.v);
+            // Derived bound: step k adds ε|g_k| for the scaling, the product and the division
+            // and ε|s| for each of the k additions (the zero terms f_j, j ≥ 2, included), while
+            // the relative bound of g_{k−1} carries over exactly: Σ_{i≤k} (i + 3) ε, plus one ε
+            // for the second-order terms.
+            let derived = (k * (k + 1) / 2 + 3 * k + 1) as f64 * f64::EPSILON;
+            assert!(gk.e <= derived * c.abs(), "k = {k}: bound {:e}", gk.e);
+        }
+        // Plain doubles: (1 − x)² = 1 − 2x + x², exactly.
+        assert_eq!(
+            unit_power(&[1.0, -1.0, 0.0, 0.0], 2.0),
+            vec![1.0, -2.0, 1.0, 0.0]
+        );
+    }
 }

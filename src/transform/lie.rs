@@ -45,10 +45,9 @@ use crate::brackets::{poisson_bracket, time_derivative, PhaseMap};
 use crate::error::{finite, Error, Result};
 use crate::hamiltonian::{not_finite, Hamiltonian, PhaseFunction};
 use crate::phase::{check_phase, CanonicalPair};
-use crate::series::{scope_with, Monomials, Polynomial, Series, MAX_SERIES_DEGREE};
+use crate::series::{scope_with, LieOperator, Monomials, Series, MAX_SERIES_DEGREE};
 use nalgebra::SVector;
 use num_dual::DualNum;
-use std::sync::Arc;
 
 /// Highest truncation order `n` of a [`LieSeries`].
 ///
@@ -317,13 +316,16 @@ where
 /// With `d = D::NDERIV` the highest derivative `D` carries, `ρ` is expanded once about the real
 /// point `(t₀, z₀) = (re t, re z)` to total degree `K = depth + d` in the displacement
 /// `x = z − z₀` (and `τ = t − t₀` when `d ≥ 1`, so that derivatives in `t` are kept):
-/// `ρ̂ = Σ_{|α| ≤ K} r_α x^α` ([`crate::series::scope_with`]). The Lie terms are polynomials,
-/// `φ₀ = z₀ + x` and `φ_{k+1} = {φ_k, ρ̂}` truncated at degree `K − k − 1`
-/// ([`Polynomial::poisson_bracket`]); each bracket differentiates once, so `φ_k` is exact to
-/// degree `K − k ≥ d` for `k ≤ depth`. Evaluated at the displacement `x = z − z₀` of `D`, whose
-/// powers beyond `d` vanish, `Σ_{|α| ≤ d} φ_{k,α} x^α` is the value of `φ_k` in `D` with all
-/// derivatives `D` carries. Errors: storage beyond the series limits (e.g. `D` a [`Series`],
-/// whose `NDERIV` is [`MAX_SERIES_DEGREE`]), a non-finite Taylor coefficient.
+/// `ρ̂ = Σ_{|α| ≤ K} r_α x^α` ([`crate::series::scope_with`], monomial tables shared per thread).
+/// The Lie terms are polynomials, `φ₀ = z₀ + x` and `φ_{k+1} = {φ_k, ρ̂} = Σ_v ∂_v φ_k X_v`
+/// truncated at degree `K − k − 1`, with the Hamiltonian vector field `X = (∂ρ̂/∂p, −∂ρ̂/∂q)`
+/// formed once (`crate::series::LieOperator`, the operator behind
+/// [`Polynomial::poisson_bracket`](crate::series::Polynomial::poisson_bracket)); each bracket
+/// differentiates once, so `φ_k` is exact to degree `K − k ≥ d` for `k ≤ depth`. Evaluated at the
+/// displacement `x = z − z₀` of `D`, whose powers beyond `d` vanish, `Σ_{|α| ≤ d} φ_{k,α} x^α` is
+/// the value of `φ_k` in `D` with all derivatives `D` carries. Errors: storage beyond the series
+/// limits (e.g. `D` a [`Series`], whose `NDERIV` is [`MAX_SERIES_DEGREE`]), a non-finite Taylor
+/// coefficient.
 fn lie_terms<R, D, const N: usize>(
     rho: &R,
     depth: usize,
@@ -350,10 +352,11 @@ where
         })?;
     let timed = d > 0;
     let variables = 2 * N + usize::from(timed);
-    let table = Arc::new(Monomials::new(variables, degree)?);
+    let table = Monomials::shared(variables, degree)?;
     let t0 = t.re();
     let z0: Vec<f64> = q.iter().chain(p.iter()).map(|x| x.re()).collect();
-    let (rho_hat, coordinates) = scope_with(table.clone(), |s| -> Result<_> {
+    let at = || format!("t = {t0:e}, z = {z0:?}");
+    let rho_hat = scope_with(table.clone(), |s| -> Result<_> {
         let x = (0..2 * N)
             .map(|i| s.variable_at(i, z0[i]))
             .collect::<Result<Vec<Series>>>()?;
@@ -364,13 +367,13 @@ where
         } else {
             Series::constant(t0)
         };
-        let rho_hat = s.polynomial(rho.eval(ts, &qs, &ps))?;
-        let coordinates = x
-            .iter()
-            .map(|&xi| s.polynomial(xi))
-            .collect::<Result<Vec<Polynomial>>>()?;
-        Ok((rho_hat, coordinates))
+        s.polynomial(rho.eval(ts, &qs, &ps))
     })??;
+    if rho_hat.coefficients().iter().any(|c| !c.is_finite()) {
+        return Err(rho_hat.check_finite(&at()).err().unwrap_or_else(|| {
+            Error::invalid("Lie series", "a non-finite Taylor coefficient of ρ")
+        }));
+    }
     // The monomials x^α, |α| ≤ d, at the displacement of D (exactly nilpotent beyond d).
     let displacement: Vec<D> = q
         .iter()
@@ -388,15 +391,39 @@ where
                 .fold(D::from(1.0), |m, (&e, &dx)| (0..e).fold(m, |m, _| m * dx))
         })
         .collect();
-    let at_point = |f: &Polynomial| -> D {
+    let at_point = |f: &[f64]| -> D {
         low.iter()
-            .zip(f.coefficients())
+            .zip(f)
             .fold(D::from(0.0), |acc, (&m, &c)| acc + m * c)
     };
+    // φ_{k+1,c} = L_ρ φ_{k,c} from φ_{0,c} = x_c, in two work arrays per call.
+    let lie = &mut LieOperator::new(&rho_hat, N);
+    let len = table.len();
+    let (mut f, mut next) = (vec![0.0; len], vec![0.0; len]);
+    let mut unit = vec![0u32; variables];
     let mut terms = vec![(*q, *p); depth + 1];
-    for (c, mut f) in coordinates.into_iter().enumerate() {
+    for c in 0..2 * N {
+        f.fill(0.0);
+        unit[c] = 1;
+        if let Some(i) = table.index_of(&unit) {
+            f[i] = 1.0;
+        }
+        unit[c] = 0;
         for (k, term) in terms.iter_mut().enumerate().skip(1) {
-            f = f.poisson_bracket(&rho_hat, N, degree - k)?;
+            // φ_k to degree K − k: the prefix `f[..top]` (the rest is stale and never read).
+            let top = table.of_degree(degree - k).end;
+            lie.apply(&f, &mut next, degree - k);
+            std::mem::swap(&mut f, &mut next);
+            if let Some((i, &v)) = f[..top].iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(Error::NonFinite {
+                    what: format!(
+                        "Taylor coefficient of x^{:?} of L_ρ^{k} z_{c} about {}",
+                        table.exponents(i).unwrap_or_default(),
+                        at()
+                    ),
+                    value: v,
+                });
+            }
             let v = at_point(&f);
             if c < N {
                 term.0[c] = v;
@@ -451,11 +478,15 @@ fn lie_sum<D: DualNum<f64> + Copy, const N: usize>(
 /// evaluation of `ρ` on the truncated power series type ([`crate::series`]) about the point, to
 /// degree `n` (`n + 1` with the error estimate; `n + d` in a number type carrying derivatives to
 /// order `d`, e.g. `d = 1` for [`certify`](crate::brackets::certify)), in the `2N` phase variables
-/// (and `t` when `d ≥ 1`); then `L_ρ^{k+1} z_i = {L_ρ^k z_i, ρ}` is a Poisson bracket of
-/// polynomials ([`Polynomial::poisson_bracket`]), the `k`-th truncated at degree `n + d − k`, and
-/// the terms are read off at the point. For `m = 2N` variables the work is dominated by
-/// `2N · Σ_k 2N` truncated products, each of `C(2m + n + d − k − 1, 2m)` coefficient pairs at most:
-/// polynomial in `n` (nested forward-mode AD would grow like `3ⁿ`), but growing with `N` like a
+/// (and `t` when `d ≥ 1`); then `L_ρ^{k+1} z_i = {L_ρ^k z_i, ρ} = Σ_v ∂_v(L_ρ^k z_i) X_v` is a
+/// Poisson bracket of polynomials with the vector field `X = (∂ρ/∂p, −∂ρ/∂q)` formed once
+/// ([`Polynomial::poisson_bracket`](crate::series::Polynomial::poisson_bracket)), the `k`-th
+/// truncated at degree `n + d − k`, and the terms are read off at the point. With `m = 2N`
+/// variables the work is `2N · Σ_k 2N` truncated products; each is formed with its sparser factor
+/// in the outer loop, so it costs at most `C(2m + n + d − k − 1, 2m)` coefficient pairs for a
+/// dense `ρ̂` but only `s · C(m + n + d − k − 1, m)` when `X_v` has `s` terms (a quadratic `ρ`,
+/// such as a rotation generator, gives `s ≤ 2m`): polynomial in `n` (nested forward-mode AD
+/// would grow like `3ⁿ`), but for dense generators growing with `N` like a
 /// dense polynomial algebra. The storage is one series value of `C(m + n + d, m)` coefficients per
 /// term, bounded by the limits of [`crate::series`]: a request beyond them (only for large `N`,
 /// or `D` a [`Series`] itself) is a typed error from the checked methods and NaN from
