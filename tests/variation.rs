@@ -184,11 +184,15 @@ fn projectile_planetary_form_equals_general_form() {
         let scale = 1.0 + general.0.amax().max(general.1.amax());
         assert!((planetary.0 - general.0).amax() < 1e-13 * scale);
         assert!((planetary.1 - general.1).amax() < 1e-13 * scale);
-        // And directly: L γ̇ = −∂U*/∂γ.
+        // And directly: L γ̇ = −∂U*/∂γ with ∂U*/∂γ by AD of U through the solution (the
+        // equations form it by the chain rule, (∂F/∂γ)ᵀ(−∂U/∂q)): the two orders of the same
+        // sums agree to rounding, amplified by the inverse bracket matrix as for the general
+        // form above, within the same bound.
         let l = lagrange_brackets(&Projectile, t, &a, &b).unwrap();
         let du = disturbing_function_gradient(&Projectile, &Quadratic, t, &a, &b).unwrap();
         let g2 = lagrange_planetary_rhs(&l, &du).unwrap();
-        assert!((g2.0 - planetary.0).amax() == 0.0 && (g2.1 - planetary.1).amax() == 0.0);
+        assert!((g2.0 - planetary.0).amax() < 1e-13 * scale);
+        assert!((g2.1 - planetary.1).amax() < 1e-13 * scale);
     }
 }
 

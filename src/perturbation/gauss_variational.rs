@@ -201,22 +201,34 @@ pub fn gauss_modified_equinoctial<D: DualNum<f64> + Copy>(
     let mu = check_mu(mu)?;
     el.validate()?;
     check_re("RTN acceleration (R, T, N)", a_rtn)?;
+    let (sl, cl) = el.l.sin_cos();
+    Ok(mee_rates(mu, el, sl, cl, a_rtn))
+}
+
+/// The closed form of [`gauss_modified_equinoctial`] for validated input, with
+/// `(sin L, cos L)` already formed.
+fn mee_rates<D: DualNum<f64> + Copy>(
+    mu: f64,
+    el: &ModifiedEquinoctial<D>,
+    sl: D,
+    cl: D,
+    a_rtn: &V3<D>,
+) -> ModifiedEquinoctial<D> {
     let (p, f, g, h, k) = (el.p, el.f, el.g, el.h, el.k);
     let (rr, tt, nn) = (a_rtn[0], a_rtn[1], a_rtn[2]);
-    let (sl, cl) = el.l.sin_cos();
     let w = f * cl + g * sl + 1.0;
     let s2 = h * h + k * k + 1.0;
     let chi = h * sl - k * cl;
     let sp = (p / mu).sqrt();
     let spw = sp / w;
-    Ok(ModifiedEquinoctial {
+    ModifiedEquinoctial {
         p: p * spw * tt * 2.0,
         f: sp * rr * sl + spw * (((w + 1.0) * cl + f) * tt - g * chi * nn),
         g: -sp * rr * cl + spw * (((w + 1.0) * sl + g) * tt + f * chi * nn),
         h: spw * s2 * cl * nn * 0.5,
         k: spw * s2 * sl * nn * 0.5,
         l: (p * p * p).recip().sqrt() * mu.sqrt() * w * w + spw * chi * nn,
-    })
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -295,17 +307,18 @@ pub fn gauss_classical(mu: f64, el: &Classical, a_rtn: &Vector3<f64>) -> Result<
         argp: (-p * cn * rr + (p + r) * sn * tt) / (h * e) - r * su * ci / (h * si) * nn,
         mean_anomaly: n + b / (a * h * e) * ((p * cn - 2.0 * r * e) * rr - (p + r) * sn * tt),
     };
-    all_finite(
-        format_args!("classical element rates at {}", at()),
-        &[
-            rates.a,
-            rates.e,
-            rates.i,
-            rates.raan,
-            rates.argp,
-            rates.mean_anomaly,
-        ],
-    )?;
+    let all = [
+        rates.a,
+        rates.e,
+        rates.i,
+        rates.raan,
+        rates.argp,
+        rates.mean_anomaly,
+    ];
+    // The message (which formats the elements) is built only on failure.
+    if !all.iter().all(|x| x.is_finite()) {
+        all_finite(format_args!("classical element rates at {}", at()), &all)?;
+    }
     Ok(rates)
 }
 
@@ -393,7 +406,9 @@ impl<F: MomentumForce<3>> GaussEquations<F> {
     }
 
     /// The element rates at `(t, el)` in any dual type (so the whole chain elements → state →
-    /// force → RTN → rates can be differentiated).
+    /// force → RTN → rates can be differentiated): [`ModifiedEquinoctial::to_state`], the force
+    /// there, [`inertial_to_rtn`] and [`gauss_modified_equinoctial`], with the elements validated
+    /// and `sin L`, `cos L` formed once for the state and the rates.
     ///
     /// # Errors
     /// As [`ModifiedEquinoctial::to_state`], [`inertial_to_rtn`] (a NaN/∞ force is
@@ -403,10 +418,13 @@ impl<F: MomentumForce<3>> GaussEquations<F> {
         t: D,
         el: &ModifiedEquinoctial<D>,
     ) -> Result<ModifiedEquinoctial<D>> {
-        let (r, v) = el.to_state(self.mu)?;
+        el.validate()?;
+        let (sl, cl) = el.l.sin_cos();
+        let (r, v) = el.state_at(self.mu, sl, cl)?;
         let acc = self.force.force(t, &r, &v);
         let a_rtn = inertial_to_rtn(&r, &v, &acc)?;
-        gauss_modified_equinoctial(self.mu, el, &a_rtn)
+        check_re("RTN acceleration (R, T, N)", &a_rtn)?;
+        Ok(mee_rates(self.mu, el, sl, cl, &a_rtn))
     }
 }
 

@@ -237,14 +237,17 @@ where
     let m = solution_jacobian(solution, t, gamma1, gamma2)?;
     let (x1, x2) = solution.state(t, gamma1, gamma2);
     let (g1, g2) = perturbation.perturbation(t, &x1, &x2);
-    all_finite(
-        format_args!("perturbation g at {}; g₁", at(t, gamma1, gamma2)),
-        g1.as_slice(),
-    )?;
-    all_finite(
-        format_args!("perturbation g at {}; g₂", at(t, gamma1, gamma2)),
-        g2.as_slice(),
-    )?;
+    // The messages (which format the point) are built only on failure.
+    if !g1.iter().chain(g2.iter()).all(|x| x.is_finite()) {
+        all_finite(
+            format_args!("perturbation g at {}; g₁", at(t, gamma1, gamma2)),
+            g1.as_slice(),
+        )?;
+        all_finite(
+            format_args!("perturbation g at {}; g₂", at(t, gamma1, gamma2)),
+            g2.as_slice(),
+        )?;
+    }
     let inv = m.checked_inverse(
         "∂φ/∂γ (variation of constants; singular elements)",
         || at(t, gamma1, gamma2),
@@ -413,13 +416,50 @@ where
     R: MomentumForce<N> + ?Sized,
 {
     let m = solution_jacobian(solution, t, gamma1, gamma2)?;
+    project_force(&m, solution, force, t, gamma1, gamma2)
+}
+
+/// `b_j = Σ_r R_r ∂F_r/∂γ_j` with the Jacobian `m = ∂φ/∂γ` already formed.
+fn project_force<S, R, const N: usize>(
+    m: &PhaseMatrix<N>,
+    solution: &S,
+    force: &R,
+    t: f64,
+    gamma1: &SVector<f64, N>,
+    gamma2: &SVector<f64, N>,
+) -> Result<ElementPair<N>>
+where
+    S: GeneralSolution<N> + ?Sized,
+    R: MomentumForce<N> + ?Sized,
+{
     let (q, p) = solution.state(t, gamma1, gamma2);
     let r = force.force(t, &q, &p);
-    all_finite(
-        format_args!("force R at {}; R", at(t, gamma1, gamma2)),
-        r.as_slice(),
-    )?;
+    // The message (which formats the point) is built only on failure.
+    if !r.iter().all(|x| x.is_finite()) {
+        all_finite(
+            format_args!("force R at {}; R", at(t, gamma1, gamma2)),
+            r.as_slice(),
+        )?;
+    }
     Ok((m.qq.transpose() * r, m.qp.transpose() * r))
+}
+
+/// `γ̇ = L⁻¹ b` of the Lagrange-bracket form, `L = (∂φ/∂γ)ᵀ J (∂φ/∂γ)`,
+/// `b = (∂F/∂γ)ᵀ R`, from one AD Jacobian of the general solution.
+fn bracket_form_rhs<S, R, const N: usize>(
+    solution: &S,
+    force: &R,
+    t: f64,
+    gamma1: &SVector<f64, N>,
+    gamma2: &SVector<f64, N>,
+) -> Result<ElementPair<N>>
+where
+    S: GeneralSolution<N> + ?Sized,
+    R: MomentumForce<N> + ?Sized,
+{
+    let m = solution_jacobian(solution, t, gamma1, gamma2)?;
+    let rhs = project_force(&m, solution, force, t, gamma1, gamma2)?;
+    lagrange_planetary_rhs(&m.symplectic_form(), &rhs)
 }
 
 /// `−∂U*/∂γ` with `U*(γ, t) = U(F(γ, t), t)` [Ardema eqs. 18.22–18.24], by AD through the
@@ -475,14 +515,18 @@ impl<S: GeneralSolution<N>, R: MomentumForce<N>, const N: usize> ElementOde<N>
     for LagrangeBracketForm<S, R>
 {
     fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
-        let l = lagrange_brackets(&self.solution, t, a, b)?;
-        let rhs = force_on_elements(&self.solution, &self.force, t, a, b)?;
-        lagrange_planetary_rhs(&l, &rhs)
+        bracket_form_rhs(&self.solution, &self.force, t, a, b)
     }
 }
 
 /// Lagrange's planetary equations (conservative perturbation):
 /// `Σ_s [γ_j, γ_s] γ̇_s = −∂U*/∂γ_j`.
+///
+/// The right-hand side is formed by the chain rule, `−∂U*/∂γ_j = Σ_r (−∂U/∂q_r) ∂F_r/∂γ_j`
+/// (the force of [`GradientForce`] projected with the Jacobian `∂φ/∂γ` that also gives the
+/// brackets): one AD pass through the general solution per evaluation, not two
+/// ([`disturbing_function_gradient`] differentiates `U*` through the solution directly; the
+/// tests compare both).
 #[derive(Clone, Copy, Debug)]
 pub struct PlanetaryEquations<S, U> {
     /// The unperturbed general solution `(q, p) = (F, G)(γ, t)`.
@@ -495,8 +539,6 @@ impl<S: GeneralSolution<N>, U: DisturbingFunction<N>, const N: usize> ElementOde
     for PlanetaryEquations<S, U>
 {
     fn rhs(&self, t: f64, a: &SVector<f64, N>, b: &SVector<f64, N>) -> Result<ElementPair<N>> {
-        let l = lagrange_brackets(&self.solution, t, a, b)?;
-        let rhs = disturbing_function_gradient(&self.solution, &self.disturbing, t, a, b)?;
-        lagrange_planetary_rhs(&l, &rhs)
+        bracket_form_rhs(&self.solution, &GradientForce(&self.disturbing), t, a, b)
     }
 }

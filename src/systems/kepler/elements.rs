@@ -881,8 +881,17 @@ impl<D: DualNum<f64> + Copy> ModifiedEquinoctial<D> {
     pub fn to_state(&self, mu: f64) -> Result<CanonicalPair<3, D>> {
         let mu = check_mu(mu)?;
         self.validate()?;
-        let (p, f, g, h, k) = (self.p, self.f, self.g, self.h, self.k);
         let (sl, cl) = self.l.sin_cos();
+        self.state_at(mu, sl, cl)
+    }
+
+    /// [`ModifiedEquinoctial::to_state`] of validated elements with `μ > 0` and
+    /// `(sin L, cos L)` already formed (the element equations reuse them for the rates).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] if the state overflows.
+    pub(crate) fn state_at(&self, mu: f64, sl: D, cl: D) -> Result<CanonicalPair<3, D>> {
+        let (p, f, g, h, k) = (self.p, self.f, self.g, self.h, self.k);
         let w = f * cl + g * sl + 1.0;
         let r = p / w;
         let s2 = h * h + k * k + 1.0;
