@@ -34,9 +34,12 @@ use hamilton_jacobi::integrate::{integrate, Dop853, FirstOrderSystem, Problem, R
 use hamilton_jacobi::nalgebra::{SVector, Vector2, Vector4};
 use hamilton_jacobi::Result;
 use ode_solvers::{OutputType, System};
+
+mod common;
+use common::best;
 use std::f64::consts::TAU;
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Eccentricity of the orbit.
 const E: f64 = 0.5;
@@ -121,18 +124,6 @@ fn run_peer(tol: f64) -> (Vector4<f64>, usize, usize, usize) {
         stats.rejected_steps as usize,
         stats.num_eval as usize,
     )
-}
-
-/// Best wall time of `runs` calls of `f`.
-fn best<R>(runs: usize, mut f: impl FnMut() -> R) -> Duration {
-    (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            black_box(f());
-            t.elapsed()
-        })
-        .min()
-        .unwrap_or(Duration::MAX)
 }
 
 /// Step counts of both sides, their agreement asserted, and a first time per step.

@@ -476,13 +476,7 @@ impl Polynomial {
 /// The Lie operator `L_g f = {f, g}` of a fixed polynomial `g` in `N` degrees of freedom, for
 /// repeated application ([`Polynomial::poisson_bracket`], the Lie series of
 /// [`crate::transform::lie`]): the Hamiltonian vector field `X = (∂g/∂p, −∂g/∂q)` is formed once,
-/// so that
-///
-/// ```math
-/// L_g f = \sum_{v=1}^{2N} \frac{\partial f}{\partial x_v}\, X_v ,
-/// ```
-///
-/// and every application reuses the work arrays (no allocation). The `2N` products of one
+/// so that `L_g f = Σ_{v=1}^{2N} (∂f/∂x_v) X_v`, and every application reuses the work arrays (no allocation). The `2N` products of one
 /// application are accumulated in the split order and returned to graded order once; each is
 /// formed with the sparser factor in the outer loop ([`Monomials::mul_add_split`]), so a
 /// polynomial `g` of low degree (few terms in `X`) costs little at any `K`.

@@ -299,12 +299,7 @@ pub fn fourier_taylor<const N: usize>(
 
 /// The product of two cosine series in one angle, `c(s) = a(s) b(s)` with
 /// `a = Σ_m a_m cos(ms)`, `b = Σ_l b_l cos(ls)` (index = harmonic), by the product-to-sum rule
-///
-/// ```math
-/// \cos ms\,\cos ls = \tfrac12\big[\cos(m + l)s + \cos(m - l)s\big],
-/// ```
-///
-/// each term `h = (a_m/2)·b_l` added to the harmonics `m + l` and `|m − l|` in the order
+/// `cos(ms) cos(ls) = ½[cos((m + l)s) + cos((m − l)s)]`, each term `h = (a_m/2)·b_l` added to the harmonics `m + l` and `|m − l|` in the order
 /// `m = 0, 1, …`, `l = 0, 1, …` (exact zeros skipped). The `k = 0` harmonic of a [`Harmonic`] row
 /// of a one-angle [`FourierTaylor`] series with scalar coefficients; generic over the
 /// coefficient ring (`f64`, or [`Ball`](super::ball::Ball) with rounding-error bounds), used by

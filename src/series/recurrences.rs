@@ -131,13 +131,8 @@ pub fn sin_cos(u: &[f64], s: &[f64], c: &[f64], sigma: f64, k: usize) -> (f64, f
 }
 
 /// The series `g = f^p` of a power series with `f₀ = 1`, to the length of `f`, by J. C. P.
-/// Miller's recurrence term by term (Knuth, TAOCP vol. 2, §4.7):
-///
-/// ```math
-/// g_0 = 1,\qquad g_k = \frac1k \sum_{j=1}^{k} \big((p + 1)j - k\big)\, f_j\, g_{k-j},
-/// ```
-///
-/// each term formed as `(f_j·w_j)·g_{k−j}` with the weight `w_j = (p + 1)j − k` exact (`p` an
+/// Miller's recurrence term by term (Knuth, TAOCP vol. 2, §4.7),
+/// `g_0 = 1`, `g_k = (1/k) Σ_{j=1}^{k} ((p + 1)j − k) f_j g_{k−j}`, each term formed as `(f_j·w_j)·g_{k−j}` with the weight `w_j = (p + 1)j − k` exact (`p` an
 /// integer or half-integer), over any coefficient ring ([`Coefficient`]): with
 /// [`Ball`](super::ball::Ball) coefficients every term carries its rounding bound. This is
 /// [`power`] for `u₀ = 1` without its split into two Cauchy sums (`(p + 1) Σ j u_j w_{k−j} −
