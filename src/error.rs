@@ -283,6 +283,17 @@ pub fn finite(what: impl fmt::Display, value: f64) -> Result<f64> {
     }
 }
 
+/// A message formatted only when it is displayed: `Lazy(|f| write!(f, "t = {t}"))` passed as
+/// the `what` of [`finite`] or [`all_finite`] costs nothing unless the check fails (an argument
+/// of `format_args!` is evaluated at once, so a `String` built there is built on every call).
+pub(crate) struct Lazy<F: Fn(&mut fmt::Formatter<'_>) -> fmt::Result>(pub(crate) F);
+
+impl<F: Fn(&mut fmt::Formatter<'_>) -> fmt::Result> fmt::Display for Lazy<F> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        (self.0)(f)
+    }
+}
+
 /// Reject a slice containing NaN or ±∞; the error names the first bad component as `what[i]`.
 pub fn all_finite(what: impl fmt::Display, values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {

@@ -24,7 +24,7 @@
 //! A one-line Hamiltonian needs no hand-written struct: see [`hamiltonian!`](crate::hamiltonian!).
 
 use crate::ad::{gradient, lift, phase_gradient, phase_hessian, GradDual, PhaseDual};
-use crate::error::{all_finite, finite, Result};
+use crate::error::{all_finite, finite, Lazy, Result};
 use crate::phase::{check_phase, PhaseMatrix};
 use nalgebra::SVector;
 use num_dual::{first_derivative, Dual, DualNum};
@@ -203,9 +203,9 @@ pub(crate) fn checked_vector_field<H: Hamiltonian<N> + ?Sized, const N: usize>(
 ) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
     check_phase(t, q, p)?;
     let (qd, pd) = h.vector_field_unchecked(t, q, p);
-    let at = || format!("at t = {t}, q = {q:?}, p = {p:?}");
-    all_finite(format_args!("q̇ = ∂H/∂p {}; q̇", at()), qd.as_slice())?;
-    all_finite(format_args!("ṗ {}; ṗ", at()), pd.as_slice())?;
+    let at = Lazy(|f| write!(f, "at t = {t}, q = {q:?}, p = {p:?}"));
+    all_finite(format_args!("q̇ = ∂H/∂p {at}; q̇"), qd.as_slice())?;
+    all_finite(format_args!("ṗ {at}; ṗ"), pd.as_slice())?;
     Ok((qd, pd))
 }
 

@@ -86,7 +86,7 @@ use num_dual::DualNum;
 
 use super::ode::{ElementOde, ElementPair};
 use super::variation::MomentumForce;
-use crate::error::{all_finite, finite, non_negative, positive, Error, Result};
+use crate::error::{all_finite, finite, non_negative, positive, Error, Lazy, Result};
 use crate::special::kepler_equation::mean_to_true;
 use crate::systems::kepler::elements::{Classical, ModifiedEquinoctial};
 use crate::systems::kepler::orbit::CIRCULAR_TOLERANCE;
@@ -307,18 +307,17 @@ pub fn gauss_classical(mu: f64, el: &Classical, a_rtn: &Vector3<f64>) -> Result<
         argp: (-p * cn * rr + (p + r) * sn * tt) / (h * e) - r * su * ci / (h * si) * nn,
         mean_anomaly: n + b / (a * h * e) * ((p * cn - 2.0 * r * e) * rr - (p + r) * sn * tt),
     };
-    let all = [
-        rates.a,
-        rates.e,
-        rates.i,
-        rates.raan,
-        rates.argp,
-        rates.mean_anomaly,
-    ];
-    // The message (which formats the elements) is built only on failure.
-    if !all.iter().all(|x| x.is_finite()) {
-        all_finite(format_args!("classical element rates at {}", at()), &all)?;
-    }
+    all_finite(
+        Lazy(|f| write!(f, "classical element rates at {}", at())),
+        &[
+            rates.a,
+            rates.e,
+            rates.i,
+            rates.raan,
+            rates.argp,
+            rates.mean_anomaly,
+        ],
+    )?;
     Ok(rates)
 }
 

@@ -41,7 +41,7 @@
 
 use super::ode::{ElementOde, ElementPair};
 use crate::ad::{gradient, lift, phase_gradient, PhaseDual};
-use crate::error::{all_finite, Error, Result};
+use crate::error::{all_finite, Error, Lazy, Result};
 use crate::phase::{check_phase, PhaseMatrix};
 use nalgebra::{DMatrix, SVector};
 use num_dual::{Dual64, DualNum};
@@ -164,8 +164,12 @@ impl<S: GeneralSolution<N> + ?Sized, const N: usize> crate::brackets::PhaseMap<N
     }
 }
 
-fn at<const N: usize>(t: f64, g1: &SVector<f64, N>, g2: &SVector<f64, N>) -> String {
-    format!("t = {t}, γ = ({:?}, {:?})", g1.as_slice(), g2.as_slice())
+fn at<'a, const N: usize>(
+    t: f64,
+    g1: &'a SVector<f64, N>,
+    g2: &'a SVector<f64, N>,
+) -> Lazy<impl Fn(&mut std::fmt::Formatter<'_>) -> std::fmt::Result + 'a> {
+    Lazy(move |f| write!(f, "t = {t}, γ = ({:?}, {:?})", g1.as_slice(), g2.as_slice()))
 }
 
 /// The Jacobian `∂φ/∂γ` of the general solution at `(γ, t)` by AD (rows: state components
@@ -193,7 +197,7 @@ pub fn solution_jacobian<S: GeneralSolution<N> + ?Sized, const N: usize>(
         // φ finite but a derivative not: the elements are singular there.
         Error::InvalidInput { .. } => Error::Singular {
             what: "∂φ/∂γ (not finite: the elements are singular here)".into(),
-            at: at(t, gamma1, gamma2),
+            at: at(t, gamma1, gamma2).to_string(),
             rcond: 0.0,
         },
         other => other,
@@ -237,20 +241,17 @@ where
     let m = solution_jacobian(solution, t, gamma1, gamma2)?;
     let (x1, x2) = solution.state(t, gamma1, gamma2);
     let (g1, g2) = perturbation.perturbation(t, &x1, &x2);
-    // The messages (which format the point) are built only on failure.
-    if !g1.iter().chain(g2.iter()).all(|x| x.is_finite()) {
-        all_finite(
-            format_args!("perturbation g at {}; g₁", at(t, gamma1, gamma2)),
-            g1.as_slice(),
-        )?;
-        all_finite(
-            format_args!("perturbation g at {}; g₂", at(t, gamma1, gamma2)),
-            g2.as_slice(),
-        )?;
-    }
+    all_finite(
+        format_args!("perturbation g at {}; g₁", at(t, gamma1, gamma2)),
+        g1.as_slice(),
+    )?;
+    all_finite(
+        format_args!("perturbation g at {}; g₂", at(t, gamma1, gamma2)),
+        g2.as_slice(),
+    )?;
     let inv = m.checked_inverse(
         "∂φ/∂γ (variation of constants; singular elements)",
-        || at(t, gamma1, gamma2),
+        || at(t, gamma1, gamma2).to_string(),
     )?;
     Ok(inv.apply(&g1, &g2))
 }
@@ -330,7 +331,7 @@ pub fn lagrange_brackets_with_rate<S: GeneralSolution<N> + ?Sized, const N: usiz
     let what = |e: Error| match e {
         Error::NonFinite { .. } => Error::Singular {
             what: "∂[γ_j, γ_s]/∂t (not finite: the elements are singular here)".into(),
-            at: at(t, gamma1, gamma2),
+            at: at(t, gamma1, gamma2).to_string(),
             rcond: 0.0,
         },
         other => other,
@@ -434,13 +435,10 @@ where
 {
     let (q, p) = solution.state(t, gamma1, gamma2);
     let r = force.force(t, &q, &p);
-    // The message (which formats the point) is built only on failure.
-    if !r.iter().all(|x| x.is_finite()) {
-        all_finite(
-            format_args!("force R at {}; R", at(t, gamma1, gamma2)),
-            r.as_slice(),
-        )?;
-    }
+    all_finite(
+        format_args!("force R at {}; R", at(t, gamma1, gamma2)),
+        r.as_slice(),
+    )?;
     Ok((m.qq.transpose() * r, m.qp.transpose() * r))
 }
 
@@ -494,7 +492,7 @@ where
     if !(d1.iter().chain(d2.iter()).all(|v| v.is_finite())) {
         return Err(Error::Singular {
             what: "∂U*/∂γ (not finite: the elements are singular here)".into(),
-            at: at(t, gamma1, gamma2),
+            at: at(t, gamma1, gamma2).to_string(),
             rcond: 0.0,
         });
     }
