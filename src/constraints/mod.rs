@@ -26,7 +26,7 @@ pub use frobenius::{
 pub use quasi::{hamel_coefficients, HamelCoefficients, QuasiVelocities};
 
 use crate::ad::GradDual;
-use crate::error::{all_finite, finite, Error, Result};
+use crate::error::{all_finite, finite, Error, Lazy, Result};
 use nalgebra::{Const, SMatrix, SVector};
 use num_dual::{Dual64, DualNum};
 
@@ -214,13 +214,13 @@ pub fn velocity_jet<C: VelocityConstraints<N, K> + ?Sized, const N: usize, const
     let rate = c
         .velocity_constraint(Dual64::new(t, 1.0), &qe, &qdot.map(Dual64::from))
         .map(|x| x.eps);
-    let at = || format!("t = {t}, q = {q:?}, q̇ = {qdot:?}");
+    let at = Lazy(|f| write!(f, "t = {t}, q = {q:?}, q̇ = {qdot:?}"));
     all_finite(
-        format_args!("constraint values g at {}", at()),
+        format_args!("constraint values g at {at}"),
         value.as_slice(),
     )?;
-    all_finite(format_args!("∂g/∂q̇ at {}", at()), gradient.as_slice())?;
-    all_finite(format_args!("∂g/∂q·q̇ + ∂g/∂t at {}", at()), rate.as_slice())?;
+    all_finite(format_args!("∂g/∂q̇ at {at}"), gradient.as_slice())?;
+    all_finite(format_args!("∂g/∂q·q̇ + ∂g/∂t at {at}"), rate.as_slice())?;
     Ok(VelocityJet {
         value,
         gradient,

@@ -29,7 +29,7 @@
 
 use super::{observe, settle, Dense, Method, Observer, Problem, Report, Work};
 use crate::constraints::{check_rank, Differentiated, HolonomicConstraints, PfaffianConstraints};
-use crate::error::{all_finite, finite, Error, Result};
+use crate::error::{all_finite, finite, Error, Lazy, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::State;
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -74,10 +74,10 @@ where
         all_finite("q", q.as_slice())?;
         let value = self.constraints.position_constraint(t, q);
         let (jac, rate) = Differentiated(&self.constraints).forms(t, q);
-        let at = || format!("t = {t}, q = {q:?}");
-        all_finite(format_args!("g at {}", at()), value.as_slice())?;
-        all_finite(format_args!("∂g/∂q at {}", at()), jac.as_slice())?;
-        all_finite(format_args!("∂g/∂t at {}", at()), rate.as_slice())?;
+        let at = Lazy(|f| write!(f, "t = {t}, q = {q:?}"));
+        all_finite(format_args!("g at {at}"), value.as_slice())?;
+        all_finite(format_args!("∂g/∂q at {at}"), jac.as_slice())?;
+        all_finite(format_args!("∂g/∂t at {at}"), rate.as_slice())?;
         Ok((value, jac, rate))
     }
 
@@ -305,11 +305,11 @@ impl Rattle {
             iterations: it1 + it2,
         };
         all_finite(
-            format_args!("RATTLE q_(n+1) from {}", at()),
+            Lazy(|f| write!(f, "RATTLE q_(n+1) from {}", at())),
             out.q.as_slice(),
         )?;
         all_finite(
-            format_args!("RATTLE p_(n+1) from {}", at()),
+            Lazy(|f| write!(f, "RATTLE p_(n+1) from {}", at())),
             out.p.as_slice(),
         )?;
         Ok(out)
