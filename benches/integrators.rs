@@ -2,13 +2,16 @@
 //! pendulum and (Wisdom–Holman, SABA₄, Störmer–Verlet) planar Kepler + J₂, measured side by side: 1000 steps of `Fixed` from the same state, so the figures
 //! include the driver (compensated summation, observer call). The printout before timing gives the
 //! gradient evaluations per step of each method; ns/evaluation = (ns/step)/(evaluations/step).
-//! A last group times whole runs on Kepler e = 0.99: DOP853 in Cartesian and in Levi-Civita
-//! coordinates, and the logarithmic-Hamiltonian composition.
+//! A further group times whole runs on Kepler e = 0.99: DOP853 in Cartesian and in Levi-Civita
+//! coordinates, and the logarithmic-Hamiltonian composition. The last one times SPEC X3's runs
+//! (Kepler e = 0.9, 100 orbits, `atol = 10⁻³ rtol`) of the two Dormand–Prince pairs side by side:
+//! RK45 (5(4), SciPy's control) and DOP853 at rtol 1e−6 and 1e−9; the setup prints each run's
+//! evaluations and final relative energy error, so that cost is compared at known accuracy.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use hamilton_jacobi::integrate::regularised::{fictitious_span, propagate};
 use hamilton_jacobi::integrate::{
-    integrate, Dop853, ExactStep, Fixed, Gauss, LeviCivita, OneStep, Problem, Rk4, Splitting,
+    integrate, Dop853, ExactStep, Fixed, Gauss, LeviCivita, OneStep, Problem, Rk4, Rk45, Splitting,
     TimeTransformed, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
@@ -75,6 +78,7 @@ fn bench(c: &mut Criterion) {
     per_step(c, "kepler_j2_1000_steps", &jp, WisdomHolman::SABA4);
     per_step(c, "kepler_j2_1000_steps", &jp, Splitting::VERLET_DKD);
     regularised(c);
+    dormand_prince_pairs(c);
 }
 
 /// Kepler e = 0.99 over 10 periods: DOP853 in Cartesian coordinates and on the Levi-Civita
@@ -100,6 +104,42 @@ fn regularised(c: &mut Criterion) {
     g.bench_function("log_hamiltonian_kahan_li17_ds0.1", |b| {
         b.iter(|| integrate(black_box(&pb), &log_h, &mut ()).unwrap())
     });
+    g.finish();
+}
+
+/// SPEC X3: Kepler e = 0.9 from periapsis over 100 orbits, `atol = 10⁻³ rtol`: RK45 and DOP853
+/// whole runs at rtol 1e−6 and 1e−9.
+fn dormand_prince_pairs(c: &mut Criterion) {
+    let e = 0.9f64;
+    let kep = Kepler2::new(1.0).unwrap();
+    let start =
+        State::from_arrays(0.0, [1.0 - e, 0.0], [0.0, ((1.0 + e) / (1.0 - e)).sqrt()]).unwrap();
+    let t1 = 100.0 * 2.0 * PI;
+    let pb = Problem::new(&kep, 0.0, start.q, start.p, t1).unwrap();
+    let e0 = kep.value(0.0, &start.q, &start.p).unwrap();
+    let mut g = c.benchmark_group("kepler_e09_100_orbits");
+    for rtol in [1e-6, 1e-9] {
+        let rk45 = Rk45::new(rtol, 1e-3 * rtol).unwrap();
+        let dop = Dop853::new(rtol, 1e-3 * rtol).unwrap();
+        for (name, run) in [
+            ("rk45", integrate(&pb, &rk45, &mut ()).unwrap()),
+            ("dop853", integrate(&pb, &dop, &mut ()).unwrap()),
+        ] {
+            let e1 = kep.value(t1, &run.last.q, &run.last.p).unwrap();
+            println!(
+                "{name} rtol {rtol:e}: {} evaluations, {} steps, relative energy error {:.2e}",
+                run.work.gradients,
+                run.work.steps,
+                (e1 - e0) / e0.abs()
+            );
+        }
+        g.bench_function(format!("rk45_{rtol:.0e}"), |b| {
+            b.iter(|| integrate(black_box(&pb), &rk45, &mut ()).unwrap())
+        });
+        g.bench_function(format!("dop853_{rtol:.0e}"), |b| {
+            b.iter(|| integrate(black_box(&pb), &dop, &mut ()).unwrap())
+        });
+    }
     g.finish();
 }
 

@@ -15,8 +15,8 @@ use hamilton_jacobi::hamilton_jacobi::{
 use hamilton_jacobi::implicit::{lift_root, lift_scalar_root};
 use hamilton_jacobi::integrate::coefficients::YOSHIDA3;
 use hamilton_jacobi::integrate::{
-    integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, LiePoisson, MethodInfo,
-    Problem, Rk4, Splitting, Taylor,
+    integrate, rk4_increment, AnyMethod, Dop853, ExactStep, Fixed, Gauss, GeneralMethod,
+    LiePoisson, MethodInfo, Problem, Rk4, Rk45, Splitting, Taylor,
 };
 use hamilton_jacobi::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use hamilton_jacobi::num_dual::Dual64;
@@ -1099,6 +1099,116 @@ fn add_methods(c: &mut Vec<Call>) {
                 a[0],
                 1e-9 * (1.0 + a[0].abs()),
             )
+        },
+    );
+    // RK45 (Dormand–Prince 5(4), SciPy's control): knobs and runs against the exact flow.
+    sweep(
+        c,
+        "Rk45::new",
+        &[1e-8, 1e-10],
+        &[(0, -1e-8), (1, -1.0), (0, 1e300), (0, 1e-15), (0, 1.0)],
+        |a| {
+            judge(
+                Rk45::new(a[0], a[1]),
+                fin(a) && (Rk45::RTOL_MIN..1.0).contains(&a[0]) && a[1] > 0.0,
+                |m| {
+                    if m.rtol == a[0] && m.atol == a[1] {
+                        Good
+                    } else {
+                        Wrong("tolerances altered".into())
+                    }
+                },
+            )
+        },
+    );
+    for (name, build) in [
+        (
+            "GeneralMethod::rk45",
+            (|r, a| GeneralMethod::rk45(r, a).map(|_| ())) as fn(f64, f64) -> Result<()>,
+        ),
+        ("AnyMethod::rk45", |r, a| AnyMethod::rk45(r, a).map(|_| ())),
+    ] {
+        sweep(
+            c,
+            name,
+            &[1e-8, 1e-10],
+            &[(0, -1e-8), (1, -1.0)],
+            move |a| {
+                judge(
+                    build(a[0], a[1]),
+                    fin(a) && (Rk45::RTOL_MIN..1.0).contains(&a[0]) && a[1] > 0.0,
+                    |_| Good,
+                )
+            },
+        );
+    }
+    let rk45 = || Rk45::new(1e-10, 1e-12).unwrap();
+    sweep(c, "Rk45::with_h0", &[0.1], &[(0, -0.1)], move |a| {
+        judge(rk45().with_h0(a[0]), a[0].is_finite() && a[0] > 0.0, |m| {
+            near("h0", m.h0.unwrap_or(f64::NAN), a[0], 0.0)
+        })
+    });
+    sweep(c, "Rk45::with_h_max", &[0.1], &[(0, -0.1)], move |a| {
+        judge(
+            rk45().with_h_max(a[0]),
+            a[0].is_finite() && a[0] > 0.0,
+            |m| near("h_max", m.h_max.unwrap_or(f64::NAN), a[0], 0.0),
+        )
+    });
+    sized(
+        c,
+        "Rk45::with_max_steps",
+        &[0, 1, 1000, usize::MAX],
+        move |n| judge(rk45().with_max_steps(n), n > 0, |_| Good),
+    );
+    sweep(c, "Rk45::validate", &[1e-10, 1e-12], &[(1, 0.0)], |a| {
+        let m = Rk45 {
+            rtol: a[0],
+            atol: a[1],
+            h0: None,
+            h_max: None,
+            max_steps: None,
+        };
+        let valid = fin(a) && (Rk45::RTOL_MIN..1.0).contains(&a[0]) && a[1] > 0.0;
+        judge(m.validate(), valid, |_| Good)
+    });
+    sweep(
+        c,
+        "integrate(Rk45, t1)",
+        &[2.0],
+        &[(0, 1e300), (0, 1e7)],
+        move |a| {
+            // rtol 1e-10 over |t₁| ω/2π periods: global error ≲ 1e-10 × periods (as DOP853).
+            osc_run(&rk45(), a[0], 1e-9 * (1.0 + a[0].abs()))
+        },
+    );
+    sweep(
+        c,
+        "integrate(Rk45 with h0, h_max, max_steps, t1)",
+        &[0.01, 0.1, 100.0],
+        &[(2, 1e9), (0, 1e-300)],
+        move |a| {
+            // A budget below the steps the span needs is a typed WorkLimit.
+            let m = rk45()
+                .with_h0(a[0])
+                .and_then(|m| m.with_h_max(a[1]))
+                .and_then(|m| m.with_max_steps(100_000));
+            judge(m, fin(a) && a[0] > 0.0 && a[1] > 0.0, |m| {
+                osc_run(&m, a[2], 1e-9 * (1.0 + a[2].abs()))
+            })
+        },
+    );
+    sweep(
+        c,
+        "integrate(AnyMethod::new(rk45, rtol), t1 = 1)",
+        &[1e-10],
+        &[(0, 1e-300), (0, 0.5), (0, 1.0)],
+        |a| {
+            let valid = (Rk45::RTOL_MIN..1.0).contains(&a[0]);
+            let info = MethodInfo::find("rk45").unwrap();
+            judge(AnyMethod::new(info, a[0]), valid, |m| {
+                osc_run(&m, 1.0, 1e3 * a[0] + 1e-12)
+            })
         },
     );
     // The Taylor method: its tolerance, order and steps, and runs against the exact flow.
@@ -5880,7 +5990,7 @@ mod tangent_calls {
         // DOP853's energy error grows with the span.
         type Run = fn(&Problem<'static, HenonHeiles, 2>) -> Result<TangentMap<2>>;
         type EnergyTolerance = fn(f64) -> f64;
-        let runs: [(&str, Run, f64, EnergyTolerance); 6] = [
+        let runs: [(&str, Run, f64, EnergyTolerance); 7] = [
             (
                 "TangentMethod::tangent_map(Verlet)",
                 |p| Fixed::new(Splitting::VERLET_KDK, 400)?.tangent_map(p),
@@ -5896,6 +6006,12 @@ mod tangent_calls {
             (
                 "TangentMethod::tangent_map(Dop853)",
                 |p| Dop853::new(1e-10, 1e-10)?.tangent_map(p),
+                1e-6,
+                |t1| 1e-9 * t1.abs().max(1e3),
+            ),
+            (
+                "TangentMethod::tangent_map(Rk45)",
+                |p| Rk45::new(1e-10, 1e-10)?.tangent_map(p),
                 1e-6,
                 |t1| 1e-9 * t1.abs().max(1e3),
             ),

@@ -119,9 +119,9 @@ fn every_entry_round_trips() {
             }
         }
     }
-    // RK4, Gauss–Legendre 1 … 6, DOP853, Taylor; 12 splittings and 3 of them time-transformed;
-    // 8 Kepler splittings; the exact flow.
-    assert_eq!(seen, [9, 15, 8, 1]);
+    // RK4, Gauss–Legendre 1 … 6, RK45, DOP853, Taylor; 12 splittings and 3 of them
+    // time-transformed; 8 Kepler splittings; the exact flow.
+    assert_eq!(seen, [10, 15, 8, 1]);
 }
 
 /// The labels spell stages and order in one scheme for every family.
@@ -132,6 +132,7 @@ fn labels_follow_one_scheme() {
     assert_eq!(label("gauss1"), "Gauss–Legendre, 1 stage, order 2");
     assert_eq!(label("gauss3"), "Gauss–Legendre, 3 stages, order 6");
     assert_eq!(label("dop853"), "Dormand–Prince, 12 stages, order 8");
+    assert_eq!(label("rk45"), "Dormand–Prince, 6 stages, order 5");
     assert_eq!(
         label("verlet-kdk"),
         "Störmer–Verlet (kick–drift–kick), 1 stage, order 2"

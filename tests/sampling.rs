@@ -446,6 +446,7 @@ fn methods_are_values() {
     }
     methods.push(AnyMethod::rk4(100).unwrap());
     methods.push(AnyMethod::dop853(1e-12, 1e-14).unwrap());
+    methods.push(AnyMethod::rk45(1e-10, 1e-12).unwrap());
     methods.push(AnyMethod::new(MethodInfo::find("taylor").unwrap(), 1e-12).unwrap());
     // The logarithmic-Hamiltonian leapfrog with U = 1 − V > 0 on this orbit (E < 1/6).
     methods.push(AnyMethod::from(
@@ -466,6 +467,7 @@ fn methods_are_values() {
             AnyMethod::General(GeneralMethod::Gauss5(f)) => integrate(&problem, f, &mut o),
             AnyMethod::General(GeneralMethod::Gauss6(f)) => integrate(&problem, f, &mut o),
             AnyMethod::General(GeneralMethod::Dop853(d)) => integrate(&problem, d, &mut o),
+            AnyMethod::General(GeneralMethod::Rk45(d)) => integrate(&problem, d, &mut o),
             AnyMethod::General(GeneralMethod::Taylor(t)) => integrate(&problem, t, &mut o),
             AnyMethod::TimeTransformed(t) => integrate(&problem, t, &mut o),
         }
@@ -484,7 +486,7 @@ fn methods_are_values() {
     assert_eq!(labels.len(), methods.len(), "{labels:?}");
     // Orders as documented.
     let orders: Vec<u32> = methods.iter().map(AnyMethod::order).collect();
-    assert_eq!(orders, [2, 8, 2, 4, 6, 8, 10, 12, 4, 8, 15, 2]);
+    assert_eq!(orders, [2, 8, 2, 4, 6, 8, 10, 12, 4, 8, 5, 15, 2]);
 
     // Not declared separable: the general methods, swept the same way, agree with the separable
     // declaration of the same H (the same arithmetic up to the AD path: 1e−14).

@@ -37,8 +37,8 @@
 
 use super::methods::{self, whole_steps, Capability, Construction, MethodInfo};
 use super::{
-    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Splitting, Sundman,
-    Taylor, TimeTransformed,
+    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Rk45, Splitting,
+    Sundman, Taylor, TimeTransformed,
 };
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
@@ -53,7 +53,8 @@ fn not_covered(info: &MethodInfo, hint: &str) -> Error {
 }
 
 /// A method for any [`Hamiltonian`]: classical Runge–Kutta (4 stages, order 4), Gauss–Legendre
-/// with `s = 1 … 6` stages (order `2s`), Dormand–Prince (12 stages, order 8, adaptive) or the
+/// with `s = 1 … 6` stages (order `2s`), Dormand–Prince (12 stages, order 8, or 6 stages, order 5
+/// with SciPy's `RK45` control; adaptive) or the
 /// Taylor method (order and step from the tolerance).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GeneralMethod {
@@ -73,6 +74,8 @@ pub enum GeneralMethod {
     Gauss6(Fixed<Gauss<6>>),
     /// Dormand–Prince, 12 stages, order 8, with its tolerances.
     Dop853(Dop853),
+    /// Dormand–Prince 5(4), 6 stages, order 5, with SciPy's `RK45` control and its tolerances.
+    Rk45(Rk45),
     /// The Taylor method ([`Taylor`]).
     Taylor(Taylor),
 }
@@ -90,6 +93,7 @@ impl GeneralMethod {
             Construction::Rk4 => Self::rk4(whole_steps(knob)?),
             Construction::Gauss(s) => Self::gauss(s, whole_steps(knob)?),
             Construction::Dop853 => Self::dop853(knob, knob),
+            Construction::Rk45 => Self::rk45(knob, knob),
             Construction::Taylor => Taylor::new(knob).map(Self::Taylor),
             _ => Err(not_covered(
                 info,
@@ -109,6 +113,7 @@ impl GeneralMethod {
             Self::Gauss5(_) => &methods::GAUSS[4],
             Self::Gauss6(_) => &methods::GAUSS[5],
             Self::Dop853(_) => &methods::DOP853,
+            Self::Rk45(_) => &methods::RK45,
             Self::Taylor(_) => &methods::TAYLOR,
         }
     }
@@ -142,6 +147,12 @@ impl GeneralMethod {
         Ok(Self::Dop853(Dop853::new(rtol, atol)?))
     }
 
+    /// Dormand–Prince 5(4) with SciPy's `RK45` control and relative and absolute tolerances (as
+    /// [`Rk45::new`]).
+    pub fn rk45(rtol: f64, atol: f64) -> Result<Self> {
+        Ok(Self::Rk45(Rk45::new(rtol, atol)?))
+    }
+
     /// The order of the method, from its [`info`](Self::info) (the Taylor method's from its
     /// tolerance or its fixed order).
     pub fn order(&self) -> u32 {
@@ -161,7 +172,7 @@ impl GeneralMethod {
             Self::Gauss4(m) => m.steps,
             Self::Gauss5(m) => m.steps,
             Self::Gauss6(m) => m.steps,
-            Self::Dop853(_) => return None,
+            Self::Dop853(_) | Self::Rk45(_) => return None,
             Self::Taylor(m) => match m.control {
                 super::TaylorControl::Fixed { steps, .. } => steps,
                 super::TaylorControl::Tolerance(_) => return None,
@@ -181,6 +192,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for GeneralMethod {
             Self::Gauss5(m) => Method::<S, N>::label(m),
             Self::Gauss6(m) => Method::<S, N>::label(m),
             Self::Dop853(m) => Method::<S, N>::label(m),
+            Self::Rk45(m) => Method::<S, N>::label(m),
             Self::Taylor(m) => Method::<S, N>::label(m),
         }
     }
@@ -199,6 +211,7 @@ impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for GeneralMethod {
             Self::Gauss5(m) => integrate(problem, m, observer),
             Self::Gauss6(m) => integrate(problem, m, observer),
             Self::Dop853(m) => integrate(problem, m, observer),
+            Self::Rk45(m) => integrate(problem, m, observer),
             Self::Taylor(m) => integrate(problem, m, observer),
         }
     }
@@ -287,6 +300,12 @@ impl AnyMethod {
     /// Dormand–Prince (12 stages, order 8) with relative and absolute tolerances.
     pub fn dop853(rtol: f64, atol: f64) -> Result<Self> {
         GeneralMethod::dop853(rtol, atol).map(Self::General)
+    }
+
+    /// Dormand–Prince 5(4) (6 stages, order 5, SciPy's `RK45` control) with relative and
+    /// absolute tolerances.
+    pub fn rk45(rtol: f64, atol: f64) -> Result<Self> {
+        GeneralMethod::rk45(rtol, atol).map(Self::General)
     }
 
     /// The order of the method.

@@ -337,7 +337,7 @@ const UROUND: f64 = 2.3e-16;
 /// `Σⱼ coeffs_j k_j` (without the factor `h`), for any number type (the step is differentiated
 /// by replaying it on dual numbers: [`super::tangent`]).
 #[inline(always)]
-fn combine<D: DualNum<f64> + Copy, const N: usize>(
+pub(crate) fn combine<D: DualNum<f64> + Copy, const N: usize>(
     coeffs: &[(usize, f64)],
     k: &[CanonicalPair<N, D>],
 ) -> CanonicalPair<N, D> {
@@ -354,7 +354,7 @@ fn combine<D: DualNum<f64> + Copy, const N: usize>(
 
 /// `y + h Σⱼ coeffs_j k_j`.
 #[inline(always)]
-fn advance<D: DualNum<f64> + Copy, const N: usize>(
+pub(crate) fn advance<D: DualNum<f64> + Copy, const N: usize>(
     y: &CanonicalPair<N, D>,
     h: D,
     coeffs: &[(usize, f64)],
@@ -405,13 +405,13 @@ where
 
 /// The `2N` components of `(q, p)`.
 #[inline(always)]
-fn flat<const N: usize>(v: &CanonicalPair<N>) -> impl Iterator<Item = f64> + Clone + '_ {
+pub(crate) fn flat<const N: usize>(v: &CanonicalPair<N>) -> impl Iterator<Item = f64> + Clone + '_ {
     v.0.iter().chain(v.1.iter()).copied()
 }
 
 /// `√(Σ xᵢ²)`, rescaled by `max |xᵢ|` when the plain sum of squares overflows or underflows (a
 /// tiny `atol` on a component near zero makes `xᵢ/skᵢ` huge); NaN propagates.
-fn norm2(xs: impl Iterator<Item = f64> + Clone) -> f64 {
+pub(crate) fn norm2(xs: impl Iterator<Item = f64> + Clone) -> f64 {
     let s: f64 = xs.clone().map(|x| x * x).sum();
     if s.is_nan() || (s.is_finite() && (s == 0.0 || s >= f64::MIN_POSITIVE)) {
         return s.sqrt();
@@ -469,7 +469,7 @@ fn error_norms<const N: usize>(
     (err5, err3)
 }
 
-fn pair_finite<const N: usize>(y: &CanonicalPair<N>) -> bool {
+pub(crate) fn pair_finite<const N: usize>(y: &CanonicalPair<N>) -> bool {
     y.0.iter().chain(y.1.iter()).all(|v| v.is_finite())
 }
 
@@ -574,15 +574,7 @@ impl Dop853 {
     /// The step budget of a run over `span` whose first step is `h_init`: `max_steps` if set,
     /// otherwise `clamp(10 ⌈|span|/|h_init|⌉, AUTO_STEPS_MIN, AUTO_STEPS_MAX)`.
     pub fn step_budget(&self, span: f64, h_init: f64) -> usize {
-        if let Some(n) = self.max_steps {
-            return n;
-        }
-        let estimate = 10.0 * (span / h_init).abs().ceil();
-        if estimate.is_nan() {
-            return Self::AUTO_STEPS_MAX;
-        }
-        // `as` saturates; the clamp bounds it.
-        (estimate as usize).clamp(Self::AUTO_STEPS_MIN, Self::AUTO_STEPS_MAX)
+        step_budget(self.max_steps, span, h_init)
     }
 
     /// Check every knob.
@@ -618,6 +610,59 @@ impl Dop853 {
             return Err(Error::out_of_domain("DOP853 beta", b, "[0, 0.2]"));
         }
         Ok(())
+    }
+}
+
+/// The step budget of an adaptive run over `span` whose first step is `h_init` (see the
+/// [module documentation](self#step-budget)): `max_steps` if set, otherwise
+/// `clamp(10 ⌈|span|/|h_init|⌉, AUTO_STEPS_MIN, AUTO_STEPS_MAX)`.
+pub(crate) fn step_budget(max_steps: Option<usize>, span: f64, h_init: f64) -> usize {
+    if let Some(n) = max_steps {
+        return n;
+    }
+    let estimate = 10.0 * (span / h_init).abs().ceil();
+    if estimate.is_nan() {
+        return Dop853::AUTO_STEPS_MAX;
+    }
+    // `as` saturates; the clamp bounds it.
+    (estimate as usize).clamp(Dop853::AUTO_STEPS_MIN, Dop853::AUTO_STEPS_MAX)
+}
+
+/// The [`Error::WorkLimit`] of an adaptive run (`method` its name, `builder` its type) that has
+/// used its budget of `limit` attempted steps at `t` of `[t₀, t₁]` (`times = [t₀, t, t₁]`); `auto`
+/// when the budget is the default one.
+pub(crate) fn budget_exhausted(
+    method: &str,
+    builder: &str,
+    auto: bool,
+    limit: usize,
+    times: [f64; 3],
+) -> Error {
+    let [t0, t, t1] = times;
+    let done = ((t - t0) / (t1 - t0)).abs();
+    let pace = if done > 0.0 {
+        format!(
+            "at the pace so far about {:e} steps would reach t₁",
+            (limit as f64 / done).ceil()
+        )
+    } else {
+        "no step was accepted".to_string()
+    };
+    Error::WorkLimit {
+        what: format!("{method} attempted steps"),
+        limit,
+        detail: format!(
+            "at t = {t:e} of [{t0:e}, {t1:e}], {:.3}% of the span; {pace}",
+            100.0 * done
+        ),
+        hint: format!(
+            "raise it with {builder}::with_max_steps(n){}, or shorten the span",
+            if auto {
+                " (the default budget 10·|t₁ − t₀|/h_init lies between 1e5 and 1e7)"
+            } else {
+                ""
+            }
+        ),
     }
 }
 
@@ -706,9 +751,21 @@ impl<S: FirstOrderSystem<N>, const N: usize> Dense<N> for Dop853Dense<'_, S, N> 
     }
 }
 
-/// Starting step size (HNW II.4; Fortran `HINIT` with `IORD = 8`), signed like `dir`.
+/// How [`initial_step`] measures vectors and which power it takes: the weighted norm, plain
+/// (`‖x‖ = √(Σ xᵢ²)`, Fortran `HINIT`) or root mean square (`‖x‖ = √(Σ xᵢ²/n)`, SciPy's
+/// `select_initial_step`), and the exponent `1/(p̂ + 1)`, `p̂` the order of the error estimate.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StartRule {
+    /// Root-mean-square norm instead of the plain one.
+    pub rms: bool,
+    /// `1/(p̂ + 1)`.
+    pub exponent: f64,
+}
+
+/// Starting step size (HNW II.4: Fortran `HINIT`, and SciPy's `select_initial_step`, which
+/// differ in the norm only, [`StartRule`]), signed like `dir`.
 #[allow(clippy::too_many_arguments)]
-fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
+pub(crate) fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
     system: &S,
     y0: &State<N>,
     f0: &CanonicalPair<N>,
@@ -716,13 +773,19 @@ fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
     h_max: f64,
     rtol: f64,
     atol: f64,
+    rule: StartRule,
     work: &mut Work,
 ) -> Result<f64> {
     let sk = |v: f64| atol + rtol * v.abs();
     let y = (y0.q, y0.p);
+    let root_n = if rule.rms {
+        ((2 * N) as f64).sqrt()
+    } else {
+        1.0
+    };
     // ‖f₀‖ and ‖y₀‖ in the weighted norm (Fortran DNF = ‖f₀‖², DNY = ‖y₀‖²).
-    let dnf = norm2(flat(&y).zip(flat(f0)).map(|(yi, fi)| fi / sk(yi)));
-    let dny = norm2(flat(&y).map(|yi| yi / sk(yi)));
+    let dnf = norm2(flat(&y).zip(flat(f0)).map(|(yi, fi)| fi / sk(yi))) / root_n;
+    let dny = norm2(flat(&y).map(|yi| yi / sk(yi))) / root_n;
     let mut h = if dnf <= 1e-5 || dny <= 1e-5 {
         1e-6
     } else {
@@ -740,7 +803,8 @@ fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
         flat(&y)
             .zip(flat(&f1).zip(flat(f0)))
             .map(|(yi, (f1i, f0i))| (f1i - f0i) / sk(yi)),
-    ) / h;
+    ) / root_n
+        / h;
     let der12 = der2.max(dnf);
     let h1 = if !der12.is_finite() {
         // The Euler probe hit a singularity or overflowed: fall back on the first guess, reduced.
@@ -748,7 +812,7 @@ fn initial_step<S: FirstOrderSystem<N>, const N: usize>(
     } else if der12 <= 1e-15 {
         (h * 1e-3).max(1e-6)
     } else {
-        (0.01 / der12).powf(1.0 / 8.0)
+        (0.01 / der12).powf(rule.exponent)
     };
     let h = (100.0 * h).min(h1).min(h_max);
     if h > 0.0 && h.is_finite() {
@@ -810,7 +874,20 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         }
         let mut h = match self.h0 {
             Some(h0) => h0.min(h_max) * dir,
-            None => initial_step(system, &state, &k[0], dir, h_max, rtol, atol, &mut work)?,
+            None => initial_step(
+                system,
+                &state,
+                &k[0],
+                dir,
+                h_max,
+                rtol,
+                atol,
+                StartRule {
+                    rms: false,
+                    exponent: 1.0 / 8.0,
+                },
+                &mut work,
+            )?,
         };
         let max_steps = self.step_budget(span, h);
         let t0 = state.t;
@@ -822,32 +899,13 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         let mut last_err = f64::NAN;
         loop {
             if attempts >= max_steps {
-                let done = ((state.t - t0) / span).abs();
-                let pace = if done > 0.0 {
-                    format!(
-                        "at the pace so far about {:e} steps would reach t₁",
-                        (attempts as f64 / done).ceil()
-                    )
-                } else {
-                    "no step was accepted".to_string()
-                };
-                return Err(Error::WorkLimit {
-                    what: "DOP853 attempted steps".into(),
-                    limit: max_steps,
-                    detail: format!(
-                        "at t = {:e} of [{t0:e}, {t1:e}], {:.3}% of the span; {pace}",
-                        state.t,
-                        100.0 * done
-                    ),
-                    hint: format!(
-                        "raise it with Dop853::with_max_steps(n){}, or shorten the span",
-                        if self.max_steps.is_none() {
-                            " (the default budget 10·|t₁ − t₀|/h_init lies between 1e5 and 1e7)"
-                        } else {
-                            ""
-                        }
-                    ),
-                });
+                return Err(budget_exhausted(
+                    "DOP853",
+                    "Dop853",
+                    self.max_steps.is_none(),
+                    max_steps,
+                    [t0, state.t, t1],
+                ));
             }
             // The final step ends exactly at t₁ whatever its size (a span shorter than 16ε|t| is
             // still integrated); every other step must be resolvable at t.

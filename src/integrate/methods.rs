@@ -13,7 +13,8 @@
 //! # How methods are named
 //! * **Stages** `s`: evaluations per step of the part that costs. For a Runge–Kutta method the
 //!   stages of its Butcher tableau (classical RK4: 4; Gauss–Legendre: `s` implicit stages;
-//!   Dormand–Prince 8(5,3): 12). For a splitting or composition method the force evaluations
+//!   Dormand–Prince 8(5,3): 12; Dormand–Prince 5(4): 6, the evaluation at the step's end, which
+//!   is the next step's first stage, not counted). For a splitting or composition method the force evaluations
 //!   (kicks, `B` sub-steps) per step of a long run, the closing kick of a step merged with the
 //!   opening kick of the next when the word begins and ends with one (they act at the same
 //!   point): Störmer–Verlet 1, a composition of `s` Verlet steps `s`, Blanes–Moan `SRKN₆ᵇ` 6,
@@ -29,7 +30,8 @@
 //!   number of stages — `rk4`, `gauss1`, `gauss3`, `kahan-li17`, `yoshida15`, `saba3`, `sbab2`.
 //!   The one-stage families name their variant instead of the number (`verlet-kdk`,
 //!   `verlet-dkd`, `symplectic-euler-kd`, `symplectic-euler-dk`, `wisdom-holman`); Dormand–Prince
-//!   keeps the name of its code, `dop853`, the Taylor method is `taylor` and the exact flow is
+//!   keeps the name of its code, `dop853`, and its 5(4) pair the name of the SciPy method whose
+//!   step-size control it has, `rk45`; the Taylor method is `taylor` and the exact flow is
 //!   `exact`.
 
 use super::coefficients::Table;
@@ -70,6 +72,8 @@ pub enum Construction {
     Gauss(usize),
     /// [`Dop853`](super::Dop853) with `rtol = atol`.
     Dop853,
+    /// [`Rk45`](super::Rk45) with `rtol = atol`.
+    Rk45,
     /// [`Splitting`](super::Splitting) over this table under [`Fixed`](super::Fixed).
     Splitting(&'static Table),
     /// [`WisdomHolman`](super::WisdomHolman) over this table under [`Fixed`](super::Fixed).
@@ -90,6 +94,7 @@ impl Construction {
             Construction::Rk4
             | Construction::Gauss(_)
             | Construction::Dop853
+            | Construction::Rk45
             | Construction::Taylor => Capability::Hamiltonian,
             Construction::Splitting(_) | Construction::TimeTransformed(_) => Capability::Separable,
             Construction::KeplerSplitting(_) => Capability::PerturbedKepler,
@@ -224,6 +229,20 @@ pub const DOP853: MethodInfo = MethodInfo {
     reference: "Hairer, Nørsett & Wanner, Solving ODEs I, 2nd ed., §II.10 (DOP853)",
 };
 
+/// Dormand–Prince 5(4) with the step-size control of SciPy's `RK45`: `rk45`, 6 stages (and a
+/// seventh evaluation, first same as last), order 5.
+pub const RK45: MethodInfo = MethodInfo {
+    key: "rk45",
+    family: "Dormand–Prince",
+    stages: 6,
+    order: Some(5),
+    knob: Knob::Tolerance,
+    symplectic: false,
+    construction: Construction::Rk45,
+    reference: "Dormand & Prince, J. Comp. Appl. Math. 6 (1980) 19–26; step-size control of \
+                SciPy's RK45 (scipy.integrate)",
+};
+
 /// The Taylor method over the record of Hamilton's equations, order and step from the
 /// tolerance (Jorba & Zou): `taylor`, one propagation of the record per step.
 pub const TAYLOR: MethodInfo = MethodInfo {
@@ -272,7 +291,7 @@ const fn log_hamiltonian(
 /// Every integration method of the crate, in the order `hj list` shows them: the methods for
 /// any Hamiltonian (Taylor last of them), the explicit splittings (lowest order first), the
 /// time-transformed splittings, the Kepler splittings, the exact flow.
-pub static METHODS: [MethodInfo; 33] = {
+pub static METHODS: [MethodInfo; 34] = {
     use super::coefficients as c;
     use Construction::{KeplerSplitting, Splitting};
     [
@@ -283,6 +302,7 @@ pub static METHODS: [MethodInfo; 33] = {
         GAUSS[3],
         GAUSS[4],
         GAUSS[5],
+        RK45,
         DOP853,
         TAYLOR,
         from_table("symplectic-euler-kd", Splitting(&c::SYMPLECTIC_EULER_KD)),
@@ -447,10 +467,13 @@ mod tests {
     }
 
     /// A key's trailing number is the stage count; every method of more than one stage has one
-    /// (DOP853, named after its code, excepted).
+    /// (DOP853 and RK45, named after their codes, excepted).
     #[test]
     fn keys_carry_the_stage_count() {
-        for m in METHODS.iter().filter(|m| m.key != "dop853") {
+        for m in METHODS
+            .iter()
+            .filter(|m| !["dop853", "rk45"].contains(&m.key))
+        {
             let digits: String = m
                 .key
                 .chars()

@@ -41,6 +41,7 @@ pub mod observers;
 pub mod rattle;
 pub mod regularised;
 pub mod rk4;
+pub mod rk45;
 pub mod sampling;
 pub mod sensitivity;
 pub mod splitting;
@@ -62,6 +63,7 @@ pub use observers::{
 pub use rattle::{ConstrainedHamiltonian, Rattle, RattleStep};
 pub use regularised::{KustaanheimoStiefel, LeviCivita, Regularisation, RegularisedRun};
 pub use rk4::{rk4_increment, Rk4};
+pub use rk45::Rk45;
 pub use sensitivity::{parametric_vector_field, ParameterSensitivity, Unparametrised};
 pub use splitting::Splitting;
 pub use tangent::{

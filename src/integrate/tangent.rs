@@ -45,11 +45,12 @@
 //! any first-order integrator.
 
 use super::dop853::stages;
+use super::rk45;
 use super::sensitivity::{ParameterSensitivity, Unparametrised};
 use super::taylor::SeriesSteps;
 use super::{
     compensated_add, integrate, AnyMethod, Control, Dop853, Fixed, GeneralMethod, Method, Observer,
-    OneStep, Problem, Splitting, StepView, Taylor, TaylorControl, VectorFieldRecord, Work,
+    OneStep, Problem, Rk45, Splitting, StepView, Taylor, TaylorControl, VectorFieldRecord, Work,
 };
 use crate::ad::{jacobian, PhaseMap};
 use crate::error::{Error, Result};
@@ -293,6 +294,70 @@ impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for Dop853 {
     }
 }
 
+/// RK45's steps between the given times (frozen step sizes), on any number type; the last
+/// stage of a step is the first of the next (FSAL), as in the run on reals.
+struct Rk45Replay<'a, S> {
+    system: &'a S,
+    times: &'a [f64],
+}
+
+impl<S: Hamiltonian<N>, const N: usize> PhaseMap<N> for Rk45Replay<'_, S> {
+    fn apply<D: DualNum<f64> + Copy>(
+        &self,
+        _t: D,
+        q: &SVector<D, N>,
+        p: &SVector<D, N>,
+    ) -> CanonicalPair<N, D> {
+        let mut field = |t: D, q: &SVector<D, N>, p: &SVector<D, N>| {
+            Ok(self.system.vector_field_generic(t, q, p))
+        };
+        let zero = (SVector::<D, N>::zeros(), SVector::<D, N>::zeros());
+        let mut k = [zero; 7];
+        let mut y = (*q, *p);
+        k[0] = self
+            .system
+            .vector_field_generic(D::from(self.times[0]), q, p);
+        for w in self.times.windows(2) {
+            let (t, h) = (D::from(w[0]), D::from(w[1] - w[0]));
+            y = match rk45::step(&mut field, t, &y, h, &mut k) {
+                Ok(y1) => y1,
+                Err(_) => {
+                    let nan = SVector::from_element(D::from(f64::NAN));
+                    return (nan, nan);
+                }
+            };
+            k[0] = k[6];
+        }
+        y
+    }
+}
+
+impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for Rk45 {
+    /// The steps chosen by the error control on `z` alone, replayed on dual numbers. Unless the
+    /// method sets its own, the step budget is [`Dop853::AUTO_STEPS_MAX`]` / (1 + 2N)`.
+    fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
+        let mut method = *self;
+        if method.max_steps.is_none() {
+            method.max_steps = Some(Dop853::AUTO_STEPS_MAX / (1 + 2 * N));
+        }
+        let mut times = StepTimes(Vec::new());
+        let run = integrate(problem, &method, &mut times)?;
+        let map = Rk45Replay {
+            system: problem.system,
+            times: &times.0,
+        };
+        let s = &problem.start;
+        let (q, p) = map.apply(s.t, &s.q, &s.p);
+        let last = State::new(run.last.t, q, p)?;
+        let jacobian = run_jacobian(&map, problem, &Method::<S, N>::label(self))?;
+        Ok(TangentMap {
+            last,
+            jacobian,
+            work: run.work,
+        })
+    }
+}
+
 /// A method whose error control can take the tangent map into its norm: it integrates the
 /// variational equations `ż = f(z)`, `Φ̇ = (∂f/∂z) Φ`, `Φ(t₀) = I` together with `z`, so that its
 /// steps control the error of `Φ` as well as that of `z` ([`variational_tangent_map`]).
@@ -466,6 +531,7 @@ impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for GeneralMethod {
             Self::Gauss5(m) => m.tangent_map(problem),
             Self::Gauss6(m) => m.tangent_map(problem),
             Self::Dop853(m) => m.tangent_map(problem),
+            Self::Rk45(m) => m.tangent_map(problem),
             Self::Taylor(m) => m.tangent_map(problem),
         }
     }

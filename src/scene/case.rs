@@ -411,6 +411,7 @@ fn run_general<H: Hamiltonian<N>, const N: usize>(
             GeneralMethod::Dop853(m) => {
                 GeneralMethod::Dop853(m.with_max_steps(ADAPTIVE_MAX_STEPS)?)
             }
+            GeneralMethod::Rk45(m) => GeneralMethod::Rk45(m.with_max_steps(ADAPTIVE_MAX_STEPS)?),
             m => m,
         };
         drive(problem, &method, sampler)
