@@ -6,8 +6,9 @@
 //! valgrind --tool=callgrind target/release/examples/expression_cost hh-expression 100000
 //! ```
 //!
-//! Variants: `hh-rust`, `hh-expression` (Hénon–Heiles), `j2-rust`, `j2-expression` (Kepler + J₂
-//! in Cartesian form), and `none` (the loop and set-up alone, to subtract). The systems and
+//! Variants: `hh-rust`, `hh-expression`, `hh-split` (Hénon–Heiles), `j2-rust`, `j2-expression`,
+//! `j2-split` (Kepler + J₂ in Cartesian form; `-split` the separable form, drift and kick), and
+//! `none` (the loop and set-up alone, to subtract). The systems and
 //! states are those of `benches/expression.rs`; the instructions per call are
 //! `(total(variant) − total(none))/n`.
 
@@ -58,8 +59,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sum = match variant {
         "hh-rust" => calls(&HenonHeiles, q2, p2, n),
         "hh-expression" => calls(&hh, q2, p2, n),
+        "hh-split" => calls(&hh.separable().ok_or("HH not separable")?, q2, p2, n),
         "j2-rust" => calls(&j2_rust, q3, p3, n),
         "j2-expression" => calls(&j2, q3, p3, n),
+        "j2-split" => calls(&j2.separable().ok_or("J2 not separable")?, q3, p3, n),
         "none" => 0.0,
         other => return Err(format!("unknown variant {other}").into()),
     };

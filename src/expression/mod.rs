@@ -30,7 +30,11 @@
 //! (<https://cranelift.dev>; feature `jit`, on by default): each slot a variable of the code
 //! generator, each instruction the same IEEE-754 operations in the same order as the interpreter
 //! (no fused multiply–add), `exp`, `ln`, `powf`, `tanh`, `sin_cos` and `atan2` calls of the same
-//! Rust functions, so the native code gives the interpreter's values bit for bit. Dual numbers,
+//! Rust functions, so the native code gives the interpreter's values bit for bit. The vector field
+//! reads `q`, `p` and writes `q̇`, `ṗ` in place; the drift and the kick read `p` (or `q`), write
+//! `∂T/∂p` (or `∂V/∂q`) in place and return `T` (or `V`) in a register; the call is inlined into
+//! the caller, so that an evaluation costs the native code and an indirect call (`examples/expression_cost.rs`
+//! counts the instructions). Dual numbers,
 //! recorded values and Taylor jets run the interpreter; so does `f64` without the feature, on a
 //! host Cranelift does not support, or where compilation fails (silently: a speed path, not a
 //! change of values). [`ExpressionHamiltonian::interpreted`] gives the interpreted system, for
@@ -473,7 +477,7 @@ impl<const N: usize> ExpressionHamiltonian<N> {
                 expr: e,
                 record,
             };
-            Some((expression, Compiled::new(gradient)))
+            Some((expression, Compiled::gradient(gradient, N)))
         };
         let (kinetic, kinetic_gradient) =
             compile(kinetic, 1 + N..1 + 2 * N, "the kinetic part T(t, p)")?;
@@ -551,13 +555,7 @@ impl<const N: usize> Hamiltonian<N> for ExpressionHamiltonian<N> {
     ) -> (SVector<f64, N>, SVector<f64, N>) {
         // The native code reads q and p and writes the two halves of the field in place.
         let (mut a, mut b) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-        self.field.eval_phase(
-            t,
-            q.as_slice(),
-            p.as_slice(),
-            a.as_mut_slice(),
-            b.as_mut_slice(),
-        );
+        self.field.eval_phase(t, q, p, &mut a, &mut b);
         (a, b)
     }
 }
@@ -638,23 +636,19 @@ impl<const N: usize> Separable<N> for ExpressionSeparable<N> {
 }
 
 /// `(f, ∂f/∂z)` from the record of a function of `(t, z)` and its gradient.
-#[inline]
+#[inline(always)]
 fn half_gradient<D: DualNum<f64> + Copy, const N: usize>(
     record: &Compiled,
     t: D,
     z: &SVector<D, N>,
 ) -> (D, SVector<D, N>) {
-    if record.is_native() && record::is_f64::<D>() {
-        // On `f64` (`re` and `from` the identity): the inputs built in place for the native
-        // code, as in `vector_field_unchecked`.
-        let mut x = [0.0; 1 + MAX_DOF];
-        x[0] = t.re();
-        for i in 0..N {
-            x[1 + i] = z[i].re();
-        }
-        let mut y = [0.0; 1 + MAX_DOF];
-        record.eval_f64(&x[..=N], &mut y[..=N]);
-        return (D::from(y[0]), SVector::from_fn(|i, _| D::from(y[1 + i])));
+    if record::is_f64::<D>() {
+        // On `f64` (`re` and `from` the identity): `z` read and `∂f/∂z` written in place by
+        // the native code, `f` returned in a register.
+        let z = z.map(|v| v.re());
+        let mut g = SVector::<f64, N>::zeros();
+        let v = record.eval_gradient(t.re(), &z, &mut g);
+        return (D::from(v), g.map(D::from));
     }
     let mut x = [t; 1 + MAX_DOF];
     x[1..=N].copy_from_slice(z.as_slice());

@@ -4,8 +4,13 @@
 //! interpreter's [`step`](super::program::step) on `f64` — `+`, `−`, `×`, `/` and `√` as machine
 //! instructions (correctly rounded, no fused multiply–add), `exp`, `ln`, `powf`, `tanh`,
 //! `sin_cos` and `atan2` as calls of the very Rust functions the interpreter calls — so that the
-//! native code and the interpreter agree bit for bit. The function reads the inputs from `x` and
-//! writes the outputs to `y`; its slots are machine registers or its own stack frame.
+//! native code and the interpreter agree bit for bit. The function reads its inputs and writes
+//! its outputs in one of three layouts ([`Layout`]): flat arrays `x` and `y`; the state vectors
+//! of Hamilton's equations, `(t, q, p) → (q̇, ṗ)`; or a vector and a gradient, `(t, z) → ∂f/∂z`
+//! with `f` returned in a register. Its slots are machine registers or its own stack frame, which
+//! holds the two results of `sin_cos` only when the program has one. The callers of the phase
+//! and gradient layouts ([`Native::call_phase`], [`Native::call_gradient`]) are inlined into
+//! theirs, checking only the layout and `n` against the vectors' static length.
 //!
 //! Compilation happens once (at the construction of an expression system); a host Cranelift does
 //! not support, a program larger than [`MAX_INSTRUCTIONS`] or any error of the code generator
@@ -24,6 +29,7 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, Linkage, Module};
+use nalgebra::SVector;
 use num_dual::DualNum;
 use std::sync::Mutex;
 
@@ -40,6 +46,11 @@ pub(super) enum Layout {
     /// `(a₁ … aₙ, b₁ … bₙ)`: Hamilton's equations read from and written to the state vectors
     /// themselves, with no array of inputs built for the call.
     Phase(usize),
+    /// `f(t, z, g) → v` for a program of inputs `(t, z₁ … zₙ)` and outputs `(v, g₁ … gₙ)`: a
+    /// function and its gradient (the drift `(T, ∂T/∂p)` and the kick `(V, ∂V/∂q)` of a
+    /// separable Hamiltonian), `z` read from and `g` written to the vectors themselves, `v`
+    /// returned in a register.
+    Gradient(usize),
 }
 
 /// The signature of a compiled program of [`Layout::Flat`].
@@ -49,11 +60,15 @@ type FlatEntry = unsafe extern "C" fn(x: *const f64, y: *mut f64);
 type PhaseEntry =
     unsafe extern "C" fn(t: f64, q: *const f64, p: *const f64, a: *mut f64, b: *mut f64);
 
-/// The compiled function, of either layout.
+/// The signature of a compiled program of [`Layout::Gradient`].
+type GradientEntry = unsafe extern "C" fn(t: f64, z: *const f64, g: *mut f64) -> f64;
+
+/// The compiled function, of any layout (with its `n`).
 #[derive(Clone, Copy)]
 enum Entry {
     Flat(FlatEntry),
     Phase(PhaseEntry, usize),
+    Gradient(GradientEntry, usize),
 }
 
 /// A program compiled to native code, with the module owning the code's memory.
@@ -104,7 +119,7 @@ impl Native {
     #[inline]
     pub(super) fn call(&self, x: &[f64], y: &mut [f64]) {
         let Entry::Flat(entry) = self.entry else {
-            panic!("a native program of the phase layout called with flat arrays");
+            panic!("a native program of another layout called with flat arrays");
         };
         assert!(x.len() >= self.inputs && y.len() >= self.outputs);
         // SAFETY: `entry` was compiled by `compile` with the signature `FlatEntry` for the
@@ -114,29 +129,50 @@ impl Native {
         unsafe { entry(x.as_ptr(), y.as_mut_ptr()) }
     }
 
-    /// The outputs at `(t, q, p)` into `(a, b)`, for a function of [`Layout::Phase`]; `false`
-    /// (nothing written) for a function of the flat layout.
-    ///
-    /// # Panics
-    /// If a slice holds fewer values than the layout's `n`.
-    #[inline]
-    pub(super) fn call_phase(
+    /// The outputs at `(t, q, p)` into `(a, b)`, for a function of [`Layout::Phase`] with
+    /// `n = N`; `false` (nothing written) for a function of another layout or size.
+    #[inline(always)]
+    pub(super) fn call_phase<const N: usize>(
         &self,
         t: f64,
-        q: &[f64],
-        p: &[f64],
-        a: &mut [f64],
-        b: &mut [f64],
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        a: &mut SVector<f64, N>,
+        b: &mut SVector<f64, N>,
     ) -> bool {
         let Entry::Phase(entry, n) = self.entry else {
             return false;
         };
-        assert!(q.len() >= n && p.len() >= n && a.len() >= n && b.len() >= n);
+        if n != N {
+            return false;
+        }
         // SAFETY: `entry` was compiled by `compile` with the signature `PhaseEntry`; it reads
-        // `q[0 .. n]`, `p[0 .. n]` and writes `a[0 .. n]`, `b[0 .. n]` only, which the
-        // assertion keeps in bounds; its code memory is owned by `self.module`.
+        // `q[0 .. n]`, `p[0 .. n]` and writes `a[0 .. n]`, `b[0 .. n]` only, `n = N` the length
+        // of each vector (contiguous storage); its code memory is owned by `self.module`.
         unsafe { entry(t, q.as_ptr(), p.as_ptr(), a.as_mut_ptr(), b.as_mut_ptr()) };
         true
+    }
+
+    /// The first output at `(t, z)`, the others into `g`, for a function of
+    /// [`Layout::Gradient`] with `n = N`; `None` (nothing written) for a function of another
+    /// layout or size.
+    #[inline(always)]
+    pub(super) fn call_gradient<const N: usize>(
+        &self,
+        t: f64,
+        z: &SVector<f64, N>,
+        g: &mut SVector<f64, N>,
+    ) -> Option<f64> {
+        let Entry::Gradient(entry, n) = self.entry else {
+            return None;
+        };
+        if n != N {
+            return None;
+        }
+        // SAFETY: `entry` was compiled by `compile` with the signature `GradientEntry`; it
+        // reads `z[0 .. n]` and writes `g[0 .. n]` only, `n = N` the length of each vector
+        // (contiguous storage); its code memory is owned by `self.module`.
+        Some(unsafe { entry(t, z.as_ptr(), g.as_mut_ptr()) })
     }
 
     /// The program compiled with `layout`, or `None` when it cannot be (see the
@@ -145,10 +181,13 @@ impl Native {
         if program.stride != 1 || program.instructions.len() > MAX_INSTRUCTIONS {
             return None;
         }
-        if let Layout::Phase(n) = layout {
-            if program.inputs != 1 + 2 * n || program.outputs.len() != 2 * n {
-                return None;
-            }
+        let fits = match layout {
+            Layout::Flat => true,
+            Layout::Phase(n) => program.inputs == 1 + 2 * n && program.outputs.len() == 2 * n,
+            Layout::Gradient(n) => program.inputs == 1 + n && program.outputs.len() == 1 + n,
+        };
+        if !fits {
+            return None;
         }
         let mut flags = settings::builder();
         flags.set("use_colocated_libcalls", "false").ok()?;
@@ -165,15 +204,19 @@ impl Native {
         let mut module = JITModule::new(builder);
         let address = translate(&mut module, program, layout)?;
         // SAFETY: `translate` defined and finalized the function with the signature of
-        // `layout` (`FlatEntry`: two pointer parameters; `PhaseEntry`: an `f64` and four
-        // pointers; no result; the default calling convention of the host, which is its C
-        // convention).
+        // `layout` (`FlatEntry`: two pointer parameters, no result; `PhaseEntry`: an `f64` and
+        // four pointers, no result; `GradientEntry`: an `f64` and two pointers, an `f64`
+        // result; the default calling convention of the host, which is its C convention).
         let entry = match layout {
             Layout::Flat => {
                 Entry::Flat(unsafe { std::mem::transmute::<*const u8, FlatEntry>(address) })
             }
             Layout::Phase(n) => Entry::Phase(
                 unsafe { std::mem::transmute::<*const u8, PhaseEntry>(address) },
+                n,
+            ),
+            Layout::Gradient(n) => Entry::Gradient(
+                unsafe { std::mem::transmute::<*const u8, GradientEntry>(address) },
                 n,
             ),
         };
@@ -228,17 +271,18 @@ extern "C" fn atan2(y: f64, x: f64) -> f64 {
 fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Option<*const u8> {
     let pointer = module.target_config().pointer_type();
     let mut ctx = module.make_context();
-    if matches!(layout, Layout::Phase(_)) {
-        ctx.func.signature.params.push(AbiParam::new(F64));
-        ctx.func
-            .signature
-            .params
-            .extend([AbiParam::new(pointer); 4]);
-    } else {
-        ctx.func
-            .signature
-            .params
-            .extend([AbiParam::new(pointer); 2]);
+    let params = &mut ctx.func.signature.params;
+    match layout {
+        Layout::Flat => params.extend([AbiParam::new(pointer); 2]),
+        Layout::Phase(_) => {
+            params.push(AbiParam::new(F64));
+            params.extend([AbiParam::new(pointer); 4]);
+        }
+        Layout::Gradient(_) => {
+            params.push(AbiParam::new(F64));
+            params.extend([AbiParam::new(pointer); 2]);
+            ctx.func.signature.returns.push(AbiParam::new(F64));
+        }
     }
     let mut shims = Vec::with_capacity(SHIMS.len());
     for (name, (params, results), _) in SHIMS {
@@ -266,25 +310,34 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
     b.switch_to_block(block);
     b.seal_block(block);
     let params = b.block_params(block).to_vec();
-    let pair = b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
+    // The two results of `sin_cos`, in a slot of the frame only when the program has one (a
+    // function with no slot and no call needs no frame).
+    let pair = program
+        .instructions
+        .iter()
+        .any(|i| matches!(i, Instr::SinCos { .. }))
+        .then(|| b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3)));
     let slot: Vec<Variable> = (0..program.slots).map(|_| b.declare_var(F64)).collect();
     let flags = MemFlags::trusted();
     let offset = |k: usize| i32::try_from(8 * k).ok();
-    // Input `k` and output `k`: a pointer parameter and an offset (input 0 of the phase
-    // layout, `t`, is the parameter itself and is not looked up here).
+    // Input `k` and output `k`: a pointer parameter and an offset (input 0 of the phase and
+    // gradient layouts, `t`, is the parameter itself, and output 0 of the gradient layout the
+    // result, which are not looked up here).
     let input = |k: usize| match layout {
         Layout::Flat => (0, k),
         Layout::Phase(n) if k <= n => (1, k - 1),
         Layout::Phase(n) => (2, k - 1 - n),
+        Layout::Gradient(_) => (1, k - 1),
     };
     let output = |k: usize| match layout {
         Layout::Flat => (1, k),
         Layout::Phase(n) if k < n => (3, k),
         Layout::Phase(n) => (4, k - n),
+        Layout::Gradient(_) => (2, k - 1),
     };
     for (k, &var) in slot.iter().enumerate().take(program.inputs) {
         let v = match (layout, k) {
-            (Layout::Phase(_), 0) => params[0],
+            (Layout::Phase(_) | Layout::Gradient(_), 0) => params[0],
             _ => {
                 let (base, at) = input(k);
                 b.ins().load(F64, flags, params[base], offset(at)?)
@@ -408,6 +461,7 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
             }
             Instr::SinCos { s, c, a } => {
                 let va = get(&mut b, a);
+                let pair = pair?;
                 let address = b.ins().stack_addr(pointer, pair, 0);
                 b.ins().call(f_sin_cos, &[va, address]);
                 let vs = b.ins().stack_load(F64, pair, 0);
@@ -422,13 +476,18 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
             }
         }
     }
+    let mut result = Vec::with_capacity(1);
     for (k, &(o, alpha)) in program.outputs.iter().enumerate() {
         let v = b.use_var(slot[o]);
         let r = scale(&mut b, v, alpha);
+        if matches!(layout, Layout::Gradient(_)) && k == 0 {
+            result.push(r);
+            continue;
+        }
         let (base, at) = output(k);
         b.ins().store(flags, r, params[base], offset(at)?);
     }
-    b.ins().return_(&[]);
+    b.ins().return_(&result);
     b.finalize();
     let id = module
         .declare_function("program", Linkage::Export, &ctx.func.signature)

@@ -74,6 +74,7 @@ pub use jets::{Jets, MAX_ORDER};
 pub use number::Recorded;
 
 use crate::error::{Error, Result};
+use nalgebra::SVector;
 use num_dual::DualNum;
 use number::{with_tape, Tape, CONST};
 use program::Program;
@@ -400,7 +401,8 @@ pub(crate) fn is_f64<D: DualNum<f64>>() -> bool {
         && std::any::type_name::<D>() == "f64"
 }
 
-/// The most degrees of freedom of [`Compiled::eval_phase`]'s interpreted form (its buffers).
+/// The most degrees of freedom of the interpreted forms of [`Compiled::eval_phase`] and
+/// [`Compiled::eval_gradient`] (their buffers).
 const PHASE_DOF: usize = 16;
 
 /// The most inputs and outputs of a record whose native code the generic
@@ -433,29 +435,103 @@ impl Compiled {
     }
 
     /// The outputs at `(t, q, p)` into `(a, b)` on `f64` for a record made by
-    /// [`phase`](Self::phase) with `n = q.len()`: the native code when there is one, the
-    /// interpreter otherwise.
+    /// [`phase`](Self::phase) with `n = N`: the native code when there is one, the interpreter
+    /// otherwise.
     ///
     /// # Panics
-    /// If a slice is shorter than `n = q.len()`, if `n` exceeds 16 (the interpreted form's
-    /// buffers), or if the record's inputs and outputs are not `1 + 2n` and `2n`.
-    #[inline]
-    pub(crate) fn eval_phase(&self, t: f64, q: &[f64], p: &[f64], a: &mut [f64], b: &mut [f64]) {
+    /// If `N` exceeds 16 (the interpreted form's buffers) or the record's inputs and outputs
+    /// are not `1 + 2N` and `2N`, when the interpreter runs.
+    #[inline(always)]
+    pub(crate) fn eval_phase<const N: usize>(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        a: &mut SVector<f64, N>,
+        b: &mut SVector<f64, N>,
+    ) {
         #[cfg(feature = "jit")]
         if let Some(native) = &self.native {
             if native.call_phase(t, q, p, a, b) {
                 return;
             }
         }
-        let n = q.len();
+        self.eval_phase_interpreted(t, q, p, a, b)
+    }
+
+    /// [`eval_phase`](Self::eval_phase) by the interpreter (kept out of line, so that the
+    /// native call inlined in its callers carries no frame for the interpreter's buffers).
+    #[inline(never)]
+    fn eval_phase_interpreted<const N: usize>(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        a: &mut SVector<f64, N>,
+        b: &mut SVector<f64, N>,
+    ) {
         let mut x = [0.0; 1 + 2 * PHASE_DOF];
         let mut y = [0.0; 2 * PHASE_DOF];
         x[0] = t;
-        x[1..=n].copy_from_slice(q);
-        x[1 + n..=2 * n].copy_from_slice(p);
-        self.record.eval_into(&x[..1 + 2 * n], &mut y[..2 * n]);
-        a[..n].copy_from_slice(&y[..n]);
-        b[..n].copy_from_slice(&y[n..2 * n]);
+        x[1..=N].copy_from_slice(q.as_slice());
+        x[1 + N..=2 * N].copy_from_slice(p.as_slice());
+        self.record.eval_into(&x[..1 + 2 * N], &mut y[..2 * N]);
+        a.copy_from_slice(&y[..N]);
+        b.copy_from_slice(&y[N..2 * N]);
+    }
+
+    /// `record` of inputs `(t, z₁ … zₙ)` and outputs `(v, g₁ … gₙ)` (a function and its
+    /// gradient), its native code under the feature `jit` reading and writing the vectors
+    /// themselves ([`eval_gradient`](Self::eval_gradient)); [`eval_into`](Self::eval_into)
+    /// and [`eval_f64`](Self::eval_f64) interpret it.
+    pub(crate) fn gradient(record: Record, n: usize) -> Self {
+        Self {
+            #[cfg(feature = "jit")]
+            native: jit::Native::compile(&record.program, jit::Layout::Gradient(n))
+                .map(std::sync::Arc::new),
+            record,
+        }
+    }
+
+    /// The first output at `(t, z)`, the others into `g`, on `f64` for a record made by
+    /// [`gradient`](Self::gradient) with `n = N`: the native code when there is one, the
+    /// interpreter otherwise.
+    ///
+    /// # Panics
+    /// If `N` exceeds 16 (the interpreted form's buffers) or the record's inputs and outputs
+    /// are not `1 + N` each, when the interpreter runs.
+    #[inline(always)]
+    pub(crate) fn eval_gradient<const N: usize>(
+        &self,
+        t: f64,
+        z: &SVector<f64, N>,
+        g: &mut SVector<f64, N>,
+    ) -> f64 {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            if let Some(v) = native.call_gradient(t, z, g) {
+                return v;
+            }
+        }
+        self.eval_gradient_interpreted(t, z, g)
+    }
+
+    /// [`eval_gradient`](Self::eval_gradient) by the interpreter (out of line, as
+    /// [`eval_phase_interpreted`](Self::eval_phase_interpreted)).
+    #[inline(never)]
+    fn eval_gradient_interpreted<const N: usize>(
+        &self,
+        t: f64,
+        z: &SVector<f64, N>,
+        g: &mut SVector<f64, N>,
+    ) -> f64 {
+        let mut x = [0.0; 1 + PHASE_DOF];
+        let mut y = [0.0; 1 + PHASE_DOF];
+        x[0] = t;
+        x[1..=N].copy_from_slice(z.as_slice());
+        self.record.eval_into(&x[..=N], &mut y[..=N]);
+        g.copy_from_slice(&y[1..=N]);
+        y[0]
     }
 
     /// The same record evaluated by the interpreter only.
