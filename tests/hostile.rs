@@ -1193,9 +1193,9 @@ fn add_methods(c: &mut Vec<Call>) {
                 .with_h0(a[0])
                 .and_then(|m| m.with_h_max(a[1]))
                 .and_then(|m| m.with_max_steps(100_000));
-            judge(m, fin(a) && a[0] > 0.0 && a[1] > 0.0, |m| {
-                osc_run(&m, a[2], 1e-9 * (1.0 + a[2].abs()))
-            })
+            // The knobs decide validity here; a bad t₁ is the run's to refuse (osc_run).
+            let knobs = fin(&a[..2]) && a[0] > 0.0 && a[1] > 0.0;
+            judge(m, knobs, |m| osc_run(&m, a[2], 1e-9 * (1.0 + a[2].abs())))
         },
     );
     sweep(
