@@ -292,7 +292,8 @@ fn adaptive_error_is_proportional_to_the_tolerance() {
 fn errors_against_exact_flows() {
     // Kepler e = 0.5 over 100 periods: the local error ≈ ε per step of ≈ 38 per period, and the
     // along-track drift it causes, give final errors of 10³–10⁴ ε (measured 1.5e−6, 1.2e−8,
-    // 2.7e−11 at ε = 1e−9, 1e−12, 1e−15).
+    // 7.6e−12 at ε = 1e−9, 1e−12, 1e−15; 2.7e−11 at 1e−15 before the time and
+    // the state update were compensated).
     for tol in [1e-9, 1e-12, 1e-15] {
         let (err, steps) = kepler_error(&Taylor::new(tol).unwrap(), 100.0);
         println!("Kepler e = 0.5, 100 periods, tol {tol:e}: error {err:e} in {steps} steps");
@@ -317,6 +318,39 @@ fn errors_against_exact_flows() {
         );
         assert!(worst < 500.0 * tol, "tol {tol:e}: {worst:e}");
     }
+}
+
+/// The rounding floor: the pendulum `H = p²/2 + 1 − cos q` from `(q, p) = (1, 0)` over 100
+/// periods (`t₁ = fl(400 K(sin² ½)) ≈ 670`) at tolerance `10⁻¹⁵` (order 19, ≈ 2200 steps),
+/// against the exact solution `sin(q/2) = k sn(t + K, k)`, `k = sin ½`, evaluated by mpmath at 50
+/// digits at that double `t₁` (`benches/peers/peers.py`, `pendulum_reference`):
+/// `q = 1 − 2·10⁻²⁸`, `p = −1.848843016995432·10⁻¹⁴`.
+///
+/// The bound: each step's new state is a sum rounded once or twice, `|x| ≤ 1`, so it adds a
+/// random error of a few `u = 2⁻⁵³` — at most `4u` — and `n` such errors walk to `4u√n`, about
+/// `5·10⁻¹⁵` for `n = 2200`; a time kept in plain double would add `ulp(t)/2 ≈ 5.7·10⁻¹⁴` per
+/// step to the phase (`|ṗ| ≈ 0.84`), a walk of ≈ `2·10⁻¹²`. The assertion is `10 u √n` on the
+/// state, the factor `10/4` for the truncation error (tolerance `10⁻¹⁵ ≈ 9u` per step, whose
+/// energy part a reversible oscillator largely returns).
+#[test]
+fn pendulum_final_error_at_the_rounding_floor() {
+    let pendulum = Pendulum::new(1.0).unwrap();
+    let t1 = 669.997_566_437_045_3;
+    let (q_ref, p_ref) = (1.0, -1.848_843_016_995_432e-14);
+    let (q0, p0) = (SVector::from([1.0]), SVector::from([0.0]));
+    let problem = Problem::new(&pendulum, 0.0, q0, p0, t1).unwrap();
+    let run = integrate(&problem, &Taylor::new(1e-15).unwrap(), &mut ()).unwrap();
+    let err = (run.last.q[0] - q_ref)
+        .abs()
+        .max((run.last.p[0] - p_ref).abs());
+    let n = run.work.steps as f64;
+    let bound = 10.0 * 0.5 * f64::EPSILON * n.sqrt();
+    println!(
+        "pendulum q₀ = 1, 100 periods, tol 1e-15: {} steps, final error {err:e}, bound {bound:e}",
+        run.work.steps
+    );
+    assert_eq!(run.last.t, t1);
+    assert!(err < bound, "final error {err:e} above 10u√n = {bound:e}");
 }
 
 /// At equal tolerance the Taylor method reaches a smaller error than DOP853 on the Kepler problem
@@ -493,7 +527,8 @@ fn loglog_slopes(periods: &[f64], errors: &[(f64, f64)]) -> (f64, f64) {
 /// periods (ln 20 ≈ 3 in ln N): the rms of M Gaussian walks has a relative spread
 /// ≈ 1/√(2M) ≈ 0.18, so a slope between the ends of the range scatters by
 /// ≈ √2·0.18/3 ≈ 0.08; the bands are three times that, ±0.25, and exclude the biased slopes.
-/// Measured: 0.43 and 1.48 (with 8 orbits to 10⁵ periods, `examples/brouwer_law.rs` and the
+/// Measured: 0.52 and 1.69 with the time and the state update compensated (0.43 and 1.48
+/// before; with 8 orbits to 10⁵ periods, `examples/brouwer_law.rs` and the
 /// `slow-tests` test below: 0.47 and 1.44).
 #[test]
 fn brouwer_law_at_tolerance_below_rounding() {

@@ -168,10 +168,12 @@ impl Jets {
             advance(field, c, s, k);
         }
         for j in 1..=n {
-            if let Some(k) = c[j * s..j * s + order + 1]
-                .iter()
-                .position(|c| !c.is_finite())
-            {
+            let jet = &c[j * s..j * s + order + 1];
+            // `v·0` is ±0 for a finite `v` and NaN otherwise: one branch per variable.
+            if jet.iter().fold(0.0, |a, &v| a + v * 0.0) == 0.0 {
+                continue;
+            }
+            if let Some(k) = jet.iter().position(|c| !c.is_finite()) {
                 return Err(Error::NonFinite {
                     what: format!(
                         "Taylor coefficient {k} of state variable {} at t₀ = {t0:e}, x₀ = \
