@@ -7,6 +7,15 @@
 //!   kepler   μ = 1, planar:   x0 = q₁ q₂ p₁ p₂
 //!   j2 <J2>  μ = R = 1:       x0 = q₁ q₂ q₃ p₁ p₂ p₃
 //!   pendulum n = 1:           x0 = q p
+//! cargo run --release --example peers_crate -- nbody state
+//! cargo run --release --example peers_crate -- nbody <runs> <h,h,…> <span> <outputs> <method,…>
+//!   the outer Solar System (`systems::outer_solar_system`, G in AU³/(M☉ day²), days):
+//!   `state` prints G, the masses and the initial inertial x, v = p/m and p; otherwise the
+//!   N-body Wisdom–Holman map, method `jacobi` (kick–drift–kick, `WisdomHolman::WH`),
+//!   `jacobi-dkd` (drift–kick–drift, `SABA1`), `jacobi17` (order-17 corrector) or `dh`
+//!   (democratic heliocentric, kick–drift–kick), with steps h over `outputs` equal chunks of
+//!   round(span / (outputs·h)) steps, the corrector applied at each output; printed: the largest
+//!   relative energy error at the outputs, the final one, and the final state.
 //! ```
 //!
 //! The Taylor method is timed without the recording of Hamilton's equations (printed apart as
@@ -22,13 +31,14 @@
 use hamilton_jacobi::hamiltonian::PerturbedKepler;
 use hamilton_jacobi::integrate::regularised::{fictitious_span, propagate};
 use hamilton_jacobi::integrate::{
-    integrate, Dop853, Fixed, KustaanheimoStiefel, LeviCivita, Method, Observer, Problem,
-    Regularisation, Report, Splitting, Taylor, TimeTransformed, VectorFieldRecord, WisdomHolman,
+    integrate, Dop853, Fixed, KustaanheimoStiefel, LeviCivita, Method, Observer,
+    PlanetaryWisdomHolman, Problem, Regularisation, Report, Splitting, Taylor, TimeTransformed,
+    VectorFieldRecord, WisdomHolman,
 };
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
 use hamilton_jacobi::phase::State;
-use hamilton_jacobi::systems::{Kepler, Pendulum};
+use hamilton_jacobi::systems::{outer_solar_system, Kepler, Pendulum, PlanetaryCoordinates};
 use hamilton_jacobi::{Error, Hamiltonian, Result};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -261,6 +271,93 @@ fn run<S: Hamiltonian<N>, const N: usize>(
     Ok(lines)
 }
 
+/// The outer Solar System's initial state as JSON: `G`, the masses, and the inertial positions,
+/// velocities `v = p/m` and momenta `p`, body by body.
+fn nbody_state() -> String {
+    let (sys, q, p) = outer_solar_system();
+    let m = sys.masses();
+    let rows = |f: &dyn Fn(usize) -> f64| {
+        let v: Vec<String> = (0..m.len())
+            .map(|i| json_array((0..3).map(|k| f(3 * i + k))))
+            .collect();
+        format!("[{}]", v.join(","))
+    };
+    format!(
+        "{{\"G\":{:?},\"masses\":{},\"x\":{},\"v\":{},\"p\":{}}}",
+        sys.g(),
+        json_array(m.iter().copied()),
+        rows(&|k| q[k]),
+        rows(&|k| p[k] / m[k / 3]),
+        rows(&|k| p[k])
+    )
+}
+
+/// The outer Solar System by the N-body Wisdom–Holman map: for each method and step `h`,
+/// `outputs` chunks of `round(span / (outputs h))` steps (a `propagate` each: the corrector and the
+/// coordinate maps at every output), the relative energy error at each output; best wall time of
+/// `runs` runs, energy evaluations included.
+fn run_nbody(
+    runs: usize,
+    hs: &[f64],
+    span: f64,
+    outputs: usize,
+    methods: &[&str],
+) -> Result<Vec<String>> {
+    let (sys, q0, p0) = outer_solar_system();
+    let h0 = sys.value(0.0, &q0, &p0)?;
+    let mut lines = Vec::new();
+    for name in methods {
+        let (wh, coordinates) = match *name {
+            "jacobi" => (WisdomHolman::WH, PlanetaryCoordinates::Jacobi),
+            "jacobi-dkd" => (WisdomHolman::SABA1, PlanetaryCoordinates::Jacobi),
+            "jacobi17" => (
+                WisdomHolman::WH.with_corrector(17)?,
+                PlanetaryCoordinates::Jacobi,
+            ),
+            "dh" => (
+                WisdomHolman::WH,
+                PlanetaryCoordinates::DemocraticHeliocentric,
+            ),
+            _ => {
+                return Err(Error::invalid(
+                    "peers_crate nbody",
+                    format!("unknown method {name}"),
+                ))
+            }
+        };
+        let m = PlanetaryWisdomHolman::new(wh, coordinates)?;
+        for &h in hs {
+            let chunk = (span / (outputs as f64 * h)).round().max(1.0) as usize;
+            let (time, (worst, last, flows, gradients)) = best(runs, || {
+                let (mut q, mut p, mut worst) = (q0, p0, 0.0f64);
+                let (mut flows, mut gradients) = (0, 0);
+                for k in 0..outputs {
+                    let (ta, tb) = ((k * chunk) as f64 * h, ((k + 1) * chunk) as f64 * h);
+                    let r = m.propagate(&Problem::new(&sys, ta, q, p, tb)?, chunk)?;
+                    (q, p) = (r.last.q, r.last.p);
+                    flows += r.work.flows;
+                    gradients += r.work.gradients;
+                    worst = worst.max(((sys.value(tb, &q, &p)? - h0) / h0).abs());
+                }
+                Ok((worst, (q, p), flows, gradients))
+            })?;
+            let t1 = (outputs * chunk) as f64 * h;
+            let fin = ((sys.value(t1, &last.0, &last.1)? - h0) / h0).abs();
+            lines.push(format!(
+                "{{\"method\":\"{name}\",\"h\":{h:?},\"steps\":{},\"outputs\":{outputs},\
+                 \"t1\":{t1:?},\"seconds\":{:?},\"max_energy\":{worst:?},\
+                 \"final_energy\":{fin:?},\"flows\":{flows},\"gradients\":{gradients},\
+                 \"x\":{},\"p\":{}}}",
+                outputs * chunk,
+                time.as_secs_f64(),
+                json_array(last.0.iter().copied()),
+                json_array(last.1.iter().copied())
+            ));
+        }
+    }
+    Ok(lines)
+}
+
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let num = |s: &str| -> Result<f64> {
@@ -270,10 +367,31 @@ fn main() -> Result<()> {
     let usage = || {
         Error::invalid(
             "peers_crate",
-            "usage: peers_crate kepler|j2 <J2>|pendulum <runs> <tol,…> <t1> <x0…>",
+            "usage: peers_crate kepler|j2 <J2>|pendulum <runs> <tol,…> <t1> <x0…>, or \
+             peers_crate nbody state | <runs> <h,…> <span> <outputs> <method,…>",
         )
     };
     let (kind, rest) = args.split_first().ok_or_else(usage)?;
+    if kind == "nbody" {
+        if rest.first().map(String::as_str) == Some("state") {
+            println!("{}", nbody_state());
+            return Ok(());
+        }
+        if rest.len() != 5 {
+            return Err(usage());
+        }
+        let hs = rest[1].split(',').map(num).collect::<Result<Vec<f64>>>()?;
+        let methods: Vec<&str> = rest[4].split(',').collect();
+        let lines = run_nbody(
+            num(&rest[0])? as usize,
+            &hs,
+            num(&rest[2])?,
+            num(&rest[3])? as usize,
+            &methods,
+        )?;
+        println!("[{}]", lines.join(",\n"));
+        return Ok(());
+    }
     let (j2, rest) = if kind == "j2" {
         let (v, r) = rest.split_first().ok_or_else(usage)?;
         (num(v)?, r)

@@ -128,8 +128,9 @@ fn corrected_fixed_run_matches_propagate() {
     assert!(d < 1e-11);
     let c = m.corrector().unwrap();
     let (drifts, kicks) = c.evaluations();
-    // Kernel SABA₁: 2 drifts and 1 kick per step.
-    assert_eq!(a.work.flows, 500 * 2 + 2 * drifts);
+    // Kernel SABA₁: 2 drifts and 1 kick per step; `propagate` merges the closing half-drift of
+    // each step with the opening one of the next (501 drifts for 500 steps).
+    assert_eq!(a.work.flows, 500 + 1 + 2 * drifts);
     assert_eq!(a.work.gradients, 500 + 2 * kicks);
     assert_eq!(b.work.flows, 500 * (2 + 2 * drifts));
     assert_eq!(b.work.gradients, 500 * (1 + 2 * kicks));

@@ -47,6 +47,11 @@ pub(crate) trait SubFlows<D: DualNum<f64> + Copy, const N: usize> {
     ) -> Result<(SVector<D, N>, SVector<D, N>)>;
     /// The `B` flow (a kick, `q` fixed) over `h` from `(t, q)`: its increment `Δp`.
     fn flow_b(&mut self, t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>>;
+    /// Whether the `A` sub-step is the flow of a Hamiltonian, `φ_a ∘ φ_b = φ_{a+b}`, so that a
+    /// long run may merge adjacent `A` sub-steps of consecutive steps (the kicks always are).
+    fn a_composes(&self) -> bool {
+        true
+    }
 }
 
 /// A word in the two flows: the sub-steps `(flow, c)` of a composition, in the order applied,

@@ -266,7 +266,83 @@ where
     }
 }
 
+/// A sub-step `(flow, c)`.
+type SubStep = (Flow, f64);
+
+/// The first and last (non-zero) sub-steps of `table` and their number: the long run merges
+/// the two when they are of the same flow.
+fn ends(table: &Table) -> (Option<SubStep>, Option<SubStep>, usize) {
+    let (mut first, mut last, mut count) = (None, None, 0);
+    let _ = table.for_each_sub_step(|flow, c| {
+        if c != 0.0 {
+            first = first.or(Some((flow, c)));
+            last = Some((flow, c));
+            count += 1;
+        }
+        Ok::<(), ()>(())
+    });
+    (first, last, count)
+}
+
+/// One segment of a long run with merged step ends: the (non-zero) sub-steps of `table`, the
+/// first over `first·dt` instead of its own coefficient, the last left out.
+struct Segment<'a> {
+    table: &'a Table,
+    first: f64,
+    count: usize,
+}
+
+impl Word for Segment<'_> {
+    #[inline]
+    fn for_each_sub_step<E>(
+        &self,
+        mut f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
+    ) -> std::result::Result<(), E> {
+        let mut i = 0;
+        self.table.for_each_sub_step(|flow, c| {
+            if c == 0.0 {
+                return Ok(());
+            }
+            i += 1;
+            match i {
+                1 => f(flow, self.first),
+                i if i == self.count => Ok(()),
+                _ => f(flow, c),
+            }
+        })
+    }
+}
+
+/// A single sub-step `(flow, c)` (the closing one of a long run with merged step ends).
+struct Single(Flow, f64);
+
+impl Word for Single {
+    #[inline]
+    fn for_each_sub_step<E>(
+        &self,
+        mut f: impl FnMut(Flow, f64) -> std::result::Result<(), E>,
+    ) -> std::result::Result<(), E> {
+        f(self.0, self.1)
+    }
+}
+
 /// `steps` steps of `Φ_h` from `(t₀, q, p)` to `t₁`, with `C⁻¹` before and `C` after.
+///
+/// When the table begins and ends with the same flow `X` (`WH = SBAB₁` with kicks, the
+/// corrector's kernel `SABA₁` with drifts) and that flow composes exactly,
+/// `φ^X_{a h} ∘ φ^X_{b h} = φ^X_{(a+b) h}` (every kick; the drifts when
+/// [`SubFlows::a_composes`]), the last sub-step of each step and the first of the next are one
+/// sub-step:
+///
+/// ```math
+/// \Phi_h^n = \varphi^X_{c_1 h}\circ M \circ \big(\varphi^X_{(c_1 + c_m) h}\circ M\big)^{n-1}
+///   \circ \varphi^X_{c_m h}
+/// ```
+///
+/// (composition read right to left; `M` the sub-steps between the ends) — one kick (or one
+/// drift) per step fewer, the same map up to rounding, as in the "lazy" WHFast of Rein &
+/// Tamayo (2015, §3) and the FSAL runs of Hairer, Lubich & Wanner (*Geometric Numerical
+/// Integration*, §V.3.1).
 fn run<F: SubFlows<f64, N>, const N: usize>(
     method: &WisdomHolman,
     flows: &mut F,
@@ -284,11 +360,38 @@ fn run<F: SubFlows<f64, N>, const N: usize>(
         q += dq;
         p += dp;
     }
-    for k in 0..steps {
-        let t = t0 + dt * k as f64;
-        let (dq, dp) = compose(method.table, flows, t, &q, &p, dt)?;
-        compensated_add(&mut q, &mut cq, &dq);
-        compensated_add(&mut p, &mut cp, &dp);
+    let table = method.table;
+    match ends(table) {
+        (Some((x, c1)), Some((y, cm)), count)
+            if count >= 2 && x == y && (x == Flow::B || flows.a_composes()) =>
+        {
+            // The time elapsed in a step before its last sub-step (that sub-step is the start of
+            // the next segment).
+            let lag = if x == Flow::A { cm * dt } else { 0.0 };
+            for k in 0..steps {
+                let t = t0 + dt * k as f64;
+                let (t, first) = if k == 0 { (t, c1) } else { (t - lag, c1 + cm) };
+                let word = Segment {
+                    table,
+                    first,
+                    count,
+                };
+                let (dq, dp) = compose(&word, flows, t, &q, &p, dt)?;
+                compensated_add(&mut q, &mut cq, &dq);
+                compensated_add(&mut p, &mut cp, &dp);
+            }
+            let (dq, dp) = compose(&Single(x, cm), flows, t1 - lag, &q, &p, dt)?;
+            compensated_add(&mut q, &mut cq, &dq);
+            compensated_add(&mut p, &mut cp, &dp);
+        }
+        _ => {
+            for k in 0..steps {
+                let t = t0 + dt * k as f64;
+                let (dq, dp) = compose(table, flows, t, &q, &p, dt)?;
+                compensated_add(&mut q, &mut cq, &dq);
+                compensated_add(&mut p, &mut cp, &dp);
+            }
+        }
     }
     if let Some(c) = method.corrector {
         let (dq, dp) = correct(c, false, flows, t1, &q, &p, dt)?;
@@ -518,8 +621,12 @@ impl<D: DualNum<f64> + Copy, const N: usize> SubFlows<D, N> for PlanetaryFlows<'
     }
     fn flow_b(&mut self, _t: D, q: &SVector<D, N>, h: D) -> Result<SVector<D, N>> {
         self.work.gradients += 1;
-        let (_, g) = gradient(|qd| self.system.interaction(self.coordinates, qd), q);
-        Ok(g * (-h))
+        Ok(self.system.interaction_gradient(self.coordinates, q) * (-h))
+    }
+    /// In democratic heliocentric coordinates the `A` sub-step `jump ∘ Kepler ∘ jump` is not a
+    /// flow (the jump and the Kepler drifts do not commute): two of them are not one.
+    fn a_composes(&self) -> bool {
+        self.coordinates == PlanetaryCoordinates::Jacobi
     }
 }
 
