@@ -332,7 +332,7 @@ impl Monomials {
         if !self.lower.is_empty() {
             let lower = &self.lower[v * self.len..v * self.len + top];
             for (i, (&ai, &j)) in a[..top].iter().zip(lower).enumerate() {
-                if j != u32::MAX {
+                if ai != 0.0 && j != u32::MAX {
                     out[j as usize] = f64::from(self.exponents[i * self.n + v]) * ai;
                 }
             }
@@ -365,8 +365,10 @@ impl Monomials {
     /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
     /// zero); only the products of degree `≤ d` are formed. Slices of length `len`; `scratch`
     /// must be all zero and is all zero again afterwards, so the cost is that of the products
-    /// and of `C(n + d, n)` moves, not of the full length. The factor with fewer nonzero
-    /// coefficients runs in the outer loop ([`mul_add_split`](Self::mul_add_split)).
+    /// and of `C(n + d, n)` moves, not of the full length. `a` runs in the outer loop
+    /// ([`mul_add_split`](Self::mul_add_split)); its zero coefficients are skipped, so the
+    /// operand order decides where `0 · ∞` would have made a NaN: it is kept fixed (`a` the
+    /// first factor of the product, the Horner accumulator of the elementary functions).
     pub(crate) fn mul_to_degree(
         &self,
         a: &[f64],
@@ -376,14 +378,7 @@ impl Monomials {
         d: usize,
     ) {
         let d = d.min(self.degree);
-        let top = self.upto[d];
-        let nonzero = |x: &[f64]| x[..top].iter().filter(|&&c| c != 0.0).count();
-        // The sparser factor in the outer loop (the product is symmetric).
-        if nonzero(b) < nonzero(a) {
-            self.mul_add_split(b, a, scratch, d);
-        } else {
-            self.mul_add_split(a, b, scratch, d);
-        }
+        self.mul_add_split(a, b, scratch, d);
         self.take_split_to_degree(scratch, out, d);
         out[self.upto[d]..self.len].fill(0.0);
     }
