@@ -76,11 +76,28 @@ pub(crate) struct Arena {
     pub(crate) table: Arc<Monomials>,
     pub(crate) data: Vec<f64>,
     pub(crate) fault: Option<String>,
-    scratch: Vec<f64>,
+    /// All zero between operations (the split-order accumulator of the truncated product).
+    pub(crate) scratch: Vec<f64>,
+    /// Work arrays of the elementary functions (sized on use).
+    pub(crate) work: Vec<f64>,
 }
+
+/// The storage of a closed scope, kept for the next scope on the thread (no allocation when
+/// scopes of similar size follow each other, e.g. one per Lie-series evaluation).
+struct Buffers {
+    data: Vec<f64>,
+    scratch: Vec<f64>,
+    work: Vec<f64>,
+}
+
+/// Buffer sets kept per thread (nested scopes take one each).
+const SPARE_ENTRIES: usize = 4;
+/// Buffers of larger capacity (coefficients) are freed, not kept.
+const SPARE_CAPACITY: usize = 1 << 20;
 
 thread_local! {
     static ARENA: RefCell<Option<Arena>> = const { RefCell::new(None) };
+    static SPARE: RefCell<Vec<Buffers>> = const { RefCell::new(Vec::new()) };
 }
 
 static NEXT_ID: AtomicU32 = AtomicU32::new(1);
@@ -98,12 +115,30 @@ impl Arena {
             id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
         }
         let len = table.len();
+        let Buffers {
+            mut data,
+            mut scratch,
+            mut work,
+        } = SPARE
+            .try_with(|s| s.borrow_mut().pop())
+            .ok()
+            .flatten()
+            .unwrap_or(Buffers {
+                data: Vec::new(),
+                scratch: Vec::new(),
+                work: Vec::new(),
+            });
+        data.clear();
+        scratch.clear();
+        scratch.resize(len, 0.0);
+        work.clear();
         Self {
             id,
             table,
-            data: Vec::new(),
+            data,
             fault: None,
-            scratch: vec![0.0; len],
+            scratch,
+            work,
         }
     }
 
@@ -172,8 +207,12 @@ impl Arena {
         }
     }
 
-    /// Store the result of `f(out)` as a new slot, `out` zero-initialised.
-    pub(crate) fn push_with(&mut self, f: impl FnOnce(&[f64], &mut [f64], &mut [f64])) -> Series {
+    /// Store the result of `f(tables, old, out, scratch)` as a new slot, `out` zero-initialised,
+    /// `old` the slots stored before, `scratch` all zero (and to be left so).
+    pub(crate) fn push_with(
+        &mut self,
+        f: impl FnOnce(&Monomials, &[f64], &mut [f64], &mut [f64]),
+    ) -> Series {
         let len = self.len();
         if self.data.len() + len > MAX_ARENA_COEFFICIENTS {
             self.record(format!(
@@ -184,17 +223,35 @@ impl Arena {
         let start = self.data.len();
         self.data.resize(start + len, 0.0);
         let (old, new) = self.data.split_at_mut(start);
-        f(old, new, &mut self.scratch);
+        f(&self.table, old, new, &mut self.scratch);
         Series {
             scope: self.id,
             slot: (start / len) as u32,
             re: new[0],
         }
     }
+}
 
-    /// `out = a·b` truncated at degree `d`.
-    pub(crate) fn mul_into(&mut self, a: &[f64], b: &[f64], out: &mut [f64], d: usize) {
-        self.table.mul_to_degree(a, b, out, &mut self.scratch, d);
+impl Drop for Arena {
+    /// Keeps the storage for the next scope on this thread (up to `SPARE_ENTRIES` sets of at
+    /// most `SPARE_CAPACITY` coefficients each).
+    fn drop(&mut self) {
+        let capacity = self.data.capacity() + self.scratch.capacity() + self.work.capacity();
+        if capacity > SPARE_CAPACITY {
+            return;
+        }
+        let buffers = Buffers {
+            data: std::mem::take(&mut self.data),
+            scratch: std::mem::take(&mut self.scratch),
+            work: std::mem::take(&mut self.work),
+        };
+        let _ = SPARE.try_with(|s| {
+            if let Ok(mut s) = s.try_borrow_mut() {
+                if s.len() < SPARE_ENTRIES {
+                    s.push(buffers);
+                }
+            }
+        });
     }
 }
 

@@ -40,27 +40,30 @@ fn apply(
         _ => {}
     }
     with_arena(|ar| {
-        let Some(op) = ar.resolve(&x) else {
-            return Series::poison();
-        };
-        let Operand::Slot(start) = op else {
+        let Some(Operand::Slot(start)) = ar.resolve(&x) else {
             return Series::poison();
         };
         let k = ar.table.degree();
         let c = taylor(x.re, k);
         let len = ar.len();
-        let mut xt = ar.slice(start).to_vec();
+        // x̃ and the two Horner accumulators in the arena's work array (kept across scopes).
+        let mut work = std::mem::take(&mut ar.work);
+        work.clear();
+        work.resize(3 * len, 0.0);
+        let (xt, rest) = work.split_at_mut(len);
+        let (mut acc, mut tmp) = rest.split_at_mut(len);
+        xt.copy_from_slice(ar.slice(start));
         xt[0] = 0.0;
-        let mut acc = vec![0.0; len];
-        let mut tmp = vec![0.0; len];
         acc[0] = c[k];
         // r_j = c_j + x̃ r_{j+1} enters f multiplied by x̃^j: only its degree ≤ K − j is needed.
         for (j, &cj) in c[..k].iter().enumerate().rev() {
-            ar.mul_into(&acc, &xt, &mut tmp, k - j);
+            ar.table.mul_to_degree(acc, xt, tmp, &mut ar.scratch, k - j);
             std::mem::swap(&mut acc, &mut tmp);
             acc[0] += cj;
         }
-        ar.push(&acc)
+        let s = ar.push(acc);
+        ar.work = work;
+        s
     })
     .unwrap_or_else(Series::poison)
 }
@@ -242,24 +245,32 @@ pub(crate) fn ln_1p(x: Series) -> Series {
     })
 }
 
-pub(crate) fn sin_cos(x: Series) -> (Series, Series) {
-    let s = apply(x, f64::sin, |x0, k| {
+pub(crate) fn sin(x: Series) -> Series {
+    apply(x, f64::sin, |x0, k| {
         usc(&ident(x0, k), x0.sin(), x0.cos(), -1.0).0
-    });
-    let c = apply(x, f64::cos, |x0, k| {
-        usc(&ident(x0, k), x0.sin(), x0.cos(), -1.0).1
-    });
-    (s, c)
+    })
 }
 
-pub(crate) fn sinh_cosh(x: Series) -> (Series, Series) {
-    let s = apply(x, f64::sinh, |x0, k| {
+pub(crate) fn cos(x: Series) -> Series {
+    apply(x, f64::cos, |x0, k| {
+        usc(&ident(x0, k), x0.sin(), x0.cos(), -1.0).1
+    })
+}
+
+pub(crate) fn sin_cos(x: Series) -> (Series, Series) {
+    (sin(x), cos(x))
+}
+
+pub(crate) fn sinh(x: Series) -> Series {
+    apply(x, f64::sinh, |x0, k| {
         usc(&ident(x0, k), x0.sinh(), x0.cosh(), 1.0).0
-    });
-    let c = apply(x, f64::cosh, |x0, k| {
+    })
+}
+
+pub(crate) fn cosh(x: Series) -> Series {
+    apply(x, f64::cosh, |x0, k| {
         usc(&ident(x0, k), x0.sinh(), x0.cosh(), 1.0).1
-    });
-    (s, c)
+    })
 }
 
 pub(crate) fn tan(x: Series) -> Series {

@@ -107,21 +107,7 @@ impl Scope {
 
     /// The variable `x_i` (`0 ≤ i < n`): the series with the single coefficient 1 at `e_i`.
     pub fn variable(&self, i: usize) -> Result<Series> {
-        let n = self.table.variables();
-        if i >= n {
-            return Err(Error::OutOfDomain {
-                what: "series variable index".into(),
-                value: i as f64,
-                domain: format!("0 ≤ i < n = {n}"),
-            });
-        }
-        let mut alpha = vec![0u32; n];
-        alpha[i] = 1;
-        let mut c = vec![0.0; self.table.len()];
-        if let Some(k) = self.table.index_of(&alpha) {
-            c[k] = 1.0;
-        }
-        self.store(&c)
+        self.variable_at(i, 0.0)
     }
 
     /// All `n` variables `x_0, …, x_{n−1}`.
@@ -133,7 +119,28 @@ impl Scope {
 
     /// The series `x₀ + x_i` (a variable about the point `x₀`).
     pub fn variable_at(&self, i: usize, x0: f64) -> Result<Series> {
-        Ok(self.variable(i)? + x0)
+        let n = self.table.variables();
+        if i >= n {
+            return Err(Error::OutOfDomain {
+                what: "series variable index".into(),
+                value: i as f64,
+                domain: format!("0 ≤ i < n = {n}"),
+            });
+        }
+        let unit = self.table.variable_index(i);
+        let s = with_arena(|ar| {
+            ar.push_with(|_, _, out, _| {
+                out[0] = x0;
+                if let Some(k) = unit {
+                    out[k] = 1.0;
+                }
+            })
+        })
+        .unwrap_or_else(Series::poison);
+        if s.is_poisoned() {
+            return Err(self.fault());
+        }
+        Ok(s)
     }
 
     /// The series with the coefficients of `p` (same `n` and `K`).
@@ -482,9 +489,12 @@ impl Polynomial {
 /// polynomial `g` of low degree (few terms in `X`) costs little at any `K`.
 pub(crate) struct LieOperator {
     table: Arc<Monomials>,
-    /// `(X_v, number of nonzero coefficients of X_v)`, `v = 0 … 2N − 1`.
-    field: Vec<(Vec<f64>, usize)>,
+    /// `X_v` at `field[v·len..(v + 1)·len]`, `v = 0 … 2N − 1`.
+    field: Vec<f64>,
+    /// Number of nonzero coefficients of each `X_v`.
+    nonzero: Vec<usize>,
     derivative: Vec<f64>,
+    /// All zero between applications (split-order accumulator).
     split: Vec<f64>,
 }
 
@@ -493,28 +503,33 @@ impl LieOperator {
     pub(crate) fn new(g: &Polynomial, dof: usize) -> Self {
         let table = g.monomials.clone();
         let len = table.len();
-        let field = (0..2 * dof)
-            .map(|v| {
-                let (conjugate, sign) = if v < dof {
-                    (dof + v, 1.0)
-                } else {
-                    (v - dof, -1.0)
-                };
-                let mut x = vec![0.0; len];
-                table.derivative(&g.coefficients, conjugate, &mut x);
-                if sign < 0.0 {
-                    x.iter_mut().for_each(|c| *c = -*c);
-                }
-                let nonzero = x.iter().filter(|&&c| c != 0.0).count();
-                (x, nonzero)
-            })
-            .collect();
+        let mut field = vec![0.0; 2 * dof * len];
+        let mut nonzero = vec![0; 2 * dof];
+        for (v, x) in field.chunks_exact_mut(len).enumerate() {
+            let (conjugate, sign) = if v < dof {
+                (dof + v, 1.0)
+            } else {
+                (v - dof, -1.0)
+            };
+            table.derivative(&g.coefficients, conjugate, x);
+            if sign < 0.0 {
+                x.iter_mut().for_each(|c| *c = -*c);
+            }
+            nonzero[v] = x.iter().filter(|&&c| c != 0.0).count();
+        }
         Self {
             table,
             field,
+            nonzero,
             derivative: vec![0.0; len],
             split: vec![0.0; len],
         }
+    }
+
+    /// The component `X_v` of the vector field, `v < 2N` (`L_g x_v = X_v`).
+    pub(crate) fn field(&self, v: usize) -> &[f64] {
+        let len = self.table.len();
+        &self.field[v * len..(v + 1) * len]
     }
 
     /// The terms of degree `≤ degree` of `{f, g}` into `out[..C(n + degree, n)]` (graded order;
@@ -522,10 +537,11 @@ impl LieOperator {
     /// step runs over the prefix of degree `≤ degree` only, so the cost falls with the degree.
     pub(crate) fn apply(&mut self, f: &[f64], out: &mut [f64], degree: usize) {
         let table = &*self.table;
+        let len = table.len();
         let degree = degree.min(table.degree());
         let top = table.of_degree(degree).end;
-        for (v, (x, x_nonzero)) in self.field.iter().enumerate() {
-            if *x_nonzero == 0 {
+        for (v, (x, &x_nonzero)) in self.field.chunks_exact(len).zip(&self.nonzero).enumerate() {
+            if x_nonzero == 0 {
                 continue;
             }
             table.derivative_to(f, v, &mut self.derivative, degree);
@@ -533,7 +549,7 @@ impl LieOperator {
             if df_nonzero == 0 {
                 continue;
             }
-            if df_nonzero <= *x_nonzero {
+            if df_nonzero <= x_nonzero {
                 table.mul_add_split(&self.derivative, x, &mut self.split, degree);
             } else {
                 table.mul_add_split(x, &self.derivative, &mut self.split, degree);

@@ -63,7 +63,13 @@ pub struct Monomials {
     ia2: Vec<u32>,
     /// `graded[s]` = graded index of the monomial at split-order address `s`.
     graded: Vec<u32>,
+    /// `lower[v·len + i]` = graded index of `α_i − e_v` (`u32::MAX` where `α_{i,v} = 0`), kept
+    /// when `n · len ≤ LOWER_TABLE` (otherwise empty and the derivative uses the half codes).
+    lower: Vec<u32>,
 }
+
+/// The largest `n · len` for which the derivative index table `lower` is kept (4 MiB).
+const LOWER_TABLE: usize = 1 << 20;
 
 /// The exponent vectors of `n` variables of total degree exactly `d`, lexicographically decreasing.
 fn push_degree(n: usize, d: usize, prefix: &mut Vec<u8>, out: &mut Vec<u8>) {
@@ -190,7 +196,7 @@ impl Monomials {
         for (i, &(c1, c2)) in codes.iter().enumerate() {
             graded[(ia1[c1 as usize] + ia2[c2 as usize]) as usize] = i as u32;
         }
-        Ok(Self {
+        let mut m = Self {
             n,
             degree,
             len,
@@ -201,7 +207,20 @@ impl Monomials {
             ia1,
             ia2,
             graded,
-        })
+            lower: Vec::new(),
+        };
+        if n.saturating_mul(len) <= LOWER_TABLE {
+            let mut lower = vec![u32::MAX; n * len];
+            for v in 0..n {
+                for i in 0..len {
+                    if m.exponents[i * n + v] > 0 {
+                        lower[v * len + i] = m.lowered(i, v) as u32;
+                    }
+                }
+            }
+            m.lower = lower;
+        }
+        Ok(m)
     }
 
     /// Number of variables `n`.
@@ -247,6 +266,12 @@ impl Monomials {
         start..self.upto[d]
     }
 
+    /// The graded index of the variable `x_i` (the monomial `e_i`): `1 + i`, the degree-1 block
+    /// being in lexicographically decreasing order; `None` for `i ≥ n` or `K = 0`.
+    pub(crate) fn variable_index(&self, i: usize) -> Option<usize> {
+        (i < self.n && self.degree >= 1).then_some(1 + i)
+    }
+
     /// The graded index of the monomial with exponents `alpha`, `None` when its length is not `n`
     /// or its degree exceeds `K`.
     pub fn index_of(&self, alpha: &[u32]) -> Option<usize> {
@@ -284,6 +309,7 @@ impl Monomials {
                 reason: format!("every slice needs C(n + K, n) = {len} coefficients"),
             });
         }
+        scratch[..len].fill(0.0);
         self.mul_to_degree(a, b, out, scratch, self.degree);
         Ok(())
     }
@@ -303,31 +329,46 @@ impl Monomials {
         let out = &mut out[..self.upto[d]];
         out.fill(0.0);
         let top = self.upto[(d + 1).min(self.degree)];
-        let n1 = self.n / 2;
-        let radix = self.degree as u32 + 1;
-        let (first, unit) = if v < n1 {
-            (true, radix.pow(v as u32))
-        } else {
-            (false, radix.pow((v - n1) as u32))
-        };
+        if !self.lower.is_empty() {
+            let lower = &self.lower[v * self.len..v * self.len + top];
+            for (i, (&ai, &j)) in a[..top].iter().zip(lower).enumerate() {
+                if ai != 0.0 && j != u32::MAX {
+                    out[j as usize] = f64::from(self.exponents[i * self.n + v]) * ai;
+                }
+            }
+            return;
+        }
         for (i, &ai) in a[..top].iter().enumerate() {
             let e = self.exponents[i * self.n + v];
             if e == 0 || ai == 0.0 {
                 continue;
             }
-            let (mut c1, mut c2) = self.codes[i];
-            if first {
-                c1 -= unit;
-            } else {
-                c2 -= unit;
-            }
-            let s = self.ia1[c1 as usize] + self.ia2[c2 as usize];
-            out[self.graded[s as usize] as usize] = f64::from(e) * ai;
+            out[self.lowered(i, v)] = f64::from(e) * ai;
         }
     }
 
+    /// The graded index of `α_i − e_v` (`α_{i,v} ≥ 1`), from the additive half codes:
+    /// `code(α − e_v) = code(α) − code(e_v)`.
+    fn lowered(&self, i: usize, v: usize) -> usize {
+        let n1 = self.n / 2;
+        let radix = self.degree as u32 + 1;
+        let (mut c1, mut c2) = self.codes[i];
+        if v < n1 {
+            c1 -= radix.pow(v as u32);
+        } else {
+            c2 -= radix.pow((v - n1) as u32);
+        }
+        let s = self.ia1[c1 as usize] + self.ia2[c2 as usize];
+        self.graded[s as usize] as usize
+    }
+
     /// `out = a·b` truncated at degree `d ≤ K` (the coefficients of degree `> d` of `out` are
-    /// zero); only the products of degree `≤ d` are formed. Slices of length `len`.
+    /// zero); only the products of degree `≤ d` are formed. Slices of length `len`; `scratch`
+    /// must be all zero and is all zero again afterwards, so the cost is that of the products
+    /// and of `C(n + d, n)` moves, not of the full length. `a` runs in the outer loop
+    /// ([`mul_add_split`](Self::mul_add_split)); its zero coefficients are skipped, so the
+    /// operand order decides where `0 · ∞` would have made a NaN: it is kept fixed (`a` the
+    /// first factor of the product, the Horner accumulator of the elementary functions).
     pub(crate) fn mul_to_degree(
         &self,
         a: &[f64],
@@ -336,14 +377,14 @@ impl Monomials {
         scratch: &mut [f64],
         d: usize,
     ) {
-        let scratch = &mut scratch[..self.len];
-        scratch.fill(0.0);
+        let d = d.min(self.degree);
         self.mul_add_split(a, b, scratch, d);
-        self.split_to_graded(scratch, out);
+        self.take_split_to_degree(scratch, out, d);
+        out[self.upto[d]..self.len].fill(0.0);
     }
 
     /// `acc += a·b` truncated at degree `d ≤ K`, with `acc` in the *split order* of the
-    /// address tables (see the [module docs](self); [`split_to_graded`](Self::split_to_graded)
+    /// address tables (see the [module docs](self); [`take_split_to_degree`](Self::take_split_to_degree)
     /// returns it to graded order). The outer loop runs over the nonzero coefficients of `a`
     /// only, so the cost is `Σ_{a_α ≠ 0} C(n + d − |α|, n)`: pass the sparser operand as `a`.
     pub(crate) fn mul_add_split(&self, a: &[f64], b: &[f64], acc: &mut [f64], d: usize) {
@@ -377,13 +418,6 @@ impl Monomials {
             let s = (self.ia1[c1 as usize] + self.ia2[c2 as usize]) as usize;
             *o = split[s];
             split[s] = 0.0;
-        }
-    }
-
-    /// `out` (graded order) from `split` (split order), both of length `len`.
-    pub(crate) fn split_to_graded(&self, split: &[f64], out: &mut [f64]) {
-        for (s, &g) in split[..self.len].iter().zip(&self.graded) {
-            out[g as usize] = *s;
         }
     }
 
@@ -433,6 +467,11 @@ mod tests {
             for i in 0..m.len() {
                 let alpha: Vec<u32> = m.exps(i).iter().map(|&x| x as u32).collect();
                 assert_eq!(m.index_of(&alpha), Some(i));
+            }
+            for v in 0..n {
+                let mut unit = vec![0u32; n];
+                unit[v] = 1;
+                assert_eq!(m.variable_index(v), m.index_of(&unit));
             }
             for d in 0..=k {
                 for i in m.of_degree(d) {

@@ -27,7 +27,7 @@ pub(crate) fn linear(a: Series, alpha: f64, b: Series, beta: f64) -> Series {
         let (Some(x), Some(y)) = (ar.resolve(&a), ar.resolve(&b)) else {
             return Series::poison();
         };
-        ar.push_with(|old, out, _| {
+        ar.push_with(|_, old, out, _| {
             for (op, w) in [(&x, alpha), (&y, beta)] {
                 match *op {
                     Operand::Const(c) => out[0] += w * c,
@@ -65,9 +65,8 @@ pub(crate) fn product(a: Series, b: Series) -> Series {
         else {
             return Series::poison();
         };
-        let table = ar.table.clone();
-        let len = table.len();
-        ar.push_with(|old, out, scratch| {
+        ar.push_with(|table, old, out, scratch| {
+            let len = table.len();
             table.mul_to_degree(
                 &old[x..x + len],
                 &old[y..y + len],
@@ -394,10 +393,10 @@ impl DualNum<f64> for Series {
         elementary::ln_1p(*self)
     }
     fn sin(&self) -> Self {
-        elementary::sin_cos(*self).0
+        elementary::sin(*self)
     }
     fn cos(&self) -> Self {
-        elementary::sin_cos(*self).1
+        elementary::cos(*self)
     }
     fn tan(&self) -> Self {
         elementary::tan(*self)
@@ -418,10 +417,10 @@ impl DualNum<f64> for Series {
         elementary::atan2(*self, other)
     }
     fn sinh(&self) -> Self {
-        elementary::sinh_cosh(*self).0
+        elementary::sinh(*self)
     }
     fn cosh(&self) -> Self {
-        elementary::sinh_cosh(*self).1
+        elementary::cosh(*self)
     }
     fn tanh(&self) -> Self {
         elementary::tanh(*self)

@@ -317,9 +317,9 @@ where
 /// point `(t₀, z₀) = (re t, re z)` to total degree `K = depth + d` in the displacement
 /// `x = z − z₀` (and `τ = t − t₀` when `d ≥ 1`, so that derivatives in `t` are kept):
 /// `ρ̂ = Σ_{|α| ≤ K} r_α x^α` ([`crate::series::scope_with`], monomial tables shared per thread).
-/// The Lie terms are polynomials, `φ₀ = z₀ + x` and `φ_{k+1} = {φ_k, ρ̂} = Σ_v ∂_v φ_k X_v`
-/// truncated at degree `K − k − 1`, with the Hamiltonian vector field `X = (∂ρ̂/∂p, −∂ρ̂/∂q)`
-/// formed once (`crate::series::LieOperator`, the operator behind
+/// The Lie terms are polynomials, `φ₀ = z₀ + x`, `φ₁ = X` and
+/// `φ_{k+1} = {φ_k, ρ̂} = Σ_v ∂_v φ_k X_v` truncated at degree `K − k − 1`, with the Hamiltonian
+/// vector field `X = (∂ρ̂/∂p, −∂ρ̂/∂q)` formed once (`crate::series::LieOperator`, the operator behind
 /// [`Polynomial::poisson_bracket`](crate::series::Polynomial::poisson_bracket)); each bracket
 /// differentiates once, so `φ_k` is exact to degree `K − k ≥ d` for `k ≤ depth`. Evaluated at the
 /// displacement `x = z − z₀` of `D`, whose powers beyond `d` vanish, `Σ_{|α| ≤ d} φ_{k,α} x^α` is
@@ -400,20 +400,18 @@ where
     let lie = &mut LieOperator::new(&rho_hat, N);
     let len = table.len();
     let (mut f, mut next) = (vec![0.0; len], vec![0.0; len]);
-    let mut unit = vec![0u32; variables];
     let mut terms = vec![(*q, *p); depth + 1];
     for c in 0..2 * N {
-        f.fill(0.0);
-        unit[c] = 1;
-        if let Some(i) = table.index_of(&unit) {
-            f[i] = 1.0;
-        }
-        unit[c] = 0;
         for (k, term) in terms.iter_mut().enumerate().skip(1) {
             // φ_k to degree K − k: the prefix `f[..top]` (the rest is stale and never read).
             let top = table.of_degree(degree - k).end;
-            lie.apply(&f, &mut next, degree - k);
-            std::mem::swap(&mut f, &mut next);
+            if k == 1 {
+                // φ₁ = {x_c, ρ̂} = X_c.
+                f[..top].copy_from_slice(&lie.field(c)[..top]);
+            } else {
+                lie.apply(&f, &mut next, degree - k);
+                std::mem::swap(&mut f, &mut next);
+            }
             if let Some((i, &v)) = f[..top].iter().enumerate().find(|(_, v)| !v.is_finite()) {
                 return Err(Error::NonFinite {
                     what: format!(
@@ -573,7 +571,9 @@ impl<R> LieSeries<R> {
         check_phase(t, q, p)?;
         let terms = lie_terms(&self.generator, depth, t, q, p)?;
         for (k, (a, b)) in terms.iter().enumerate() {
-            check_output(&format!("Lie term L_ρ^{k} z"), t, q, p, a, b)?;
+            if !a.iter().chain(b.iter()).all(|v| v.is_finite()) {
+                return Err(not_finite(&format!("Lie term L_ρ^{k} z"), t, q, p));
+            }
         }
         Ok(terms)
     }
