@@ -333,12 +333,7 @@ impl Word for Single {
 /// `φ^X_{a h} ∘ φ^X_{b h} = φ^X_{(a+b) h}` (every kick; the drifts when
 /// [`SubFlows::a_composes`]), the last sub-step of each step and the first of the next are one
 /// sub-step:
-///
-/// ```math
-/// \Phi_h^n = \varphi^X_{c_1 h}\circ M \circ \big(\varphi^X_{(c_1 + c_m) h}\circ M\big)^{n-1}
-///   \circ \varphi^X_{c_m h}
-/// ```
-///
+/// `Φ_hⁿ = φ^X_{c₁h} ∘ M ∘ (φ^X_{(c₁+c_m)h} ∘ M)ⁿ⁻¹ ∘ φ^X_{c_m h}`
 /// (composition read right to left; `M` the sub-steps between the ends) — one kick (or one
 /// drift) per step fewer, the same map up to rounding, as in the "lazy" WHFast of Rein &
 /// Tamayo (2015, §3) and the FSAL runs of Hairer, Lubich & Wanner (*Geometric Numerical

@@ -383,14 +383,9 @@ impl<const N: usize> PlanetarySystem<N> {
     /// definition: each pair term `−G mᵢ mⱼ/|xᵢ − xⱼ|` and each Kepler term `k/|q'ᵢ|` is
     /// differentiated by AD in its own three variables ([`gradient`]), and the inertial part is
     /// carried to the split coordinates by the chain rule through the linear map `x = A⁻¹ q'`,
-    ///
-    /// ```math
-    /// \frac{\partial V}{\partial q'} = A^{-T}\,\frac{\partial V}{\partial x},
-    /// ```
-    ///
-    /// the map of momenta of [`Self::to_coordinates`]. The `q'₀` block (the centre of mass, on
-    /// which `H_I` does not depend: `V` sees differences of positions only) is exactly zero.
-    /// The same numbers as AD of the whole of [`Self::interaction`] in `N` variables, to
+    /// `∂V/∂q' = A⁻ᵀ ∂V/∂x`, the map of momenta of [`Self::to_coordinates`]. The `q'₀` block
+    /// (the centre of mass, on which `H_I` does not depend: `V` sees differences of positions
+    /// only) is exactly zero. The same numbers as AD of the whole of [`Self::interaction`] in `N` variables, to
     /// rounding, at a small fraction of its cost (the Wisdom–Holman kick).
     pub(crate) fn interaction_gradient<D: DualNum<f64> + Copy>(
         &self,
