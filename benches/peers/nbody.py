@@ -223,6 +223,7 @@ def equal_error_table(rows):
 
 def plot(rows, outdir, span):
     import matplotlib
+    import matplotlib.ticker
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -238,15 +239,18 @@ def plot(rows, outdir, span):
                 continue
             ax.loglog([r["seconds"] for r in rs], [r["max_energy"] for r in rs], style,
                       color=colours[key], ms=4, label=f"{code}: {label}")
-            for r in rs:
+            for r in (rs if key in ("jacobi", "jacobi17") else []):
                 ax.annotate(f"{r['h']:g}", (r["seconds"], r["max_energy"]), fontsize=6,
                             xytext=(3, 3), textcoords="offset points", color=colours[key])
     ax.set_xlabel(f"wall time of the {span / YEAR:.3g}-year run [s] (best of {RUNS})")
     ax.set_ylabel("max relative energy error at 1000 outputs")
     ax.set_title("Outer Solar System, Wisdom–Holman: the crate (solid) and REBOUND WHFast "
-                 "(dashed);\nlabels: step h in days", fontsize=9)
+                 "(dashed);\nlabels on the Jacobi lines: step h in days", fontsize=9)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     ax.grid(True, which="major", lw=0.3)
+    ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda x, _: f"{x:g}"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     fig.tight_layout()
     for ext in ("svg", "png"):
         fig.savefig(os.path.join(outdir, f"nbody.{ext}"), dpi=130)

@@ -427,7 +427,7 @@ def plot(pb, runs, outdir):
         import matplotlib.pyplot as plt
     except ImportError:
         return
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, ax = plt.subplots(figsize=(9.0, 4.4))
     for m in dict.fromkeys(r["method"] for r in runs):
         rs = sorted((r for r in runs if r["method"] == m), key=lambda r: r["seconds"])
         ax.loglog([r["seconds"] for r in rs], [max(r["error"], 1e-17) for r in rs], "o-",
@@ -437,7 +437,7 @@ def plot(pb, runs, outdir):
     ax.set_xlabel("wall time of the 100-period run [s]")
     ax.set_ylabel("final error, max |x - x_ref|")
     ax.set_title(pb["label"])
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, f"{pb['name']}.svg"))
     plt.close(fig)

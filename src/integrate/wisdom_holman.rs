@@ -46,7 +46,7 @@ use crate::error::{positive, Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::State;
 use crate::systems::kepler;
-use crate::systems::planetary::{PlanetaryCoordinates, PlanetarySystem};
+use crate::systems::planetary::{add_body, body, PlanetaryCoordinates, PlanetarySystem};
 use nalgebra::{SVector, Vector3};
 use num_dual::DualNum;
 use std::time::Instant;
@@ -521,22 +521,6 @@ impl PlanetaryWisdomHolman {
             elapsed: clock.elapsed(),
         })
     }
-}
-
-#[inline]
-fn body<D: DualNum<f64> + Copy, const N: usize>(v: &SVector<D, N>, i: usize) -> Vector3<D> {
-    Vector3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2])
-}
-
-#[inline]
-fn add_body<D: DualNum<f64> + Copy, const N: usize>(
-    v: &mut SVector<D, N>,
-    i: usize,
-    b: Vector3<D>,
-) {
-    v[3 * i] += b[0];
-    v[3 * i + 1] += b[1];
-    v[3 * i + 2] += b[2];
 }
 
 /// The sub-flows of the planetary split: `A` the Kepler drifts (with the free drift of the

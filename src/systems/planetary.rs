@@ -54,8 +54,12 @@ pub struct PlanetarySystem<const N: usize> {
     masses: Vec<f64>,
 }
 
+/// The position (or momentum) `(v₃ᵢ, v₃ᵢ₊₁, v₃ᵢ₊₂)` of body `i` in a stacked vector.
 #[inline]
-fn body<D: DualNum<f64> + Copy, const N: usize>(v: &SVector<D, N>, i: usize) -> Vector3<D> {
+pub(crate) fn body<D: DualNum<f64> + Copy, const N: usize>(
+    v: &SVector<D, N>,
+    i: usize,
+) -> Vector3<D> {
     Vector3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2])
 }
 
@@ -78,8 +82,9 @@ fn inverse_distance_gradient<D: DualNum<f64> + Copy>(k: f64, d: &Vector3<D>) -> 
     gradient(|v| inverse_distance(k, v), d).1
 }
 
+/// Adds `b` to the three components of body `i` in a stacked vector.
 #[inline]
-fn add_body<D: DualNum<f64> + Copy, const N: usize>(
+pub(crate) fn add_body<D: DualNum<f64> + Copy, const N: usize>(
     v: &mut SVector<D, N>,
     i: usize,
     b: Vector3<D>,
@@ -385,8 +390,8 @@ impl<const N: usize> PlanetarySystem<N> {
     /// carried to the split coordinates by the chain rule through the linear map `x = A⁻¹ q'`,
     /// `∂V/∂q' = A⁻ᵀ ∂V/∂x`, the map of momenta of [`Self::to_coordinates`]. The `q'₀` block
     /// (the centre of mass, on which `H_I` does not depend: `V` sees differences of positions
-    /// only) is exactly zero. The same numbers as AD of the whole of [`Self::interaction`] in `N` variables, to
-    /// rounding, at a small fraction of its cost (the Wisdom–Holman kick).
+    /// only) is exactly zero. The same numbers as AD of the whole of [`Self::interaction`] in
+    /// `N` variables, to rounding, at a small fraction of its cost (the Wisdom–Holman kick).
     pub(crate) fn interaction_gradient<D: DualNum<f64> + Copy>(
         &self,
         coordinates: PlanetaryCoordinates,
