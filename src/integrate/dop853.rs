@@ -469,6 +469,39 @@ fn error_norms<const N: usize>(
     (err5, err3)
 }
 
+/// The start of an adaptive run of the method `name` (DOP853, RK45): the initial state, the
+/// final time `t₁` and the vector field at the start, checked — `t₁` finite, `t₁ − t₀` finite
+/// and non-zero, the field finite (one evaluation, which the caller counts).
+///
+/// # Errors
+/// [`Error::NonFinite`] / [`Error::OutOfDomain`] naming what was wrong; the system's own error.
+pub(crate) fn adaptive_start<S: FirstOrderSystem<N>, const N: usize>(
+    name: &str,
+    problem: &Problem<'_, S, N>,
+) -> Result<(State<N>, f64, CanonicalPair<N>)> {
+    let t1 = finite("final time t₁", problem.t1)?;
+    let state = State::new(problem.start.t, problem.start.q, problem.start.p)?;
+    let span = t1 - state.t;
+    if !(span.is_finite() && span != 0.0) {
+        return Err(Error::out_of_domain(
+            "time span t₁ − t₀",
+            span,
+            "finite and non-zero",
+        ));
+    }
+    let f0 = problem.system.field(state.t, &state.q, &state.p)?;
+    if !pair_finite(&f0) {
+        return Err(Error::NonFinite {
+            what: format!(
+                "{name}: vector field at the initial state t = {}, q = {:?}, p = {:?}",
+                state.t, state.q, state.p
+            ),
+            value: f64::NAN,
+        });
+    }
+    Ok((state, t1, f0))
+}
+
 pub(crate) fn pair_finite<const N: usize>(y: &CanonicalPair<N>) -> bool {
     y.0.iter().chain(y.1.iter()).all(|v| v.is_finite())
 }
@@ -842,16 +875,8 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         let system = problem.system;
         let mut work = Work::default();
         let (rtol, atol) = (self.rtol, self.atol);
-        let t1 = finite("final time t₁", problem.t1)?;
-        let mut state = State::new(problem.start.t, problem.start.q, problem.start.p)?;
+        let (mut state, t1, f0) = adaptive_start("DOP853", problem)?;
         let span = t1 - state.t;
-        if !(span.is_finite() && span != 0.0) {
-            return Err(Error::out_of_domain(
-                "time span t₁ − t₀",
-                span,
-                "finite and non-zero",
-            ));
-        }
         let dir = span.signum();
         let h_max = self.h_max.unwrap_or(f64::INFINITY).min(span.abs());
         let expo1 = 1.0 / 8.0 - self.beta * 0.2;
@@ -861,17 +886,8 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Dop853 {
         // k[0..12] stages of the step, k[12] = f(t + h, y₁); 13..16 for dense output.
         let zero = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
         let mut k: [CanonicalPair<N>; 16] = [zero; 16];
-        k[0] = system.field(state.t, &state.q, &state.p)?;
+        k[0] = f0;
         work.gradients += 1;
-        if !pair_finite(&k[0]) {
-            return Err(Error::NonFinite {
-                what: format!(
-                    "DOP853: vector field at the initial state t = {}, q = {:?}, p = {:?}",
-                    state.t, state.q, state.p
-                ),
-                value: f64::NAN,
-            });
-        }
         let mut h = match self.h0 {
             Some(h0) => h0.min(h_max) * dir,
             None => initial_step(

@@ -72,8 +72,8 @@
 //!   whose controller this is).
 
 use super::dop853::{
-    advance, budget_exhausted, combine, flat, initial_step, norm2, pair_finite, step_budget,
-    StartRule,
+    adaptive_start, advance, budget_exhausted, combine, flat, initial_step, norm2, pair_finite,
+    step_budget, StartRule,
 };
 use super::methods;
 use super::{
@@ -369,33 +369,16 @@ impl<S: FirstOrderSystem<N>, const N: usize> Method<S, N> for Rk45 {
         let system = problem.system;
         let mut work = Work::default();
         let (rtol, atol) = (self.rtol, self.atol);
-        let t1 = finite("final time t₁", problem.t1)?;
-        let mut state = State::new(problem.start.t, problem.start.q, problem.start.p)?;
+        let (mut state, t1, f0) = adaptive_start("RK45", problem)?;
         let t0 = state.t;
         let span = t1 - t0;
-        if !(span.is_finite() && span != 0.0) {
-            return Err(Error::out_of_domain(
-                "time span t₁ − t₀",
-                span,
-                "finite and non-zero",
-            ));
-        }
         let dir = span.signum();
         let h_max = self.h_max.unwrap_or(f64::INFINITY);
 
         let zero = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
         let mut k: [CanonicalPair<N>; 7] = [zero; 7];
-        k[0] = system.field(state.t, &state.q, &state.p)?;
+        k[0] = f0;
         work.gradients += 1;
-        if !pair_finite(&k[0]) {
-            return Err(Error::NonFinite {
-                what: format!(
-                    "RK45: vector field at the initial state t = {}, q = {:?}, p = {:?}",
-                    state.t, state.q, state.p
-                ),
-                value: f64::NAN,
-            });
-        }
         // |h| of the next attempt (SciPy's `h_abs`).
         let mut h_abs = match self.h0 {
             Some(h0) => h0.min(h_max),
