@@ -74,6 +74,20 @@ fn json_line<const N: usize>(
     )
 }
 
+/// `(q, p)` from the command line's `x0 = q₁ … q_N p₁ … p_N`.
+fn phase_point<const N: usize>(x0: &[f64]) -> Result<(SVector<f64, N>, SVector<f64, N>)> {
+    if x0.len() != 2 * N {
+        return Err(Error::invalid(
+            "peers_crate",
+            format!("{} initial values, {} expected", x0.len(), 2 * N),
+        ));
+    }
+    Ok((
+        SVector::from_fn(|i, _| x0[i]),
+        SVector::from_fn(|i, _| x0[N + i]),
+    ))
+}
+
 /// The same problem by Wisdom–Holman splittings (Kepler drift, kicks by the perturbation) with
 /// `n` equal steps per period, `t1` being 100 periods.
 fn run_split<S: PerturbedKepler<N> + hamilton_jacobi::Separable<N>, const N: usize>(
@@ -82,8 +96,7 @@ fn run_split<S: PerturbedKepler<N> + hamilton_jacobi::Separable<N>, const N: usi
     t1: f64,
     runs: usize,
 ) -> Result<Vec<String>> {
-    let q = SVector::<f64, N>::from_fn(|i, _| x0[i]);
-    let p = SVector::<f64, N>::from_fn(|i, _| x0[N + i]);
+    let (q, p) = phase_point::<N>(x0)?;
     let problem = Problem::new(system, 0.0, q, p, t1)?;
     let mut lines = Vec::new();
     for (name, wh) in [("WH", WisdomHolman::WH), ("SABA2", WisdomHolman::SABA2)] {
@@ -133,11 +146,8 @@ fn run_regularised<R: Regularisation<N, M>, const N: usize, const M: usize>(
     tols: &[f64],
     runs: usize,
 ) -> Result<Vec<String>> {
-    let start = State::new(
-        0.0,
-        SVector::<f64, N>::from_fn(|i, _| x0[i]),
-        SVector::<f64, N>::from_fn(|i, _| x0[N + i]),
-    )?;
+    let (q, p) = phase_point::<N>(x0)?;
+    let start = State::new(0.0, q, p)?;
     let span = fictitious_span(reg, &start, t1)?;
     let y0 = reg.to_regular(&start)?;
     let (rec_time, field) = best(runs, || VectorFieldRecord::new(reg, &y0))?;
@@ -204,8 +214,7 @@ fn run_log_h<S: hamilton_jacobi::Separable<N>, const N: usize>(
     t1: f64,
     runs: usize,
 ) -> Result<Vec<String>> {
-    let q = SVector::<f64, N>::from_fn(|i, _| x0[i]);
-    let p = SVector::<f64, N>::from_fn(|i, _| x0[N + i]);
+    let (q, p) = phase_point::<N>(x0)?;
     let problem = Problem::new(system, 0.0, q, p, t1)?;
     let mut lines = Vec::new();
     for ds in [0.4, 0.2, 0.1, 0.05, 0.025] {
@@ -238,14 +247,7 @@ fn run<S: Hamiltonian<N>, const N: usize>(
     tols: &[f64],
     runs: usize,
 ) -> Result<Vec<String>> {
-    if x0.len() != 2 * N {
-        return Err(Error::invalid(
-            "peers_crate",
-            format!("{} initial values, {} expected", x0.len(), 2 * N),
-        ));
-    }
-    let q = SVector::<f64, N>::from_fn(|i, _| x0[i]);
-    let p = SVector::<f64, N>::from_fn(|i, _| x0[N + i]);
+    let (q, p) = phase_point::<N>(x0)?;
     let problem = Problem::new(system, 0.0, q, p, t1)?;
     let start = State::new(0.0, q, p)?;
     let (rec_time, field) = best(runs, || VectorFieldRecord::new(system, &start))?;
