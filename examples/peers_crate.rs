@@ -189,7 +189,9 @@ fn regularised_dop853<R: Regularisation<N, M>, const N: usize, const M: usize>(
     tol: f64,
     runs: usize,
 ) -> Option<String> {
-    let dop = Dop853::new(tol, tol).and_then(|m| m.with_max_steps(10_000_000));
+    let dop = Dop853::new(tol, tol)
+        .and_then(|m| m.with_max_steps(10_000_000))
+        .map(|m| m.with_compensated_summation(true));
     match dop.and_then(|dop| best(runs, || propagate(reg, &dop, start, &[t1], span))) {
         Ok((t, r)) => Some(json_line(
             &format!("crate {name} DOP853"),
@@ -264,7 +266,9 @@ fn run<S: Hamiltonian<N>, const N: usize>(
             rec_time.as_secs_f64(),
             &rt.last,
         ));
-        let dop = Dop853::new(tol, tol).and_then(|m| m.with_max_steps(10_000_000));
+        let dop = Dop853::new(tol, tol)
+            .and_then(|m| m.with_max_steps(10_000_000))
+            .map(|m| m.with_compensated_summation(true));
         match dop.and_then(|dop| best(runs, || integrate(&problem, &dop, &mut ()))) {
             Ok((td, rd)) => lines.push(line("crate DOP853", tol, rd.work.steps, td, 0.0, &rd.last)),
             Err(e) => eprintln!("DOP853 at tol {tol:e}: {e}"),

@@ -671,3 +671,38 @@ fn collision_is_a_typed_error() {
     }
     assert!((last_t - tc).abs() <= 1e-6);
 }
+
+/// Compensated summation of the state and time updates (`Dop853::with_compensated_summation`):
+/// on the circular Kepler orbit over ten periods with steps forced down to `h = 10⁻⁴`
+/// (`n ≈ 6.3·10⁵` steps, truncation error `≈ h⁸` per step, far below rounding). The plain run's
+/// time `t ← fl(t + h)` carries up to `u|t|/2` per step, so the integrated span `Σ h` misses
+/// `t₁ = 20π` by up to `n u t₁/4 ≈ 10⁻⁹` (a phase error of that size on the unit orbit); its
+/// state roundings add a random walk `≈ √n u/2 ≈ 10⁻¹³`. The compensated run keeps both exact
+/// to `O(u)` and leaves only the rounding of the increments themselves, `≈ u·h|f|` per step,
+/// `≈ u·T ≈ 7·10⁻¹⁵` in all (`|f| = 1`). Bound asserted: `20 u T` for the compensated run (the
+/// stages' `O(u)` relative errors in `Σ bᵢkᵢ` included), and the compensated error at most a
+/// third of the plain one. Measured: plain 9.6e-10, compensated 2.0e-14.
+#[test]
+fn compensated_summation_removes_the_rounding_walk() {
+    let (q0, p0) = periapsis(0.0);
+    let t1 = 20.0 * PI;
+    let kepler = Kepler2::new(1.0).unwrap();
+    let problem = Problem::new(&kepler, 0.0, q0, p0, t1).unwrap();
+    let (qe, pe) = kepler_exact(&q0, &p0, t1);
+    let error = |compensated: bool| {
+        let method = Dop853::new(1e-13, 1e-13)
+            .and_then(|m| m.with_h_max(1e-4))
+            .and_then(|m| m.with_max_steps(2_000_000))
+            .unwrap()
+            .with_compensated_summation(compensated);
+        let r = integrate(&problem, &method, &mut ()).unwrap();
+        let e = (r.last.q - qe).abs().max().max((r.last.p - pe).abs().max());
+        (e, r.work.steps)
+    };
+    let (plain, n) = error(false);
+    let (compensated, nc) = error(true);
+    println!("steps {n} / {nc}: plain {plain:e}, compensated {compensated:e}");
+    let u = f64::EPSILON / 2.0;
+    assert!(compensated <= 20.0 * u * t1, "{compensated:e}");
+    assert!(3.0 * compensated <= plain, "{compensated:e} vs {plain:e}");
+}
