@@ -63,8 +63,8 @@ use super::variation::DisturbingFunction;
 use crate::ad::gradient;
 use crate::error::{finite, positive, Error, Result};
 use crate::phase::CanonicalPair;
-use crate::special::kepler_equation::{eccentric_anomaly, Conic};
-use crate::systems::kepler::elements::{state_to_classical, Classical};
+use crate::special::kepler_equation::eccentric_anomaly;
+use crate::systems::kepler::elements::{elliptic_perifocal, orient, state_to_classical, Classical};
 use crate::systems::kepler::orbit::{self, phase_advance};
 use nalgebra::{SVector, Vector3};
 use num_dual::{Dual64, DualNum};
@@ -317,7 +317,7 @@ impl<D: DualNum<f64> + Copy> PeriodicTerms<D> {
     /// `−(η e/((1 + η) L)) ∂W/∂e`, is added explicitly to the F.11 expression (without it the
     /// osculating mean longitude carries an `O(J₂)` error, `0.1–0.6 γ₂'` at `e = 0.1–0.7`,
     /// measured against the integrated orbit).
-    fn osculating(&self, raan: D, argp: D, mean_anomaly: D) -> Result<(Classical<D>, D, D)> {
+    fn lyddane(&self, raan: D, argp: D, mean_anomaly: D) -> Result<Lyddane<D>> {
         let &Self {
             a,
             e,
@@ -398,30 +398,106 @@ impl<D: DualNum<f64> + Copy> PeriodicTerms<D> {
         let (sm, cm) = m.sin_cos();
         let d1 = (e + de) * sm + edm * cm;
         let d2 = (e + de) * cm - edm * sm;
-        let m_osc = d1.atan2(d2);
-        let e_osc = (d1 * d1 + d2 * d2).sqrt();
         let (so, co) = raan.sin_cos();
         let x = sh + ch * di * 0.5;
         let y = sh * dnode;
-        let d3 = x * so + y * co;
-        let d4 = x * co - y * so;
-        let raan_osc = d3.atan2(d4);
-        let sin_half = (d3 * d3 + d4 * d4).sqrt();
+        Ok(Lyddane {
+            a: a_osc,
+            e_sin_m: d1,
+            e_cos_m: d2,
+            sin_half_i_sin_node: x * so + y * co,
+            sin_half_i_cos_node: x * co - y * so,
+            lambda: m + argp + raan + dlam,
+            m,
+            big_e,
+        })
+    }
+
+    /// [`PeriodicTerms::lyddane`] as classical elements, with the mean `M` reduced to
+    /// `(−π, π]` and its eccentric anomaly `E`.
+    fn osculating(&self, raan: D, argp: D, mean_anomaly: D) -> Result<(Classical<D>, D, D)> {
+        let l = self.lyddane(raan, argp, mean_anomaly)?;
+        Ok((l.classical(), l.m, l.big_e))
+    }
+}
+
+/// The osculating elements in Lyddane's combinations (Schaub & Junkins eqs. F.14–F.22):
+/// `(a, e sin M, e cos M, sin(i/2) sin Ω, sin(i/2) cos Ω, λ = M + ω + Ω)`, with the mean `M`
+/// (reduced to `(−π, π]`) and its eccentric anomaly `E` the terms were evaluated at.
+#[derive(Clone, Copy, Debug)]
+struct Lyddane<D> {
+    a: D,
+    e_sin_m: D,
+    e_cos_m: D,
+    sin_half_i_sin_node: D,
+    sin_half_i_cos_node: D,
+    lambda: D,
+    m: D,
+    big_e: D,
+}
+
+/// `(sin φ, cos φ)` of `φ = atan2(ρ sin φ, ρ cos φ)` from `(ρ sin φ, ρ cos φ)` and `ρ ≥ 0`:
+/// `(0, 1)` at `ρ = 0`, as `atan2(0, 0) = 0`.
+fn unit<D: DualNum<f64> + Copy>(rho_sin: D, rho_cos: D, rho: D) -> (D, D) {
+    if rho.re() > 0.0 {
+        (rho_sin / rho, rho_cos / rho)
+    } else {
+        (D::from(0.0), D::from(1.0))
+    }
+}
+
+impl<D: DualNum<f64> + Copy> Lyddane<D> {
+    fn eccentricity(&self) -> D {
+        (self.e_sin_m * self.e_sin_m + self.e_cos_m * self.e_cos_m).sqrt()
+    }
+
+    fn sin_half_i(&self) -> D {
+        let (d3, d4) = (self.sin_half_i_sin_node, self.sin_half_i_cos_node);
+        (d3 * d3 + d4 * d4).sqrt()
+    }
+
+    fn classical(&self) -> Classical<D> {
+        let m_osc = self.e_sin_m.atan2(self.e_cos_m);
+        let raan_osc = self.sin_half_i_sin_node.atan2(self.sin_half_i_cos_node);
+        let sin_half = self.sin_half_i();
         let i_osc = if sin_half.re() >= 1.0 {
             D::from(PI)
         } else {
             sin_half.asin() * 2.0
         };
-        let lam_osc = m + argp + raan + dlam;
-        let osc = Classical {
-            a: a_osc,
-            e: e_osc,
+        Classical {
+            a: self.a,
+            e: self.eccentricity(),
             i: i_osc,
             raan: raan_osc,
-            argp: lam_osc - m_osc - raan_osc,
+            argp: self.lambda - m_osc - raan_osc,
             mean_anomaly: m_osc,
+        }
+    }
+
+    /// The sines and cosines of `(Ω, i, ω)` without the angles: `Ω` and `M` from their Lyddane
+    /// pairs, `cos i = 1 − 2 sin²(i/2)`, `sin i = 2 sin(i/2) cos(i/2)`, and
+    /// `ω = (λ − Ω) − M` by the addition theorems from `sin λ`, `cos λ` (one `sin_cos`).
+    fn orientation(&self, e_osc: D) -> [(D, D); 3] {
+        let (so, co) = unit(
+            self.sin_half_i_sin_node,
+            self.sin_half_i_cos_node,
+            self.sin_half_i(),
+        );
+        let sh = self.sin_half_i();
+        let (si, ci) = if sh.re() >= 1.0 {
+            (D::from(0.0), D::from(-1.0))
+        } else {
+            (
+                sh * ((-sh + 1.0) * (sh + 1.0)).sqrt() * 2.0,
+                -sh * sh * 2.0 + 1.0,
+            )
         };
-        Ok((osc, m, big_e))
+        let (sm, cm) = unit(self.e_sin_m, self.e_cos_m, e_osc);
+        let (sl, cl) = self.lambda.sin_cos();
+        let (su, cu) = (sl * co - cl * so, cl * co + sl * so);
+        let (sw, cw) = (su * cm - cu * sm, cu * cm + su * sm);
+        [(so, co), (si, ci), (sw, cw)]
     }
 }
 
@@ -743,28 +819,86 @@ impl BrouwerLyddane {
         let m = self.mean_elements(t)?;
         let (osc, m_mean, ea_mean) = self.terms.osculating(m.raan, m.argp, m.mean_anomaly)?;
         check_elements("osculating elements", &osc)?;
-        let e = osc.e;
-        let target = m_mean + wrap(osc.mean_anomaly - m_mean);
-        let mut x = ea_mean;
-        for _ in 0..8 {
-            let (sx, cx) = x.sin_cos();
-            let step = (x - e * sx - target) / (1.0 - e * cx);
-            x -= step;
-            if step * step * e <= f64::EPSILON * (1.0 - e) {
-                return Ok((osc, x));
-            }
-        }
-        Ok((osc, eccentric_anomaly(target, e)?))
+        let (x, _) = osculating_anomaly(osc.e, osc.mean_anomaly, m_mean, ea_mean)?;
+        Ok((osc, x))
     }
 
     /// The osculating Cartesian state `(r, v)` at `t`.
     ///
+    /// The same map as [`Classical::to_state`] of [`BrouwerLyddane::osculating_elements`], with
+    /// the angles `Ω`, `i`, `ω` and `E` never formed: their sines and cosines come from
+    /// Lyddane's pairs (`e sin M`, `e cos M`, `sin(i/2) sin Ω`, `sin(i/2) cos Ω`), the addition
+    /// theorems (`ω = λ − Ω − M`) and the last Newton step of Kepler's equation, and
+    /// `1 − cos E = sin²E/(1 + cos E)` where `cos E > 0`.
+    ///
     /// # Errors
     /// As [`BrouwerLyddane::mean_elements`].
     pub fn state(&self, t: f64) -> Result<CanonicalPair<3>> {
-        let (osc, ea) = self.osculating_with_anomaly(t)?;
-        osc.state_at_anomaly(self.model.mu(), Conic::Elliptic, ea)
+        let m = self.mean_elements(t)?;
+        let l = self.terms.lyddane(m.raan, m.argp, m.mean_anomaly)?;
+        let e = l.eccentricity();
+        let finite_parts = [
+            l.a,
+            e,
+            l.e_sin_m,
+            l.e_cos_m,
+            l.sin_half_i_sin_node,
+            l.sin_half_i_cos_node,
+            l.lambda,
+        ]
+        .iter()
+        .all(|x| x.is_finite());
+        if !(finite_parts && e < 1.0 && l.a > 0.0) {
+            check_elements("osculating elements", &l.classical())?;
+            return Err(Error::invalid(
+                "osculating elements",
+                format!("the J₂ theory produced a non-elliptic or non-finite element set {l:?}"),
+            ));
+        }
+        let m_osc = l.e_sin_m.atan2(l.e_cos_m);
+        let (_, (se, ce)) = osculating_anomaly(e, m_osc, l.m, l.big_e)?;
+        let one_minus_cos = if ce <= 0.0 {
+            1.0 - ce
+        } else {
+            se * se / (1.0 + ce)
+        };
+        let [node, incl, argp] = l.orientation(e);
+        orient(
+            elliptic_perifocal(self.model.mu(), l.a, e, (se, ce), one_minus_cos),
+            node,
+            incl,
+            argp,
+        )
     }
+}
+
+/// The osculating eccentric anomaly `E'` and `(sin E', cos E')`, by Newton's method on
+/// `E − e' sin E = M'` from the mean `E`: the start is `O(J₂)` from the root, so two steps reach
+/// rounding (the error after a step `s` is at most `e' s²/(2(1 − e'))`); Kepler's equation is
+/// solved from scratch if not. The sine and cosine of the last iterate `E' = x − s` come from
+/// those of `x` by the addition theorems with the Taylor polynomials of `sin s`, `cos s`
+/// (exact to rounding for `|s| ≤ 10⁻³`: the first omitted terms are below `10⁻²⁰`).
+fn osculating_anomaly(e: f64, m_osc: f64, m_mean: f64, ea_mean: f64) -> Result<(f64, (f64, f64))> {
+    let target = m_mean + wrap(m_osc - m_mean);
+    let mut x = ea_mean;
+    for _ in 0..8 {
+        let (sx, cx) = x.sin_cos();
+        let step = (x - e * sx - target) / (1.0 - e * cx);
+        x -= step;
+        if step * step * e <= f64::EPSILON * (1.0 - e) {
+            let sc = if step.abs() <= 1e-3 {
+                let s2 = step * step;
+                let sin_s = step * (1.0 - s2 / 6.0 * (1.0 - s2 / 20.0));
+                let cos_s = 1.0 - s2 / 2.0 * (1.0 - s2 / 12.0);
+                (sx * cos_s - cx * sin_s, cx * cos_s + sx * sin_s)
+            } else {
+                x.sin_cos()
+            };
+            return Ok((x, sc));
+        }
+    }
+    let x = eccentric_anomaly(target, e)?;
+    Ok((x, x.sin_cos()))
 }
 
 /// `a''` from `K(L, Lη, Lη cos i) = E` by Newton's method from the iterated `a''`.

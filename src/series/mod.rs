@@ -219,6 +219,35 @@ impl Scope {
             coefficients,
         })
     }
+
+    /// The coefficients of `s` into `out` (resized to the table length; no allocation when
+    /// its capacity suffices). Errors as [`Scope::polynomial`].
+    pub(crate) fn coefficients_into(&self, s: Series, out: &mut Vec<f64>) -> Result<()> {
+        let len = self.table.len();
+        out.clear();
+        match s.slot {
+            CONST => {
+                out.resize(len, 0.0);
+                out[0] = s.re;
+                Ok(())
+            }
+            POISON => Err(self.fault()),
+            _ if s.scope != self.id => Err(Error::InvalidInput {
+                what: "series value".into(),
+                reason: "used outside the scope that created it".into(),
+            }),
+            _ => with_arena(|ar| match ar.resolve(&s) {
+                Some(Operand::Slot(start)) => {
+                    out.extend_from_slice(ar.slice(start));
+                    true
+                }
+                _ => false,
+            })
+            .filter(|&ok| ok)
+            .map(|_| ())
+            .ok_or_else(|| self.fault()),
+        }
+    }
 }
 
 /// A truncated polynomial `Σ_{|α| ≤ K} c_α x^α` with its coefficients in graded order
@@ -501,29 +530,55 @@ pub(crate) struct LieOperator {
 impl LieOperator {
     /// The operator of `g` (`1 ≤ dof`, `2·dof ≤ n` checked by the caller).
     pub(crate) fn new(g: &Polynomial, dof: usize) -> Self {
-        let table = g.monomials.clone();
+        let mut op = Self::empty(g.monomials.clone());
+        op.set(&g.monomials, &g.coefficients, dof);
+        op
+    }
+
+    /// An operator with no field and no storage (for [`set`](Self::set)).
+    pub(crate) fn empty(table: Arc<Monomials>) -> Self {
+        Self {
+            table,
+            field: Vec::new(),
+            nonzero: Vec::new(),
+            derivative: Vec::new(),
+            split: Vec::new(),
+        }
+    }
+
+    /// Make this the operator of the polynomial with coefficients `g` (graded order of `table`;
+    /// `1 ≤ dof`, `2·dof ≤ n` checked by the caller), reusing the storage: no allocation when
+    /// the previous operator had at least this size.
+    pub(crate) fn set(&mut self, table: &Arc<Monomials>, g: &[f64], dof: usize) {
+        if !Arc::ptr_eq(&self.table, table) {
+            self.table = table.clone();
+        }
         let len = table.len();
-        let mut field = vec![0.0; 2 * dof * len];
-        let mut nonzero = vec![0; 2 * dof];
-        for (v, x) in field.chunks_exact_mut(len).enumerate() {
+        self.field.clear();
+        self.field.resize(2 * dof * len, 0.0);
+        self.nonzero.clear();
+        self.nonzero.resize(2 * dof, 0);
+        self.derivative.clear();
+        self.derivative.resize(len, 0.0);
+        self.split.clear();
+        self.split.resize(len, 0.0);
+        for (v, x) in self.field.chunks_exact_mut(len).enumerate() {
             let (conjugate, sign) = if v < dof {
                 (dof + v, 1.0)
             } else {
                 (v - dof, -1.0)
             };
-            table.derivative(&g.coefficients, conjugate, x);
+            table.derivative(g, conjugate, x);
             if sign < 0.0 {
                 x.iter_mut().for_each(|c| *c = -*c);
             }
-            nonzero[v] = x.iter().filter(|&&c| c != 0.0).count();
+            self.nonzero[v] = x.iter().filter(|&&c| c != 0.0).count();
         }
-        Self {
-            table,
-            field,
-            nonzero,
-            derivative: vec![0.0; len],
-            split: vec![0.0; len],
-        }
+    }
+
+    /// The coefficients held (field and work arrays).
+    pub(crate) fn capacity(&self) -> usize {
+        self.field.capacity() + self.derivative.capacity() + self.split.capacity()
     }
 
     /// The component `X_v` of the vector field, `v < 2N` (`L_g x_v = X_v`).

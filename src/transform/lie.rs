@@ -48,6 +48,7 @@ use crate::phase::{check_phase, CanonicalPair};
 use crate::series::{scope_with, LieOperator, Monomials, Series, MAX_SERIES_DEGREE};
 use nalgebra::SVector;
 use num_dual::DualNum;
+use std::cell::RefCell;
 
 /// Highest truncation order `n` of a [`LieSeries`].
 ///
@@ -332,7 +333,8 @@ fn lie_terms<R, D, const N: usize>(
     t: D,
     q: &SVector<D, N>,
     p: &SVector<D, N>,
-) -> Result<Vec<CanonicalPair<N, D>>>
+    terms: &mut [CanonicalPair<N, D>],
+) -> Result<()>
 where
     R: PhaseFunction<N> + ?Sized,
     D: DualNum<f64> + Copy,
@@ -354,83 +356,158 @@ where
     let variables = 2 * N + usize::from(timed);
     let table = Monomials::shared(variables, degree)?;
     let t0 = t.re();
-    let z0: Vec<f64> = q.iter().chain(p.iter()).map(|x| x.re()).collect();
-    let at = || format!("t = {t0:e}, z = {z0:?}");
-    let rho_hat = scope_with(table.clone(), |s| -> Result<_> {
-        let x = (0..2 * N)
-            .map(|i| s.variable_at(i, z0[i]))
-            .collect::<Result<Vec<Series>>>()?;
-        let qs = SVector::<Series, N>::from_fn(|i, _| x[i]);
-        let ps = SVector::<Series, N>::from_fn(|i, _| x[N + i]);
-        let ts = if timed {
-            s.variable_at(2 * N, t0)?
-        } else {
-            Series::constant(t0)
-        };
-        s.polynomial(rho.eval(ts, &qs, &ps))
-    })??;
-    if rho_hat.coefficients().iter().any(|c| !c.is_finite()) {
-        return Err(rho_hat.check_finite(&at()).err().unwrap_or_else(|| {
-            Error::invalid("Lie series", "a non-finite Taylor coefficient of ρ")
-        }));
-    }
-    // The monomials x^α, |α| ≤ d, at the displacement of D (exactly nilpotent beyond d).
-    let displacement: Vec<D> = q
-        .iter()
-        .chain(p.iter())
-        .map(|&x| x - x.re())
-        .chain(timed.then(|| t - t0))
-        .collect();
-    let low: Vec<D> = (0..table.of_degree(d).end)
-        .map(|i| {
-            table
-                .exponents(i)
-                .unwrap_or_default()
-                .iter()
-                .zip(&displacement)
-                .fold(D::from(1.0), |m, (&e, &dx)| (0..e).fold(m, |m, _| m * dx))
-        })
-        .collect();
-    let at_point = |f: &[f64]| -> D {
-        low.iter()
-            .zip(f)
-            .fold(D::from(0.0), |acc, (&m, &c)| acc + m * c)
+    let z0 = |i: usize| if i < N { q[i].re() } else { p[i - N].re() };
+    let at = || {
+        let z: Vec<f64> = (0..2 * N).map(z0).collect();
+        format!("t = {t0:e}, z = {z:?}")
     };
-    // φ_{k+1,c} = L_ρ φ_{k,c} from φ_{0,c} = x_c, in two work arrays per call.
-    let lie = &mut LieOperator::new(&rho_hat, N);
-    let len = table.len();
-    let (mut f, mut next) = (vec![0.0; len], vec![0.0; len]);
-    let mut terms = vec![(*q, *p); depth + 1];
-    for c in 0..2 * N {
-        for (k, term) in terms.iter_mut().enumerate().skip(1) {
-            // φ_k to degree K − k: the prefix `f[..top]` (the rest is stale and never read).
-            let top = table.of_degree(degree - k).end;
-            if k == 1 {
-                // φ₁ = {x_c, ρ̂} = X_c.
-                f[..top].copy_from_slice(&lie.field(c)[..top]);
-            } else {
-                lie.apply(&f, &mut next, degree - k);
-                std::mem::swap(&mut f, &mut next);
+    // The work arrays of this thread, taken out for the call (a nested call finds them empty
+    // and allocates its own) and put back at the end: no allocation in steady state.
+    let mut ws = WORKSPACE.with(|w| w.take()).unwrap_or_default();
+    let result = (|| -> Result<()> {
+        let LieWorkspace {
+            rho: rho_hat,
+            operator,
+            f,
+            next,
+        } = &mut ws;
+        scope_with(table.clone(), |s| -> Result<()> {
+            let mut qs = SVector::<Series, N>::from_element(Series::constant(0.0));
+            let mut ps = qs;
+            for i in 0..N {
+                qs[i] = s.variable_at(i, z0(i))?;
+                ps[i] = s.variable_at(N + i, z0(N + i))?;
             }
-            if let Some((i, &v)) = f[..top].iter().enumerate().find(|(_, v)| !v.is_finite()) {
-                return Err(Error::NonFinite {
-                    what: format!(
-                        "Taylor coefficient of x^{:?} of L_ρ^{k} z_{c} about {}",
-                        table.exponents(i).unwrap_or_default(),
-                        at()
-                    ),
-                    value: v,
-                });
-            }
-            let v = at_point(&f);
-            if c < N {
-                term.0[c] = v;
+            let ts = if timed {
+                s.variable_at(2 * N, t0)?
             } else {
-                term.1[c - N] = v;
+                Series::constant(t0)
+            };
+            s.coefficients_into(rho.eval(ts, &qs, &ps), rho_hat)
+        })??;
+        if let Some((i, &c)) = rho_hat.iter().enumerate().find(|(_, c)| !c.is_finite()) {
+            return Err(Error::NonFinite {
+                what: format!(
+                    "Taylor coefficient of x^{:?} about {} (the function is not analytic there)",
+                    table.exponents(i).unwrap_or_default(),
+                    at()
+                ),
+                value: c,
+            });
+        }
+        // The monomials x^α, |α| ≤ d, at the displacement of D (exactly nilpotent beyond d); for
+        // real D (d = 0) only x⁰ = 1.
+        let low_len = table.of_degree(d).end;
+        let mut low_stack = [D::from(1.0); LOW_STACK];
+        let mut low_heap = Vec::new();
+        let low: &mut [D] = if low_len <= LOW_STACK {
+            &mut low_stack[..low_len]
+        } else {
+            low_heap.resize(low_len, D::from(1.0));
+            &mut low_heap
+        };
+        if d > 0 {
+            let dx = |v: usize| -> D {
+                if v < N {
+                    q[v] - q[v].re()
+                } else if v < 2 * N {
+                    p[v - N] - p[v - N].re()
+                } else {
+                    t - t0
+                }
+            };
+            for (i, m) in low.iter_mut().enumerate() {
+                for (v, &e) in table.exponents(i).unwrap_or_default().iter().enumerate() {
+                    if e > 0 {
+                        let x = dx(v);
+                        *m = (0..e).fold(*m, |m, _| m * x);
+                    }
+                }
             }
         }
+        let at_point = |f: &[f64]| -> D {
+            low.iter()
+                .zip(f)
+                .fold(D::from(0.0), |acc, (&m, &c)| acc + m * c)
+        };
+        // φ_{k+1,c} = L_ρ φ_{k,c} from φ_{0,c} = x_c, in two work arrays.
+        let operator = operator.get_or_insert_with(|| LieOperator::empty(table.clone()));
+        operator.set(&table, rho_hat, N);
+        let len = table.len();
+        f.clear();
+        f.resize(len, 0.0);
+        next.clear();
+        next.resize(len, 0.0);
+        for term in terms.iter_mut() {
+            *term = (*q, *p);
+        }
+        for c in 0..2 * N {
+            for (k, term) in terms.iter_mut().enumerate().skip(1) {
+                // φ_k to degree K − k: the prefix `f[..top]` (the rest is stale and never read).
+                let top = table.of_degree(degree - k).end;
+                if k == 1 {
+                    // φ₁ = {x_c, ρ̂} = X_c.
+                    f[..top].copy_from_slice(&operator.field(c)[..top]);
+                } else {
+                    operator.apply(f, next, degree - k);
+                    std::mem::swap(f, next);
+                }
+                if let Some((i, &v)) = f[..top].iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                    return Err(Error::NonFinite {
+                        what: format!(
+                            "Taylor coefficient of x^{:?} of L_ρ^{k} z_{c} about {}",
+                            table.exponents(i).unwrap_or_default(),
+                            at()
+                        ),
+                        value: v,
+                    });
+                }
+                let v = at_point(f);
+                if c < N {
+                    term.0[c] = v;
+                } else {
+                    term.1[c - N] = v;
+                }
+            }
+        }
+        Ok(())
+    })();
+    let _ = WORKSPACE.try_with(|w| {
+        if let Ok(mut w) = w.try_borrow_mut() {
+            if w.is_none() && ws.capacity() <= WORKSPACE_CAPACITY {
+                *w = Some(ws);
+            }
+        }
+    });
+    result
+}
+
+/// Monomials `x^α`, `|α| ≤ d`, kept on the stack in [`lie_terms`] (more go to the heap).
+const LOW_STACK: usize = 16;
+/// Work arrays larger than this (coefficients) are not kept between calls.
+const WORKSPACE_CAPACITY: usize = 1 << 20;
+
+/// The work arrays of [`lie_terms`], kept per thread between calls.
+#[derive(Default)]
+struct LieWorkspace {
+    /// The coefficients of `ρ̂`.
+    rho: Vec<f64>,
+    operator: Option<LieOperator>,
+    f: Vec<f64>,
+    next: Vec<f64>,
+}
+
+impl LieWorkspace {
+    fn capacity(&self) -> usize {
+        self.rho.capacity()
+            + self.operator.as_ref().map_or(0, LieOperator::capacity)
+            + self.f.capacity()
+            + self.next.capacity()
     }
-    Ok(terms)
+}
+
+thread_local! {
+    static WORKSPACE: RefCell<Option<LieWorkspace>> = const { RefCell::new(None) };
 }
 
 /// A phase point with every component NaN — value and all derivative parts (`x · NaN` is NaN in
@@ -558,24 +635,28 @@ impl<R> LieSeries<R> {
         }
     }
 
-    fn checked_terms<const N: usize>(
+    /// `f` of the Lie terms `L_ρ^k z`, `k = 0 … depth` (`depth ≤ MAX_ORDER + 1`), checked.
+    fn checked_terms<T, const N: usize>(
         &self,
         depth: usize,
         t: f64,
         q: &SVector<f64, N>,
         p: &SVector<f64, N>,
-    ) -> Result<Vec<CanonicalPair<N>>>
+        f: impl FnOnce(&[CanonicalPair<N>]) -> T,
+    ) -> Result<T>
     where
         R: PhaseFunction<N>,
     {
         check_phase(t, q, p)?;
-        let terms = lie_terms(&self.generator, depth, t, q, p)?;
+        let mut terms = [(*q, *p); MAX_ORDER + 2];
+        let terms = &mut terms[..=depth];
+        lie_terms(&self.generator, depth, t, q, p, terms)?;
         for (k, (a, b)) in terms.iter().enumerate() {
             if !a.iter().chain(b.iter()).all(|v| v.is_finite()) {
                 return Err(not_finite(&format!("Lie term L_ρ^{k} z"), t, q, p));
             }
         }
-        Ok(terms)
+        Ok(f(terms))
     }
 
     /// The Lie terms `L_ρ^k z = (L_ρ^k q, L_ρ^k p)` for `k = 0 … n` (unscaled, `L_ρ⁰ z = z`), with
@@ -590,7 +671,7 @@ impl<R> LieSeries<R> {
     where
         R: PhaseFunction<N>,
     {
-        self.checked_terms(self.order, t, q, p)
+        self.checked_terms(self.order, t, q, p, <[_]>::to_vec)
     }
 
     /// `(Q, P) = Σ_{k=0}^{n} ε^k/k! L_ρ^k z`, with NaN/∞ rejected on input and output.
@@ -603,8 +684,7 @@ impl<R> LieSeries<R> {
     where
         R: PhaseFunction<N>,
     {
-        let terms = self.checked_terms(self.order, t, q, p)?;
-        let (big_q, big_p) = lie_sum(&terms, self.eps);
+        let (big_q, big_p) = self.checked_terms(self.order, t, q, p, |t| lie_sum(t, self.eps))?;
         check_output("Lie series", t, q, p, &big_q, &big_p)?;
         Ok((big_q, big_p))
     }
@@ -629,10 +709,9 @@ impl<R> LieSeries<R> {
         R: PhaseFunction<N>,
     {
         let n = self.order;
-        let terms = self.checked_terms(n + 1, t, q, p)?;
-        let (big_q, big_p) = lie_sum(&terms[..=n], self.eps);
+        let ((big_q, big_p), (aq, ap)) =
+            self.checked_terms(n + 1, t, q, p, |t| (lie_sum(&t[..=n], self.eps), t[n + 1]))?;
         check_output("Lie series", t, q, p, &big_q, &big_p)?;
-        let (aq, ap) = &terms[n + 1];
         let norm = (aq.norm_squared() + ap.norm_squared()).sqrt();
         let scale = (1..=n + 1).fold(1.0, |s, k| s * self.eps.abs() / k as f64);
         let err = finite("Lie series error estimate", norm * scale)?;
@@ -652,8 +731,10 @@ impl<R: PhaseFunction<N>, const N: usize> PhaseMap<N> for LieSeries<R> {
         q: &SVector<D, N>,
         p: &SVector<D, N>,
     ) -> (SVector<D, N>, SVector<D, N>) {
-        match lie_terms(&self.generator, self.order, t, q, p) {
-            Ok(terms) => lie_sum(&terms, self.eps),
+        let mut terms = [(*q, *p); MAX_ORDER + 1];
+        let terms = &mut terms[..=self.order.min(MAX_ORDER)];
+        match lie_terms(&self.generator, self.order, t, q, p, terms) {
+            Ok(()) => lie_sum(terms, self.eps),
             Err(_) => nan_point(q),
         }
     }

@@ -225,19 +225,8 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
         let (a, e) = (self.a, self.e);
         let (x, y, vx, vy) = if conic == Conic::Elliptic {
             let ea = anomaly;
-            let (se, ce) = ea.sin_cos();
             let sh = (ea * 0.5).sin();
-            let two_sh2 = sh * sh * 2.0;
-            let one_m_e = -e + 1.0;
-            let beta = (one_m_e * (e + 1.0)).sqrt();
-            let rho = one_m_e + e * two_sh2;
-            let w = (a.recip() * mu).sqrt() / rho;
-            (
-                a * (one_m_e - two_sh2),
-                a * beta * se,
-                -w * se,
-                w * beta * ce,
-            )
+            elliptic_perifocal(mu, a, e, ea.sin_cos(), sh * sh * 2.0)
         } else {
             let f = anomaly;
             let (sf, cf) = (f.sinh(), f.cosh());
@@ -255,16 +244,59 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
                 w * beta * cf,
             )
         };
-        let (so, co) = self.raan.sin_cos();
-        let (si, ci) = self.i.sin_cos();
-        let (sw, cw) = self.argp.sin_cos();
-        let pv = SVector::<D, 3>::new(co * cw - so * sw * ci, so * cw + co * sw * ci, sw * si);
-        let qv = SVector::<D, 3>::new(-co * sw - so * cw * ci, -so * sw + co * cw * ci, cw * si);
-        let r = pv * x + qv * y;
-        let v = pv * vx + qv * vy;
-        check_output(&r, &v)?;
-        Ok((r, v))
+        orient(
+            (x, y, vx, vy),
+            self.raan.sin_cos(),
+            self.i.sin_cos(),
+            self.argp.sin_cos(),
+        )
     }
+}
+
+/// Perifocal position and velocity `(x, y, ẋ, ẏ)` on an ellipse from `(sin E, cos E)` and
+/// `2 sin²(E/2) = 1 − cos E` (see [`Classical::to_state`]):
+///
+/// ```math
+/// x = a\big((1 - e) - 2\sin^2\tfrac E2\big),\quad y = a\sqrt{1 - e^2}\,\sin E,\quad
+/// (\dot x, \dot y) = \frac{\sqrt{\mu/a}}{(1 - e) + 2e\sin^2\frac E2}\,
+/// \big(-\sin E,\ \sqrt{1 - e^2}\cos E\big).
+/// ```
+///
+/// `μ > 0` is the caller's to check.
+pub(crate) fn elliptic_perifocal<D: DualNum<f64> + Copy>(
+    mu: f64,
+    a: D,
+    e: D,
+    (se, ce): (D, D),
+    two_sh2: D,
+) -> (D, D, D, D) {
+    let one_m_e = -e + 1.0;
+    let beta = (one_m_e * (e + 1.0)).sqrt();
+    let rho = one_m_e + e * two_sh2;
+    let w = (a.recip() * mu).sqrt() / rho;
+    (
+        a * (one_m_e - two_sh2),
+        a * beta * se,
+        -w * se,
+        w * beta * ce,
+    )
+}
+
+/// The rotation `R₃(Ω) R₁(i) R₃(ω)` of perifocal `(x, y, ẋ, ẏ)` to the inertial frame, from the
+/// sines and cosines of `Ω`, `i`, `ω` (Vallado 2013 §2.6): `r = x P + y Q` and `v = ẋ P + ẏ Q`
+/// with `P`, `Q` the first two columns of the rotation. A non-finite result is an error.
+pub(crate) fn orient<D: DualNum<f64> + Copy>(
+    (x, y, vx, vy): (D, D, D, D),
+    (so, co): (D, D),
+    (si, ci): (D, D),
+    (sw, cw): (D, D),
+) -> Result<CanonicalPair<3, D>> {
+    let pv = SVector::<D, 3>::new(co * cw - so * sw * ci, so * cw + co * sw * ci, sw * si);
+    let qv = SVector::<D, 3>::new(-co * sw - so * cw * ci, -so * sw + co * cw * ci, cw * si);
+    let r = pv * x + qv * y;
+    let v = pv * vx + qv * vy;
+    check_output(&r, &v)?;
+    Ok((r, v))
 }
 
 impl Classical<f64> {
