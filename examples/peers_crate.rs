@@ -38,6 +38,7 @@ use hamilton_jacobi::integrate::{
 use hamilton_jacobi::nalgebra::SVector;
 use hamilton_jacobi::perturbation::forces::{NoForce, PerturbedTwoBody, J2};
 use hamilton_jacobi::phase::State;
+use hamilton_jacobi::record::Jets;
 use hamilton_jacobi::systems::{outer_solar_system, Kepler, Pendulum, PlanetaryCoordinates};
 use hamilton_jacobi::{Error, Hamiltonian, Result};
 use std::hint::black_box;
@@ -257,6 +258,16 @@ fn run<S: Hamiltonian<N>, const N: usize>(
     let line = json_line::<N>;
     for &tol in tols {
         let taylor = Taylor::new(tol)?;
+        // The pass of this order compiled (once per record and order, kept with the record)
+        // before the timed runs, its time reported apart.
+        let jets = Jets::new(field.record(), taylor.order())?;
+        if let Some(compile) = jets.compile_time() {
+            eprintln!(
+                "Taylor order {}: pass compiled in {:.1} ms",
+                taylor.order(),
+                compile.as_secs_f64() * 1e3
+            );
+        }
         let (tt, rt) = best(runs, || taylor.run_recorded(&field, &problem, &mut ()))?;
         lines.push(line(
             &format!("crate Taylor (order {})", taylor.order()),

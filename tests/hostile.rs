@@ -1322,6 +1322,46 @@ fn add_methods(c: &mut Vec<Call>) {
             ])
         })
     });
+    sweep(
+        c,
+        "Jets::new(record, order).compile_time()",
+        &[12.0],
+        &[(0, 0.0), (0, 201.0), (0, 2.5)],
+        |a| {
+            // The pendulum ẋ = (p, −sin q); the pass of order `a` compiled (feature `jit`) or
+            // interpreted, the series the same within rounding either way.
+            let r = record(&[0.0, 1.0, 0.0], |v| Ok(vec![v[2], -v[1].sin()])).unwrap();
+            // The order is a `usize`: `a` truncated, or `usize::MAX` beyond.
+            let order = if a[0].is_finite() && a[0] >= 0.0 && a[0] < 1e6 {
+                a[0] as usize
+            } else {
+                usize::MAX
+            };
+            let valid = (1..=200).contains(&order);
+            let made = Jets::new(&r, order).and_then(|mut jets| {
+                let time = jets.compile_time();
+                jets.ode(0.0, &[1.0, 0.5], order)?;
+                Ok((time, jets))
+            });
+            judge(made, valid, |(time, jets)| {
+                let c = jets.series(1);
+                let seconds = time.map_or(0.0, |t| t.as_secs_f64());
+                let p2 = c.get(2).map_or(Good, |&p2| {
+                    near("p₂ = −cos q₀ · p₀ / 2", p2, -(1.0f64).cos() * 0.25, 1e-16)
+                });
+                let compiled = if seconds < 60.0 {
+                    Good
+                } else {
+                    Wrong(format!("compiled in {seconds} s"))
+                };
+                all([
+                    compiled,
+                    near("p₁ = −sin q₀", c[1], -(1.0f64).sin(), 1e-16),
+                    p2,
+                ])
+            })
+        },
+    );
     // Methods built from the method table by key and knob value.
     sweep(
         c,

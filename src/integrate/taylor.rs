@@ -18,13 +18,21 @@
 //! start of the run.
 //!
 //! # What makes it fast
-//! No code is generated at run time: the record is translated once per run into a flat program
-//! ([`Jets`], "the program") in which the linear operations are folded into scale factors (they
-//! cost nothing), `sin`/`cos` pairs are one instruction, and operand offsets are resolved. The
-//! program is then run order by order, one dispatch per instruction and order, by a pass
-//! monomorphised for each order up to 24: the Cauchy sums have a length known at compile time and
-//! are unrolled. The cost of a step is about the number of products, quotients and roots of the
-//! record times `p²/2` multiply–adds.
+//! The record is translated once per run into a flat program ([`Jets`], "the program") in
+//! which the linear operations are folded into scale factors (they cost nothing), `sin`/`cos`
+//! pairs are one instruction, and operand offsets are resolved. Under the feature `jit` (on by
+//! default) the whole Taylor pass of that program to the run's order is then **compiled once
+//! per record and order by Cranelift** into one native function: the recurrences of every
+//! instruction and order unrolled into straight-line code, the coefficients register values,
+//! the Cauchy sums summed pairwise (a short dependency chain per order), the products `j·u_j`
+//! shared, `1/k` constants — heyoka's approach. The compiled passes of the latest records and
+//! orders are kept, so that the runs after the first on an equal record and the same order do
+//! not compile again; [`Jets::compile_time`] gives the compilation time, counted apart as
+//! heyoka counts its own. Where nothing is compiled (the feature off, a pass too large, a host Cranelift
+//! does not support) the **interpreter** runs the program order by order, one dispatch per
+//! instruction and order, by a pass monomorphised for each order up to 24 (Cauchy sums of
+//! a length known at compile time, unrolled). Either way the cost of a step is about the
+//! number of products, quotients and roots of the record times `p²/2` multiply–adds.
 //!
 //! # Order and step (Jorba & Zou 2005, §3.2)
 //! With one tolerance `ε` as both the absolute and the relative tolerance, the order is
@@ -64,7 +72,8 @@
 //! # Work counted
 //! `steps` as usual; `gradients` counts one per step (one propagation of the record to order
 //! `p`, which costs about `p²/2` vector-field evaluations' worth of operations); recording is done
-//! once per run and timed separately in [`VectorFieldRecord::new`].
+//! once per run and timed separately in [`VectorFieldRecord::new`], and compiling once per
+//! record and order, in the first run ([`Jets::compile_time`]).
 //!
 //! # References
 //! * À. Jorba & M. Zou, "A software package for the numerical integration of ODEs by means of

@@ -28,7 +28,7 @@
 use super::program::{tanh, Instr, Program};
 use cranelift_codegen::ir::{
     types::{F64, F64X2},
-    AbiParam, FuncRef, InstBuilder, MemFlags, StackSlotData, StackSlotKind, Value,
+    AbiParam, FuncRef, InstBuilder, MemFlags, StackSlot, StackSlotData, StackSlotKind, Value,
 };
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
@@ -81,10 +81,20 @@ pub(super) struct Native {
     entry: Entry,
     inputs: usize,
     outputs: usize,
-    /// The owner of the code memory, freed when `self` is dropped. After
-    /// `finalize_definitions` it is never used again but by [`Drop`]; the mutex only makes the
-    /// (`Send`, not `Sync`) module shareable.
-    module: Mutex<Option<JITModule>>,
+    /// The owner of the code memory.
+    _code: Code,
+}
+
+/// The owner of a module's code memory, freed when dropped. After `finalize_definitions` the
+/// module is never used again but by [`Drop`]; the mutex only makes the (`Send`, not `Sync`)
+/// module shareable. The owner of the `Code` holds the only pointers into it.
+pub(super) struct Code(Mutex<Option<JITModule>>);
+
+impl Code {
+    /// The owner of `module`'s memory.
+    pub(super) fn new(module: JITModule) -> Self {
+        Self(Mutex::new(Some(module)))
+    }
 }
 
 impl std::fmt::Debug for Native {
@@ -96,15 +106,16 @@ impl std::fmt::Debug for Native {
     }
 }
 
-impl Drop for Native {
+impl Drop for Code {
     fn drop(&mut self) {
-        let module = match self.module.get_mut() {
+        let module = match self.0.get_mut() {
             Ok(m) => m.take(),
             Err(poisoned) => poisoned.into_inner().take(),
         };
         if let Some(module) = module {
-            // SAFETY: `entry` is the only pointer into the module's code and lives in `self`,
-            // which is being dropped: no call of it is running or can follow.
+            // SAFETY: the only pointers into the module's code live in the owner of `self`
+            // (a `Native` or a compiled Taylor pass), which is being dropped: no call of them
+            // is running or can follow.
             unsafe { module.free_memory() }
         }
     }
@@ -194,19 +205,7 @@ impl Native {
         if !fits {
             return None;
         }
-        let mut flags = settings::builder();
-        flags.set("use_colocated_libcalls", "false").ok()?;
-        flags.set("is_pic", "false").ok()?;
-        flags.set("opt_level", "speed").ok()?;
-        let isa = cranelift_native::builder()
-            .ok()?
-            .finish(settings::Flags::new(flags))
-            .ok()?;
-        let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
-        for (name, _, address) in SHIMS {
-            builder.symbol(*name, *address);
-        }
-        let mut module = JITModule::new(builder);
+        let mut module = new_module()?;
         let address = translate(&mut module, program, layout)?;
         // SAFETY: `translate` defined and finalized the function with the signature of
         // `layout` (`FlatEntry`: two pointer parameters, no result; `PhaseEntry`: an `f64` and
@@ -229,9 +228,27 @@ impl Native {
             entry,
             inputs: program.inputs,
             outputs: program.outputs.len(),
-            module: Mutex::new(Some(module)),
+            _code: Code::new(module),
         })
     }
+}
+
+/// A module for the host's instruction set (optimised for speed, absolute addresses) in which
+/// the [shims](SHIMS) are defined; `None` when Cranelift does not support the host.
+pub(super) fn new_module() -> Option<JITModule> {
+    let mut flags = settings::builder();
+    flags.set("use_colocated_libcalls", "false").ok()?;
+    flags.set("is_pic", "false").ok()?;
+    flags.set("opt_level", "speed").ok()?;
+    let isa = cranelift_native::builder()
+        .ok()?
+        .finish(settings::Flags::new(flags))
+        .ok()?;
+    let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
+    for (name, _, address) in SHIMS {
+        builder.symbol(*name, *address);
+    }
+    Some(JITModule::new(builder))
 }
 
 /// The functions the native code calls: name, `(parameters, results)` in `f64`s (the
@@ -289,27 +306,9 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
             ctx.func.signature.returns.push(AbiParam::new(F64));
         }
     }
-    let mut shims = Vec::with_capacity(SHIMS.len());
-    for (name, (params, results), _) in SHIMS {
-        let mut sig = module.make_signature();
-        sig.params.extend((0..*params).map(|_| AbiParam::new(F64)));
-        if *results == 0 {
-            sig.params.push(AbiParam::new(pointer));
-        }
-        sig.returns
-            .extend((0..*results).map(|_| AbiParam::new(F64)));
-        let id = module.declare_function(name, Linkage::Import, &sig).ok()?;
-        shims.push(id);
-    }
     let mut fctx = FunctionBuilderContext::new();
     let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-    let refs: Vec<FuncRef> = shims
-        .iter()
-        .map(|id| module.declare_func_in_func(*id, b.func))
-        .collect();
-    let [f_exp, f_ln, f_powf, f_tanh, f_sin_cos, f_atan2] = refs[..] else {
-        return None;
-    };
+    let shims = Shims::import(module, &mut b)?;
     let block = b.create_block();
     b.append_block_params_for_function_params(block);
     b.switch_to_block(block);
@@ -317,11 +316,7 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
     let params = b.block_params(block).to_vec();
     // The two results of `sin_cos`, in a slot of the frame only when the program has one (a
     // function with no slot and no call needs no frame).
-    let pair = program
-        .instructions
-        .iter()
-        .any(|i| matches!(i, Instr::SinCos { .. }))
-        .then(|| b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3)));
+    let pair = pair_slot(&mut b, &program.instructions);
     let slot: Vec<Variable> = (0..program.slots).map(|_| b.declare_var(F64)).collect();
     let flags = MemFlags::trusted();
     let offset = |k: usize| i32::try_from(8 * k).ok();
@@ -354,131 +349,14 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
         let v = b.ins().f64const(c);
         b.def_var(slot[w], v);
     }
-    let call = |b: &mut FunctionBuilder, f: FuncRef, args: &[Value]| -> Value {
-        let inst = b.ins().call(f, args);
-        b.inst_results(inst)[0]
-    };
-    // `α v` with the interpreter's rounding: `v · 1 = v` and `v · (−1) = −v` exactly (NaNs
-    // aside, whose payload is not compared), so those factors make no multiplication.
-    let scale = |b: &mut FunctionBuilder, v: Value, alpha: f64| -> Value {
-        if alpha == 1.0 {
-            v
-        } else if alpha == -1.0 {
-            b.ins().fneg(v)
-        } else {
-            let k = b.ins().f64const(alpha);
-            b.ins().fmul(v, k)
-        }
-    };
     for &ins in &program.instructions {
-        let get = |b: &mut FunctionBuilder, s: usize| b.use_var(slot[s]);
-        match ins {
-            Instr::Lin {
-                w,
-                a,
-                alpha,
-                b: bb,
-                beta,
-            } => {
-                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
-                let ta = scale(&mut b, va, alpha);
-                // `x + (−1)·y = x − y` exactly.
-                let r = if beta == -1.0 {
-                    b.ins().fsub(ta, vb)
-                } else {
-                    let tb = scale(&mut b, vb, beta);
-                    b.ins().fadd(ta, tb)
-                };
-                b.def_var(slot[w], r);
-            }
-            Instr::Affine { w, a, alpha, gamma } => {
-                let va = get(&mut b, a);
-                let ta = scale(&mut b, va, alpha);
-                let kg = b.ins().f64const(gamma);
-                let r = b.ins().fadd(ta, kg);
-                b.def_var(slot[w], r);
-            }
-            Instr::Mul { w, a, b: bb } => {
-                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
-                let r = b.ins().fmul(va, vb);
-                b.def_var(slot[w], r);
-            }
-            Instr::MulAdd {
-                w,
-                a,
-                b: bb,
-                alpha,
-                c,
-                beta,
-            } => {
-                let (va, vb, vc) = (get(&mut b, a), get(&mut b, bb), get(&mut b, c));
-                let ab = b.ins().fmul(va, vb);
-                let ta = scale(&mut b, ab, alpha);
-                let r = if beta == -1.0 {
-                    b.ins().fsub(ta, vc)
-                } else {
-                    let tc = scale(&mut b, vc, beta);
-                    b.ins().fadd(ta, tc)
-                };
-                b.def_var(slot[w], r);
-            }
-            Instr::Div { w, a, b: bb } => {
-                let (va, vb) = (get(&mut b, a), get(&mut b, bb));
-                let r = b.ins().fdiv(va, vb);
-                b.def_var(slot[w], r);
-            }
-            Instr::Recip { w, a } => {
-                // `f64::recip` is `1 / a`.
-                let va = get(&mut b, a);
-                let one = b.ins().f64const(1.0);
-                let r = b.ins().fdiv(one, va);
-                b.def_var(slot[w], r);
-            }
-            Instr::Sqrt { w, a } => {
-                let va = get(&mut b, a);
-                let r = b.ins().sqrt(va);
-                b.def_var(slot[w], r);
-            }
-            Instr::Exp { w, a } => {
-                let va = get(&mut b, a);
-                let r = call(&mut b, f_exp, &[va]);
-                b.def_var(slot[w], r);
-            }
-            Instr::Ln { w, a } => {
-                let va = get(&mut b, a);
-                let r = call(&mut b, f_ln, &[va]);
-                b.def_var(slot[w], r);
-            }
-            Instr::Powf { w, a, p } => {
-                let va = get(&mut b, a);
-                let kp = b.ins().f64const(p);
-                let r = call(&mut b, f_powf, &[va, kp]);
-                b.def_var(slot[w], r);
-            }
-            Instr::Tanh { w, s, a } => {
-                let va = get(&mut b, a);
-                let t = call(&mut b, f_tanh, &[va]);
-                let one = b.ins().f64const(1.0);
-                let tt = b.ins().fmul(t, t);
-                let r = b.ins().fsub(one, tt);
-                b.def_var(slot[w], t);
-                b.def_var(slot[s], r);
-            }
-            Instr::SinCos { s, c, a } => {
-                let va = get(&mut b, a);
-                let pair = pair?;
-                let address = b.ins().stack_addr(pointer, pair, 0);
-                b.ins().call(f_sin_cos, &[va, address]);
-                let vs = b.ins().stack_load(F64, pair, 0);
-                let vc = b.ins().stack_load(F64, pair, 8);
-                b.def_var(slot[s], vs);
-                b.def_var(slot[c], vc);
-            }
-            Instr::Atan2 { w, y, x, .. } => {
-                let (vy, vx) = (get(&mut b, y), get(&mut b, x));
-                let r = call(&mut b, f_atan2, &[vy, vx]);
-                b.def_var(slot[w], r);
-            }
+        let (first, second) = shims.step(&mut b, ins, pair, |b, s| b.use_var(slot[s]))?;
+        let mut writes = ins.writes();
+        if let Some(w) = writes.next() {
+            b.def_var(slot[w], first);
+        }
+        if let (Some(o), Some(v)) = (writes.next(), second) {
+            b.def_var(slot[o], v);
         }
     }
     let mut result = Vec::with_capacity(1);
@@ -519,11 +397,197 @@ fn translate(module: &mut JITModule, program: &Program, layout: Layout) -> Optio
     }
     b.ins().return_(&result);
     b.finalize();
+    define(module, &mut ctx)
+}
+
+/// Define the function built in `ctx` in `module` and finalize it; its address.
+pub(super) fn define(
+    module: &mut JITModule,
+    ctx: &mut cranelift_codegen::Context,
+) -> Option<*const u8> {
     let id = module
         .declare_function("program", Linkage::Export, &ctx.func.signature)
         .ok()?;
-    module.define_function(id, &mut ctx).ok()?;
-    module.clear_context(&mut ctx);
+    module.define_function(id, ctx).ok()?;
+    module.clear_context(ctx);
     module.finalize_definitions().ok()?;
     Some(module.get_finalized_function(id))
+}
+
+/// `α v` with the interpreter's rounding: `v · 1 = v` and `v · (−1) = −v` exactly (NaNs aside,
+/// whose payload is not compared), so those factors make no multiplication.
+pub(super) fn scale(b: &mut FunctionBuilder, v: Value, alpha: f64) -> Value {
+    if alpha == 1.0 {
+        v
+    } else if alpha == -1.0 {
+        b.ins().fneg(v)
+    } else {
+        let k = b.ins().f64const(alpha);
+        b.ins().fmul(v, k)
+    }
+}
+
+/// The two results of `sin_cos`, in a slot of the frame only when `program` has a
+/// [`Instr::SinCos`] (a function with no slot and no call needs no frame).
+pub(super) fn pair_slot(b: &mut FunctionBuilder, program: &[Instr]) -> Option<StackSlot> {
+    program
+        .iter()
+        .any(|i| matches!(i, Instr::SinCos { .. }))
+        .then(|| b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3)))
+}
+
+/// The [shims](SHIMS) imported into a function being built.
+pub(super) struct Shims {
+    exp: FuncRef,
+    ln: FuncRef,
+    powf: FuncRef,
+    tanh: FuncRef,
+    sin_cos: FuncRef,
+    atan2: FuncRef,
+    pointer: cranelift_codegen::ir::Type,
+}
+
+impl Shims {
+    /// Declare the shims in `module` and import them into the function of `b`.
+    pub(super) fn import(module: &mut JITModule, b: &mut FunctionBuilder) -> Option<Self> {
+        let pointer = module.target_config().pointer_type();
+        let mut refs = Vec::with_capacity(SHIMS.len());
+        for (name, (params, results), _) in SHIMS {
+            let mut sig = module.make_signature();
+            sig.params.extend((0..*params).map(|_| AbiParam::new(F64)));
+            if *results == 0 {
+                sig.params.push(AbiParam::new(pointer));
+            }
+            sig.returns
+                .extend((0..*results).map(|_| AbiParam::new(F64)));
+            let id = module.declare_function(name, Linkage::Import, &sig).ok()?;
+            refs.push(module.declare_func_in_func(id, b.func));
+        }
+        let [exp, ln, powf, tanh, sin_cos, atan2] = refs[..] else {
+            return None;
+        };
+        Some(Self {
+            exp,
+            ln,
+            powf,
+            tanh,
+            sin_cos,
+            atan2,
+            pointer,
+        })
+    }
+
+    /// The value(s) of `ins` on `f64` — [`step`](super::program::step)'s operations in its
+    /// order — from its operands' values `get(b, offset)`: the result written to its first
+    /// offset, and for [`Instr::Tanh`] and [`Instr::SinCos`] the second (`pair` the frame slot
+    /// of [`pair_slot`]). `None` for a `SinCos` without that slot.
+    pub(super) fn step(
+        &self,
+        b: &mut FunctionBuilder,
+        ins: Instr,
+        pair: Option<StackSlot>,
+        mut get: impl FnMut(&mut FunctionBuilder, usize) -> Value,
+    ) -> Option<(Value, Option<Value>)> {
+        let call = |b: &mut FunctionBuilder, f: FuncRef, args: &[Value]| -> Value {
+            let inst = b.ins().call(f, args);
+            b.inst_results(inst)[0]
+        };
+        let one = |v: Value| Some((v, None));
+        match ins {
+            Instr::Lin {
+                a,
+                alpha,
+                b: bb,
+                beta,
+                ..
+            } => {
+                let (va, vb) = (get(b, a), get(b, bb));
+                let ta = scale(b, va, alpha);
+                // `x + (−1)·y = x − y` exactly.
+                if beta == -1.0 {
+                    one(b.ins().fsub(ta, vb))
+                } else {
+                    let tb = scale(b, vb, beta);
+                    one(b.ins().fadd(ta, tb))
+                }
+            }
+            Instr::Affine {
+                a, alpha, gamma, ..
+            } => {
+                let va = get(b, a);
+                let ta = scale(b, va, alpha);
+                let kg = b.ins().f64const(gamma);
+                one(b.ins().fadd(ta, kg))
+            }
+            Instr::Mul { a, b: bb, .. } => {
+                let (va, vb) = (get(b, a), get(b, bb));
+                one(b.ins().fmul(va, vb))
+            }
+            Instr::MulAdd {
+                a,
+                b: bb,
+                alpha,
+                c,
+                beta,
+                ..
+            } => {
+                let (va, vb, vc) = (get(b, a), get(b, bb), get(b, c));
+                let ab = b.ins().fmul(va, vb);
+                let ta = scale(b, ab, alpha);
+                if beta == -1.0 {
+                    one(b.ins().fsub(ta, vc))
+                } else {
+                    let tc = scale(b, vc, beta);
+                    one(b.ins().fadd(ta, tc))
+                }
+            }
+            Instr::Div { a, b: bb, .. } => {
+                let (va, vb) = (get(b, a), get(b, bb));
+                one(b.ins().fdiv(va, vb))
+            }
+            Instr::Recip { a, .. } => {
+                // `f64::recip` is `1 / a`.
+                let va = get(b, a);
+                let k1 = b.ins().f64const(1.0);
+                one(b.ins().fdiv(k1, va))
+            }
+            Instr::Sqrt { a, .. } => {
+                let va = get(b, a);
+                one(b.ins().sqrt(va))
+            }
+            Instr::Exp { a, .. } => {
+                let va = get(b, a);
+                one(call(b, self.exp, &[va]))
+            }
+            Instr::Ln { a, .. } => {
+                let va = get(b, a);
+                one(call(b, self.ln, &[va]))
+            }
+            Instr::Powf { a, p, .. } => {
+                let va = get(b, a);
+                let kp = b.ins().f64const(p);
+                one(call(b, self.powf, &[va, kp]))
+            }
+            Instr::Tanh { a, .. } => {
+                let va = get(b, a);
+                let t = call(b, self.tanh, &[va]);
+                let k1 = b.ins().f64const(1.0);
+                let tt = b.ins().fmul(t, t);
+                let r = b.ins().fsub(k1, tt);
+                Some((t, Some(r)))
+            }
+            Instr::SinCos { a, .. } => {
+                let va = get(b, a);
+                let address = b.ins().stack_addr(self.pointer, pair?, 0);
+                b.ins().call(self.sin_cos, &[va, address]);
+                let vs = b.ins().stack_load(F64, pair?, 0);
+                let vc = b.ins().stack_load(F64, pair?, 8);
+                Some((vs, Some(vc)))
+            }
+            Instr::Atan2 { y, x, .. } => {
+                let (vy, vx) = (get(b, y), get(b, x));
+                one(call(b, self.atan2, &[vy, vx]))
+            }
+        }
+    }
 }

@@ -69,6 +69,8 @@ mod jets;
 mod jit;
 mod number;
 mod program;
+#[cfg(feature = "jit")]
+mod taylor_jit;
 
 pub use jets::{Jets, MAX_ORDER};
 pub use number::Recorded;

@@ -332,7 +332,7 @@ impl Program {
 
 impl Instr {
     /// The offsets the instruction writes.
-    fn writes(&self) -> impl Iterator<Item = usize> {
+    pub(super) fn writes(&self) -> impl Iterator<Item = usize> {
         let (a, b) = match *self {
             Instr::Lin { w, .. }
             | Instr::Affine { w, .. }
