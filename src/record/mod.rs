@@ -70,6 +70,7 @@ mod jit;
 mod number;
 mod program;
 
+pub(crate) use jets::JetCoefficient;
 pub use jets::{Jets, MAX_ORDER};
 pub use number::Recorded;
 
