@@ -19,7 +19,9 @@
 //! ```
 //!
 //! The Taylor method is timed without the recording of Hamilton's equations (printed apart as
-//! `record_seconds`), as heyoka's timings leave out its compilation.
+//! `record_seconds`), as heyoka's timings leave out its compilation. The pendulum also runs the
+//! Taylor method in double-double arithmetic (`Taylor::double_double`) at tolerances down to
+//! `10⁻²²`, for the problem near the separatrix.
 //!
 //! Kepler and J2 also run regularised: Levi-Civita (planar Kepler) and Kustaanheimo–Stiefel
 //! (spatial J2) in the fictitious time `s` (`dt = r ds`) by the Taylor method (its record of the
@@ -288,6 +290,41 @@ fn run<S: Hamiltonian<N>, const N: usize>(
     Ok(lines)
 }
 
+/// The tolerances of the double-double Taylor method on the pendulum: beyond those of the
+/// double methods, down to where its energy is held to about `10⁻¹⁸` (the separatrix problem).
+const DOUBLE_DOUBLE_TOLS: [f64; 6] = [1e-9, 1e-12, 1e-15, 1e-18, 1e-20, 1e-22];
+
+/// The Taylor method in double-double arithmetic ([`Taylor::double_double`]) on the recorded
+/// field at each tolerance, timed without the recording (printed apart, as for the double one).
+fn run_double_double<S: Hamiltonian<N>, const N: usize>(
+    system: &S,
+    x0: &[f64],
+    t1: f64,
+    tols: &[f64],
+    runs: usize,
+) -> Result<Vec<String>> {
+    let (q, p) = phase_point::<N>(x0)?;
+    let problem = Problem::new(system, 0.0, q, p, t1)?;
+    let start = State::new(0.0, q, p)?;
+    let (rec_time, field) = best(runs, || VectorFieldRecord::new(system, &start))?;
+    let mut lines = Vec::new();
+    for &tol in tols {
+        let taylor = Taylor::new(tol)?.double_double();
+        match best(runs, || taylor.run_recorded(&field, &problem, &mut ())) {
+            Ok((t, r)) => lines.push(json_line::<N>(
+                &format!("crate Taylor double-double (order {})", taylor.order()),
+                tol,
+                r.work.steps,
+                t,
+                rec_time.as_secs_f64(),
+                &r.last,
+            )),
+            Err(e) => eprintln!("Taylor double-double at tol {tol:e}: {e}"),
+        }
+    }
+    Ok(lines)
+}
+
 /// The outer Solar System's initial state as JSON: `G`, the masses, and the inertial positions,
 /// velocities `v = p/m` and momenta `p`, body by body.
 fn nbody_state() -> String {
@@ -450,7 +487,12 @@ fn main() -> Result<()> {
             )?);
             lines
         }
-        "pendulum" => run(&Pendulum::new(1.0)?, &x0, t1, &tols, runs)?,
+        "pendulum" => {
+            let sys = Pendulum::new(1.0)?;
+            let mut lines = run(&sys, &x0, t1, &tols, runs)?;
+            lines.extend(run_double_double(&sys, &x0, t1, &DOUBLE_DOUBLE_TOLS, runs)?);
+            lines
+        }
         _ => return Err(usage()),
     };
     println!("[{}]", lines.join(",\n"));

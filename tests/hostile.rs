@@ -1270,6 +1270,52 @@ fn add_methods(c: &mut Vec<Call>) {
             })
         },
     );
+    // The Taylor method in double-double: the same knobs and runs (the work bounded by
+    // max_steps, each step about ten times a double step).
+    sweep(
+        c,
+        "integrate(Taylor::double_double, t1)",
+        &[2.0],
+        &[(0, 1e300), (0, 1e3)],
+        |a| {
+            osc_run(
+                &Taylor::new(1e-10)
+                    .unwrap()
+                    .double_double()
+                    .with_max_steps(100_000)
+                    .unwrap(),
+                a[0],
+                1e-8 * (1.0 + a[0].abs()),
+            )
+        },
+    );
+    sweep(
+        c,
+        "integrate(AnyMethod::new(taylor-dd, tol), t1 = 1)",
+        &[1e-20],
+        &[(0, 1e-300), (0, 0.5), (0, 1.0), (0, 1e-30)],
+        |a| {
+            let valid = (Taylor::TOL_MIN..1.0).contains(&a[0]);
+            let info = MethodInfo::find("taylor-dd").unwrap();
+            judge(AnyMethod::new(info, a[0]), valid, |m| {
+                osc_run(&m, 1.0, 1e3 * a[0] + 1e-15)
+            })
+        },
+    );
+    sized(
+        c,
+        "integrate(Taylor::fixed(n, 20).double_double(), t1 = 1)",
+        &[1, 4, 30, 200],
+        |n| {
+            judge(Taylor::fixed(n, 20), true, |m| {
+                let mut bound = 1.0;
+                for k in 1..=n + 1 {
+                    bound *= 1.5 / 20.0 / k as f64;
+                }
+                osc_run(&m.double_double(), 1.0, 20.0 * bound * 3.0 + 1e-15)
+            })
+        },
+    );
     sized(
         c,
         "integrate(Taylor::fixed(n, 20), t1 = 1)",

@@ -37,8 +37,8 @@
 
 use super::methods::{self, whole_steps, Capability, Construction, MethodInfo};
 use super::{
-    integrate, Dop853, Fixed, Gauss, Method, Observer, Problem, Report, Rk4, Rk45, Splitting,
-    Sundman, Taylor, TimeTransformed,
+    integrate, Dop853, Fixed, Gauss, Method, Observer, Precision, Problem, Report, Rk4, Rk45,
+    Splitting, Sundman, Taylor, TimeTransformed,
 };
 use crate::error::{Error, Result};
 use crate::hamiltonian::{Hamiltonian, Separable};
@@ -95,6 +95,7 @@ impl GeneralMethod {
             Construction::Dop853 => Self::dop853(knob, knob),
             Construction::Rk45 => Self::rk45(knob, knob),
             Construction::Taylor => Taylor::new(knob).map(Self::Taylor),
+            Construction::TaylorDd => Taylor::new(knob).map(|m| Self::Taylor(m.double_double())),
             _ => Err(not_covered(
                 info,
                 "a GeneralMethod covers any Hamiltonian; build splittings as AnyMethod",
@@ -114,7 +115,10 @@ impl GeneralMethod {
             Self::Gauss6(_) => &methods::GAUSS[5],
             Self::Dop853(_) => &methods::DOP853,
             Self::Rk45(_) => &methods::RK45,
-            Self::Taylor(_) => &methods::TAYLOR,
+            Self::Taylor(m) => match m.precision {
+                Precision::Double => &methods::TAYLOR,
+                Precision::DoubleDouble => &methods::TAYLOR_DD,
+            },
         }
     }
 

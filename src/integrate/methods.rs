@@ -82,6 +82,9 @@ pub enum Construction {
     Exact,
     /// [`Taylor`](super::Taylor) with its tolerance (order and step after Jorba & Zou).
     Taylor,
+    /// [`Taylor`](super::Taylor) in double-double arithmetic
+    /// ([`Precision::DoubleDouble`](super::Precision::DoubleDouble)) with its tolerance.
+    TaylorDd,
     /// [`TimeTransformed`](super::TimeTransformed): the logarithmic Hamiltonian
     /// (Mikkola–Tanikawa) over this table's word, with its step in fictitious time.
     TimeTransformed(&'static Table),
@@ -95,7 +98,8 @@ impl Construction {
             | Construction::Gauss(_)
             | Construction::Dop853
             | Construction::Rk45
-            | Construction::Taylor => Capability::Hamiltonian,
+            | Construction::Taylor
+            | Construction::TaylorDd => Capability::Hamiltonian,
             Construction::Splitting(_) | Construction::TimeTransformed(_) => Capability::Separable,
             Construction::KeplerSplitting(_) => Capability::PerturbedKepler,
             Construction::Exact => Capability::ExactFlow,
@@ -256,6 +260,20 @@ pub const TAYLOR: MethodInfo = MethodInfo {
     reference: "Jorba & Zou, Exp. Math. 14 (2005) 99–117",
 };
 
+/// The Taylor method in double-double arithmetic (series, state and time; about 106 bits):
+/// `taylor-dd`, for final errors below what double rounding allows (near a separatrix).
+pub const TAYLOR_DD: MethodInfo = MethodInfo {
+    key: "taylor-dd",
+    family: "Taylor (Jorba–Zou), double-double",
+    stages: 1,
+    order: None,
+    knob: Knob::Tolerance,
+    symplectic: false,
+    construction: Construction::TaylorDd,
+    reference: "Jorba & Zou, Exp. Math. 14 (2005) 99–117; double-double arithmetic: Joldes, \
+                Muller & Popescu, ACM TOMS 44 (2017) 15res",
+};
+
 /// The system's exact flow, composed over fixed steps: `exact`.
 pub const EXACT: MethodInfo = MethodInfo {
     key: "exact",
@@ -291,7 +309,7 @@ const fn log_hamiltonian(
 /// Every integration method of the crate, in the order `hj list` shows them: the methods for
 /// any Hamiltonian (Taylor last of them), the explicit splittings (lowest order first), the
 /// time-transformed splittings, the Kepler splittings, the exact flow.
-pub static METHODS: [MethodInfo; 34] = {
+pub static METHODS: [MethodInfo; 35] = {
     use super::coefficients as c;
     use Construction::{KeplerSplitting, Splitting};
     [
@@ -305,6 +323,7 @@ pub static METHODS: [MethodInfo; 34] = {
         RK45,
         DOP853,
         TAYLOR,
+        TAYLOR_DD,
         from_table("symplectic-euler-kd", Splitting(&c::SYMPLECTIC_EULER_KD)),
         from_table("symplectic-euler-dk", Splitting(&c::SYMPLECTIC_EULER_DK)),
         from_table("verlet-kdk", Splitting(&c::VERLET_KDK)),

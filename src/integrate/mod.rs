@@ -70,7 +70,7 @@ pub use tangent::{
     parameter_tangent_map, splitting_parameter_tangent_map, variational_tangent_map,
     ParameterCoordinates, ParameterTangent, TangentMap, TangentMethod, VariationalMethod,
 };
-pub use taylor::{Taylor, TaylorControl, VectorFieldRecord};
+pub use taylor::{Precision, Taylor, TaylorControl, VectorFieldRecord};
 pub use time_transform::{Sundman, TimeTransformed};
 pub use wisdom_holman::{PerturbedKepler, PlanetaryWisdomHolman, WisdomHolman};
 

@@ -65,6 +65,24 @@
 //! otherwise reached at tolerance `10⁻¹⁵` on the pendulum (`tests/taylor.rs`,
 //! `pendulum_final_error_at_the_rounding_floor`).
 //!
+//! # Double-double
+//! [`Taylor::double_double`] ([`Precision::DoubleDouble`]) runs the same method — the same
+//! program, recurrences, order and step-size control — with every coefficient, the state and
+//! the time as double-double numbers (`hi + lo`, about 106 bits; Joldes, Muller & Popescu 2017):
+//! the jets' values of order 0 by the double-double elementary functions, the state update
+//! `Σ x_k h^k` by Horner's rule in double-double, the last step `t₁ − t` in double-double. The
+//! initial state (doubles) is taken exactly; the states handed to observers and the final state
+//! are rounded to doubles; the record's constants and folded scale factors are doubles (exact
+//! for `½`, `2`, `−1`; a constant such as `0.1` is the double nearest it, as in the double
+//! method). Each double-double operation costs about ten to twenty double operations.
+//!
+//! It is the method for problems whose conditioning exceeds what double rounding allows: near
+//! the pendulum's separatrix (`q₀ = 3.14159`, `E_sep − E ≈ (π − q₀)²/2 ≈ 3.5·10⁻¹²`) the period
+//! `T ≈ 2 ln(32/(E_sep − E))` changes by `δT ≈ 2 δE/(E_sep − E)`, so a relative energy error
+//! of `u ≈ 10⁻¹⁶` per step already shifts the phase by `10⁻⁴` per period; holding the final
+//! error to `10⁻⁹` over 100 periods needs the energy to about `10⁻¹⁸` (`tests/taylor_dd.rs`).
+//! Tolerances below `10⁻¹⁶` (down to [`Taylor::TOL_MIN`]) are meaningful here, not in doubles.
+//!
 //! # Dense output
 //! The step's series itself: the state at `t₀ + τ`, `τ` within the step, is `Σ x_k τ^k`
 //! (Horner), of the order of the method.
@@ -87,7 +105,8 @@ use super::{methods, observe, settle, Dense, Fixed, Method, Observer, Problem, R
 use crate::error::{Error, Result};
 use crate::hamiltonian::Hamiltonian;
 use crate::phase::State;
-use crate::record::{gradient, record, Jets, Record, Recorded, MAX_ORDER};
+use crate::record::{gradient, record, JetCoefficient, Jets, Record, Recorded, MAX_ORDER};
+use crate::series::ball::Field;
 use crate::special::double_double::{two_sum, DoubleDouble};
 use nalgebra::SVector;
 use num_dual::Dual;
@@ -212,6 +231,19 @@ pub enum TaylorControl {
     },
 }
 
+/// The arithmetic of a [`Taylor`] run's series, state and time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Precision {
+    /// Doubles, the time in double-length form and the state's sums compensated (see
+    /// [rounding](self#rounding)).
+    #[default]
+    Double,
+    /// Double-double numbers (about 106 bits) for every coefficient, the state and the time
+    /// (see [double-double](self#double-double)); the initial state taken exactly, the results
+    /// rounded to doubles.
+    DoubleDouble,
+}
+
 /// The Taylor method (see the [module documentation](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Taylor {
@@ -219,6 +251,8 @@ pub struct Taylor {
     pub control: TaylorControl,
     /// Largest number of steps of one run.
     pub max_steps: usize,
+    /// The arithmetic of the series, state and time.
+    pub precision: Precision,
 }
 
 impl Taylor {
@@ -239,6 +273,7 @@ impl Taylor {
         let m = Self {
             control: TaylorControl::Tolerance(tol),
             max_steps: Self::MAX_STEPS,
+            precision: Precision::Double,
         };
         m.validate()?;
         Ok(m)
@@ -253,6 +288,7 @@ impl Taylor {
         let m = Self {
             control: TaylorControl::Fixed { order, steps },
             max_steps: Fixed::<()>::MAX_STEPS,
+            precision: Precision::Double,
         };
         m.validate()?;
         Ok(m)
@@ -266,6 +302,13 @@ impl Taylor {
         self.max_steps = max_steps;
         self.validate()?;
         Ok(self)
+    }
+
+    /// The same method in double-double arithmetic ([`Precision::DoubleDouble`]; see
+    /// [double-double](self#double-double)).
+    pub fn double_double(mut self) -> Self {
+        self.precision = Precision::DoubleDouble;
+        self
     }
 
     /// The order of the series: `⌈−½ ln ε + 1⌉` for a tolerance, the given one otherwise.
@@ -336,16 +379,38 @@ impl Taylor {
         problem: &Problem<'_, S, N>,
         observer: &mut O,
     ) -> Result<Report<N>> {
+        match self.precision {
+            Precision::Double => self.drive::<f64, S, O, N>(field, problem, observer),
+            Precision::DoubleDouble => {
+                self.drive::<DoubleDouble, S, O, N>(field, problem, observer)
+            }
+        }
+    }
+
+    /// [`run_recorded`](Self::run_recorded) with coefficients, state and steps in `C`.
+    fn drive<C: Arithmetic, S, O: Observer<N>, const N: usize>(
+        &self,
+        field: &VectorFieldRecord<N>,
+        problem: &Problem<'_, S, N>,
+        observer: &mut O,
+    ) -> Result<Report<N>> {
         self.validate()?;
         let clock = Instant::now();
         let record = &field.record;
         let order = self.order();
-        let mut jets = Jets::new(record, order)?;
+        let mut jets = C::jets(record, order)?;
         let mut work = Work::default();
         let (t0, t1) = (problem.start.t, problem.t1);
-        let mut x = vec![0.0; 2 * N];
-        // The low-order parts of the state's compensated sums (see `advance_state`).
-        let mut carry = vec![0.0; 2 * N];
+        // The state in `C`: the start's doubles taken exactly.
+        let mut x: Vec<C> = problem
+            .start
+            .q
+            .iter()
+            .chain(problem.start.p.iter())
+            .map(|&v| C::exact(v))
+            .collect();
+        // The low-order parts of the state's compensated sums (see `Arithmetic::advance`).
+        let mut carry = vec![C::default(); 2 * N];
         let mut state = problem.start;
         // The time in double-length form, `state.t` its leading part.
         let mut time = DoubleDouble::from(t0);
@@ -353,22 +418,20 @@ impl Taylor {
         let mut k = 0usize;
         loop {
             self.within_budget(k, state.t, t0, t1)?;
-            for (xi, v) in x.iter_mut().zip(state.q.iter().chain(state.p.iter())) {
-                *xi = *v;
-            }
-            jets.ode(state.t, &x, order)?;
+            jets.propagate(C::from_double_double(time), &x, order)?;
             let (h, last) = self.next_step(&jets, &x, time, k, t0, t1)?;
             let time_next = if last {
                 DoubleDouble::from(t1)
             } else {
-                time + DoubleDouble::from(h)
+                time + h.to_double_double()
             };
+            for (i, (xi, ci)) in x.iter_mut().zip(carry.iter_mut()).enumerate() {
+                *xi = C::advance(jets.series(i), order, h, ci);
+            }
             let next = State {
                 t: time_next.to_f64(),
-                q: SVector::from_fn(|i, _| advance_state(jets.series(i), order, h, &mut carry[i])),
-                p: SVector::from_fn(|i, _| {
-                    advance_state(jets.series(N + i), order, h, &mut carry[N + i])
-                }),
+                q: SVector::from_fn(|i, _| x[i].value()),
+                p: SVector::from_fn(|i, _| x[N + i].value()),
             };
             work.steps += 1;
             work.gradients += 1;
@@ -380,8 +443,7 @@ impl Taylor {
                 });
             }
             let dense = SeriesStep {
-                prev: &state,
-                prev_lo: time.lo,
+                prev_time: time,
                 next: &next,
                 jets: &jets,
                 order,
@@ -435,17 +497,17 @@ impl Taylor {
     /// [module docs](self)). The distances to `t₁` and to the grid times of a fixed step are
     /// taken from both parts of `time`, so that the rounding of the accumulated time does not
     /// enter the steps.
-    fn next_step(
+    fn next_step<C: Arithmetic>(
         &self,
-        jets: &Jets,
-        x: &[f64],
+        jets: &Jets<C>,
+        x: &[C],
         time: DoubleDouble,
         k: usize,
         t0: f64,
         t1: f64,
-    ) -> Result<(f64, bool)> {
+    ) -> Result<(C, bool)> {
         let span = t1 - t0;
-        let until = |target: f64| (DoubleDouble::from(target) - time).to_f64();
+        let until = |target: f64| C::from_double_double(DoubleDouble::from(target) - time);
         let t = time.to_f64();
         match self.control {
             TaylorControl::Fixed { steps, .. } => {
@@ -460,7 +522,7 @@ impl Taylor {
             TaylorControl::Tolerance(_) => {
                 let h = step_size(jets, x, self.order());
                 let remaining = until(t1);
-                if h >= remaining.abs() {
+                if h >= remaining.value().abs() {
                     return Ok((remaining, true));
                 }
                 let h_min = (16.0 * f64::EPSILON * t.abs()).max(f64::MIN_POSITIVE);
@@ -474,7 +536,7 @@ impl Taylor {
                         residual: h,
                     });
                 }
-                Ok((span.signum() * h, false))
+                Ok((C::exact(span.signum() * h), false))
             }
         }
     }
@@ -495,6 +557,13 @@ impl Taylor {
         steps: SeriesSteps<'_>,
     ) -> Result<Work> {
         self.validate()?;
+        if self.precision != Precision::Double {
+            return Err(Error::invalid(
+                "Taylor method in double-double",
+                "the series runs of the variational equations (tangent maps) are in doubles \
+                 only; use Precision::Double",
+            ));
+        }
         if let SeriesSteps::Frozen(times) = steps {
             if times.len() < 2 || times[0] != t0 || times[times.len() - 1] != t1 {
                 return Err(Error::invalid(
@@ -569,14 +638,14 @@ fn order_for(tol: f64) -> usize {
 /// last two coefficients vanish. Formed as one exponential,
 /// `exp(min(−ln‖x_{p−1}‖/(p−1), −ln‖x_p‖/p) − 2 − 0.7/(p−1))`, the two norms in one pass over
 /// the state.
-fn step_size(jets: &Jets, x0: &[f64], p: usize) -> f64 {
-    let n0 = x0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+fn step_size<C: Arithmetic>(jets: &Jets<C>, x0: &[C], p: usize) -> f64 {
+    let n0 = x0.iter().fold(0.0f64, |m, v| m.max(v.value().abs()));
     let scale = if n0 > 1.0 { n0.recip() } else { 1.0 };
     let (mut a, mut b) = (0.0f64, 0.0f64);
     for j in 0..x0.len() {
         let c = &jets.series(j)[p - 1..=p];
-        a = a.max(c[0].abs());
-        b = b.max(c[1].abs());
+        a = a.max(c[0].value().abs());
+        b = b.max(c[1].value().abs());
     }
     let q = (p - 1) as f64;
     let ln_rho = (-(a * scale).ln() / q).min(-(b * scale).ln() / p as f64);
@@ -600,34 +669,95 @@ fn advance_state(c: &[f64], p: usize, h: f64, carry: &mut f64) -> f64 {
     x
 }
 
+/// The arithmetic of a Taylor run ([`Precision`]): the coefficients' field, the conversions
+/// of steps and times, and the update of the state by the step's series.
+trait Arithmetic: JetCoefficient {
+    /// The jets of `record` to order `order` in this arithmetic.
+    fn jets(record: &Record, order: usize) -> Result<Jets<Self>>;
+    /// A time (or time difference) given in double-length form.
+    fn from_double_double(t: DoubleDouble) -> Self;
+    /// The value in double-length form.
+    fn to_double_double(self) -> DoubleDouble;
+    /// `t − from`, the offset of a time within a step from its start.
+    fn offset(t: f64, from: DoubleDouble) -> Self;
+    /// The state variable at the end of the step `h` from its series `c` of order `p`, with
+    /// the compensation `carry` of the sums of the previous steps.
+    fn advance(c: &[Self], p: usize, h: Self, carry: &mut Self) -> Self;
+}
+
+impl Arithmetic for f64 {
+    fn jets(record: &Record, order: usize) -> Result<Jets<Self>> {
+        Jets::new(record, order)
+    }
+    #[inline]
+    fn from_double_double(t: DoubleDouble) -> Self {
+        t.to_f64()
+    }
+    #[inline]
+    fn to_double_double(self) -> DoubleDouble {
+        DoubleDouble::from(self)
+    }
+    #[inline]
+    fn offset(t: f64, from: DoubleDouble) -> Self {
+        (t - from.hi) - from.lo
+    }
+    #[inline]
+    fn advance(c: &[Self], p: usize, h: Self, carry: &mut Self) -> Self {
+        advance_state(c, p, h, carry)
+    }
+}
+
+/// Every sum in double-double: the state's sum `x₀ + δ` has a relative error `≤ 3u²` without
+/// compensation, so `carry` stays 0.
+impl Arithmetic for DoubleDouble {
+    fn jets(record: &Record, order: usize) -> Result<Jets<Self>> {
+        Jets::double_double(record, order)
+    }
+    #[inline]
+    fn from_double_double(t: DoubleDouble) -> Self {
+        t
+    }
+    #[inline]
+    fn to_double_double(self) -> DoubleDouble {
+        self
+    }
+    #[inline]
+    fn offset(t: f64, from: DoubleDouble) -> Self {
+        DoubleDouble::from(t) - from
+    }
+    #[inline]
+    fn advance(c: &[Self], p: usize, h: Self, _carry: &mut Self) -> Self {
+        horner(c, p, h)
+    }
+}
+
 /// `Σ_{k=0}^{p} c_k h^k` by Horner's rule.
 #[inline]
-fn horner(c: &[f64], p: usize, h: f64) -> f64 {
+fn horner<C: Field>(c: &[C], p: usize, h: C) -> C {
     let mut s = c[p];
     for k in (0..p).rev() {
-        s = s * h + c[k];
+        s = s.mul(h).add(c[k]);
     }
     s
 }
 
 /// Dense output of one Taylor step: the step's series.
-struct SeriesStep<'a, const N: usize> {
-    prev: &'a State<N>,
-    /// The low part of the step's initial time (`prev.t` its high part).
-    prev_lo: f64,
+struct SeriesStep<'a, C, const N: usize> {
+    /// The step's initial time in double-length form.
+    prev_time: DoubleDouble,
     next: &'a State<N>,
-    jets: &'a Jets,
+    jets: &'a Jets<C>,
     order: usize,
     _n: PhantomData<[(); N]>,
 }
 
-impl<const N: usize> Dense<N> for SeriesStep<'_, N> {
+impl<C: Arithmetic, const N: usize> Dense<N> for SeriesStep<'_, C, N> {
     fn at(&self, t: f64) -> State<N> {
         if t == self.next.t {
             return *self.next;
         }
-        let tau = (t - self.prev.t) - self.prev_lo;
-        let c = |j: usize| horner(self.jets.series(j), self.order, tau);
+        let tau = C::offset(t, self.prev_time);
+        let c = |j: usize| horner(self.jets.series(j), self.order, tau).value();
         State {
             t,
             q: SVector::from_fn(|i, _| c(i)),
@@ -638,16 +768,16 @@ impl<const N: usize> Dense<N> for SeriesStep<'_, N> {
 
 impl<S: Hamiltonian<N>, const N: usize> Method<S, N> for Taylor {
     fn label(&self) -> String {
+        let info = match self.precision {
+            Precision::Double => &methods::TAYLOR,
+            Precision::DoubleDouble => &methods::TAYLOR_DD,
+        };
         match self.control {
             TaylorControl::Tolerance(tol) => {
-                format!(
-                    "{} tol={tol:e} (order {})",
-                    methods::TAYLOR.label(),
-                    self.order()
-                )
+                format!("{} tol={tol:e} (order {})", info.label(), self.order())
             }
             TaylorControl::Fixed { order, steps } => {
-                format!("{}, order {order} n={steps}", methods::TAYLOR.family)
+                format!("{}, order {order} n={steps}", info.family)
             }
         }
     }

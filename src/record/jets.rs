@@ -1,9 +1,11 @@
 //! Normalised Taylor coefficients of every operation of a record: the jets of the Taylor method.
 
-use super::program::{step, Instr, Program};
+use super::program::{step, step_double_double, Instr, Program};
 use super::Record;
 use crate::error::{Error, Result};
+use crate::series::ball::Field;
 use crate::series::recurrences as rec;
+use crate::special::double_double::DoubleDouble;
 
 /// The largest order of [`Jets`].
 pub const MAX_ORDER: usize = 200;
@@ -47,15 +49,23 @@ pub const MAX_ORDER: usize = 200;
 /// the storage's: order by order over the program, one dispatch per instruction and order,
 /// the operands' offsets resolved in advance.
 ///
+/// # Coefficients
+/// The coefficients are doubles (`Jets<f64>`, the default), or, for the double-double Taylor
+/// method, double-double numbers (crate-internal): the same program and the same recurrences
+/// (generic over the coefficient field), the values of order 0 by the double-double elementary
+/// functions. The record's constants and the scale factors folded into the program are
+/// doubles in both (products of the record's constants rounded to double: exact for constants
+/// such as `½`, `2`, `−1`).
+///
 /// References: À. Jorba & M. Zou, Exp. Math. 14 (2005) 99–117, §2 (the decomposition and the
 /// order-by-order evaluation); A. Griewank & A. Walther, *Evaluating Derivatives*, 2nd ed.,
 /// SIAM 2008, §13.2 (Taylor arithmetic over an evaluation trace); F. Biscani & D. Izzo,
 /// MNRAS 504 (2021) 2614–2628 (the compiled Taylor decomposition of heyoka).
 #[derive(Clone, Debug)]
-pub struct Jets {
+pub struct Jets<C = f64> {
     order: usize,
     stride: usize,
-    c: Vec<f64>,
+    c: Vec<C>,
     program: Program,
     /// The pass to `order` compiled to native code, when there is one.
     #[cfg(feature = "jit")]
@@ -106,6 +116,74 @@ fn compiled(
     pass
 }
 
+/// The coefficient types of [`Jets`]: `f64` and double-double numbers, each with its evaluation
+/// of order 0 and its pass over the program for the orders above.
+pub(crate) trait JetCoefficient: Field {
+    /// The value (coefficient of order 0) of one instruction.
+    fn order_zero(ins: Instr, c: &mut [Self]);
+    /// The coefficients of order `k ≥ 1` of every instruction of `program`.
+    fn pass(program: &[Instr], c: &mut [Self], k: usize);
+}
+
+impl JetCoefficient for f64 {
+    #[inline]
+    fn order_zero(ins: Instr, c: &mut [Self]) {
+        step(ins, c, usize::MAX);
+    }
+    #[inline]
+    fn pass(program: &[Instr], c: &mut [Self], k: usize) {
+        pass(program, c, k);
+    }
+}
+
+impl JetCoefficient for DoubleDouble {
+    #[inline]
+    fn order_zero(ins: Instr, c: &mut [Self]) {
+        step_double_double(ins, c);
+    }
+    fn pass(program: &[Instr], c: &mut [Self], k: usize) {
+        for ins in program {
+            kth(*ins, c, k);
+        }
+    }
+}
+
+impl Jets<DoubleDouble> {
+    /// [`Jets::new`] with double-double coefficients.
+    ///
+    /// # Errors
+    /// As [`Jets::new`].
+    pub(crate) fn double_double(record: &Record, order: usize) -> Result<Self> {
+        Self::with_storage(record, order)
+    }
+}
+
+impl<C> Jets<C> {
+    /// The largest order the storage holds.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The number of instructions of the program (see [the program](Self#the-program)).
+    pub fn instructions(&self) -> usize {
+        self.program.len()
+    }
+
+    /// The series `x_{j,0} … x_{j,K}` of state variable `j` (`0 ≤ j < n`) from the last
+    /// [`ode`](Jets::ode).
+    ///
+    /// # Panics
+    /// If `j` is not a state variable.
+    pub fn series(&self, j: usize) -> &[C] {
+        assert!(
+            j < self.program.outputs.len(),
+            "state variable {j} of {}",
+            self.program.outputs.len()
+        );
+        &self.c[(1 + j) * self.stride..(2 + j) * self.stride]
+    }
+}
+
 impl Jets {
     /// The program of the differential equation `record` (inputs `(t, x₁ … x_n)`, outputs
     /// `(f₁ … f_n)`; see [the program](Self#the-program)) and storage for its jets up to order
@@ -115,6 +193,71 @@ impl Jets {
     /// [`Error::OutOfDomain`] for an order outside `1 … MAX_ORDER`; [`Error::InvalidInput`] when
     /// the record is not of that shape.
     pub fn new(record: &Record, order: usize) -> Result<Self> {
+        #[allow(unused_mut)]
+        let mut jets = Self::with_storage(record, order)?;
+        #[cfg(feature = "jit")]
+        {
+            jets.native = compiled(record, &jets.program, order);
+        }
+        Ok(jets)
+    }
+
+    /// The time the code generator took to compile the pass of this order for the record
+    /// (once per record and order, at the first [`Jets::new`] of them; see
+    /// [the program](Self#the-program)), `None` when the pass is interpreted.
+    pub fn compile_time(&self) -> Option<std::time::Duration> {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            return Some(native.compile_time());
+        }
+        None
+    }
+
+    /// The coefficient `v_{i,k}` of operation `i` of the record (`k ≤` [`order`](Self::order);
+    /// of the last [`ode`](Self::ode): orders below its `order` for every operation, up to it
+    /// for the inputs).
+    ///
+    /// # Panics
+    /// If `i` is not an operation of the record the jets were made for, or `k` exceeds the
+    /// order.
+    pub fn coefficient(&self, i: usize, k: usize) -> f64 {
+        assert!(
+            k <= self.order,
+            "coefficient {k} beyond order {}",
+            self.order
+        );
+        let (o, alpha) = self.program.value[i];
+        alpha * self.c[o + k]
+    }
+
+    /// The Taylor series to order `order ≤` [`order`](Self::order) of the solution of the
+    /// differential equation through `x(t₀) = x₀`; read them with [`series`](Self::series).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when `x₀` has the wrong length; [`Error::OutOfDomain`] when
+    /// `order` is 0 or exceeds the storage; [`Error::NonFinite`] for a non-finite `t₀` or `x₀`,
+    /// and for a non-finite coefficient of the solution (a singularity of the equation at
+    /// `(t₀, x₀)`, e.g. a collision).
+    pub fn ode(&mut self, t0: f64, x0: &[f64], order: usize) -> Result<()> {
+        self.load(t0, x0, order)?;
+        #[cfg(feature = "jit")]
+        if let Some(native) = self.native.as_ref().filter(|_| order == self.order) {
+            if native.run(&mut self.c) == 0.0 {
+                return Ok(());
+            }
+            let n = self.program.outputs.len();
+            return non_finite(&self.c, self.stride, n, order, t0, x0);
+        }
+        self.interpret(order)
+    }
+}
+
+impl<C> Jets<C> {
+    /// The program of `record` and storage for its jets (see [`Jets::new`]).
+    fn with_storage(record: &Record, order: usize) -> Result<Self>
+    where
+        C: JetCoefficient,
+    {
         if !(1..=MAX_ORDER).contains(&order) {
             return Err(Error::out_of_domain(
                 "Taylor order",
@@ -136,83 +279,36 @@ impl Jets {
         }
         let stride = order + 1;
         let program = Program::with_stride(record, stride);
-        let mut c = vec![0.0; stride * program.slots];
+        let mut c = vec![C::default(); stride * program.slots];
         for &(w, x) in &program.consts {
-            c[w] = x;
+            c[w] = C::exact(x);
         }
         // The time input t₀ + τ.
-        c[1] = 1.0;
+        c[1] = C::exact(1.0);
         Ok(Self {
             order,
             stride,
             c,
             #[cfg(feature = "jit")]
-            native: compiled(record, &program, order),
+            native: None,
             program,
         })
     }
 
-    /// The time the code generator took to compile the pass of this order for the record
-    /// (once per record and order, at the first [`Jets::new`] of them; see
-    /// [the program](Self#the-program)), `None` when the pass is interpreted.
-    pub fn compile_time(&self) -> Option<std::time::Duration> {
-        #[cfg(feature = "jit")]
-        if let Some(native) = &self.native {
-            return Some(native.compile_time());
-        }
-        None
+    /// [`Jets::ode`] over the coefficient field `C` (by the interpreter).
+    pub(crate) fn propagate(&mut self, t0: C, x0: &[C], order: usize) -> Result<()>
+    where
+        C: JetCoefficient,
+    {
+        self.load(t0, x0, order)?;
+        self.interpret(order)
     }
 
-    /// The largest order the storage holds.
-    pub fn order(&self) -> usize {
-        self.order
-    }
-
-    /// The number of instructions of the program (see [the program](Self#the-program)).
-    pub fn instructions(&self) -> usize {
-        self.program.len()
-    }
-
-    /// The coefficient `v_{i,k}` of operation `i` of the record (`k ≤` [`order`](Self::order);
-    /// of the last [`ode`](Self::ode): orders below its `order` for every operation, up to it
-    /// for the inputs).
-    ///
-    /// # Panics
-    /// If `i` is not an operation of the record the jets were made for, or `k` exceeds the
-    /// order.
-    pub fn coefficient(&self, i: usize, k: usize) -> f64 {
-        assert!(
-            k <= self.order,
-            "coefficient {k} beyond order {}",
-            self.order
-        );
-        let (o, alpha) = self.program.value[i];
-        alpha * self.c[o + k]
-    }
-
-    /// The series `x_{j,0} … x_{j,K}` of state variable `j` (`0 ≤ j < n`) from the last
-    /// [`ode`](Self::ode).
-    ///
-    /// # Panics
-    /// If `j` is not a state variable.
-    pub fn series(&self, j: usize) -> &[f64] {
-        assert!(
-            j < self.program.outputs.len(),
-            "state variable {j} of {}",
-            self.program.outputs.len()
-        );
-        &self.c[(1 + j) * self.stride..(2 + j) * self.stride]
-    }
-
-    /// The Taylor series to order `order ≤` [`order`](Self::order) of the solution of the
-    /// differential equation through `x(t₀) = x₀`; read them with [`series`](Self::series).
-    ///
-    /// # Errors
-    /// [`Error::InvalidInput`] when `x₀` has the wrong length; [`Error::OutOfDomain`] when
-    /// `order` is 0 or exceeds the storage; [`Error::NonFinite`] for a non-finite `t₀` or `x₀`,
-    /// and for a non-finite coefficient of the solution (a singularity of the equation at
-    /// `(t₀, x₀)`, e.g. a collision).
-    pub fn ode(&mut self, t0: f64, x0: &[f64], order: usize) -> Result<()> {
+    /// Check `(t₀, x₀)` and `order` and write them as the coefficients of order 0.
+    fn load(&mut self, t0: C, x0: &[C], order: usize) -> Result<()>
+    where
+        C: JetCoefficient,
+    {
         let n = self.program.outputs.len();
         if x0.len() != n {
             return Err(Error::invalid(
@@ -227,56 +323,81 @@ impl Jets {
                 format!("1 … {} (the storage)", self.order),
             ));
         }
-        crate::error::finite("Taylor series: initial time t₀", t0)?;
-        crate::error::all_finite("Taylor series: initial state x₀", x0)?;
+        let values = |x: &[C]| x.iter().map(|v| v.value()).collect::<Vec<f64>>();
+        crate::error::finite("Taylor series: initial time t₀", t0.value())?;
+        if !t0.finite() {
+            return Err(Error::NonFinite {
+                what: "Taylor series: initial time t₀ (its low part)".into(),
+                value: f64::NAN,
+            });
+        }
+        if x0.iter().any(|v| !v.finite()) {
+            crate::error::all_finite("Taylor series: initial state x₀", &values(x0))?;
+            return Err(Error::NonFinite {
+                what: "Taylor series: initial state x₀ (a low part)".into(),
+                value: f64::NAN,
+            });
+        }
         let s = self.stride;
         self.c[0] = t0;
         for (j, &x) in x0.iter().enumerate() {
             self.c[(1 + j) * s] = x;
         }
-        #[cfg(feature = "jit")]
-        if let Some(native) = self.native.as_ref().filter(|_| order == self.order) {
-            if native.run(&mut self.c) == 0.0 {
-                return Ok(());
-            }
-            return non_finite(&self.c, s, n, order, t0, x0);
-        }
+        Ok(())
+    }
+
+    /// The interpreted pass to `order` from the loaded coefficients of order 0, and the check of
+    /// the state's series.
+    fn interpret(&mut self, order: usize) -> Result<()>
+    where
+        C: JetCoefficient,
+    {
+        let (s, n) = (self.stride, self.program.outputs.len());
         let Jets { c, program, .. } = self;
         let (field, program) = (&program.outputs, &program.instructions);
         for &ins in program.iter() {
-            step(ins, c, usize::MAX);
+            C::order_zero(ins, c);
         }
         advance(field, c, s, 0);
         for k in 1..order {
-            pass(program, c, k);
+            C::pass(program, c, k);
             advance(field, c, s, k);
         }
         // `v·0` is ±0 for a finite `v` and NaN otherwise: one branch for the state.
         let flag = (1..=n).fold(0.0, |a, j| {
             c[j * s + 1..=j * s + order]
                 .iter()
-                .fold(a, |a, &v| a + v * 0.0)
+                .fold(a, |a, v| a + v.value() * 0.0)
         });
         if flag == 0.0 {
             return Ok(());
         }
-        non_finite(c, s, n, order, t0, x0)
+        let t0 = c[0].value();
+        let x0: Vec<f64> = (1..=n).map(|j| c[j * s].value()).collect();
+        non_finite(c, s, n, order, t0, &x0)
     }
 }
 
 /// The error of the first non-finite coefficient of the state's series in `c` (of stride
 /// `s`, `n` variables, to `order`), if any.
-fn non_finite(c: &[f64], s: usize, n: usize, order: usize, t0: f64, x0: &[f64]) -> Result<()> {
+fn non_finite<C: Field>(
+    c: &[C],
+    s: usize,
+    n: usize,
+    order: usize,
+    t0: f64,
+    x0: &[f64],
+) -> Result<()> {
     for j in 1..=n {
         let jet = &c[j * s..=j * s + order];
-        if let Some(k) = jet.iter().position(|c| !c.is_finite()) {
+        if let Some(k) = jet.iter().position(|c| !c.finite()) {
             return Err(Error::NonFinite {
                 what: format!(
                     "Taylor coefficient {k} of state variable {} at t₀ = {t0:e}, x₀ = \
                      {x0:?} (a singularity of the equation)",
                     j - 1
                 ),
-                value: c[j * s + k],
+                value: c[j * s + k].value(),
             });
         }
     }
@@ -285,10 +406,9 @@ fn non_finite(c: &[f64], s: usize, n: usize, order: usize, t0: f64, x0: &[f64]) 
 
 /// `x_{j,k+1} = f_{j,k} / (k + 1)`.
 #[inline]
-fn advance(field: &[(usize, f64)], c: &mut [f64], s: usize, k: usize) {
-    let scale = 1.0 / (k + 1) as f64;
+fn advance<C: Field>(field: &[(usize, f64)], c: &mut [C], s: usize, k: usize) {
     for (j, &(o, alpha)) in field.iter().enumerate() {
-        c[(1 + j) * s + k + 1] = alpha * scale * c[o + k];
+        c[(1 + j) * s + k + 1] = c[o + k].scale_over_index(alpha, k + 1);
     }
 }
 
@@ -319,7 +439,7 @@ fn pass(program: &[Instr], c: &mut [f64], k: usize) {
 
 /// The coefficient of order `k ≥ 1` of an instruction from the lower ones.
 #[inline(always)]
-fn kth(ins: Instr, c: &mut [f64], k: usize) {
+fn kth<C: Field>(ins: Instr, c: &mut [C], k: usize) {
     let jet = |o: usize| &c[o..=o + k];
     let low = |o: usize| &c[o..o + k];
     match ins {
@@ -329,8 +449,8 @@ fn kth(ins: Instr, c: &mut [f64], k: usize) {
             alpha,
             b,
             beta,
-        } => c[w + k] = alpha * c[a + k] + beta * c[b + k],
-        Instr::Affine { w, a, alpha, .. } => c[w + k] = alpha * c[a + k],
+        } => c[w + k] = c[a + k].scale(alpha).add(c[b + k].scale(beta)),
+        Instr::Affine { w, a, alpha, .. } => c[w + k] = c[a + k].scale(alpha),
         Instr::Mul { w, a, b } => c[w + k] = rec::product(jet(a), jet(b), k),
         Instr::MulAdd {
             w,
@@ -339,16 +459,20 @@ fn kth(ins: Instr, c: &mut [f64], k: usize) {
             alpha,
             c: d,
             beta,
-        } => c[w + k] = alpha * rec::product(jet(a), jet(b), k) + beta * c[d + k],
+        } => {
+            c[w + k] = rec::product(jet(a), jet(b), k)
+                .scale(alpha)
+                .add(c[d + k].scale(beta))
+        }
         Instr::Div { w, a, b } => c[w + k] = rec::quotient(c[a + k], jet(b), low(w), k),
-        Instr::Recip { w, a } => c[w + k] = rec::quotient(0.0, jet(a), low(w), k),
+        Instr::Recip { w, a } => c[w + k] = rec::quotient(C::default(), jet(a), low(w), k),
         Instr::Sqrt { w, a } => c[w + k] = rec::sqrt(jet(a), low(w), k),
         Instr::Exp { w, a } => c[w + k] = rec::integral_w_du(jet(a), low(w), k),
         Instr::Ln { w, a } => c[w + k] = rec::ln(jet(a), low(w), k),
         Instr::Powf { w, a, p } => c[w + k] = rec::power(jet(a), p, low(w), k),
         Instr::Tanh { w, s, a } => {
             c[w + k] = rec::integral_w_du(jet(a), low(s), k);
-            c[s + k] = -rec::product(&c[w..=w + k], &c[w..=w + k], k);
+            c[s + k] = rec::product(&c[w..=w + k], &c[w..=w + k], k).neg();
         }
         Instr::SinCos { s, c: co, a } => {
             (c[s + k], c[co + k]) = rec::sin_cos(jet(a), low(s), low(co), -1.0, k)

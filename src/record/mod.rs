@@ -72,6 +72,7 @@ mod program;
 #[cfg(feature = "jit")]
 mod taylor_jit;
 
+pub(crate) use jets::JetCoefficient;
 pub use jets::{Jets, MAX_ORDER};
 pub use number::Recorded;
 
@@ -427,6 +428,7 @@ impl Compiled {
     /// equations), its native code under the feature `jit` reading and writing the state
     /// vectors themselves ([`eval_phase`](Self::eval_phase)); [`eval_into`](Self::eval_into)
     /// and [`eval_f64`](Self::eval_f64) interpret it.
+    #[cfg_attr(not(feature = "jit"), allow(unused_variables))]
     pub(crate) fn phase(record: Record, n: usize) -> Self {
         Self {
             #[cfg(feature = "jit")]
@@ -486,6 +488,7 @@ impl Compiled {
     /// gradient), its native code under the feature `jit` reading and writing the vectors
     /// themselves ([`eval_gradient`](Self::eval_gradient)); [`eval_into`](Self::eval_into)
     /// and [`eval_f64`](Self::eval_f64) interpret it.
+    #[cfg_attr(not(feature = "jit"), allow(unused_variables))]
     pub(crate) fn gradient(record: Record, n: usize) -> Self {
         Self {
             #[cfg(feature = "jit")]

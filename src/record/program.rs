@@ -2,13 +2,14 @@
 //! number type and as Taylor jets (and, feature `jit`, the form compiled to native code).
 
 use super::{Op, Record};
+use crate::special::double_double::DoubleDouble;
 use num_dual::DualNum;
 use std::collections::HashMap;
 
 /// One instruction of a [`Program`]; `w`, `a`, … are offsets in the buffer of values (slot ×
 /// stride: for [`Jets`](super::Jets) the coefficient `k` of a jet is `c[offset + k]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Instr {
+pub(crate) enum Instr {
     /// `w = α a + β b`.
     Lin {
         w: usize,
@@ -480,6 +481,44 @@ pub(super) fn step<D: DualNum<f64> + Copy>(ins: Instr, v: &mut [D], mask: usize)
         }
         Instr::SinCos { s, c, a } => (v[s & mask], v[c & mask]) = v[a & mask].sin_cos(),
         Instr::Atan2 { w, y, x, .. } => v[w & mask] = v[y & mask].atan2(v[x & mask]),
+    }
+}
+
+/// [`step`] on double-double numbers: the value of one instruction with the elementary
+/// functions of [`DoubleDouble`] (`sin`/`cos`, `exp`, `ln`, `tanh`, `atan2`, `xᵖ` to a few
+/// `u²`), for the jets of the double-double Taylor method.
+#[inline]
+pub(super) fn step_double_double(ins: Instr, v: &mut [DoubleDouble]) {
+    match ins {
+        Instr::Lin {
+            w,
+            a,
+            alpha,
+            b,
+            beta,
+        } => v[w] = v[a] * alpha + v[b] * beta,
+        Instr::Affine { w, a, alpha, gamma } => v[w] = v[a] * alpha + DoubleDouble::from(gamma),
+        Instr::Mul { w, a, b } => v[w] = v[a] * v[b],
+        Instr::MulAdd {
+            w,
+            a,
+            b,
+            alpha,
+            c,
+            beta,
+        } => v[w] = v[a] * v[b] * alpha + v[c] * beta,
+        Instr::Div { w, a, b } => v[w] = v[a] / v[b],
+        Instr::Recip { w, a } => v[w] = v[a].recip(),
+        Instr::Sqrt { w, a } => v[w] = v[a].sqrt(),
+        Instr::Exp { w, a } => v[w] = v[a].exp(),
+        Instr::Ln { w, a } => v[w] = v[a].ln(),
+        Instr::Powf { w, a, p } => v[w] = v[a].powf(p),
+        Instr::Tanh { w, s, a } => {
+            let t = v[a].tanh();
+            (v[w], v[s]) = (t, DoubleDouble::from(1.0) - t * t)
+        }
+        Instr::SinCos { s, c, a } => (v[s], v[c]) = v[a].sin_cos(),
+        Instr::Atan2 { w, y, x, .. } => v[w] = v[y].atan2(v[x]),
     }
 }
 

@@ -17,9 +17,11 @@
 //! series modules ([`super::poisson::cosine_product`], [`super::recurrences::unit_power`]) give,
 //! instantiated with `f64`, the plain values, and with `Ball` the same values with their bounds.
 
+use crate::special::double_double::DoubleDouble;
+
 /// A commutative ring of series coefficients with the scalings the recurrences need: `f64`
 /// (plain arithmetic) and [`Ball`] (the same values with rounding-error bounds).
-pub(crate) trait Coefficient: Copy + Default + std::fmt::Debug + PartialEq {
+pub trait Coefficient: Copy + Default + std::fmt::Debug + PartialEq {
     /// The exactly known number `v`.
     fn exact(v: f64) -> Self;
     /// The computed value.
@@ -70,6 +72,107 @@ impl Coefficient for f64 {
     #[inline]
     fn neg(self) -> Self {
         -self
+    }
+}
+
+/// A [`Coefficient`] field for the Taylor recurrences of every operation
+/// ([`super::recurrences`]): subtraction, division by a coefficient, and the divisions by an
+/// index, in the form each type computes them most accurately — on `f64` as the multiplication
+/// by the rounded reciprocal `1/n` the recurrences have always used (so that the values are
+/// those of the plain double arithmetic, bit for bit), on
+/// [`DoubleDouble`](crate::special::double_double::DoubleDouble) as a true division (`1/n` is not a
+/// double and would cost the extra precision).
+pub trait Field: Coefficient {
+    /// `self − o`.
+    fn sub(self, o: Self) -> Self;
+    /// `self / o`.
+    fn quo(self, o: Self) -> Self;
+    /// `self / n`, on `f64` as `self · fl(1/n)`.
+    fn over_index(self, n: usize) -> Self;
+    /// `α · self / n`, on `f64` as `(α · fl(1/n)) · self`.
+    fn scale_over_index(self, alpha: f64, n: usize) -> Self;
+    /// Whether the value is finite.
+    fn finite(self) -> bool;
+}
+
+impl Field for f64 {
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline]
+    fn quo(self, o: Self) -> Self {
+        self / o
+    }
+    #[inline]
+    fn over_index(self, n: usize) -> Self {
+        self * (1.0 / n as f64)
+    }
+    #[inline]
+    fn scale_over_index(self, alpha: f64, n: usize) -> Self {
+        alpha * (1.0 / n as f64) * self
+    }
+    #[inline]
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Coefficient for DoubleDouble {
+    #[inline]
+    fn exact(v: f64) -> Self {
+        Self::from(v)
+    }
+    #[inline]
+    fn value(self) -> f64 {
+        self.hi
+    }
+    #[inline]
+    fn is_zero(self) -> bool {
+        self.hi == 0.0 && self.lo == 0.0
+    }
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        self + o
+    }
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        self * o
+    }
+    #[inline]
+    fn scale(self, c: f64) -> Self {
+        self * c
+    }
+    #[inline]
+    fn div(self, d: f64) -> Self {
+        self / d
+    }
+    #[inline]
+    fn neg(self) -> Self {
+        -self
+    }
+}
+
+impl Field for DoubleDouble {
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline]
+    fn quo(self, o: Self) -> Self {
+        self / o
+    }
+    #[inline]
+    fn over_index(self, n: usize) -> Self {
+        self / n as f64
+    }
+    #[inline]
+    fn scale_over_index(self, alpha: f64, n: usize) -> Self {
+        self * alpha / n as f64
+    }
+    #[inline]
+    fn finite(self) -> bool {
+        self.is_finite()
     }
 }
 

@@ -39,24 +39,24 @@
 //! *Evaluating Derivatives*, 2nd ed., SIAM 2008, Table 13.2; À. Jorba & M. Zou, Exp. Math. 14
 //! (2005) 99–117, §2.2.
 
-use super::ball::Coefficient;
+use super::ball::{Coefficient, Field};
 
 /// `Σ_{i<n} (c + i) a_i b_{n−1−i}` over `n = min(len a, len b)` with `c = 0` and weights dropped
 /// when `weighted` is false: the Cauchy sums of every recurrence (no bounds checks in the loop).
 #[inline(always)]
-fn cauchy(a: &[f64], b: &[f64], weighted: bool, c: f64) -> f64 {
+fn cauchy<C: Field>(a: &[C], b: &[C], weighted: bool, c: f64) -> C {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
-    let mut s = 0.0;
+    let mut s = C::default();
     if weighted {
         let mut w = c;
         for (x, y) in a.iter().zip(b.iter().rev()) {
-            s += w * x * y;
+            s = s.add(x.scale(w).mul(*y));
             w += 1.0;
         }
     } else {
         for (x, y) in a.iter().zip(b.iter().rev()) {
-            s += x * y;
+            s = s.add(x.mul(*y));
         }
     }
     s
@@ -64,70 +64,73 @@ fn cauchy(a: &[f64], b: &[f64], weighted: bool, c: f64) -> f64 {
 
 /// `(uv)_k = Σ_{j=0}^{k} u_j v_{k−j}`.
 #[inline]
-pub fn product(u: &[f64], v: &[f64], k: usize) -> f64 {
+pub fn product<C: Field>(u: &[C], v: &[C], k: usize) -> C {
     cauchy(&u[..=k], &v[..=k], false, 0.0)
 }
 
 /// `(u/v)_k = (u_k − Σ_{j=1}^{k} v_j w_{k−j}) / v₀` with `w = u/v`; `u_k` passed as `uk` (0 for
 /// the reciprocal `1/v`, `k ≥ 1`).
 #[inline]
-pub fn quotient(uk: f64, v: &[f64], w: &[f64], k: usize) -> f64 {
-    (uk - cauchy(&v[1..=k], &w[..k], false, 0.0)) / v[0]
+pub fn quotient<C: Field>(uk: C, v: &[C], w: &[C], k: usize) -> C {
+    uk.sub(cauchy(&v[1..=k], &w[..k], false, 0.0)).quo(v[0])
 }
 
 /// `(ln u)_k = (u_k − (1/k) Σ_{j=1}^{k−1} j w_j u_{k−j}) / u₀`, `k ≥ 1`.
 #[inline]
-pub fn ln(u: &[f64], w: &[f64], k: usize) -> f64 {
-    (u[k] - cauchy(&w[1..k], &u[1..k], true, 1.0) / k as f64) / u[0]
+pub fn ln<C: Field>(u: &[C], w: &[C], k: usize) -> C {
+    u[k].sub(cauchy(&w[1..k], &u[1..k], true, 1.0).div(k as f64))
+        .quo(u[0])
 }
 
 /// `(u^a)_k = (1/(k u₀)) Σ_{j=1}^{k} ((a + 1) j − k) u_j w_{k−j}`, `k ≥ 1`.
 #[inline]
-pub fn power(u: &[f64], a: f64, w: &[f64], k: usize) -> f64 {
+pub fn power<C: Field>(u: &[C], a: f64, w: &[C], k: usize) -> C {
     let (uj, wkj) = (&u[1..=k], &w[..k]);
-    let s = (a + 1.0) * cauchy(uj, wkj, true, 1.0) - k as f64 * cauchy(uj, wkj, false, 0.0);
-    s / (k as f64 * u[0])
+    let s = cauchy(uj, wkj, true, 1.0)
+        .scale(a + 1.0)
+        .sub(cauchy(uj, wkj, false, 0.0).scale(k as f64));
+    s.quo(u[0].scale(k as f64))
 }
 
 /// `(√u)_k = (u_k − Σ_{j=1}^{k−1} w_j w_{k−j}) / (2 w₀)`, `k ≥ 1`.
 #[inline]
-pub fn sqrt(u: &[f64], w: &[f64], k: usize) -> f64 {
-    (u[k] - cauchy(&w[1..k], &w[1..k], false, 0.0)) / (2.0 * w[0])
+pub fn sqrt<C: Field>(u: &[C], w: &[C], k: usize) -> C {
+    u[k].sub(cauchy(&w[1..k], &w[1..k], false, 0.0))
+        .quo(w[0].scale(2.0))
 }
 
 /// `(∫ w du)_k = (1/k) Σ_{j=1}^{k} j u_j w_{k−j}`, `k ≥ 1`: the `k`-th coefficient of `e^u`
 /// with `w = e^u`, of `sin u` with `w = cos u`, of `−cos u` with `w = sin u`, of `sinh u` with
 /// `w = cosh u` and of `cosh u` with `w = sinh u` (each is the integral of `w u′`).
 #[inline]
-pub fn integral_w_du(u: &[f64], w: &[f64], k: usize) -> f64 {
-    cauchy(&u[1..=k], &w[..k], true, 1.0) / k as f64
+pub fn integral_w_du<C: Field>(u: &[C], w: &[C], k: usize) -> C {
+    cauchy(&u[1..=k], &w[..k], true, 1.0).div(k as f64)
 }
 
 /// `atan2(v, u)_k` with `r = u² + v²` (see the [module docs](self)), `k ≥ 1`.
 #[inline]
-pub fn atan2(v: &[f64], u: &[f64], r: &[f64], w: &[f64], k: usize) -> f64 {
+pub fn atan2<C: Field>(v: &[C], u: &[C], r: &[C], w: &[C], k: usize) -> C {
     let s = cauchy(&v[1..=k], &u[..k], true, 1.0)
-        - cauchy(&u[1..=k], &v[..k], true, 1.0)
-        - cauchy(&w[1..k], &r[1..k], true, 1.0);
-    s / (k as f64 * r[0])
+        .sub(cauchy(&u[1..=k], &v[..k], true, 1.0))
+        .sub(cauchy(&w[1..k], &r[1..k], true, 1.0));
+    s.quo(r[0].scale(k as f64))
 }
 
 /// `(s_k, c_k) = ((1/k) Σ_{j=1}^{k} j u_j c_{k−j}, (σ/k) Σ_{j=1}^{k} j u_j s_{k−j})`, `k ≥ 1`:
 /// with `σ = −1` the pair `s = sin u`, `c = cos u`, with `σ = +1` the pair `s = sinh u`,
 /// `c = cosh u` (`s′ = c u′`, `c′ = σ s u′`), in one pass over `j u_j`.
 #[inline]
-pub fn sin_cos(u: &[f64], s: &[f64], c: &[f64], sigma: f64, k: usize) -> (f64, f64) {
+pub fn sin_cos<C: Field>(u: &[C], s: &[C], c: &[C], sigma: f64, k: usize) -> (C, C) {
     let (u, s, c) = (&u[1..=k], &s[..k], &c[..k]);
-    let (mut ss, mut cs) = (0.0, 0.0);
+    let (mut ss, mut cs) = (C::default(), C::default());
     let mut j = 1.0;
     for ((uj, sk), ck) in u.iter().zip(s.iter().rev()).zip(c.iter().rev()) {
-        let ju = j * uj;
-        ss += ju * ck;
-        cs += ju * sk;
+        let ju = uj.scale(j);
+        ss = ss.add(ju.mul(*ck));
+        cs = cs.add(ju.mul(*sk));
         j += 1.0;
     }
-    let inv = 1.0 / k as f64;
-    (ss * inv, sigma * cs * inv)
+    (ss.over_index(k), cs.scale(sigma).over_index(k))
 }
 
 /// The series `g = f^p` of a power series with `f₀ = 1`, to the length of `f`, by J. C. P.
