@@ -255,12 +255,8 @@ impl<D: DualNum<f64> + Copy> Classical<D> {
 
 /// Perifocal position and velocity `(x, y, ẋ, ẏ)` on an ellipse from `(sin E, cos E)` and
 /// `2 sin²(E/2) = 1 − cos E` (see [`Classical::to_state`]):
-///
-/// ```math
-/// x = a\big((1 - e) - 2\sin^2\tfrac E2\big),\quad y = a\sqrt{1 - e^2}\,\sin E,\quad
-/// (\dot x, \dot y) = \frac{\sqrt{\mu/a}}{(1 - e) + 2e\sin^2\frac E2}\,
-/// \big(-\sin E,\ \sqrt{1 - e^2}\cos E\big).
-/// ```
+/// `x = a((1 − e) − 2 sin²(E/2))`, `y = a √(1 − e²) sin E`,
+/// `(ẋ, ẏ) = √(μ/a) (−sin E, √(1 − e²) cos E) / ((1 − e) + 2e sin²(E/2))`.
 ///
 /// `μ > 0` is the caller's to check.
 pub(crate) fn elliptic_perifocal<D: DualNum<f64> + Copy>(
