@@ -123,6 +123,12 @@ pub(crate) trait JetCoefficient: Field {
     fn order_zero(ins: Instr, c: &mut [Self]);
     /// The coefficients of order `k ≥ 1` of every instruction of `program`.
     fn pass(program: &[Instr], c: &mut [Self], k: usize);
+    /// The pass to `order` from the loaded coefficients of order 0 by compiled code, with the
+    /// check of the state's series, when the jets have a compiled pass to that order; `None`
+    /// for the interpreter.
+    fn compiled(_jets: &mut Jets<Self>, _order: usize) -> Option<Result<()>> {
+        None
+    }
 }
 
 impl JetCoefficient for f64 {
@@ -133,6 +139,17 @@ impl JetCoefficient for f64 {
     #[inline]
     fn pass(program: &[Instr], c: &mut [Self], k: usize) {
         pass(program, c, k);
+    }
+    #[cfg(feature = "jit")]
+    #[inline]
+    fn compiled(jets: &mut Jets<Self>, order: usize) -> Option<Result<()>> {
+        let native = jets.native.as_ref().filter(|_| order == jets.order)?;
+        if native.run(&mut jets.c) == 0.0 {
+            return Some(Ok(()));
+        }
+        let (s, n) = (jets.stride, jets.program.outputs.len());
+        let x0: Vec<f64> = (1..=n).map(|j| jets.c[j * s]).collect();
+        Some(non_finite(&jets.c, s, n, order, jets.c[0], &x0))
     }
 }
 
@@ -239,16 +256,7 @@ impl Jets {
     /// and for a non-finite coefficient of the solution (a singularity of the equation at
     /// `(t₀, x₀)`, e.g. a collision).
     pub fn ode(&mut self, t0: f64, x0: &[f64], order: usize) -> Result<()> {
-        self.load(t0, x0, order)?;
-        #[cfg(feature = "jit")]
-        if let Some(native) = self.native.as_ref().filter(|_| order == self.order) {
-            if native.run(&mut self.c) == 0.0 {
-                return Ok(());
-            }
-            let n = self.program.outputs.len();
-            return non_finite(&self.c, self.stride, n, order, t0, x0);
-        }
-        self.interpret(order)
+        self.propagate(t0, x0, order)
     }
 }
 
@@ -295,12 +303,16 @@ impl<C> Jets<C> {
         })
     }
 
-    /// [`Jets::ode`] over the coefficient field `C` (by the interpreter).
+    /// [`Jets::ode`] over the coefficient field `C`: by the compiled pass when there is one to
+    /// `order` (doubles only), by the interpreter otherwise.
     pub(crate) fn propagate(&mut self, t0: C, x0: &[C], order: usize) -> Result<()>
     where
         C: JetCoefficient,
     {
         self.load(t0, x0, order)?;
+        if let Some(result) = C::compiled(self, order) {
+            return result;
+        }
         self.interpret(order)
     }
 
