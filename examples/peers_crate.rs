@@ -245,11 +245,14 @@ fn json_array(x: impl Iterator<Item = f64>) -> String {
     format!("[{}]", v.join(","))
 }
 
+/// The Taylor method and DOP853 at each of `tols`, and the Taylor method in double-double
+/// arithmetic at each of `double_double_tols`, on the problem `system`, `x0`, `t1`.
 fn run<S: Hamiltonian<N>, const N: usize>(
     system: &S,
     x0: &[f64],
     t1: f64,
     tols: &[f64],
+    double_double_tols: &[f64],
     runs: usize,
 ) -> Result<Vec<String>> {
     let (q, p) = phase_point::<N>(x0)?;
@@ -287,31 +290,12 @@ fn run<S: Hamiltonian<N>, const N: usize>(
             Err(e) => eprintln!("DOP853 at tol {tol:e}: {e}"),
         }
     }
-    Ok(lines)
-}
-
-/// The tolerances of the double-double Taylor method on the pendulum: beyond those of the
-/// double methods, down to where its energy is held to about `10⁻¹⁸` (the separatrix problem).
-const DOUBLE_DOUBLE_TOLS: [f64; 6] = [1e-9, 1e-12, 1e-15, 1e-18, 1e-20, 1e-22];
-
-/// The Taylor method in double-double arithmetic ([`Taylor::double_double`]) on the recorded
-/// field at each tolerance, timed without the recording (printed apart, as for the double one).
-fn run_double_double<S: Hamiltonian<N>, const N: usize>(
-    system: &S,
-    x0: &[f64],
-    t1: f64,
-    tols: &[f64],
-    runs: usize,
-) -> Result<Vec<String>> {
-    let (q, p) = phase_point::<N>(x0)?;
-    let problem = Problem::new(system, 0.0, q, p, t1)?;
-    let start = State::new(0.0, q, p)?;
-    let (rec_time, field) = best(runs, || VectorFieldRecord::new(system, &start))?;
-    let mut lines = Vec::new();
-    for &tol in tols {
+    // The Taylor method in double-double arithmetic (`Taylor::double_double`) on the same
+    // recorded field, timed without the recording (printed apart, as for the double one).
+    for &tol in double_double_tols {
         let taylor = Taylor::new(tol)?.double_double();
         match best(runs, || taylor.run_recorded(&field, &problem, &mut ())) {
-            Ok((t, r)) => lines.push(json_line::<N>(
+            Ok((t, r)) => lines.push(line(
                 &format!("crate Taylor double-double (order {})", taylor.order()),
                 tol,
                 r.work.steps,
@@ -324,6 +308,10 @@ fn run_double_double<S: Hamiltonian<N>, const N: usize>(
     }
     Ok(lines)
 }
+
+/// The tolerances of the double-double Taylor method on the pendulum: beyond those of the
+/// double methods, down to where its energy is held to about `10⁻¹⁸` (the separatrix problem).
+const DOUBLE_DOUBLE_TOLS: [f64; 6] = [1e-9, 1e-12, 1e-15, 1e-18, 1e-20, 1e-22];
 
 /// The outer Solar System's initial state as JSON: `G`, the masses, and the inertial positions,
 /// velocities `v = p/m` and momenta `p`, body by body.
@@ -465,7 +453,7 @@ fn main() -> Result<()> {
     let lines = match kind.as_str() {
         "kepler" => {
             let sys = Kepler::<2>::new(1.0)?;
-            let mut lines = run(&sys, &x0, t1, &tols, runs)?;
+            let mut lines = run(&sys, &x0, t1, &tols, &[], runs)?;
             lines.extend(run_split(&sys, &x0, t1, runs)?);
             let lc = LeviCivita::new(&sys)?;
             lines.extend(run_regularised(&lc, "Levi-Civita", &x0, t1, &tols, runs)?);
@@ -474,7 +462,7 @@ fn main() -> Result<()> {
         }
         "j2" => {
             let sys = PerturbedTwoBody::<_, NoForce, 3>::conservative(1.0, J2::new(1.0, j2, 1.0)?)?;
-            let mut lines = run(&sys, &x0, t1, &tols, runs)?;
+            let mut lines = run(&sys, &x0, t1, &tols, &[], runs)?;
             lines.extend(run_split(&sys, &x0, t1, runs)?);
             let ks = KustaanheimoStiefel::new(&sys)?;
             lines.extend(run_regularised(
@@ -489,9 +477,7 @@ fn main() -> Result<()> {
         }
         "pendulum" => {
             let sys = Pendulum::new(1.0)?;
-            let mut lines = run(&sys, &x0, t1, &tols, runs)?;
-            lines.extend(run_double_double(&sys, &x0, t1, &DOUBLE_DOUBLE_TOLS, runs)?);
-            lines
+            run(&sys, &x0, t1, &tols, &DOUBLE_DOUBLE_TOLS, runs)?
         }
         _ => return Err(usage()),
     };
