@@ -274,7 +274,10 @@ fn tangent_budget(method: &Dop853, cost: usize) -> Dop853 {
 impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for Dop853 {
     /// The steps chosen by the error control on `z` alone, replayed on dual numbers; see
     /// [`variational_tangent_map`] for steps controlled on `(z, Φ)`. Unless the method sets its
-    /// own, the step budget is [`Dop853::AUTO_STEPS_MAX`]` / (1 + 2N)`.
+    /// own, the step budget is [`Dop853::AUTO_STEPS_MAX`]` / (1 + 2N)`. The replay updates the
+    /// state plainly; with [compensated summation](Dop853::with_compensated_summation) the
+    /// final state is the compensated run's and the Jacobian the plain replay's (they differ by
+    /// the rounding of the updates, `O(u)` relative per step).
     fn tangent_map(&self, problem: &Problem<'_, S, N>) -> Result<TangentMap<N>> {
         let mut times = StepTimes(Vec::new());
         let run = integrate(problem, &tangent_budget(self, 1 + 2 * N), &mut times)?;
@@ -282,9 +285,15 @@ impl<S: Hamiltonian<N>, const N: usize> TangentMethod<S, N> for Dop853 {
             system: problem.system,
             times: &times.0,
         };
-        let s = &problem.start;
-        let (q, p) = map.apply(s.t, &s.q, &s.p);
-        let last = State::new(run.last.t, q, p)?;
+        // With compensated summation the run's own end state is the accurate one; the replay
+        // (plain updates, `O(u)` per step from it) serves the Jacobian only.
+        let last = if self.compensated {
+            run.last
+        } else {
+            let s = &problem.start;
+            let (q, p) = map.apply(s.t, &s.q, &s.p);
+            State::new(run.last.t, q, p)?
+        };
         let jacobian = run_jacobian(&map, problem, &Method::<S, N>::label(self))?;
         Ok(TangentMap {
             last,
